@@ -1,0 +1,100 @@
+#pragma once
+// Federated asynchronous Q-learning (FedAsynQ) of SPEC section 7, split into
+// the pieces a distributed run needs:
+//
+//   * FedAsynQLearner: one of the K learners. A round is a pure function of
+//     (the round's starting table, the shared start statistics, job seed,
+//     learner index, round index): the learner draws its start, takes tau
+//     random in-region steps updating its own table, and reports what it
+//     changed as a sparse LearnerShard.
+//   * FederatedAverager: combines the K shards of a round, in learner order,
+//     into the new shared table (EqAvg or ImAvg, log-space weights) and merges
+//     the learners' start outcomes into the shared statistics.
+//   * TrainFedAsynQ: the whole job in this process, one learner after the
+//     other per round; the distributed trainer runs the same learners on
+//     agent processes and the same averager on the coordinator.
+//
+// Sparse shards: all learners start a round from the same table, so the
+// average differs from it only where some learner made an update. A shard
+// lists those entries (index, value, visits), at most tau of them, which
+// keeps averaging and messages proportional to tau, not to the region size.
+
+#include <cstdint>
+#include <vector>
+
+#include "core/q_table.h"
+#include "core/region_model.h"
+#include "core/rng.h"
+#include "core/start_statistics.h"
+#include "core/training_job.h"
+
+namespace dynapath {
+
+// What one learner changed in one round.
+struct LearnerShard {
+  int learner = 0;
+  int64_t round = 0;
+  std::vector<uint32_t> entries;  // table indices (cell * 8 + action), ascending
+  std::vector<float> values;      // the learner's value of each entry at round end
+  std::vector<uint32_t> visits;   // N_k(s, a) of each entry in this round (>= 1)
+  int start_cell = -1;            // region-local start of the round (-1: none)
+  bool reached_station = false;   // the round visited a station
+  int64_t steps = 0;              // Q-learning steps taken
+};
+
+// The seed of learner `learner` in round `round` of a job.
+uint64_t LearnerRoundSeed(uint64_t job_seed, int learner, int64_t round);
+
+class FedAsynQLearner {
+ public:
+  // `model` must outlive the learner. `table`: the round's starting table
+  // (the job's warm start, then every average) is loaded by Reset/Apply.
+  FedAsynQLearner(const RegionModel& model, int learner_index);
+
+  // Sets the learner's table (start of a job, or recovery after a fault).
+  void Reset(const QTable& table);
+
+  // Runs one round of `sync_period` steps and returns its shard. The table
+  // must equal the shared table of the round's start.
+  LearnerShard RunRound(const StartStatistics& stats, uint64_t job_seed, int64_t round,
+                        int sync_period);
+
+  // Brings the learner's table to the new shared table: `entries`/`values`
+  // are the averaged entries (the union of all shards' entries); every other
+  // entry is unchanged since the round started.
+  void ApplyAverage(const std::vector<uint32_t>& entries, const std::vector<float>& values);
+
+  const QTable& table() const { return table_; }
+
+ private:
+  const RegionModel& model_;
+  int learner_index_;
+  QTable table_;
+  // Scratch (no allocation per step): visits per entry this round, and the
+  // list of entries touched this round.
+  std::vector<uint32_t> visits_;
+  std::vector<uint32_t> touched_;
+};
+
+// Combines one round's shards into the shared table.
+class FederatedAverager {
+ public:
+  FederatedAverager(int table_entries, Averaging averaging);
+
+  // `shared`: the round's starting table, updated in place to the average.
+  // `shards`: exactly one per learner, in learner order (shards[k].learner == k).
+  // Writes the averaged entries (ascending) to `entries`/`values` and records
+  // every shard's start outcome in `stats` in learner order.
+  void Combine(const std::vector<LearnerShard>& shards, QTable& shared, StartStatistics& stats,
+               std::vector<uint32_t>& entries, std::vector<float>& values);
+
+ private:
+  Averaging averaging_;
+  std::vector<uint32_t> mark_;  // per entry: stamp of the last round it was touched
+  uint32_t stamp_ = 0;
+};
+
+// Runs a whole kFedAsynQ job in the calling thread. Pure function of the job.
+TrainingResult TrainFedAsynQ(const TrainingJob& job);
+
+}  // namespace dynapath

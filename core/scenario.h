@@ -1,0 +1,34 @@
+#pragma once
+// A scenario is what every approach of one run is evaluated on: the maze at
+// time step 0 and its change sequence. The paper-compatible generator draws
+// both from one C-library random stream, exactly as the report's runs did.
+
+#include <string>
+
+#include "core/change_sequence.h"
+#include "core/difficulty.h"
+#include "core/grid.h"
+
+namespace dynapath {
+
+class CRandom;
+
+struct Scenario {
+  Grid grid;                // the maze at time step 0
+  ChangeSequence changes;   // changes of time steps 1..T
+};
+
+// Draws a maze (SPEC section 1) from `random`.
+Grid GenerateMaze(int rows, int cols, const CellProbabilities& probabilities, CRandom& random);
+
+// Draws `steps` time steps of obstacle moves, starting from `grid`, from `random`.
+ChangeSequence GenerateChanges(const Grid& grid, int steps, CRandom& random);
+
+// srand(seed); maze; then the change sequence from the same stream.
+// `steps` < 0 means the report's 2 x rows.
+Scenario GenerateScenario(int rows, int cols, Difficulty difficulty, unsigned seed, int steps = -1);
+
+// Number of time steps the report simulates for a maze: 2 x rows.
+inline int ReportTimeSteps(int rows) { return 2 * rows; }
+
+}  // namespace dynapath

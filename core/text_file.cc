@@ -1,0 +1,42 @@
+#include "core/text_file.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace dynapath {
+
+Result<std::string> ReadTextFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path + ": cannot open for reading: " + std::strerror(errno)};
+  std::ostringstream contents;
+  contents << in.rdbuf();
+  if (in.bad()) return Error{path + ": read error"};
+  return contents.str();
+}
+
+Status WriteTextFileAtomically(const std::string& path, const std::string& contents) {
+  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) return Error{path + ": cannot open for writing: " + std::strerror(errno)};
+    out << contents;
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      return Error{path + ": write error"};
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(temporary.c_str());
+    return Error{path + ": cannot rename into place: " + reason};
+  }
+  return Ok{};
+}
+
+}  // namespace dynapath

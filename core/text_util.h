@@ -1,0 +1,15 @@
+#pragma once
+// Small string helpers shared by the parsers.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dynapath {
+
+std::string ToLower(std::string_view text);
+std::string Trim(std::string_view text);
+// Splits on `separator`; trims every piece; keeps empty pieces.
+std::vector<std::string> Split(std::string_view text, char separator);
+
+}  // namespace dynapath

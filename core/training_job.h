@@ -1,0 +1,63 @@
+#pragma once
+// A training job: everything a learner needs to train one quadtree node,
+// self-contained so it can be run in this process or shipped to an agent
+// process. Learners never see the quadtree or the root table.
+
+#include <cstdint>
+#include <vector>
+
+#include "core/q_table.h"
+#include "core/quadtree.h"
+#include "core/region.h"
+
+namespace dynapath {
+
+enum class LearnerKind { kSingleAgent, kFedAsynQ };
+enum class Averaging { kEqual, kImportance };
+
+struct SingleAgentOptions {
+  int max_episodes = 10000;          // report: at most 10,000 episodes
+  double epsilon_start = 1.0;        // epsilon-greedy exploration at episode 0
+  double epsilon_decay = 0.999;      // multiplied in after every episode
+  double epsilon_min = 0.01;         // floor
+  int replay_capacity = 1000;        // FIFO buffer of the last transitions
+  int replay_start_episode = 500;    // replay from this episode on
+  int replay_batch = 64;             // replayed updates after each real step
+  int convergence_start_episode = 500;  // first convergence check
+  int convergence_interval = 50;        // episodes between checks
+  double convergence_threshold = 5e-4;  // largest absolute change
+  int convergence_checks = 21;          // consecutive checks below threshold
+};
+
+struct FedAsynQOptions {
+  int learners = 12;              // K
+  int sync_period = 1000;         // tau: steps per learner per round
+  int iterations_per_cell = 200;  // T = region cells x this
+  Averaging averaging = Averaging::kEqual;
+};
+
+struct TrainingJob {
+  NodeId node = kNoNode;
+  Region region;                  // in grid coordinates
+  std::vector<uint8_t> codes;     // region cell codes, region-local row-major
+  QTable warm_start;              // the node's current table (region.cells())
+  uint64_t seed = 0;              // from (run seed, node, training count)
+  LearnerKind kind = LearnerKind::kFedAsynQ;
+  SingleAgentOptions single_agent;
+  FedAsynQOptions federated;
+};
+
+struct TrainingResult {
+  NodeId node = kNoNode;
+  QTable table;                   // the node's new table
+  int64_t episodes_or_rounds = 0; // episodes (single agent) or rounds (federated)
+  int64_t steps = 0;              // Q-learning steps taken by all learners
+};
+
+// Number of federated rounds: floor(T / tau), at least 1.
+int64_t FederatedRounds(const Region& region, const FedAsynQOptions& options);
+
+// The seed of the `count`-th training (0-based) of `node` in a run.
+uint64_t JobSeed(uint64_t run_seed, NodeId node, int64_t count);
+
+}  // namespace dynapath
