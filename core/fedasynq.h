@@ -59,6 +59,15 @@ class FedAsynQLearner {
   LearnerShard RunRound(const StartStatistics& stats, uint64_t job_seed, int64_t round,
                         int sync_period);
 
+  // Runs round `round` of learner `learner` (any index, not only this
+  // object's: the shard is the one RunRound of that learner gives), then
+  // restores the table to the round's start. One object can so play several
+  // learners in turn on one table (TrainFedAsynQ; an agent's learners of a
+  // job on one thread) with one ApplyAverage per round instead of one per
+  // learner, which matters once the tables outgrow the caches.
+  LearnerShard RunRoundAndRevert(int learner, const StartStatistics& stats, uint64_t job_seed,
+                                 int64_t round, int sync_period);
+
   // Brings the learner's table to the new shared table: `entries`/`values`
   // are the averaged entries (the union of all shards' entries); every other
   // entry is unchanged since the round started.
@@ -73,7 +82,12 @@ class FedAsynQLearner {
   // Scratch (no allocation per step): visits per entry this round, and the
   // list of entries touched this round.
   std::vector<uint32_t> visits_;
-  std::vector<uint32_t> touched_;
+  std::vector<uint32_t> touched_;  // in order of first touch
+  std::vector<float> originals_;   // value of touched_[i] before the round
+  std::vector<uint64_t> bits_;     // all zero between rounds; sorts entries
+
+  LearnerShard Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
+                   int sync_period, bool revert);
 };
 
 // Combines one round's shards into the shared table.
@@ -90,8 +104,13 @@ class FederatedAverager {
 
  private:
   Averaging averaging_;
-  std::vector<uint32_t> mark_;  // per entry: stamp of the last round it was touched
-  uint32_t stamp_ = 0;
+  int table_entries_;
+  // Scratch reused between rounds (no allocation once warmed up):
+  std::vector<uint64_t> bits_;            // one bit per entry, all zero between calls
+  std::vector<uint32_t> position_;        // entry -> its index in the union (valid for U)
+  std::vector<float> learner_values_;     // |U| x K: Q_k(e), the shared value if untouched
+  std::vector<uint32_t> learner_visits_;  // |U| x K: N_k(e)
+  std::vector<double> decay_;             // decay_[d] = (1 - eta)^d = exp(-d * -log(1 - eta))
 };
 
 // Runs a whole kFedAsynQ job in the calling thread. Pure function of the job.

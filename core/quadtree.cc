@@ -3,10 +3,23 @@
 #include <algorithm>
 
 namespace dynapath {
+namespace {
+
+// Children stay kNoNode (an aggregate initialiser with "{}" would zero them).
+QuadNode MakeNode(NodeId id, NodeId parent, int level, const Region& region) {
+  QuadNode node;
+  node.id = id;
+  node.parent = parent;
+  node.level = level;
+  node.region = region;
+  return node;
+}
+
+}  // namespace
 
 QuadTree::QuadTree(int rows, int cols, int leaf_limit)
     : rows_(rows), cols_(cols), leaf_limit_(std::max(1, leaf_limit)) {
-  nodes_.push_back(QuadNode{0, kNoNode, 0, Region{0, rows - 1, 0, cols - 1}, {}});
+  nodes_.push_back(MakeNode(0, kNoNode, 0, Region{0, rows - 1, 0, cols - 1}));
   // Breadth-first: nodes_ doubles as the queue.
   for (size_t next = 0; next < nodes_.size(); ++next) {
     const Region region = nodes_[next].region;
@@ -22,7 +35,7 @@ QuadTree::QuadTree(int rows, int cols, int leaf_limit)
       const NodeId id = static_cast<NodeId>(nodes_.size());
       const int level = nodes_[next].level + 1;
       nodes_[next].children[q] = id;
-      nodes_.push_back(QuadNode{id, static_cast<NodeId>(next), level, quarters[q], {}});
+      nodes_.push_back(MakeNode(id, static_cast<NodeId>(next), level, quarters[q]));
       level_count_ = std::max(level_count_, level + 1);
     }
   }

@@ -4,7 +4,9 @@
 // each leads and what it pays. Built once per training job from the region's
 // cell codes; immutable afterwards and safe to share between threads.
 
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/grid.h"
@@ -12,6 +14,19 @@
 #include "core/region.h"
 
 namespace dynapath {
+
+namespace region_model_internal {
+// kActionMasks[bits][a]: 0 when bit a of `bits` is set, -infinity otherwise.
+inline constexpr auto kActionMasks = [] {
+  std::array<std::array<float, kNumActions>, 256> masks{};
+  for (int bits = 0; bits < 256; ++bits) {
+    for (int a = 0; a < kNumActions; ++a) {
+      masks[bits][a] = (bits >> a) & 1 ? 0.0f : -std::numeric_limits<float>::infinity();
+    }
+  }
+  return masks;
+}();
+}  // namespace region_model_internal
 
 class RegionModel {
  public:
@@ -26,13 +41,36 @@ class RegionModel {
   bool is_station(int cell) const { return code(cell) == Cell::kStation; }
 
   // In-region actions of `cell` in increasing order.
-  int action_count(int cell) const { return action_count_[cell]; }
-  const uint8_t* actions(int cell) const { return &actions_[static_cast<size_t>(cell) * kNumActions]; }
+  int action_count(int cell) const { return record_[cell].count; }
+  const uint8_t* actions(int cell) const { return record_[cell].actions; }
 
   // Cell reached by action `a` from `cell` (the cell itself when blocked by an
   // obstacle), and its reward. Only meaningful for in-region actions.
-  int target(int cell, int a) const { return target_[static_cast<size_t>(cell) * kNumActions + a]; }
-  float reward(int cell, int a) const { return reward_[static_cast<size_t>(cell) * kNumActions + a]; }
+  int target(int cell, int a) const { return record_[cell].target[a]; }
+  float reward(int cell, int a) const { return record_[cell].reward[a]; }
+
+  // 8 floats: 0 for the in-region actions of `cell`, -infinity for the
+  // others, so that max_a (q[a] + mask[a]) is the in-region maximum without
+  // branches (the learners' hot loop). Cells with no in-region action (1x1
+  // regions) give -infinity.
+  const float* action_mask(int cell) const {
+    return region_model_internal::kActionMasks[record_[cell].in_region].data();
+  }
+
+  // max over the in-region actions a of `cell` of q_row[a], where q_row is the
+  // cell's row of a Q-table (8 values): the bootstrap term of every update.
+  float MaxInRegion(int cell, const float* q_row) const {
+    const float* mask = action_mask(cell);
+    // A balanced tree of maxima, written so the compiler can use SIMD.
+    float m[4];
+    for (int i = 0; i < 4; ++i) {
+      const float x = q_row[i] + mask[i], y = q_row[i + 4] + mask[i + 4];
+      m[i] = x < y ? y : x;
+    }
+    const float left = m[0] < m[2] ? m[2] : m[0];
+    const float right = m[1] < m[3] ? m[3] : m[1];
+    return left < right ? right : left;
+  }
 
   // Non-obstacle cells in increasing order: the possible start cells.
   const std::vector<int>& start_cells() const { return start_cells_; }
@@ -41,14 +79,22 @@ class RegionModel {
   const std::vector<uint8_t>& codes() const { return codes_; }
 
  private:
+  // Everything a step reads about a cell, in one cache line: a random walk
+  // over a large region then misses the cache once per new cell, not once
+  // per array.
+  struct alignas(64) CellRecord {
+    int32_t target[kNumActions];
+    uint8_t actions[kNumActions];
+    int8_t reward[kNumActions];  // +100, -10, -1 (mdp.h) are exact in int8
+    uint8_t count;
+    uint8_t in_region;  // bit a: action a stays in the region
+  };
+
   void Build();
 
   Region region_;
   std::vector<uint8_t> codes_;
-  std::vector<uint8_t> action_count_;
-  std::vector<uint8_t> actions_;
-  std::vector<int32_t> target_;
-  std::vector<float> reward_;
+  std::vector<CellRecord> record_;
   std::vector<int> start_cells_;
 };
 

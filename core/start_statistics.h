@@ -4,6 +4,7 @@
 // station. Starts are drawn uniformly during a warm-up, then with weight
 // `1 - successes/attempts + 0.1` (a never-tried start counts as rate 0).
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,13 @@ class StartStatistics {
   StartStatistics() = default;
   // `start_cells`: the candidate cells (region-local indices), fixed order.
   explicit StartStatistics(std::vector<int> start_cells);
+  // Restores statistics from their counts (e.g. received in a message):
+  // `attempts` and `successes` are per slot, the same size as `start_cells`.
+  // Draws are a function of the counts only, not of the order of the Record
+  // calls that produced them, so a restored copy draws exactly as the
+  // original.
+  StartStatistics(std::vector<int> start_cells, std::vector<uint32_t> attempts,
+                  std::vector<uint32_t> successes);
 
   const std::vector<int>& start_cells() const { return start_cells_; }
   // Total attempts recorded so far (all starts).
@@ -42,6 +50,16 @@ class StartStatistics {
   std::vector<uint32_t> attempts_;
   std::vector<uint32_t> successes_;
   int64_t total_attempts_ = 0;
+  // Sum tree of the draw weights: leaf `leaves_ + slot` holds the slot's
+  // weight (padding leaves 0), every inner node the sum of its two children,
+  // recomputed from them on each update. Each node is then a function of the
+  // current weights alone (no drift from incremental deltas), and a draw
+  // descends it in O(log n).
+  std::vector<double> tree_;
+  size_t leaves_ = 1;
+
+  void Init();
+  void SetWeight(int slot);
 };
 
 }  // namespace dynapath

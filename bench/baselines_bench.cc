@@ -1,0 +1,113 @@
+// Cost of the classical baselines and of policy evaluation on the report's
+// hard mazes (GenerateScenario(n, n, kHard, 52)). Targets: PolicyEvaluator and
+// the BFS Oracle under 5 ms at 300x300; the report's A* needed ~9 s per time
+// step at 300x300.
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "core/astar_paths.h"
+#include "core/bfs_oracle.h"
+#include "core/difficulty.h"
+#include "core/grid.h"
+#include "core/mdp.h"
+#include "core/policy_evaluation.h"
+#include "core/q_table.h"
+#include "core/scenario.h"
+
+namespace dynapath {
+namespace {
+
+Grid HardMaze(int size) {
+  return GenerateScenario(size, size, Difficulty::kHard, ReportSeed(Difficulty::kHard), 0).grid;
+}
+
+// A uniform random table: short, bushy policy graphs.
+QTable RandomTable(const Grid& grid) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  QTable q(grid.size());
+  for (float& v : q.values()) v = value(random);
+  return q;
+}
+
+// What a trained table looks like: minus the target's station distance plus
+// a little noise, so the top-2 graph follows near-shortest paths and most
+// starts succeed (the reverse search then visits almost every cell).
+QTable TrainedLikeTable(const Grid& grid) {
+  std::vector<int32_t> distance, queue;
+  NearestStationDistances(grid, distance, queue);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> noise(0.0f, 0.5f);
+  QTable q(grid.size());
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    for (int a = 0; a < kNumActions; ++a) {
+      const int r = grid.RowOf(cell) + kActionRowOffset[a];
+      const int c = grid.ColOf(cell) + kActionColOffset[a];
+      const int32_t d = grid.InBounds(r, c) ? distance[grid.Index(r, c)] : kUnreachable;
+      q.row(cell)[a] = static_cast<float>(d == kUnreachable ? -1000 : -d) + noise(random);
+    }
+  }
+  return q;
+}
+
+void BM_PolicyEvaluate(benchmark::State& state, bool trained_like) {
+  const Grid grid = HardMaze(static_cast<int>(state.range(0)));
+  const QTable q = trained_like ? TrainedLikeTable(grid) : RandomTable(grid);
+  PolicyEvaluator evaluator;
+  PolicyDepths depths;
+  for (auto _ : state) {
+    evaluator.Evaluate(grid, q, depths);
+    benchmark::DoNotOptimize(depths.depth.data());
+  }
+  state.counters["success_rate"] = ScoreGrid(grid, depths).success_rate();
+}
+BENCHMARK_CAPTURE(BM_PolicyEvaluate, random_table, false)->Arg(300)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_PolicyEvaluate, trained_like_table, true)
+    ->Arg(300)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_BfsOracle(benchmark::State& state) {
+  const Grid grid = HardMaze(static_cast<int>(state.range(0)));
+  std::vector<int32_t> distance, queue;
+  for (auto _ : state) {
+    NearestStationDistances(grid, distance, queue);
+    benchmark::DoNotOptimize(distance.data());
+  }
+}
+BENCHMARK(BM_BfsOracle)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+
+void BM_AStarAllPaths(benchmark::State& state) {
+  const Grid grid = HardMaze(static_cast<int>(state.range(0)));
+  AStarPlanner planner;
+  StationPaths paths;
+  for (auto _ : state) {
+    planner.ComputeAllPaths(grid, paths);
+    benchmark::DoNotOptimize(paths.length.data());
+  }
+  state.counters["searches"] = static_cast<double>(planner.searches());
+  state.counters["expansions"] = static_cast<double>(planner.expansions());
+}
+BENCHMARK(BM_AStarAllPaths)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+
+// A* Static's per-step cost: scoring the stored paths on a changed grid.
+void BM_ScoreStoredPaths(benchmark::State& state) {
+  const int size = static_cast<int>(state.range(0));
+  const Scenario scenario =
+      GenerateScenario(size, size, Difficulty::kHard, ReportSeed(Difficulty::kHard));
+  AStarPlanner planner;
+  StationPaths paths;
+  planner.ComputeAllPaths(scenario.grid, paths);
+  Grid current = scenario.grid;
+  for (const ChangeStep& step : scenario.changes.steps) ApplyChanges(step, current);
+  for (auto _ : state) benchmark::DoNotOptimize(ScoreStoredPaths(current, paths));
+}
+BENCHMARK(BM_ScoreStoredPaths)->Arg(300)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace dynapath
+
+BENCHMARK_MAIN();

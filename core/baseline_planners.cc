@@ -1,0 +1,28 @@
+#include "core/baseline_planners.h"
+
+#include "core/bfs_oracle.h"
+
+namespace dynapath {
+
+StepDetails AStarStaticPlanner::Initialize(const Grid& grid) {
+  astar_.ComputeAllPaths(grid, paths_);
+  return {};
+}
+
+PolicyScore AStarStaticPlanner::Evaluate(const Grid& grid) { return ScoreStoredPaths(grid, paths_); }
+
+StepDetails AStarOraclePlanner::Initialize(const Grid& grid) {
+  astar_.ComputeAllPaths(grid, paths_);
+  return {};
+}
+
+PolicyScore AStarOraclePlanner::Evaluate(const Grid& grid) { return ScoreStoredPaths(grid, paths_); }
+
+StepDetails BfsOraclePlanner::Initialize(const Grid& grid) {
+  NearestStationDistances(grid, distance_, queue_);
+  return {};
+}
+
+PolicyScore BfsOraclePlanner::Evaluate(const Grid& grid) { return ScoreDistances(grid, distance_); }
+
+}  // namespace dynapath

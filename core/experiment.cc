@@ -1,0 +1,86 @@
+#include "core/experiment.h"
+
+#include <chrono>
+
+namespace dynapath {
+
+double ApproachRun::AverageSuccessRate() const {
+  double total = 0.0;
+  for (const StepRecord& step : steps) total += step.success_rate;
+  return steps.empty() ? 0.0 : total / static_cast<double>(steps.size());
+}
+
+double ApproachRun::AveragePathLength() const {
+  double total = 0.0;
+  for (const StepRecord& step : steps) total += step.average_path_length;
+  return steps.empty() ? 0.0 : total / static_cast<double>(steps.size());
+}
+
+double ApproachRun::AdaptSecondsPerStep() const {
+  double total = 0.0;
+  for (size_t t = 1; t < steps.size(); ++t) total += steps[t].adapt_seconds;
+  return steps.size() <= 1 ? 0.0 : total / static_cast<double>(steps.size() - 1);
+}
+
+Clock SteadyClock() {
+  return [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
+}
+
+std::string SizeLabel(int rows, int cols) {
+  return rows == cols ? std::to_string(rows) : std::to_string(rows) + "x" + std::to_string(cols);
+}
+
+namespace {
+
+StepRecord Score(Planner& planner, const Grid& grid, int time_step, int num_changes,
+                 double adapt_seconds, const StepDetails& details) {
+  const PolicyScore score = planner.Evaluate(grid);
+  return StepRecord{time_step,
+                    num_changes,
+                    adapt_seconds,
+                    score.success_rate(),
+                    score.average_path_length(),
+                    details.nodes_trained,
+                    details.highest_level};
+}
+
+}  // namespace
+
+ApproachRun RunApproach(const Scenario& scenario, Approach approach, const PlannerOptions& options,
+                        Trainer* trainer, const RunLabels& labels, const Clock& clock,
+                        const StepCallback& on_step) {
+  ApproachRun run;
+  run.approach = approach;
+  run.size_label = labels.size_label;
+  run.difficulty_label = labels.difficulty_label;
+  const int total_steps = static_cast<int>(scenario.changes.steps.size());
+  std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
+
+  Grid grid = scenario.grid;
+  double start = clock();
+  StepDetails details = planner->Initialize(grid);
+  run.initial_seconds = clock() - start;
+  run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
+  if (on_step) on_step(run, total_steps);
+
+  std::vector<int> changed_cells;
+  for (int t = 0; t < total_steps; ++t) {
+    const ChangeStep& step = scenario.changes.steps[static_cast<size_t>(t)];
+    ApplyChanges(step, grid);
+    changed_cells.clear();
+    for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
+    // A* Static never adapts: its adaptation time is 0 by definition.
+    const bool timed = approach != Approach::kAStarStatic;
+    start = clock();
+    details = planner->Adapt(grid, changed_cells);
+    const double seconds = timed ? clock() - start : 0.0;
+    run.steps.push_back(Score(*planner, grid, t + 1, step.requested_moves, seconds, details));
+    if (on_step) on_step(run, total_steps);
+  }
+  return run;
+}
+
+}  // namespace dynapath

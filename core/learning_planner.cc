@@ -1,0 +1,82 @@
+#include "core/learning_planner.h"
+
+#include <algorithm>
+
+namespace dynapath {
+
+LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer)
+    : approach_(approach), options_(options), trainer_(trainer) {
+  learner_.single_agent = options.single_agent;
+  learner_.federated = options.federated;
+  switch (approach) {
+    case Approach::kFedAsynQEqAvg:
+      learner_.kind = LearnerKind::kFedAsynQ;
+      learner_.federated.averaging = Averaging::kEqual;
+      break;
+    case Approach::kFedAsynQImAvg:
+      learner_.kind = LearnerKind::kFedAsynQ;
+      learner_.federated.averaging = Averaging::kImportance;
+      break;
+    default:
+      learner_.kind = LearnerKind::kSingleAgent;
+      break;
+  }
+}
+
+StepDetails LearningPlanner::Initialize(const Grid& grid) {
+  tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
+  root_ = std::make_unique<RootQTable>(grid.rows(), grid.cols());
+  training_count_.assign(static_cast<size_t>(tree_->node_count()), 0);
+  if (approach_ == Approach::kOnlyTrainLeafNodes) {
+    strategy_ = std::make_unique<LeavesOnlyStrategy>(*tree_);
+  } else {
+    strategy_ = std::make_unique<TreeStrategy>(*tree_, options_.thresholds);
+  }
+  grid_ = &grid;
+  depths_valid_ = false;
+  return RunStrategy({});
+}
+
+StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& changed_cells) {
+  std::vector<NodeId> changed_leaves;
+  for (int cell : changed_cells) changed_leaves.push_back(tree_->LeafOf(cell));
+  std::sort(changed_leaves.begin(), changed_leaves.end());
+  changed_leaves.erase(std::unique(changed_leaves.begin(), changed_leaves.end()),
+                       changed_leaves.end());
+  grid_ = &grid;
+  depths_valid_ = false;  // the grid changed
+  if (changed_leaves.empty()) return {};
+  return RunStrategy(changed_leaves);
+}
+
+StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leaves) {
+  const AdaptationReport report = strategy_->Adapt(changed_leaves, *this);
+  return StepDetails{static_cast<int>(report.trained.size()), report.highest_level};
+}
+
+PolicyScore LearningPlanner::Evaluate(const Grid& grid) {
+  grid_ = &grid;
+  return ScoreGrid(grid, Depths());
+}
+
+const PolicyDepths& LearningPlanner::Depths() {
+  if (!depths_valid_) {
+    evaluator_.Evaluate(*grid_, root_->table(), depths_);
+    depths_valid_ = true;
+  }
+  return depths_;
+}
+
+double LearningPlanner::SuccessRate(NodeId node) {
+  return ScoreRegion(*grid_, Depths(), tree_->node(node).region).success_rate();
+}
+
+void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
+  std::vector<uint64_t> seeds;
+  seeds.reserve(nodes.size());
+  for (NodeId node : nodes) seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
+  trainer_.Train(nodes, seeds, learner_, *tree_, *grid_, *root_);
+  depths_valid_ = false;  // the policy changed
+}
+
+}  // namespace dynapath

@@ -1,0 +1,47 @@
+#pragma once
+// One approach's plan over a run: built at time step 0, adapted after each
+// step's changes, scored on the current grid. The runner times Initialize and
+// Adapt; everything that counts as adaptation happens inside them.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/approach.h"
+#include "core/grid.h"
+#include "core/policy_evaluation.h"
+#include "core/quadtree.h"
+#include "core/retraining_strategy.h"
+#include "core/trainer.h"
+
+namespace dynapath {
+
+struct PlannerOptions {
+  uint64_t run_seed = 0;                          // learners' seeds derive from it
+  int leaf_limit = QuadTree::kDefaultLeafLimit;   // largest leaf side
+  RetrainingThresholds thresholds;
+  SingleAgentOptions single_agent;
+  FedAsynQOptions federated;                      // averaging is set by the approach
+};
+
+// What an initialisation or adaptation did (extra result columns).
+struct StepDetails {
+  int nodes_trained = 0;
+  int highest_level = -1;  // smallest quadtree level trained, -1 if none
+};
+
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  virtual StepDetails Initialize(const Grid& grid) = 0;
+  // `grid` already holds the step's changes; `changed_cells` their positions.
+  virtual StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) = 0;
+  virtual PolicyScore Evaluate(const Grid& grid) = 0;
+};
+
+// `trainer` is used by the learning approaches and must outlive the planner
+// (ignored, may be null, for the baselines).
+std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& options,
+                                     Trainer* trainer);
+
+}  // namespace dynapath

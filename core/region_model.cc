@@ -1,0 +1,67 @@
+#include "core/region_model.h"
+
+#include <cassert>
+#include <stdexcept>
+
+namespace dynapath {
+
+RegionModel::RegionModel(const Region& region, const std::vector<uint8_t>& codes)
+    : region_(region), codes_(codes) {
+  assert(static_cast<int>(codes_.size()) == region_.cells());
+  Build();
+}
+
+RegionModel::RegionModel(const Grid& grid, const Region& region)
+    : RegionModel(region, RegionCodes(grid, region)) {}
+
+void RegionModel::Build() {
+  static_assert(static_cast<int8_t>(kStationReward) == kStationReward &&
+                static_cast<int8_t>(kBumpReward) == kBumpReward &&
+                static_cast<int8_t>(kStepReward) == kStepReward);
+  const int rows = region_.rows(), cols = region_.cols();
+  const int n = region_.cells();
+  // Out-of-region actions keep the cell itself as target and a zero reward so
+  // that a stray lookup stays inside the table.
+  record_.assign(static_cast<size_t>(n), CellRecord{});
+  start_cells_.clear();
+  for (int cell = 0; cell < n; ++cell) {
+    CellRecord& record = record_[cell];
+    const int row = cell / cols, col = cell % cols;
+    for (int a = 0; a < kNumActions; ++a) {
+      const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
+      record.target[a] = cell;
+      if (r < 0 || r >= rows || c < 0 || c >= cols) continue;
+      record.actions[record.count++] = static_cast<uint8_t>(a);
+      record.in_region = static_cast<uint8_t>(record.in_region | (1 << a));
+      const int next = r * cols + c;
+      const bool blocked = static_cast<Cell>(codes_[next]) == Cell::kObstacle;
+      const int end = blocked ? cell : next;
+      record.target[a] = end;
+      float reward = kStepReward;
+      if (static_cast<Cell>(codes_[end]) == Cell::kStation) {
+        reward = kStationReward;
+      } else if (blocked) {
+        reward = kBumpReward;
+      }
+      record.reward[a] = static_cast<int8_t>(reward);
+    }
+    if (static_cast<Cell>(codes_[cell]) != Cell::kObstacle) start_cells_.push_back(cell);
+  }
+}
+
+std::vector<uint8_t> RegionCodes(const Grid& grid, const Region& region) {
+  if (region.empty()) return {};
+  if (!grid.InBounds(region.r0, region.c0) || !grid.InBounds(region.r1, region.c1)) {
+    throw std::out_of_range("RegionCodes: region outside the grid");
+  }
+  std::vector<uint8_t> codes;
+  codes.reserve(static_cast<size_t>(region.cells()));
+  const std::vector<uint8_t>& all = grid.codes();
+  for (int r = region.r0; r <= region.r1; ++r) {
+    const auto first = all.begin() + grid.Index(r, region.c0);
+    codes.insert(codes.end(), first, first + region.cols());
+  }
+  return codes;
+}
+
+}  // namespace dynapath

@@ -1,0 +1,20 @@
+#include "core/training_job.h"
+
+#include <algorithm>
+
+#include "core/rng.h"
+
+namespace dynapath {
+
+int64_t FederatedRounds(const Region& region, const FedAsynQOptions& options) {
+  const int64_t total_iterations =
+      static_cast<int64_t>(region.rows()) * region.cols() * options.iterations_per_cell;
+  const int64_t sync_period = std::max(1, options.sync_period);
+  return std::max<int64_t>(1, total_iterations / sync_period);
+}
+
+uint64_t JobSeed(uint64_t run_seed, NodeId node, int64_t count) {
+  return DeriveSeed({run_seed, static_cast<uint64_t>(node), static_cast<uint64_t>(count)});
+}
+
+}  // namespace dynapath

@@ -1,0 +1,16 @@
+#pragma once
+// The dynapath subcommands. Each returns the process exit code.
+
+#include <string>
+#include <vector>
+
+namespace dynapath::cli {
+
+int MazeCommand(const std::vector<std::string>& args);
+int RunCommand(const std::vector<std::string>& args);
+
+// Exit codes: 0 success, 1 run-time failure, 2 bad usage.
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+}  // namespace dynapath::cli

@@ -1,0 +1,50 @@
+// dynapath: the command-line entry point. Dispatches to a subcommand.
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "tools/cli/commands.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "Usage: dynapath <command> [options]\n"
+    "\n"
+    "Path planning in dynamic mazes with hierarchical multi-agent Q-learning.\n"
+    "\n"
+    "Commands:\n"
+    "  maze   generate or load a maze and print it with its facts\n"
+    "  run    run approaches on a maze and its change sequence, write result CSVs\n"
+    "\n"
+    "Run 'dynapath <command> --help' for the options of a command.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Logs go to stderr so stdout stays clean for results.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("dynapath"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return dynapath::cli::kExitUsage;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (command == "--help" || command == "-h" || command == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (command == "--version") {
+    std::puts("dynapath 0.1.0");
+    return 0;
+  }
+  if (command == "maze") return dynapath::cli::MazeCommand(args);
+  if (command == "run") return dynapath::cli::RunCommand(args);
+  std::fprintf(stderr, "dynapath: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+  return dynapath::cli::kExitUsage;
+}

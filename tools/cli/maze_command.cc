@@ -1,0 +1,96 @@
+#include <cstdio>
+
+#include <spdlog/spdlog.h>
+
+#include "core/bfs_oracle.h"
+#include "core/astar_paths.h"
+#include "core/quadtree.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/scenario_options.h"
+
+namespace dynapath::cli {
+
+int MazeCommand(const std::vector<std::string>& args) {
+  ArgParser parser("dynapath maze [options]",
+                   "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
+                   "quadtree leaves and levels, and the optimal success rate and average path\n"
+                   "length at time step 0.");
+  AddScenarioOptions(parser);
+  parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
+  parser.AddOption("save", "FILE", "write the maze to FILE in the text format");
+  parser.AddOption("save-changes", "FILE", "write the change sequence to FILE");
+  parser.AddFlag("no-grid", "do not print the grid itself");
+  AddLogLevelOption(parser);
+  if (Status status = parser.Parse(args); !status) {
+    std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
+    return kExitUsage;
+  }
+  if (parser.WantsHelp()) {
+    std::fputs(parser.Help().c_str(), stdout);
+    return 0;
+  }
+  if (Status status = ApplyLogLevel(parser); !status) {
+    std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
+    return kExitUsage;
+  }
+  Result<ScenarioSetup> setup = ResolveScenario(parser);
+  if (!setup) {
+    std::fprintf(stderr, "dynapath maze: %s\n", setup.error().message.c_str());
+    return kExitUsage;
+  }
+  Result<long long> leaf_limit = parser.GetInt("leaf-limit", QuadTree::kDefaultLeafLimit, 1, 10000);
+  if (!leaf_limit) {
+    std::fprintf(stderr, "dynapath maze: %s\n", leaf_limit.error().message.c_str());
+    return kExitUsage;
+  }
+  const Grid& grid = setup->scenario.grid;
+  if (parser.Has("save")) {
+    if (Status status = SaveGrid(grid, parser.Get("save")); !status) {
+      std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
+      return kExitFailure;
+    }
+  }
+  if (parser.Has("save-changes")) {
+    if (Status status = SaveChanges(setup->scenario.changes, grid.rows(), grid.cols(),
+                                    parser.Get("save-changes"));
+        !status) {
+      std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
+      return kExitFailure;
+    }
+  }
+  if (!parser.Has("no-grid")) std::fputs(GridToText(grid).c_str(), stdout);
+
+  const QuadTree tree(grid.rows(), grid.cols(), static_cast<int>(*leaf_limit));
+  int leaves_without_station = 0;
+  for (NodeId leaf : tree.leaves()) {
+    const Region& region = tree.node(leaf).region;
+    bool has_station = false;
+    for (int r = region.r0; r <= region.r1 && !has_station; ++r) {
+      for (int c = region.c0; c <= region.c1 && !has_station; ++c) {
+        has_station = grid.at(r, c) == Cell::kStation;
+      }
+    }
+    if (!has_station) ++leaves_without_station;
+  }
+  std::vector<int32_t> distance, queue;
+  NearestStationDistances(grid, distance, queue);
+  const PolicyScore optimum = ScoreDistances(grid, distance);
+  size_t moves = 0;
+  for (const ChangeStep& step : setup->scenario.changes.steps) moves += step.changes.size() / 2;
+
+  std::printf("maze:            %s, %d x %d, %s\n", setup->source.c_str(), grid.rows(), grid.cols(),
+              setup->labels.difficulty_label.c_str());
+  std::printf("cells:           %d free, %d obstacles, %d stations\n", grid.Count(Cell::kFree),
+              grid.Count(Cell::kObstacle), grid.Count(Cell::kStation));
+  std::printf("quadtree:        %d levels, %d nodes, %d leaves (%d without a station), leaf limit %lld\n",
+              tree.level_count(), tree.node_count(), static_cast<int>(tree.leaves().size()),
+              leaves_without_station, *leaf_limit);
+  std::printf("optimum, step 0: success rate %g, average path length %g (%d of %d starts)\n",
+              optimum.success_rate(), optimum.average_path_length(), optimum.successes,
+              optimum.starts);
+  std::printf("changes:         %zu time steps, %zu obstacle moves\n",
+              setup->scenario.changes.steps.size(), moves);
+  return 0;
+}
+
+}  // namespace dynapath::cli

@@ -1,0 +1,96 @@
+#include "tools/cli/scenario_options.h"
+
+#include <spdlog/spdlog.h>
+
+#include "core/c_random.h"
+
+namespace dynapath::cli {
+
+void AddScenarioOptions(ArgParser& parser) {
+  parser.AddOption("size", "N", "maze rows (and columns unless --cols)", "20");
+  parser.AddOption("cols", "M", "maze columns, for rectangular mazes", "--size");
+  parser.AddOption("difficulty", "D", "easy, medium or hard", "easy");
+  parser.AddOption("seed", "S", "seed of the maze and change sequence (C-library stream)",
+                   "the report's: 50 + difficulty index");
+  parser.AddOption("steps", "T", "number of time steps", "2 x rows, the report's");
+  parser.AddOption("maze", "FILE", "load the maze from a text file ('#', '.', 'C') instead");
+  parser.AddOption("changes", "FILE", "load the change sequence from a change file instead");
+}
+
+Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
+  constexpr long long kMaxSide = 10000;
+  ScenarioSetup setup;
+  std::optional<Difficulty> difficulty = Difficulty::kEasy;
+  if (parser.Has("difficulty")) {
+    difficulty = ParseDifficulty(parser.Get("difficulty"));
+    if (!difficulty) {
+      return Error{"option --difficulty must be easy, medium or hard, got '" +
+                   parser.Get("difficulty") + "'"};
+    }
+  }
+  Result<long long> seed = parser.GetInt("seed", ReportSeed(*difficulty), 0, 4294967295LL);
+  if (!seed) return seed.error();
+  setup.seed = static_cast<uint64_t>(*seed);
+  CRandom random(static_cast<uint32_t>(*seed));
+
+  if (parser.Has("maze")) {
+    if (parser.Has("size") || parser.Has("cols")) {
+      return Error{"--maze sets the maze size: do not combine it with --size or --cols"};
+    }
+    Result<Grid> grid = LoadGrid(parser.Get("maze"));
+    if (!grid) return grid.error();
+    setup.scenario.grid = std::move(*grid);
+    setup.labels.difficulty_label = parser.Has("difficulty") ? DifficultyName(*difficulty) : "Custom";
+    setup.source = "maze file " + parser.Get("maze");
+  } else {
+    Result<long long> rows = parser.GetInt("size", 20, 1, kMaxSide);
+    if (!rows) return rows.error();
+    Result<long long> cols = parser.GetInt("cols", *rows, 1, kMaxSide);
+    if (!cols) return cols.error();
+    setup.scenario.grid = GenerateMaze(static_cast<int>(*rows), static_cast<int>(*cols),
+                                       ProbabilitiesOf(*difficulty), random);
+    setup.labels.difficulty_label = DifficultyName(*difficulty);
+    setup.source = "generated, seed " + std::to_string(*seed);
+  }
+  const Grid& grid = setup.scenario.grid;
+  setup.labels.size_label = SizeLabel(grid.rows(), grid.cols());
+
+  Result<long long> steps = parser.GetInt("steps", ReportTimeSteps(grid.rows()), 0, 1'000'000);
+  if (!steps) return steps.error();
+  if (parser.Has("changes")) {
+    Result<ChangeSequence> changes = LoadChanges(parser.Get("changes"), grid.rows(), grid.cols());
+    if (!changes) return changes.error();
+    setup.scenario.changes = std::move(*changes);
+    if (parser.Has("steps")) {
+      if (*steps > static_cast<long long>(setup.scenario.changes.steps.size())) {
+        return Error{"--steps " + std::to_string(*steps) + " is more than the " +
+                     std::to_string(setup.scenario.changes.steps.size()) +
+                     " time steps of the change file"};
+      }
+      setup.scenario.changes.steps.resize(static_cast<size_t>(*steps));
+    }
+    setup.source += ", changes from " + parser.Get("changes");
+  } else {
+    // Right after the maze, from the same stream, as the report's runs did
+    // (a loaded maze starts a fresh stream from the seed).
+    setup.scenario.changes = GenerateChanges(grid, static_cast<int>(*steps), random);
+  }
+  return setup;
+}
+
+void AddLogLevelOption(ArgParser& parser) {
+  parser.AddOption("log-level", "LEVEL", "trace, debug, info, warn, error or off", "info");
+}
+
+Status ApplyLogLevel(const ArgParser& parser) {
+  const std::string name = parser.Get("log-level", "info");
+  const spdlog::level::level_enum level = spdlog::level::from_str(name);
+  if (level == spdlog::level::off && name != "off") {
+    return Error{"option --log-level must be trace, debug, info, warn, error or off, got '" + name +
+                 "'"};
+  }
+  spdlog::set_level(level);
+  return Ok{};
+}
+
+}  // namespace dynapath::cli

@@ -1,0 +1,28 @@
+#pragma once
+// The options that choose a maze and its change sequence, shared by
+// `dynapath maze` and `dynapath run`.
+
+#include <cstdint>
+#include <string>
+
+#include "core/experiment.h"
+#include "core/scenario.h"
+#include "tools/cli/arg_parser.h"
+
+namespace dynapath::cli {
+
+struct ScenarioSetup {
+  Scenario scenario;
+  RunLabels labels;
+  uint64_t seed = 0;       // the maze seed (also the learners' run seed)
+  std::string source;      // how the scenario was obtained, for the log
+};
+
+void AddScenarioOptions(ArgParser& parser);
+Result<ScenarioSetup> ResolveScenario(const ArgParser& parser);
+
+// Sets spdlog's level from --log-level (and adds that option).
+void AddLogLevelOption(ArgParser& parser);
+Status ApplyLogLevel(const ArgParser& parser);
+
+}  // namespace dynapath::cli
