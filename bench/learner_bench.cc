@@ -41,7 +41,7 @@ void BM_FedAsynQRound(benchmark::State& state) {
   const Averaging averaging = state.range(1) == 0 ? Averaging::kEqual : Averaging::kImportance;
   const bool separate = state.range(2) != 0;
   const TrainingJob job = MazeJob(size, LearnerKind::kFedAsynQ, averaging);
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   const int learner_count = job.federated.learners;
   std::vector<FedAsynQLearner> learners;
   for (int k = 0; k < (separate ? learner_count : 1); ++k) {

@@ -99,7 +99,7 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
     const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
     const int next = model.target(s, a);
     const float reward = model.reward(s, a);
-    const float best_next = model.MaxInRegion(next, q + static_cast<size_t>(next) * kNumActions);
+    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
     if (visits_[entry]++ == 0) {
       touched_.push_back(entry);
       originals_.push_back(q[entry]);
@@ -250,7 +250,7 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
   if (static_cast<int>(job.codes.size()) != job.region.cells()) {
     throw std::invalid_argument("TrainFedAsynQ: codes do not match the region");
   }
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   const FedAsynQOptions& options = job.federated;
 
   TrainingResult result;

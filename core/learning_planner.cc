@@ -8,6 +8,7 @@ LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& option
     : approach_(approach), options_(options), trainer_(trainer) {
   learner_.single_agent = options.single_agent;
   learner_.federated = options.federated;
+  learner_.bootstrap = options.bootstrap;
   switch (approach) {
     case Approach::kFedAsynQEqAvg:
       learner_.kind = LearnerKind::kFedAsynQ;

@@ -14,6 +14,9 @@ TrainingJob MakeTrainingJob(NodeId node, uint64_t seed, const LearnerConfig& con
   job.node = node;
   job.region = tree.node(node).region;
   job.codes = RegionCodes(grid, job.region);
+  job.grid_rows = grid.rows();
+  job.grid_cols = grid.cols();
+  job.bootstrap = config.bootstrap;
   job.warm_start = root.Extract(job.region);
   job.seed = seed;
   job.kind = config.kind;
@@ -68,7 +71,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
   for (size_t j = 0; j < jobs.size(); ++j) {
     FederatedRun& run = runs[j];
     run.job = &jobs[j];
-    run.model = std::make_unique<RegionModel>(jobs[j].region, jobs[j].codes);
+    run.model = std::make_unique<RegionModel>(jobs[j]);
     run.shared = jobs[j].warm_start;
     run.stats = StartStatistics(run.model->start_cells());
     run.rounds = FederatedRounds(jobs[j].region, jobs[j].federated);

@@ -22,6 +22,7 @@ struct PlannerOptions {
   RetrainingThresholds thresholds;
   SingleAgentOptions single_agent;
   FedAsynQOptions federated;                      // averaging is set by the approach
+  Bootstrap bootstrap = Bootstrap::kInGrid;       // see training_job.h
 };
 
 // What an initialisation or adaptation did (extra result columns).

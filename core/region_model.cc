@@ -5,14 +5,22 @@
 
 namespace dynapath {
 
-RegionModel::RegionModel(const Region& region, const std::vector<uint8_t>& codes)
-    : region_(region), codes_(codes) {
+RegionModel::RegionModel(const Region& region, const std::vector<uint8_t>& codes, int grid_rows,
+                         int grid_cols, Bootstrap bootstrap)
+    : region_(region),
+      grid_rows_(grid_rows > 0 ? grid_rows : region.r1 + 1),
+      grid_cols_(grid_cols > 0 ? grid_cols : region.c1 + 1),
+      bootstrap_(bootstrap),
+      codes_(codes) {
   assert(static_cast<int>(codes_.size()) == region_.cells());
   Build();
 }
 
-RegionModel::RegionModel(const Grid& grid, const Region& region)
-    : RegionModel(region, RegionCodes(grid, region)) {}
+RegionModel::RegionModel(const TrainingJob& job)
+    : RegionModel(job.region, job.codes, job.grid_rows, job.grid_cols, job.bootstrap) {}
+
+RegionModel::RegionModel(const Grid& grid, const Region& region, Bootstrap bootstrap)
+    : RegionModel(region, RegionCodes(grid, region), grid.rows(), grid.cols(), bootstrap) {}
 
 void RegionModel::Build() {
   static_assert(static_cast<int8_t>(kStationReward) == kStationReward &&
@@ -29,10 +37,16 @@ void RegionModel::Build() {
     const int row = cell / cols, col = cell % cols;
     for (int a = 0; a < kNumActions; ++a) {
       const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
+      const int grid_r = region_.r0 + r, grid_c = region_.c0 + c;
+      const bool in_grid = grid_r >= 0 && grid_r < grid_rows_ && grid_c >= 0 && grid_c < grid_cols_;
+      if (in_grid && bootstrap_ == Bootstrap::kInGrid) {
+        record.bootstrap = static_cast<uint8_t>(record.bootstrap | (1 << a));
+      }
       record.target[a] = cell;
       if (r < 0 || r >= rows || c < 0 || c >= cols) continue;
       record.actions[record.count++] = static_cast<uint8_t>(a);
       record.in_region = static_cast<uint8_t>(record.in_region | (1 << a));
+      record.bootstrap = static_cast<uint8_t>(record.bootstrap | (1 << a));
       const int next = r * cols + c;
       const bool blocked = static_cast<Cell>(codes_[next]) == Cell::kObstacle;
       const int end = blocked ? cell : next;

@@ -12,6 +12,7 @@
 #include "core/grid.h"
 #include "core/mdp.h"
 #include "core/region.h"
+#include "core/training_job.h"
 
 namespace dynapath {
 
@@ -31,9 +32,14 @@ inline constexpr auto kActionMasks = [] {
 class RegionModel {
  public:
   // `codes`: the region's cell codes, region-local row-major (region.cells()).
-  RegionModel(const Region& region, const std::vector<uint8_t>& codes);
+  // `grid_rows` x `grid_cols` is the whole grid (0 x 0: the region is the
+  // grid); it decides which actions the bootstrap max ranges over.
+  RegionModel(const Region& region, const std::vector<uint8_t>& codes, int grid_rows = 0,
+              int grid_cols = 0, Bootstrap bootstrap = Bootstrap::kInGrid);
+  // The model of a training job.
+  explicit RegionModel(const TrainingJob& job);
   // Convenience: the region cut out of a grid.
-  RegionModel(const Grid& grid, const Region& region);
+  RegionModel(const Grid& grid, const Region& region, Bootstrap bootstrap = Bootstrap::kInGrid);
 
   const Region& region() const { return region_; }
   int cells() const { return region_.cells(); }
@@ -57,10 +63,11 @@ class RegionModel {
     return region_model_internal::kActionMasks[record_[cell].in_region].data();
   }
 
-  // max over the in-region actions a of `cell` of q_row[a], where q_row is the
-  // cell's row of a Q-table (8 values): the bootstrap term of every update.
-  float MaxInRegion(int cell, const float* q_row) const {
-    const float* mask = action_mask(cell);
+  // The bootstrap term max_a' Q(s', a') of every update: the maximum of
+  // q_row[a] (the cell's 8 values) over the cell's bootstrap actions, i.e.
+  // its in-grid actions (Bootstrap::kInGrid) or its in-region actions.
+  float BootstrapMax(int cell, const float* q_row) const {
+    const float* mask = region_model_internal::kActionMasks[record_[cell].bootstrap].data();
     // A balanced tree of maxima, written so the compiler can use SIMD.
     float m[4];
     for (int i = 0; i < 4; ++i) {
@@ -88,11 +95,14 @@ class RegionModel {
     int8_t reward[kNumActions];  // +100, -10, -1 (mdp.h) are exact in int8
     uint8_t count;
     uint8_t in_region;  // bit a: action a stays in the region
+    uint8_t bootstrap;  // bit a: action a counts in the bootstrap max
   };
 
   void Build();
 
   Region region_;
+  int grid_rows_, grid_cols_;
+  Bootstrap bootstrap_;
   std::vector<uint8_t> codes_;
   std::vector<CellRecord> record_;
   std::vector<int> start_cells_;

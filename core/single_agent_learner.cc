@@ -28,7 +28,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   if (static_cast<int>(job.codes.size()) != job.region.cells()) {
     throw std::invalid_argument("TrainSingleAgent: codes do not match the region");
   }
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   const SingleAgentOptions& options = job.single_agent;
 
   TrainingResult result;
@@ -49,7 +49,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   // One Q-learning update of (s, a); returns s'.
   const auto update = [&model, q](int s, int a) {
     const int next = model.target(s, a);
-    const float best_next = model.MaxInRegion(next, q + static_cast<size_t>(next) * kNumActions);
+    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
     float& value = q[static_cast<size_t>(s) * kNumActions + a];
     value += kLearningRate * (model.reward(s, a) + kDiscount * best_next - value);
     return next;

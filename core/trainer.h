@@ -16,6 +16,7 @@ namespace dynapath {
 // Which learner trains the nodes, and its options.
 struct LearnerConfig {
   LearnerKind kind = LearnerKind::kFedAsynQ;
+  Bootstrap bootstrap = Bootstrap::kInGrid;
   SingleAgentOptions single_agent;
   FedAsynQOptions federated;
 };

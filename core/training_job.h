@@ -15,6 +15,14 @@ namespace dynapath {
 enum class LearnerKind { kSingleAgent, kFedAsynQ };
 enum class Averaging { kEqual, kImportance };
 
+// Which actions of the next state the update's max_a' Q(s', a') ranges over.
+// The learner only *takes* in-region actions either way. kInGrid (default,
+// SPEC 2's formula) also bootstraps from the values of actions that leave
+// the region, learned when an ancestor was trained: a retrained leaf with no
+// station keeps routing towards the exits its parent found. kInRegion treats
+// the region as if it were the whole world.
+enum class Bootstrap { kInGrid, kInRegion };
+
 struct SingleAgentOptions {
   int max_episodes = 10000;          // report: at most 10,000 episodes
   double epsilon_start = 1.0;        // epsilon-greedy exploration at episode 0
@@ -40,6 +48,9 @@ struct TrainingJob {
   NodeId node = kNoNode;
   Region region;                  // in grid coordinates
   std::vector<uint8_t> codes;     // region cell codes, region-local row-major
+  int grid_rows = 0;              // the whole grid's size (0: the region is the grid)
+  int grid_cols = 0;
+  Bootstrap bootstrap = Bootstrap::kInGrid;
   QTable warm_start;              // the node's current table (region.cells())
   uint64_t seed = 0;              // from (run seed, node, training count)
   LearnerKind kind = LearnerKind::kFedAsynQ;

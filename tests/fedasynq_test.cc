@@ -419,7 +419,7 @@ TEST(FedAsynQTest, SameJobGivesTheSameTable) {
 // different order (or on two threads), each against start statistics rebuilt
 // from their counts, then the averager in learner order.
 QTable RunByHand(const TrainingJob& job, bool threaded) {
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   const int learner_count = job.federated.learners;
   std::vector<FedAsynQLearner> learners;
   for (int k = 0; k < learner_count; ++k) {
@@ -474,7 +474,7 @@ TEST(FedAsynQTest, NeverWritesOutOfRegionEntries) {
   job.warm_start = QTable(job.region.cells());
   job.warm_start.values().assign(job.warm_start.values().size(), 7.25f);
   const TrainingResult result = TrainFedAsynQ(job);
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   int changed = 0;
   for (int cell = 0; cell < model.cells(); ++cell) {
     for (int a = 0; a < kNumActions; ++a) {

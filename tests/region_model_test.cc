@@ -92,14 +92,14 @@ TEST(RegionModelTest, RegionCutFromLargerGridRestrictsActions) {
   EXPECT_EQ(model.start_cells(), (std::vector<int>{0, 1, 2, 3, 4, 5}));
 }
 
-TEST(RegionModelTest, MaxInRegionIgnoresOutOfRegionActions) {
+TEST(RegionModelTest, BootstrapMaxIgnoresOutOfRegionActions) {
   const Grid grid = SmallGrid();
   const RegionModel model(grid, Region{0, 3, 0, 3});
   // Corner 0 has actions E, SE, S; the large values elsewhere must not count.
   const float row[kNumActions] = {50, 40, -3, -7, -2, 60, 70, 80};
-  EXPECT_EQ(model.MaxInRegion(0, row), -2.0f);
+  EXPECT_EQ(model.BootstrapMax(0, row), -2.0f);
   const float interior[kNumActions] = {1, 2, 3, 4, 9, 5, 6, 7};
-  EXPECT_EQ(model.MaxInRegion(10, interior), 9.0f);
+  EXPECT_EQ(model.BootstrapMax(10, interior), 9.0f);
   for (int a = 0; a < kNumActions; ++a) {
     const bool inside = a >= 2 && a <= 4;
     EXPECT_EQ(model.action_mask(0)[a] == 0.0f, inside) << a;

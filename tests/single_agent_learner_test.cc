@@ -214,7 +214,7 @@ TEST(SingleAgentTest, NeverWritesOutOfRegionEntries) {
   job.seed = 9;
   job.kind = LearnerKind::kSingleAgent;
   const TrainingResult result = TrainSingleAgent(job);
-  const RegionModel model(job.region, job.codes);
+  const RegionModel model(job);
   int changed = 0;
   for (int cell = 0; cell < model.cells(); ++cell) {
     for (int a = 0; a < kNumActions; ++a) {

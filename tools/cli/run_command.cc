@@ -60,6 +60,9 @@ int RunCommand(const std::vector<std::string>& args) {
                    "hardware threads");
   parser.AddOption("out", "DIR", "output directory", "results");
   parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
+  parser.AddOption("bootstrap", "SCOPE",
+                   "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
+                   "in-grid");
   AddLogLevelOption(parser);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
@@ -81,10 +84,15 @@ int RunCommand(const std::vector<std::string>& args) {
   Result<ScenarioSetup> setup = ResolveScenario(parser);
   if (!setup) return usage_error(setup.error().message);
   const std::string out = parser.Get("out", "results");
+  const std::string bootstrap = parser.Get("bootstrap", "in-grid");
+  if (bootstrap != "in-grid" && bootstrap != "in-region") {
+    return usage_error("option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'");
+  }
 
   PlannerOptions options;
   options.run_seed = setup->seed;
   options.leaf_limit = static_cast<int>(*leaf_limit);
+  options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads", setup->labels.size_label,
                setup->labels.difficulty_label, setup->source, setup->scenario.changes.steps.size(),
                approaches->size(), *threads);
