@@ -45,6 +45,6 @@ int main(int argc, char** argv) {
   }
   if (command == "maze") return dynapath::cli::MazeCommand(args);
   if (command == "run") return dynapath::cli::RunCommand(args);
-  std::fprintf(stderr, "dynapath: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+  std::fprintf(stderr, "dynapath: unknown command '%s' (see dynapath --help)\n", command.c_str());
   return dynapath::cli::kExitUsage;
 }

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# End-to-end checks of the dynapath command-line tool: help, bad input (one
+# error line, non-zero exit), the maze facts, a run's result files and their
+# reproducibility. Usage: tests/cli_test.sh PATH_TO_DYNAPATH
+set -uo pipefail
+dynapath=${1:?usage: cli_test.sh PATH_TO_DYNAPATH}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+expect_usage_error() {  # expect exit 2 and exactly one stderr line mentioning $1
+  local needle=$1; shift
+  "$dynapath" "$@" >"$work/out" 2>"$work/err"
+  local code=$?
+  [ $code -eq 2 ] || fail "'$*' exited $code, expected 2"
+  [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'$*' printed $(wc -l <"$work/err") error lines"
+  grep -q -- "$needle" "$work/err" || fail "'$*' error does not mention '$needle': $(cat "$work/err")"
+}
+
+"$dynapath" --help | grep -q "Commands:" || fail "dynapath --help"
+"$dynapath" run --help | grep -q -- "--approach" || fail "run --help"
+"$dynapath" maze --help | grep -q -- "--difficulty" || fail "maze --help"
+
+expect_usage_error "unknown command" frobnicate
+expect_usage_error "--difficulty" maze --difficulty impossible
+expect_usage_error "--size" maze --size 0
+expect_usage_error "--size" maze --size abc
+expect_usage_error "unknown option" run --sise 20
+expect_usage_error "'magic'" run --approach magic
+expect_usage_error "needs a value" run --out
+expect_usage_error "missing.txt" run --maze "$work/missing.txt"
+printf '..x\n...\n' >"$work/bad_maze.txt"
+expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"
+printf 'dynapath-changes 1 9 9 1\n1 0\n' >"$work/bad.changes"
+expect_usage_error "9x9" run --size 20 --changes "$work/bad.changes"
+
+# The report's hard 50x50 maze: its exact step-0 optimum.
+"$dynapath" maze --size 50 --difficulty hard --no-grid >"$work/facts" || fail "maze"
+grep -q "success rate 0.997992, average path length 6.23474" "$work/facts" || fail "maze facts: $(cat "$work/facts")"
+grep -q "3 levels, 21 nodes, 16 leaves" "$work/facts" || fail "quadtree facts"
+
+# Save and reload: the same maze and changes give the same results.
+"$dynapath" maze --size 20 --difficulty medium --save "$work/m.txt" --save-changes "$work/m.changes" --no-grid >/dev/null \
+  || fail "maze --save"
+run() { "$dynapath" run --local --log-level off --approach "BFS Oracle,fedAsynQ_ImAvg,singleAgent" "$@"; }
+run --size 20 --difficulty medium --threads 1 --out "$work/a" >/dev/null || fail "run a"
+run --maze "$work/m.txt" --changes "$work/m.changes" --difficulty medium --threads 2 --out "$work/b" >/dev/null || fail "run b"
+for file in results.csv results_detailed.csv; do
+  [ -s "$work/a/$file" ] || fail "missing $file"
+done
+head -1 "$work/a/results.csv" | grep -qx "Approach,Size,Difficulty,InitialTime,AdaptTimePerStep,AvgSuccessRate,AvgPathLength" \
+  || fail "results.csv header"
+[ "$(wc -l <"$work/a/results_detailed.csv")" -eq $((3 * 41 + 1)) ] || fail "results_detailed.csv rows"
+# Identical apart from the time columns (AdaptTime = 6th; InitialTime and AdaptTimePerStep = 4th, 5th).
+cut -d, -f1-5,7- "$work/a/results_detailed.csv" >"$work/a.detail"
+cut -d, -f1-5,7- "$work/b/results_detailed.csv" >"$work/b.detail"
+cmp -s "$work/a.detail" "$work/b.detail" || fail "saved maze/changes or thread count changed the results"
+ls "$work/a" | grep -q tmp && fail "temporary file left behind"
+
+if [ $failures -eq 0 ]; then echo "cli_test: all checks passed"; else echo "cli_test: $failures failures"; exit 1; fi
