@@ -247,22 +247,11 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
 }
 
 TrainingResult TrainFedAsynQ(const TrainingJob& job) {
-  if (static_cast<int>(job.codes.size()) != job.region.cells()) {
-    throw std::invalid_argument("TrainFedAsynQ: codes do not match the region");
-  }
-  const RegionModel model(job);
-  const FedAsynQOptions& options = job.federated;
-
   TrainingResult result;
   result.node = job.node;
-  // An empty warm start means "no previous training": start from zeros.
-  if (job.warm_start.cells() == 0) {
-    result.table = QTable(model.cells());
-  } else if (job.warm_start.cells() == model.cells()) {
-    result.table = job.warm_start;
-  } else {
-    throw std::invalid_argument("TrainFedAsynQ: warm start does not match the region");
-  }
+  result.table = StartingTable(job);  // validates the job first
+  const RegionModel model(job);
+  const FedAsynQOptions& options = job.federated;
 
   const int learner_count = std::max(1, options.learners);
   // One object plays all K learners on one table (see RunRoundAndRevert).

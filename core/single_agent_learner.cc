@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <stdexcept>
 #include <vector>
 
 #include "core/rng.h"
@@ -25,22 +24,11 @@ double MaxAbsChange(const QTable& a, const QTable& b) {
 }  // namespace
 
 TrainingResult TrainSingleAgent(const TrainingJob& job) {
-  if (static_cast<int>(job.codes.size()) != job.region.cells()) {
-    throw std::invalid_argument("TrainSingleAgent: codes do not match the region");
-  }
-  const RegionModel model(job);
-  const SingleAgentOptions& options = job.single_agent;
-
   TrainingResult result;
   result.node = job.node;
-  // An empty warm start means "no previous training": start from zeros.
-  if (job.warm_start.cells() == 0) {
-    result.table = QTable(model.cells());
-  } else if (job.warm_start.cells() == model.cells()) {
-    result.table = job.warm_start;
-  } else {
-    throw std::invalid_argument("TrainSingleAgent: warm start does not match the region");
-  }
+  result.table = StartingTable(job);  // validates the job first
+  const RegionModel model(job);
+  const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
   if (stats.start_cells().empty()) return result;

@@ -1,10 +1,22 @@
 #include "core/training_job.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "core/rng.h"
 
 namespace dynapath {
+
+QTable StartingTable(const TrainingJob& job) {
+  if (static_cast<int>(job.codes.size()) != job.region.cells()) {
+    throw std::invalid_argument("training job: cell codes do not match the region");
+  }
+  if (job.warm_start.cells() == 0) return QTable(job.region.cells());
+  if (job.warm_start.cells() != job.region.cells()) {
+    throw std::invalid_argument("training job: warm start does not match the region");
+  }
+  return job.warm_start;
+}
 
 int64_t FederatedRounds(const Region& region, const FedAsynQOptions& options) {
   const int64_t total_iterations =

@@ -65,6 +65,11 @@ struct TrainingResult {
   int64_t steps = 0;              // Q-learning steps taken by all learners
 };
 
+// The table a job's training starts from: its warm start, or zeros when the
+// warm start is empty (never trained). Throws std::invalid_argument when the
+// codes or the warm start do not match the region (a malformed job).
+QTable StartingTable(const TrainingJob& job);
+
 // Number of federated rounds: floor(T / tau), at least 1.
 int64_t FederatedRounds(const Region& region, const FedAsynQOptions& options);
 

@@ -12,49 +12,14 @@
 #include "core/bfs_oracle.h"
 #include "core/policy_evaluation.h"
 #include "core/scenario.h"
+#include "tests/learner_test_maps.h"
 
 namespace dynapath {
 namespace {
 
-// The hand-made maps of single_agent_learner_test.cc.
-constexpr const char* kMap10 =
-    "..........\n"
-    "..#####...\n"
-    "......#...\n"
-    ".C....#...\n"
-    "......#...\n"
-    "###...#...\n"
-    "......#.C.\n"
-    "..#.......\n"
-    "..#.......\n"
-    "..#.......\n";
-constexpr const char* kMap20 =
-    "....................\n"
-    ".C.....#............\n"
-    ".......#............\n"
-    ".......#.....####...\n"
-    ".......#.....#..#...\n"
-    ".......#.....#..#...\n"
-    ".......#.....####...\n"
-    ".......#............\n"
-    ".......#............\n"
-    ".......######.......\n"
-    "....................\n"
-    "..............#.....\n"
-    "..............#.....\n"
-    "....########..#.....\n"
-    "..............#.....\n"
-    "..............#...C.\n"
-    "..............#.....\n"
-    ".....###......#.....\n"
-    ".....#.#............\n"
-    ".....###............\n";
-
-Grid MapFromText(const char* text) {
-  Result<Grid> grid = GridFromText(text);
-  EXPECT_TRUE(grid.ok());
-  return *grid;
-}
+using test_maps::kMap10;
+using test_maps::kMap20;
+using test_maps::MapFromText;
 
 TrainingJob WholeGridJob(const Grid& grid, Averaging averaging, uint64_t seed) {
   TrainingJob job;

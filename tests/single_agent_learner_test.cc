@@ -9,50 +9,14 @@
 #include "core/bfs_oracle.h"
 #include "core/policy_evaluation.h"
 #include "core/scenario.h"
+#include "tests/learner_test_maps.h"
 
 namespace dynapath {
 namespace {
 
-// Hand-made maps: walls, two stations, and (20x20) two enclosed pockets that
-// no policy can get out of.
-constexpr const char* kMap10 =
-    "..........\n"
-    "..#####...\n"
-    "......#...\n"
-    ".C....#...\n"
-    "......#...\n"
-    "###...#...\n"
-    "......#.C.\n"
-    "..#.......\n"
-    "..#.......\n"
-    "..#.......\n";
-constexpr const char* kMap20 =
-    "....................\n"
-    ".C.....#............\n"
-    ".......#............\n"
-    ".......#.....####...\n"
-    ".......#.....#..#...\n"
-    ".......#.....#..#...\n"
-    ".......#.....####...\n"
-    ".......#............\n"
-    ".......#............\n"
-    ".......######.......\n"
-    "....................\n"
-    "..............#.....\n"
-    "..............#.....\n"
-    "....########..#.....\n"
-    "..............#.....\n"
-    "..............#...C.\n"
-    "..............#.....\n"
-    ".....###......#.....\n"
-    ".....#.#............\n"
-    ".....###............\n";
-
-Grid MapFromText(const char* text) {
-  Result<Grid> grid = GridFromText(text);
-  EXPECT_TRUE(grid.ok());
-  return *grid;
-}
+using test_maps::kMap10;
+using test_maps::kMap20;
+using test_maps::MapFromText;
 
 TrainingJob WholeGridJob(const Grid& grid, uint64_t seed) {
   TrainingJob job;
