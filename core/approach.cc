@@ -7,10 +7,10 @@
 namespace dynapath {
 
 const std::vector<Approach>& AllApproaches() {
-  static const std::vector<Approach> all = {
-      Approach::kAStarStatic,        Approach::kAStarOracle, Approach::kBfsOracle,
-      Approach::kOnlyTrainLeafNodes, Approach::kSingleAgent, Approach::kFedAsynQEqAvg,
-      Approach::kFedAsynQImAvg};
+  static const std::vector<Approach> all = {Approach::kAStarStatic,  Approach::kAStarOracle,
+                                            Approach::kBfsOracle,    Approach::kOnlyTrainLeafNodes,
+                                            Approach::kSingleAgent,  Approach::kFedAsynQEqAvg,
+                                            Approach::kFedAsynQImAvg};
   return all;
 }
 

@@ -9,14 +9,18 @@ StepDetails AStarStaticPlanner::Initialize(const Grid& grid) {
   return {};
 }
 
-PolicyScore AStarStaticPlanner::Evaluate(const Grid& grid) { return ScoreStoredPaths(grid, paths_); }
+PolicyScore AStarStaticPlanner::Evaluate(const Grid& grid) {
+  return ScoreStoredPaths(grid, paths_);
+}
 
 StepDetails AStarOraclePlanner::Initialize(const Grid& grid) {
   astar_.ComputeAllPaths(grid, paths_);
   return {};
 }
 
-PolicyScore AStarOraclePlanner::Evaluate(const Grid& grid) { return ScoreStoredPaths(grid, paths_); }
+PolicyScore AStarOraclePlanner::Evaluate(const Grid& grid) {
+  return ScoreStoredPaths(grid, paths_);
+}
 
 StepDetails BfsOraclePlanner::Initialize(const Grid& grid) {
   NearestStationDistances(grid, distance_, queue_);

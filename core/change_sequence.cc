@@ -29,7 +29,8 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
   int version = 0;
   long long file_rows = 0, file_cols = 0, steps = 0;
   if (!(in >> magic >> version >> file_rows >> file_cols >> steps) || magic != "dynapath-changes") {
-    return Error{"not a change file (expected a 'dynapath-changes 1 <rows> <cols> <steps>' header)"};
+    return Error{
+        "not a change file (expected a 'dynapath-changes 1 <rows> <cols> <steps>' header)"};
   }
   if (version != 1) return Error{"unsupported change-file version " + std::to_string(version)};
   if (file_rows != rows || file_cols != cols) {
@@ -38,7 +39,8 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
                  std::to_string(cols)};
   }
   constexpr long long kMaxSteps = 1'000'000;
-  if (steps < 0 || steps > kMaxSteps) return Error{"bad number of time steps " + std::to_string(steps)};
+  if (steps < 0 || steps > kMaxSteps)
+    return Error{"bad number of time steps " + std::to_string(steps)};
   const long long cells = static_cast<long long>(rows) * cols;
   ChangeSequence sequence;
   sequence.steps.resize(static_cast<size_t>(steps));
@@ -61,7 +63,8 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
                      " outside the maze"};
       }
       if (code < 0 || code > 2) {
-        return Error{"time step " + std::to_string(t + 1) + ": bad cell code " + std::to_string(code)};
+        return Error{"time step " + std::to_string(t + 1) + ": bad cell code " +
+                     std::to_string(code)};
       }
       change.cell = static_cast<int>(cell);
       change.code = static_cast<Cell>(code);

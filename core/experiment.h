@@ -14,8 +14,8 @@ namespace dynapath {
 
 struct StepRecord {
   int time_step = 0;
-  int num_changes = 0;          // obstacle moves requested (the report's NumChanges)
-  double adapt_seconds = 0.0;   // 0 at time step 0 and for A* Static
+  int num_changes = 0;         // obstacle moves requested (the report's NumChanges)
+  double adapt_seconds = 0.0;  // 0 at time step 0 and for A* Static
   double success_rate = 0.0;
   double average_path_length = 0.0;
   int nodes_trained = 0;
@@ -49,8 +49,8 @@ Clock SteadyClock();
 using StepCallback = std::function<void(const ApproachRun& run, int total_steps)>;
 
 ApproachRun RunApproach(const Scenario& scenario, Approach approach, const PlannerOptions& options,
-                        Trainer* trainer, const RunLabels& labels, const Clock& clock = SteadyClock(),
-                        const StepCallback& on_step = {});
+                        Trainer* trainer, const RunLabels& labels,
+                        const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
 
 // "50" for a 50x50 maze, "40x60" for 40 rows and 60 columns.
 std::string SizeLabel(int rows, int cols);

@@ -20,7 +20,9 @@ char CellChar(Cell cell) {
 }
 
 Grid::Grid(int rows, int cols, Cell fill)
-    : rows_(rows), cols_(cols), cells_(static_cast<size_t>(rows) * cols, static_cast<uint8_t>(fill)) {}
+    : rows_(rows),
+      cols_(cols),
+      cells_(static_cast<size_t>(rows) * cols, static_cast<uint8_t>(fill)) {}
 
 int Grid::Count(Cell cell) const {
   return static_cast<int>(std::count(cells_.begin(), cells_.end(), static_cast<uint8_t>(cell)));
@@ -49,7 +51,8 @@ Result<Grid> GridFromText(const std::string& text) {
       const char ch = line[i];
       if (ch != '#' && ch != '.' && ch != 'C') {
         return Error{"line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
-                     ": unexpected character '" + std::string(1, ch) + "' (expected '#', '.' or 'C')"};
+                     ": unexpected character '" + std::string(1, ch) +
+                     "' (expected '#', '.' or 'C')"};
       }
     }
     if (!lines.empty() && line.size() != lines.front().size()) {

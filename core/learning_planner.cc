@@ -75,7 +75,8 @@ double LearningPlanner::SuccessRate(NodeId node) {
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
   std::vector<uint64_t> seeds;
   seeds.reserve(nodes.size());
-  for (NodeId node : nodes) seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
+  for (NodeId node : nodes)
+    seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
   trainer_.Train(nodes, seeds, learner_, *tree_, *grid_, *root_);
   depths_valid_ = false;  // the policy changed
 }

@@ -17,12 +17,12 @@
 namespace dynapath {
 
 struct PlannerOptions {
-  uint64_t run_seed = 0;                          // learners' seeds derive from it
-  int leaf_limit = QuadTree::kDefaultLeafLimit;   // largest leaf side
+  uint64_t run_seed = 0;                         // learners' seeds derive from it
+  int leaf_limit = QuadTree::kDefaultLeafLimit;  // largest leaf side
   RetrainingThresholds thresholds;
   SingleAgentOptions single_agent;
-  FedAsynQOptions federated;                      // averaging is set by the approach
-  Bootstrap bootstrap = Bootstrap::kInGrid;       // see training_job.h
+  FedAsynQOptions federated;                 // averaging is set by the approach
+  Bootstrap bootstrap = Bootstrap::kInGrid;  // see training_job.h
 };
 
 // What an initialisation or adaptation did (extra result columns).

@@ -24,10 +24,12 @@ struct PolicyDepths {
 
 // Success rate and mean path length over a set of starts.
 struct PolicyScore {
-  int starts = 0;       // non-obstacle cells considered
-  int successes = 0;    // of which reach a station
+  int starts = 0;     // non-obstacle cells considered
+  int successes = 0;  // of which reach a station
   int64_t total_length = 0;
-  double success_rate() const { return starts == 0 ? 1.0 : static_cast<double>(successes) / starts; }
+  double success_rate() const {
+    return starts == 0 ? 1.0 : static_cast<double>(successes) / starts;
+  }
   double average_path_length() const {
     return successes == 0 ? 0.0 : static_cast<double>(total_length) / successes;
   }
@@ -41,8 +43,8 @@ class PolicyEvaluator {
   void Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out);
 
  private:
-  std::vector<int32_t> successors_;   // 2 per cell, -1 = none
-  std::vector<int32_t> in_offsets_;   // reverse edges, CSR
+  std::vector<int32_t> successors_;  // 2 per cell, -1 = none
+  std::vector<int32_t> in_offsets_;  // reverse edges, CSR
   std::vector<int32_t> in_edges_;
   std::vector<int32_t> queue_;
 };

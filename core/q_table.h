@@ -16,7 +16,9 @@ class QTable {
 
   int cells() const { return static_cast<int>(values_.size() / kNumActions); }
   float* row(int cell) { return values_.data() + static_cast<size_t>(cell) * kNumActions; }
-  const float* row(int cell) const { return values_.data() + static_cast<size_t>(cell) * kNumActions; }
+  const float* row(int cell) const {
+    return values_.data() + static_cast<size_t>(cell) * kNumActions;
+  }
   std::vector<float>& values() { return values_; }
   const std::vector<float>& values() const { return values_; }
 

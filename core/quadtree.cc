@@ -26,10 +26,9 @@ QuadTree::QuadTree(int rows, int cols, int leaf_limit)
     if (region.rows() <= leaf_limit_ && region.cols() <= leaf_limit_) continue;
     const int mr = (region.r0 + region.r1) / 2;
     const int mc = (region.c0 + region.c1) / 2;
-    const std::array<Region, 4> quarters = {Region{region.r0, mr, region.c0, mc},
-                                            Region{region.r0, mr, mc + 1, region.c1},
-                                            Region{mr + 1, region.r1, region.c0, mc},
-                                            Region{mr + 1, region.r1, mc + 1, region.c1}};
+    const std::array<Region, 4> quarters = {
+        Region{region.r0, mr, region.c0, mc}, Region{region.r0, mr, mc + 1, region.c1},
+        Region{mr + 1, region.r1, region.c0, mc}, Region{mr + 1, region.r1, mc + 1, region.c1}};
     for (int q = 0; q < 4; ++q) {
       if (quarters[q].empty()) continue;
       const NodeId id = static_cast<NodeId>(nodes_.size());

@@ -50,7 +50,8 @@ Status WriteResultFiles(const std::vector<ApproachRun>& runs, const std::string&
   std::error_code error;
   std::filesystem::create_directories(directory, error);
   if (error) return Error{directory + ": cannot create directory: " + error.message()};
-  Status status = WriteTextFileAtomically(directory + "/results_detailed.csv", DetailedResultsCsv(runs));
+  Status status =
+      WriteTextFileAtomically(directory + "/results_detailed.csv", DetailedResultsCsv(runs));
   if (!status) return status;
   return WriteTextFileAtomically(directory + "/results.csv", SummaryResultsCsv(runs));
 }

@@ -17,7 +17,9 @@ void RecordTraining(const QuadTree& tree, const std::vector<NodeId>& nodes,
 }  // namespace
 
 TreeStrategy::TreeStrategy(const QuadTree& tree, RetrainingThresholds thresholds)
-    : tree_(tree), thresholds_(thresholds), baseline_(static_cast<size_t>(tree.node_count()), -1.0) {}
+    : tree_(tree),
+      thresholds_(thresholds),
+      baseline_(static_cast<size_t>(tree.node_count()), -1.0) {}
 
 bool TreeStrategy::NeedsTraining(NodeId node, TrainingContext& context) {
   if (!trained(node)) return true;

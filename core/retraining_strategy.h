@@ -11,8 +11,8 @@
 namespace dynapath {
 
 struct RetrainingThresholds {
-  double max_drop = 0.01;          // retrain when the success rate fell by more (report: 0.01)
-  double min_success_rate = 0.9;   // retrain / escalate below this rate (report: 0.9)
+  double max_drop = 0.01;         // retrain when the success rate fell by more (report: 0.01)
+  double min_success_rate = 0.9;  // retrain / escalate below this rate (report: 0.9)
 };
 
 // What a strategy needs from the world.

@@ -66,7 +66,8 @@ ChangeSequence GenerateChanges(const Grid& initial, int steps, CRandom& random) 
       int count = 0;
       for (int a = 0; a < kNumActions; ++a) {
         const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
-        if (grid.InBounds(r, c) && grid.at(r, c) == Cell::kFree) free_neighbours[count++] = grid.Index(r, c);
+        if (grid.InBounds(r, c) && grid.at(r, c) == Cell::kFree)
+          free_neighbours[count++] = grid.Index(r, c);
       }
       if (count == 0) continue;
       const int to = free_neighbours[static_cast<size_t>(random.Next() % count)];
@@ -84,7 +85,8 @@ Scenario GenerateScenario(int rows, int cols, Difficulty difficulty, unsigned se
   CRandom random(seed);
   Scenario scenario;
   scenario.grid = GenerateMaze(rows, cols, ProbabilitiesOf(difficulty), random);
-  scenario.changes = GenerateChanges(scenario.grid, steps < 0 ? ReportTimeSteps(rows) : steps, random);
+  scenario.changes =
+      GenerateChanges(scenario.grid, steps < 0 ? ReportTimeSteps(rows) : steps, random);
   return scenario;
 }
 

@@ -14,8 +14,8 @@ namespace dynapath {
 class CRandom;
 
 struct Scenario {
-  Grid grid;                // the maze at time step 0
-  ChangeSequence changes;   // changes of time steps 1..T
+  Grid grid;               // the maze at time step 0
+  ChangeSequence changes;  // changes of time steps 1..T
 };
 
 // Draws a maze (SPEC section 1) from `random`.

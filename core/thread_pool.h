@@ -40,8 +40,8 @@ class ThreadPool {
   const std::function<void(int)>* body_ = nullptr;
   int count_ = 0;
   int next_ = 0;
-  int active_ = 0;          // workers inside the current loop
-  unsigned generation_ = 0; // bumped per ParallelFor call
+  int active_ = 0;           // workers inside the current loop
+  unsigned generation_ = 0;  // bumped per ParallelFor call
   bool stopping_ = false;
 };
 

@@ -24,13 +24,13 @@ enum class Averaging { kEqual, kImportance };
 enum class Bootstrap { kInGrid, kInRegion };
 
 struct SingleAgentOptions {
-  int max_episodes = 10000;          // report: at most 10,000 episodes
-  double epsilon_start = 1.0;        // epsilon-greedy exploration at episode 0
-  double epsilon_decay = 0.999;      // multiplied in after every episode
-  double epsilon_min = 0.01;         // floor
-  int replay_capacity = 1000;        // FIFO buffer of the last transitions
-  int replay_start_episode = 500;    // replay from this episode on
-  int replay_batch = 64;             // replayed updates after each real step
+  int max_episodes = 10000;             // report: at most 10,000 episodes
+  double epsilon_start = 1.0;           // epsilon-greedy exploration at episode 0
+  double epsilon_decay = 0.999;         // multiplied in after every episode
+  double epsilon_min = 0.01;            // floor
+  int replay_capacity = 1000;           // FIFO buffer of the last transitions
+  int replay_start_episode = 500;       // replay from this episode on
+  int replay_batch = 64;                // replayed updates after each real step
   int convergence_start_episode = 500;  // first convergence check
   int convergence_interval = 50;        // episodes between checks
   double convergence_threshold = 5e-4;  // largest absolute change
@@ -46,13 +46,13 @@ struct FedAsynQOptions {
 
 struct TrainingJob {
   NodeId node = kNoNode;
-  Region region;                  // in grid coordinates
-  std::vector<uint8_t> codes;     // region cell codes, region-local row-major
-  int grid_rows = 0;              // the whole grid's size (0: the region is the grid)
+  Region region;               // in grid coordinates
+  std::vector<uint8_t> codes;  // region cell codes, region-local row-major
+  int grid_rows = 0;           // the whole grid's size (0: the region is the grid)
   int grid_cols = 0;
   Bootstrap bootstrap = Bootstrap::kInGrid;
-  QTable warm_start;              // the node's current table (region.cells())
-  uint64_t seed = 0;              // from (run seed, node, training count)
+  QTable warm_start;  // the node's current table (region.cells())
+  uint64_t seed = 0;  // from (run seed, node, training count)
   LearnerKind kind = LearnerKind::kFedAsynQ;
   SingleAgentOptions single_agent;
   FedAsynQOptions federated;
@@ -60,9 +60,9 @@ struct TrainingJob {
 
 struct TrainingResult {
   NodeId node = kNoNode;
-  QTable table;                   // the node's new table
-  int64_t episodes_or_rounds = 0; // episodes (single agent) or rounds (federated)
-  int64_t steps = 0;              // Q-learning steps taken by all learners
+  QTable table;                    // the node's new table
+  int64_t episodes_or_rounds = 0;  // episodes (single agent) or rounds (federated)
+  int64_t steps = 0;               // Q-learning steps taken by all learners
 };
 
 // The table a job's training starts from: its warm start, or zeros when the

@@ -13,7 +13,8 @@ TEST(CRandomTest, MatchesTheCLibraryStream) {
   for (unsigned seed : {0u, 1u, 50u, 51u, 52u, 102u, 123456789u, 4294967295u}) {
     std::srand(seed);
     CRandom ours(seed);
-    for (int i = 0; i < 20000; ++i) ASSERT_EQ(ours.Next(), std::rand()) << "seed " << seed << " draw " << i;
+    for (int i = 0; i < 20000; ++i)
+      ASSERT_EQ(ours.Next(), std::rand()) << "seed " << seed << " draw " << i;
   }
 }
 

@@ -54,7 +54,7 @@ TEST(ExperimentTest, ShapeOfARun) {
   EXPECT_EQ(run.steps[0].adapt_seconds, 0.0);
   EXPECT_EQ(run.steps[1].adapt_seconds, 1.0);
   EXPECT_EQ(run.steps[1].num_changes, scenario.changes.steps[0].requested_moves);
-  EXPECT_DOUBLE_EQ(run.steps[0].success_rate, 1.0);       // report: 20 Easy optimum 1
+  EXPECT_DOUBLE_EQ(run.steps[0].success_rate, 1.0);             // report: 20 Easy optimum 1
   EXPECT_NEAR(run.steps[0].average_path_length, 4.3815, 5e-5);  // and 4.3815
   EXPECT_DOUBLE_EQ(run.AdaptSecondsPerStep(), 1.0);
 }

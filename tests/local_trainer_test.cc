@@ -25,7 +25,8 @@ TEST(LocalTrainerTest, EqualsSequentialLearners) {
       config.single_agent.max_episodes = 300;
       RootQTable expected(tree.rows(), tree.cols());
       for (size_t i = 0; i < nodes.size(); ++i) {
-        const TrainingJob job = MakeTrainingJob(nodes[i], seeds[i], config, tree, scenario.grid, expected);
+        const TrainingJob job =
+            MakeTrainingJob(nodes[i], seeds[i], config, tree, scenario.grid, expected);
         const TrainingResult result =
             kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job) : TrainSingleAgent(job);
         expected.Commit(job.region, result.table);

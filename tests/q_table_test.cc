@@ -37,8 +37,8 @@ TEST(QTableTest, RootStoreEqualsExplicitPerNodePropagation) {
                           const Region& to) {
     for (int r = std::max(from.r0, to.r0); r <= std::min(from.r1, to.r1); ++r) {
       for (int c = std::max(from.c0, to.c0); c <= std::min(from.c1, to.c1); ++c) {
-        std::copy(source.row(from.LocalIndex(r, c)), source.row(from.LocalIndex(r, c)) + kNumActions,
-                  target.row(to.LocalIndex(r, c)));
+        std::copy(source.row(from.LocalIndex(r, c)),
+                  source.row(from.LocalIndex(r, c)) + kNumActions, target.row(to.LocalIndex(r, c)));
       }
     }
   };

@@ -75,8 +75,8 @@ TEST(QuadTreeTest, IdsAreLevelOrderAndLinksConsistent) {
 }
 
 TEST(QuadTreeTest, RectangularAndThinGrids) {
-  for (auto [rows, cols] : {std::pair{7, 90}, std::pair{1, 100}, std::pair{45, 21},
-                            std::pair{1, 1}, std::pair{21, 1}}) {
+  for (auto [rows, cols] : {std::pair{7, 90}, std::pair{1, 100}, std::pair{45, 21}, std::pair{1, 1},
+                            std::pair{21, 1}}) {
     const QuadTree tree(rows, cols);
     SCOPED_TRACE(std::to_string(rows) + "x" + std::to_string(cols));
     ExpectEveryCellInExactlyOneLeaf(tree);

@@ -85,8 +85,10 @@ std::string ArgParser::Help() const {
   std::string help = "Usage: " + usage_ + "\n\n" + summary_ + "\n\nOptions:\n";
   for (const Spec& spec : specs_) {
     std::string left = "  --" + spec.name + (spec.takes_value ? " " + spec.value_name : "");
-    if (left.size() < 28) left.resize(28, ' ');
-    else left += "\n" + std::string(28, ' ');
+    if (left.size() < 28)
+      left.resize(28, ' ');
+    else
+      left += "\n" + std::string(28, ' ');
     help += left + spec.help;
     if (!spec.default_text.empty()) help += " (default: " + spec.default_text + ")";
     help += "\n";

@@ -1,9 +1,9 @@
-#include <cstdio>
-
 #include <spdlog/spdlog.h>
 
-#include "core/bfs_oracle.h"
+#include <cstdio>
+
 #include "core/astar_paths.h"
+#include "core/bfs_oracle.h"
 #include "core/quadtree.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/scenario_options.h"
@@ -82,9 +82,10 @@ int MazeCommand(const std::vector<std::string>& args) {
               setup->labels.difficulty_label.c_str());
   std::printf("cells:           %d free, %d obstacles, %d stations\n", grid.Count(Cell::kFree),
               grid.Count(Cell::kObstacle), grid.Count(Cell::kStation));
-  std::printf("quadtree:        %d levels, %d nodes, %d leaves (%d without a station), leaf limit %lld\n",
-              tree.level_count(), tree.node_count(), static_cast<int>(tree.leaves().size()),
-              leaves_without_station, *leaf_limit);
+  std::printf(
+      "quadtree:        %d levels, %d nodes, %d leaves (%d without a station), leaf limit %lld\n",
+      tree.level_count(), tree.node_count(), static_cast<int>(tree.leaves().size()),
+      leaves_without_station, *leaf_limit);
   std::printf("optimum, step 0: success rate %g, average path length %g (%d of %d starts)\n",
               optimum.success_rate(), optimum.average_path_length(), optimum.successes,
               optimum.starts);

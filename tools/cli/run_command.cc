@@ -1,7 +1,7 @@
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <thread>
-
-#include <spdlog/spdlog.h>
 
 #include "core/experiment.h"
 #include "core/local_trainer.h"
@@ -30,7 +30,7 @@ class ProgressLog {
                    ApproachName(run.approach), run.size_label, run.difficulty_label,
                    run.initial_seconds, record.success_rate, record.average_path_length);
     } else {
-      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step", 
+      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step",
                    ApproachName(run.approach), run.size_label, run.difficulty_label, step,
                    total_steps, record.success_rate, run.AdaptSecondsPerStep());
     }
@@ -60,9 +60,10 @@ int RunCommand(const std::vector<std::string>& args) {
                    "hardware threads");
   parser.AddOption("out", "DIR", "output directory", "results");
   parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
-  parser.AddOption("bootstrap", "SCOPE",
-                   "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
-                   "in-grid");
+  parser.AddOption(
+      "bootstrap", "SCOPE",
+      "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
+      "in-grid");
   AddLogLevelOption(parser);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
@@ -93,9 +94,9 @@ int RunCommand(const std::vector<std::string>& args) {
   options.run_seed = setup->seed;
   options.leaf_limit = static_cast<int>(*leaf_limit);
   options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
-  spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads", setup->labels.size_label,
-               setup->labels.difficulty_label, setup->source, setup->scenario.changes.steps.size(),
-               approaches->size(), *threads);
+  spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
+               setup->labels.size_label, setup->labels.difficulty_label, setup->source,
+               setup->scenario.changes.steps.size(), approaches->size(), *threads);
 
   ThreadPool pool(static_cast<int>(*threads));
   LocalTrainer trainer(pool);
@@ -105,9 +106,10 @@ int RunCommand(const std::vector<std::string>& args) {
     runs.push_back(RunApproach(setup->scenario, approach, options, &trainer, setup->labels,
                                SteadyClock(), std::ref(progress)));
     const ApproachRun& run = runs.back();
-    spdlog::info("{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
-                 ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
-                 run.AverageSuccessRate(), run.AveragePathLength());
+    spdlog::info(
+        "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
+        ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
+        run.AverageSuccessRate(), run.AveragePathLength());
     // Written after every approach, so an interrupted run keeps what finished.
     if (Status status = WriteResultFiles(runs, out); !status) {
       spdlog::error("{}", status.error().message);

@@ -40,7 +40,8 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
     Result<Grid> grid = LoadGrid(parser.Get("maze"));
     if (!grid) return grid.error();
     setup.scenario.grid = std::move(*grid);
-    setup.labels.difficulty_label = parser.Has("difficulty") ? DifficultyName(*difficulty) : "Custom";
+    setup.labels.difficulty_label =
+        parser.Has("difficulty") ? DifficultyName(*difficulty) : "Custom";
     setup.source = "maze file " + parser.Get("maze");
   } else {
     Result<long long> rows = parser.GetInt("size", 20, 1, kMaxSide);

@@ -14,8 +14,8 @@ namespace dynapath::cli {
 struct ScenarioSetup {
   Scenario scenario;
   RunLabels labels;
-  uint64_t seed = 0;       // the maze seed (also the learners' run seed)
-  std::string source;      // how the scenario was obtained, for the log
+  uint64_t seed = 0;   // the maze seed (also the learners' run seed)
+  std::string source;  // how the scenario was obtained, for the log
 };
 
 void AddScenarioOptions(ArgParser& parser);
