@@ -9,7 +9,7 @@
 #include "core/bfs_oracle.h"
 #include "core/policy_evaluation.h"
 #include "core/scenario.h"
-#include "tests/learner_test_maps.h"
+#include "tests/learner_test_support.h"
 
 namespace dynapath {
 namespace {
@@ -29,38 +29,9 @@ TrainingJob WholeGridJob(const Grid& grid, uint64_t seed) {
   return job;
 }
 
-// How well the top-2 policy of `table` (SPEC 4) does against the BFS oracle:
-// the fraction of the starts that can reach a station from which it reaches
-// one, and its mean path length over those successes relative to the optimal.
-struct PolicyQuality {
-  double reachable_success = 0;
-  double length_ratio = 0;
-};
-
-PolicyQuality Quality(const Grid& grid, const QTable& table) {
-  std::vector<int32_t> distance, queue;
-  NearestStationDistances(grid, distance, queue);
-  PolicyEvaluator evaluator;
-  PolicyDepths depths;
-  evaluator.Evaluate(grid, table, depths);
-  int reachable = 0, succeeded = 0;
-  int64_t length = 0, optimal = 0;
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    if (distance[cell] == kUnreachable) continue;
-    ++reachable;
-    if (depths.depth[cell] == kNoPath) continue;
-    ++succeeded;
-    length += depths.depth[cell];
-    optimal += distance[cell];
-  }
-  return {static_cast<double>(succeeded) / reachable,
-          optimal == 0 ? 1.0 : static_cast<double>(length) / static_cast<double>(optimal)};
-}
-
-bool BytesEqual(const QTable& a, const QTable& b) {
-  return a.values().size() == b.values().size() &&
-         std::memcmp(a.values().data(), b.values().data(), a.values().size() * sizeof(float)) == 0;
-}
+using test_maps::BytesEqual;
+using test_maps::PolicyQuality;
+using test_maps::Quality;
 
 struct LearningCase {
   std::string name;
