@@ -12,36 +12,18 @@
 #include "core/difficulty.h"
 #include "core/grid.h"
 #include "core/scenario.h"
+#include "tests/grid_test_support.h"
 
 namespace dynapath {
 namespace {
 
-std::vector<int32_t> Distances(const Grid& grid) {
-  std::vector<int32_t> distance, queue;
-  NearestStationDistances(grid, distance, queue);
-  return distance;
-}
+using test_grids::Distances;
+using test_grids::FromText;
 
-Grid FromText(const std::string& text) {
-  Result<Grid> grid = GridFromText(text);
-  EXPECT_TRUE(grid.ok());
-  return grid.value();
-}
-
-// Obstacles and stations with the given per-mille probabilities; integer
-// arithmetic on mt19937 output so the grids are the same on every platform.
+// A random grid of its own generator seeded with `seed`.
 Grid RandomGrid(int rows, int cols, int obstacle_per_mille, int station_per_mille, unsigned seed) {
   std::mt19937 random(seed);
-  Grid grid(rows, cols);
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    const int v = static_cast<int>(random() % 1000);
-    if (v < obstacle_per_mille) {
-      grid.set(cell, Cell::kObstacle);
-    } else if (v < obstacle_per_mille + station_per_mille) {
-      grid.set(cell, Cell::kStation);
-    }
-  }
-  return grid;
+  return test_grids::RandomGrid(rows, cols, obstacle_per_mille, station_per_mille, random);
 }
 
 // The A* lengths equal the BFS distances and every stored path is a valid

@@ -14,9 +14,13 @@
 #include "core/scenario.h"
 #include "core/text_file.h"
 #include "core/text_util.h"
+#include "tests/grid_test_support.h"
 
 namespace dynapath {
 namespace {
+
+using test_grids::Distances;
+using test_grids::FromText;
 
 // The reference CSV was written by a C++ ostream at its default precision:
 // 6 significant digits, printf "%g" style.
@@ -24,18 +28,6 @@ std::string SixDigits(double value) {
   std::ostringstream out;
   out << std::setprecision(6) << value;
   return out.str();
-}
-
-std::vector<int32_t> Distances(const Grid& grid) {
-  std::vector<int32_t> distance, queue;
-  NearestStationDistances(grid, distance, queue);
-  return distance;
-}
-
-Grid FromText(const std::string& text) {
-  Result<Grid> grid = GridFromText(text);
-  EXPECT_TRUE(grid.ok());
-  return grid.value();
 }
 
 constexpr int32_t U = kUnreachable;

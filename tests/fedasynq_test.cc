@@ -34,6 +34,8 @@ TrainingJob WholeGridJob(const Grid& grid, Averaging averaging, uint64_t seed) {
 }
 
 using test_maps::BytesEqual;
+using test_maps::LearningCase;
+using test_maps::LearningCases;
 using test_maps::PolicyQuality;
 using test_maps::Quality;
 
@@ -308,18 +310,6 @@ TEST(FedAsynQLearnerTest, ReachedStationOnlyWhenOneIsVisited) {
 }
 
 // --- Whole jobs --------------------------------------------------------------
-
-struct LearningCase {
-  std::string name;
-  Grid grid;
-};
-
-std::vector<LearningCase> LearningCases() {
-  return {{"Map10", MapFromText(kMap10)},
-          {"Map20", MapFromText(kMap20)},
-          {"Easy20", GenerateScenario(20, 20, Difficulty::kEasy, 50, 0).grid},
-          {"Hard20", GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid}};
-}
 
 TEST(FedAsynQTest, BothAveragingsLearnToReachAStationFromReachableStarts) {
   for (const Averaging averaging : {Averaging::kEqual, Averaging::kImportance}) {

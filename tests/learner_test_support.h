@@ -12,6 +12,8 @@
 #include "core/grid.h"
 #include "core/policy_evaluation.h"
 #include "core/q_table.h"
+#include "core/scenario.h"
+#include "tests/grid_test_support.h"
 
 namespace dynapath::test_maps {
 
@@ -50,12 +52,6 @@ inline constexpr const char* kMap20 =
     ".....#.#............\n"
     ".....###............\n";
 
-inline Grid MapFromText(const char* text) {
-  Result<Grid> grid = GridFromText(text);
-  EXPECT_TRUE(grid.ok());
-  return *grid;
-}
-
 // How well the top-2 policy of `table` (SPEC 4) does against the BFS oracle:
 // the fraction of the starts that can reach a station from which it reaches
 // one, and its mean path length over those successes relative to the optimal.
@@ -87,6 +83,22 @@ inline PolicyQuality Quality(const Grid& grid, const QTable& table) {
 inline bool BytesEqual(const QTable& a, const QTable& b) {
   return a.values().size() == b.values().size() &&
          std::memcmp(a.values().data(), b.values().data(), a.values().size() * sizeof(float)) == 0;
+}
+
+inline Grid MapFromText(const char* text) { return test_grids::FromText(text); }
+
+// The grids every learner must learn on: the two hand-made maps and the
+// report's easy and hard 20x20 mazes.
+struct LearningCase {
+  std::string name;
+  Grid grid;
+};
+
+inline std::vector<LearningCase> LearningCases() {
+  return {{"Map10", MapFromText(kMap10)},
+          {"Map20", MapFromText(kMap20)},
+          {"Easy20", GenerateScenario(20, 20, Difficulty::kEasy, 50, 0).grid},
+          {"Hard20", GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid}};
 }
 
 }  // namespace dynapath::test_maps

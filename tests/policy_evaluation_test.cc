@@ -14,9 +14,12 @@
 #include "core/mdp.h"
 #include "core/q_table.h"
 #include "core/region.h"
+#include "tests/grid_test_support.h"
 
 namespace dynapath {
 namespace {
+
+using test_grids::RandomGrid;
 
 Grid FromText(const std::string& text) {
   Result<Grid> grid = GridFromText(text);
@@ -81,20 +84,6 @@ std::vector<int32_t> ReferenceDepths(const Grid& grid, const QTable& q, int* too
     }
   }
   return depth;
-}
-
-Grid RandomGrid(int rows, int cols, int obstacle_per_mille, int station_per_mille,
-                std::mt19937& random) {
-  Grid grid(rows, cols);
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    const int v = static_cast<int>(random() % 1000);
-    if (v < obstacle_per_mille) {
-      grid.set(cell, Cell::kObstacle);
-    } else if (v < obstacle_per_mille + station_per_mille) {
-      grid.set(cell, Cell::kStation);
-    }
-  }
-  return grid;
 }
 
 enum class TableKind {

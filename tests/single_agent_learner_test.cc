@@ -30,20 +30,10 @@ TrainingJob WholeGridJob(const Grid& grid, uint64_t seed) {
 }
 
 using test_maps::BytesEqual;
+using test_maps::LearningCase;
+using test_maps::LearningCases;
 using test_maps::PolicyQuality;
 using test_maps::Quality;
-
-struct LearningCase {
-  std::string name;
-  Grid grid;
-};
-
-std::vector<LearningCase> LearningCases() {
-  return {{"Map10", MapFromText(kMap10)},
-          {"Map20", MapFromText(kMap20)},
-          {"Easy20", GenerateScenario(20, 20, Difficulty::kEasy, 50, 0).grid},
-          {"Hard20", GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid}};
-}
 
 TEST(SingleAgentTest, LearnsToReachAStationFromReachableStarts) {
   for (const LearningCase& c : LearningCases()) {
