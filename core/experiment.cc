@@ -52,23 +52,30 @@ StepRecord Score(Planner& planner, const Grid& grid, int time_step, int num_chan
 ApproachRun RunApproach(const Scenario& scenario, Approach approach, const PlannerOptions& options,
                         Trainer* trainer, const RunLabels& labels, const Clock& clock,
                         const StepCallback& on_step) {
+  ScenarioStepSource source(scenario);
+  return RunApproach(source, 0, approach, options, trainer, labels, clock, on_step);
+}
+
+ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
+                        const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
+                        const Clock& clock, const StepCallback& on_step) {
   ApproachRun run;
   run.approach = approach;
   run.size_label = labels.size_label;
   run.difficulty_label = labels.difficulty_label;
-  const int total_steps = static_cast<int>(scenario.changes.steps.size());
+  const int total_steps = source.total_steps();
   std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
 
-  Grid grid = scenario.grid;
+  Grid grid = source.Initial(pass);
   double start = clock();
   StepDetails details = planner->Initialize(grid);
   run.initial_seconds = clock() - start;
   run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
-  if (on_step) on_step(run, total_steps);
+  if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
 
   std::vector<int> changed_cells;
-  for (int t = 0; t < total_steps; ++t) {
-    const ChangeStep& step = scenario.changes.steps[static_cast<size_t>(t)];
+  for (int t = 1; t <= total_steps; ++t) {
+    const ChangeStep step = source.Changes(pass, t);
     ApplyChanges(step, grid);
     changed_cells.clear();
     for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
@@ -77,8 +84,8 @@ ApproachRun RunApproach(const Scenario& scenario, Approach approach, const Plann
     start = clock();
     details = planner->Adapt(grid, changed_cells);
     const double seconds = timed ? clock() - start : 0.0;
-    run.steps.push_back(Score(*planner, grid, t + 1, step.requested_moves, seconds, details));
-    if (on_step) on_step(run, total_steps);
+    run.steps.push_back(Score(*planner, grid, t, step.requested_moves, seconds, details));
+    if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
   }
   return run;
 }

@@ -12,6 +12,33 @@
 
 namespace dynapath {
 
+// Where a run's maze and change sequence come from, one time step at a time:
+// a Scenario in memory, or the environment simulator over LCM. Every
+// approach is one pass over the same sequence. May throw std::runtime_error
+// when the source fails (e.g. the simulator is gone).
+class StepSource {
+ public:
+  virtual ~StepSource() = default;
+  virtual int total_steps() const = 0;
+  // The maze at time step 0 of pass `pass`.
+  virtual Grid Initial(int pass) = 0;
+  // The changes of time step `t` (1..total_steps()) of pass `pass`.
+  virtual ChangeStep Changes(int pass, int t) = 0;
+};
+
+class ScenarioStepSource : public StepSource {
+ public:
+  explicit ScenarioStepSource(const Scenario& scenario) : scenario_(scenario) {}
+  int total_steps() const override { return static_cast<int>(scenario_.changes.steps.size()); }
+  Grid Initial(int /*pass*/) override { return scenario_.grid; }
+  ChangeStep Changes(int /*pass*/, int t) override {
+    return scenario_.changes.steps[static_cast<size_t>(t - 1)];
+  }
+
+ private:
+  const Scenario& scenario_;
+};
+
 struct StepRecord {
   int time_step = 0;
   int num_changes = 0;         // obstacle moves requested (the report's NumChanges)
@@ -45,11 +72,24 @@ struct RunLabels {
 using Clock = std::function<double()>;
 Clock SteadyClock();
 
-// Called after each time step (progress display).
-using StepCallback = std::function<void(const ApproachRun& run, int total_steps)>;
+// Called after each time step (progress display, policy publishing) with
+// the planner and the grid of that step.
+struct StepView {
+  const ApproachRun& run;
+  int pass;
+  int total_steps;
+  Planner& planner;
+  const Grid& grid;
+  const StepDetails& details;
+};
+using StepCallback = std::function<void(const StepView& view)>;
 
 ApproachRun RunApproach(const Scenario& scenario, Approach approach, const PlannerOptions& options,
                         Trainer* trainer, const RunLabels& labels,
+                        const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
+// The same over any source; `pass` tells the source which pass this is.
+ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
+                        const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
                         const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
 
 // "50" for a 50x50 maze, "40x60" for 40 rows and 60 columns.

@@ -52,12 +52,30 @@ StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& cha
 
 StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leaves) {
   const AdaptationReport report = strategy_->Adapt(changed_leaves, *this);
-  return StepDetails{static_cast<int>(report.trained.size()), report.highest_level};
+  StepDetails details{static_cast<int>(report.trained.size()), report.highest_level, {}};
+  for (NodeId node : report.trained) details.trained_regions.push_back(tree_->node(node).region);
+  return details;
 }
 
 PolicyScore LearningPlanner::Evaluate(const Grid& grid) {
   grid_ = &grid;
   return ScoreGrid(grid, Depths());
+}
+
+bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
+  grid_ = &grid;
+  const PolicyDepths& depths = Depths();
+  picture.actions.assign(static_cast<size_t>(grid.size()), -1);
+  picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    if (grid.at(cell) == Cell::kObstacle) continue;
+    picture.reaches[cell] = depths.depth[cell] == kNoPath ? 0 : 1;
+    if (grid.at(cell) == Cell::kStation) continue;
+    int best = -1, second = -1;
+    TopTwoActions(grid, cell, root_->table().row(cell), best, second);
+    picture.actions[cell] = static_cast<int8_t>(best);
+  }
+  return true;
 }
 
 const PolicyDepths& LearningPlanner::Depths() {

@@ -16,6 +16,7 @@ class LearningPlanner : public Planner, private TrainingContext {
   StepDetails Initialize(const Grid& grid) override;
   StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) override;
   PolicyScore Evaluate(const Grid& grid) override;
+  bool Picture(const Grid& grid, PolicyPicture& picture) override;
 
   const QuadTree& tree() const { return *tree_; }
   const RootQTable& root() const { return *root_; }

@@ -28,7 +28,16 @@ struct PlannerOptions {
 // What an initialisation or adaptation did (extra result columns).
 struct StepDetails {
   int nodes_trained = 0;
-  int highest_level = -1;  // smallest quadtree level trained, -1 if none
+  int highest_level = -1;              // smallest quadtree level trained, -1 if none
+  std::vector<Region> trained_regions;  // regions of the trained nodes (for viewers)
+};
+
+// The policy as a picture (for viewers): per cell, the greedy action (-1 for
+// obstacles and stations) and whether following the policy from the cell
+// reaches a station (1), fails (0) or the cell is no start (-1).
+struct PolicyPicture {
+  std::vector<int8_t> actions;
+  std::vector<int8_t> reaches;
 };
 
 class Planner {
@@ -38,6 +47,9 @@ class Planner {
   // `grid` already holds the step's changes; `changed_cells` their positions.
   virtual StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) = 0;
   virtual PolicyScore Evaluate(const Grid& grid) = 0;
+  // Fills `picture` for the current policy on `grid` (after Evaluate);
+  // false for approaches without a table (the baselines).
+  virtual bool Picture(const Grid& /*grid*/, PolicyPicture& /*picture*/) { return false; }
 };
 
 // `trainer` is used by the learning approaches and must outlive the planner

@@ -9,6 +9,8 @@ packages=(
   libgtest-dev libgmock-dev           # unit tests
   libbenchmark-dev                    # benchmarks
   liblcm-dev liblcm-bin liblcm-java   # LCM transport, lcm-gen, lcm-logger, lcm-spy classes
+  default-jdk-headless                # javac/jar: the message jar that lets lcm-spy decode our channels
+  libjchart2d-java                    # charts of lcm-spy's detail view (tools/dynapath-spy)
   python3
 )
 

@@ -8,6 +8,9 @@ namespace dynapath::cli {
 
 int MazeCommand(const std::vector<std::string>& args);
 int RunCommand(const std::vector<std::string>& args);
+// Runs a command in a private network namespace (tools/netns). Must be
+// called while the process has a single thread.
+int NetnsCommand(const std::vector<std::string>& args);
 
 // Exit codes: 0 success, 1 run-time failure, 2 bad usage.
 inline constexpr int kExitFailure = 1;

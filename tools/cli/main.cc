@@ -20,6 +20,7 @@ constexpr const char* kUsage =
     "Commands:\n"
     "  maze   generate or load a maze and print it with its facts\n"
     "  run    run approaches on a maze and its change sequence, write result CSVs\n"
+    "  netns  run a command in a private, loopback-only network (for LCM)\n"
     "\n"
     "Run 'dynapath <command> --help' for the options of a command.\n";
 
@@ -45,6 +46,9 @@ int main(int argc, char** argv) {
   }
   if (command == "maze") return dynapath::cli::MazeCommand(args);
   if (command == "run") return dynapath::cli::RunCommand(args);
+  // Still single-threaded here, as unshare(CLONE_NEWUSER) requires: the
+  // synchronous stderr logger starts no thread.
+  if (command == "netns") return dynapath::cli::NetnsCommand(args);
   std::fprintf(stderr, "dynapath: unknown command '%s' (see dynapath --help)\n", command.c_str());
   return dynapath::cli::kExitUsage;
 }

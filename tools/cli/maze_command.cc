@@ -6,7 +6,7 @@
 #include "core/bfs_oracle.h"
 #include "core/quadtree.h"
 #include "tools/cli/commands.h"
-#include "tools/cli/scenario_options.h"
+#include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
 

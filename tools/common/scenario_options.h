@@ -7,7 +7,7 @@
 
 #include "core/experiment.h"
 #include "core/scenario.h"
-#include "tools/cli/arg_parser.h"
+#include "tools/common/arg_parser.h"
 
 namespace dynapath::cli {
 
@@ -19,6 +19,8 @@ struct ScenarioSetup {
 };
 
 void AddScenarioOptions(ArgParser& parser);
+// Their names (for the launcher to forward them to envsim).
+const std::vector<std::string>& ScenarioOptionNames();
 Result<ScenarioSetup> ResolveScenario(const ArgParser& parser);
 
 // Sets spdlog's level from --log-level (and adds that option).

@@ -31,6 +31,9 @@ class ArgParser {
   // Integer option in [min, max]; `fallback` when absent.
   Result<long long> GetInt(const std::string& name, long long fallback, long long min,
                            long long max) const;
+  // The given options that were set, as arguments ("--name", "value") to
+  // pass on to another program.
+  std::vector<std::string> Forward(const std::vector<std::string>& names) const;
   bool WantsHelp() const { return Has("help"); }
   std::string Help() const;
 

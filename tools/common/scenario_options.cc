@@ -1,8 +1,9 @@
-#include "tools/cli/scenario_options.h"
+#include "tools/common/scenario_options.h"
 
 #include <spdlog/spdlog.h>
 
 #include "core/c_random.h"
+#include "lcmtypes/protocol/log_scenario.h"
 
 namespace dynapath::cli {
 
@@ -15,9 +16,40 @@ void AddScenarioOptions(ArgParser& parser) {
   parser.AddOption("steps", "T", "number of time steps", "2 x rows, the report's");
   parser.AddOption("maze", "FILE", "load the maze from a text file ('#', '.', 'C') instead");
   parser.AddOption("changes", "FILE", "load the change sequence from a change file instead");
+  parser.AddOption("replay", "LOG",
+                   "re-issue the maze and change sequence recorded in an LCM log (--log)");
 }
 
+const std::vector<std::string>& ScenarioOptionNames() {
+  static const std::vector<std::string> names = {"size",  "cols",    "difficulty", "seed",
+                                                 "steps", "maze",    "changes",    "replay"};
+  return names;
+}
+
+namespace {
+
+Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
+  for (const char* other : {"size", "cols", "difficulty", "seed", "steps", "maze", "changes"}) {
+    if (parser.Has(other)) {
+      return Error{std::string("--replay sets the maze and changes: do not combine it with --") +
+                   other};
+    }
+  }
+  Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(parser.Get("replay"));
+  if (!logged) return logged.error();
+  ScenarioSetup setup;
+  setup.scenario = std::move(logged->scenario);
+  setup.labels.size_label = logged->size_label;
+  setup.labels.difficulty_label = logged->difficulty;
+  setup.seed = logged->seed;
+  setup.source = "replayed from " + parser.Get("replay") + " (run " + logged->run_id + ")";
+  return setup;
+}
+
+}  // namespace
+
 Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
+  if (parser.Has("replay")) return ReplayScenario(parser);
   constexpr long long kMaxSide = 10000;
   ScenarioSetup setup;
   std::optional<Difficulty> difficulty = Difficulty::kEasy;

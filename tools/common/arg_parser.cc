@@ -1,4 +1,4 @@
-#include "tools/cli/arg_parser.h"
+#include "tools/common/arg_parser.h"
 
 #include <cerrno>
 #include <cstdlib>
@@ -94,6 +94,18 @@ std::string ArgParser::Help() const {
     help += "\n";
   }
   return help;
+}
+
+std::vector<std::string> ArgParser::Forward(const std::vector<std::string>& names) const {
+  std::vector<std::string> args;
+  for (const std::string& name : names) {
+    auto it = values_.find(name);
+    if (it == values_.end()) continue;
+    args.push_back("--" + name);
+    const Spec* spec = Find(name);
+    if (spec != nullptr && spec->takes_value) args.push_back(it->second);
+  }
+  return args;
 }
 
 }  // namespace dynapath::cli

@@ -1,0 +1,86 @@
+#pragma once
+// The agent process's logic: hosts learners for the training batches the
+// coordinator sends, returns shards per round (learners of split jobs) or
+// final tables (whole jobs), and holds nothing that matters beyond the batch
+// in hand. Transport-agnostic: it talks through a protocol::Bus, so the same
+// class runs as a process (udpm) or as threads of an embedded run (memq).
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "core/fedasynq.h"
+#include "core/region_model.h"
+#include "core/thread_pool.h"
+#include "dynapath/average_t.hpp"
+#include "dynapath/heartbeat_t.hpp"
+#include "dynapath/job_batch_t.hpp"
+#include "dynapath/job_result_t.hpp"
+#include "dynapath/shards_t.hpp"
+#include "lcmtypes/protocol/bus.h"
+#include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/inbox.h"
+#include "lcmtypes/protocol/liveness.h"
+
+namespace dynapath::agent {
+
+struct AgentOptions {
+  int id = 1;
+  int threads = 1;
+  // Exit when no coordinator heartbeat came for this long (after one was
+  // seen), or when none was ever seen for startup_timeout_seconds.
+  double coordinator_timeout_seconds = 4.0;
+  double startup_timeout_seconds = 60.0;
+  double heartbeat_seconds = 0.1;
+  // Process mode: when the coordinator is gone while a long job is being
+  // computed, end the process at once (nothing in an agent needs saving).
+  bool exit_process_when_orphaned = false;
+};
+
+enum class AgentExit { kCoordinatorFinished, kCoordinatorFailed, kCoordinatorGone, kStopped };
+
+class Agent {
+ public:
+  // Subscribes on `bus`; construct before the bus is dispatched.
+  Agent(protocol::Bus& bus, AgentOptions options);
+  ~Agent();
+
+  // Serves batches until the coordinator finishes, fails or disappears, or
+  // `stop` becomes true.
+  AgentExit Run(const std::atomic<bool>& stop);
+
+ private:
+  struct HostedJob;
+
+  void OnBatch(const job_batch_t& batch);
+  void OnAverage(const average_t& average);
+  void RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs);
+  void RunSplitRound();
+  void Resend();
+
+  protocol::Bus& bus_;
+  AgentOptions options_;
+  protocol::Inbox inbox_;
+  protocol::CoordinatorWatch coordinator_;
+  ThreadPool pool_;
+
+  // Batch in hand (agent thread only).
+  int64_t batch_id_ = -1;
+  int32_t epoch_ = -1;
+  bool importance_ = false;
+  int sync_period_ = 0;
+  std::vector<std::unique_ptr<HostedJob>> split_jobs_;  // jobs with learners here
+  int64_t round_ = -1;                                  // split round last computed
+  std::optional<shards_t> last_shards_;
+  std::vector<job_result_t> results_;  // whole jobs finished in this batch
+
+  // What the heartbeat reports (written by the agent thread).
+  std::atomic<int64_t> reported_batch_{-1};
+  std::atomic<int32_t> reported_epoch_{0};
+  std::atomic<int64_t> reported_round_{-1};
+};
+
+}  // namespace dynapath::agent

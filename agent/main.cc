@@ -1,0 +1,74 @@
+// dynapath-agent: hosts learners for a run's coordinator. Start any number,
+// on this machine or others (same --run-id and LCM network).
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <functional>
+#include <string>
+#include <thread>
+
+#include "agent/agent.h"
+#include "lcmtypes/protocol/dispatcher.h"
+#include "tools/common/process_options.h"
+#include "tools/common/scenario_options.h"
+
+int main(int argc, char** argv) {
+  using namespace dynapath;
+  spdlog::set_default_logger(spdlog::stderr_color_mt("agent"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  cli::ArgParser parser("dynapath-agent --run-id ID [options]",
+                        "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
+                        "returns Q-table shards per round (or final tables), sends heartbeats.\n"
+                        "Exits when the coordinator finishes, fails or is silent for 4 s.");
+  cli::AddProcessOptions(parser, true);
+  parser.AddOption("id", "N", "agent id, unique within the run", "derived from host and pid");
+  parser.AddOption("threads", "N", "worker threads", "hardware threads");
+  parser.AddOption("wait", "SECONDS", "how long to wait for a coordinator to appear", "60");
+  cli::AddLogLevelOption(parser);
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-agent"); code >= 0) return code;
+  auto fail = [](const std::string& message) {
+    std::fprintf(stderr, "dynapath-agent: %s\n", message.c_str());
+    return 2;
+  };
+  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  if (!setup) return fail(setup.error().message);
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  const long long derived =
+      static_cast<long long>((std::hash<std::string>{}(host) ^ static_cast<size_t>(getpid())) %
+                             1000000000ULL) + 1;
+  Result<long long> id = parser.GetInt("id", derived, 0, 2147483647LL);
+  if (!id) return fail(id.error().message);
+  const long long hardware = std::max(1u, std::thread::hardware_concurrency());
+  Result<long long> threads = parser.GetInt("threads", hardware, 1, 1024);
+  if (!threads) return fail(threads.error().message);
+  Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
+  if (!wait) return fail(wait.error().message);
+
+  Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
+  if (!lcm) {
+    std::fprintf(stderr, "dynapath-agent: %s\n", lcm.error().message.c_str());
+    return 1;
+  }
+  const std::atomic<bool>& stop = protocol::StopOnSignals();
+  protocol::Bus bus(**lcm, setup->run_id, setup->bus);
+  agent::AgentOptions options;
+  options.id = static_cast<int>(*id);
+  options.threads = static_cast<int>(*threads);
+  options.startup_timeout_seconds = static_cast<double>(*wait);
+  options.exit_process_when_orphaned = true;
+  agent::Agent agent(bus, options);
+  protocol::Dispatcher dispatcher(**lcm);
+  const agent::AgentExit exit = agent.Run(stop);
+  spdlog::info("agent {}: exiting", options.id);
+  switch (exit) {
+    case agent::AgentExit::kCoordinatorFinished:
+    case agent::AgentExit::kStopped:
+      return 0;
+    default:
+      return 1;
+  }
+}

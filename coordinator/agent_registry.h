@@ -1,0 +1,79 @@
+#pragma once
+// The live agent processes of a run, from their heartbeats. Updated on the
+// dispatch thread as heartbeats arrive (so an agent's age is real even while
+// the coordinator thread is busy evaluating a policy) and read by the
+// coordinator thread.
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "dynapath/heartbeat_t.hpp"
+
+namespace dynapath::coordinator {
+
+struct AgentInfo {
+  int id = 0;
+  int threads = 0;
+  int64_t last_seen_ms = 0;
+  int64_t batch_id = -1;  // what its last heartbeat said it holds
+  int32_t epoch = 0;
+  int64_t round = -1;     // split: last round sent; whole: results sent
+};
+
+class AgentRegistry {
+ public:
+  explicit AgentRegistry(double timeout_seconds) : timeout_ms_(static_cast<int64_t>(timeout_seconds * 1000)) {}
+
+  static int64_t NowMs() {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+
+  void OnHeartbeat(const heartbeat_t& beat) {
+    if (beat.role != heartbeat_t::ROLE_AGENT) return;
+    std::lock_guard lock(mutex_);
+    AgentInfo& info = agents_[beat.sender];
+    info.id = beat.sender;
+    info.threads = beat.threads;
+    info.last_seen_ms = NowMs();
+    info.batch_id = beat.batch_id;
+    info.epoch = beat.epoch;
+    info.round = beat.round;
+  }
+
+  // Agents heard from within the timeout, ascending ids.
+  std::vector<AgentInfo> Live() const {
+    std::lock_guard lock(mutex_);
+    std::vector<AgentInfo> live;
+    const int64_t now = NowMs();
+    for (const auto& [id, info] : agents_) {
+      if (now - info.last_seen_ms <= timeout_ms_) live.push_back(info);
+    }
+    return live;
+  }
+
+  bool IsLive(int id) const {
+    std::lock_guard lock(mutex_);
+    auto it = agents_.find(id);
+    return it != agents_.end() && NowMs() - it->second.last_seen_ms <= timeout_ms_;
+  }
+
+  bool Get(int id, AgentInfo& info) const {
+    std::lock_guard lock(mutex_);
+    auto it = agents_.find(id);
+    if (it == agents_.end()) return false;
+    info = it->second;
+    return true;
+  }
+
+ private:
+  int64_t timeout_ms_;
+  mutable std::mutex mutex_;
+  std::map<int, AgentInfo> agents_;
+};
+
+}  // namespace dynapath::coordinator

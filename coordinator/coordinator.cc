@@ -1,0 +1,136 @@
+#include "coordinator/coordinator.h"
+
+#include <spdlog/spdlog.h>
+
+#include <stdexcept>
+
+#include "coordinator/envsim_client.h"
+#include "dynapath/policy_t.hpp"
+#include "dynapath/step_report_t.hpp"
+#include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/liveness.h"
+
+namespace dynapath::coordinator {
+
+Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
+    : bus_(bus),
+      options_(std::move(options)),
+      agents_(options_.agent_timeout_seconds),
+      trainer_(bus, inbox_, agents_,
+               DistributedTrainerOptions{options_.agent_wait_seconds, 0.3}) {
+  bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat,
+                              [this](heartbeat_t& beat) { agents_.OnHeartbeat(beat); });
+}
+
+void Coordinator::PublishStep(const StepView& view, int pass) {
+  const StepRecord& record = view.run.steps.back();
+  step_report_t report{};
+  report.run_id = bus_.run_id();
+  report.approach = ApproachName(view.run.approach);
+  report.size_label = view.run.size_label;
+  report.difficulty = view.run.difficulty_label;
+  report.pass = pass;
+  report.time_step = record.time_step;
+  report.total_steps = view.total_steps;
+  report.num_changes = record.num_changes;
+  report.initial_seconds = view.run.initial_seconds;
+  report.adapt_seconds = record.adapt_seconds;
+  report.success_rate = record.success_rate;
+  report.average_path_length = record.average_path_length;
+  report.nodes_trained = record.nodes_trained;
+  report.highest_level = record.highest_level;
+  bus_.Publish(protocol::channel::kReport, report);
+  if (!options_.publish_policy) return;
+
+  policy_t policy{};
+  policy.run_id = bus_.run_id();
+  policy.approach = report.approach;
+  policy.pass = pass;
+  policy.time_step = record.time_step;
+  policy.rows = view.grid.rows();
+  policy.cols = view.grid.cols();
+  policy.num_cells = view.grid.size();
+  policy.cells.assign(view.grid.codes().begin(), view.grid.codes().end());
+  PolicyPicture picture;
+  if (view.planner.Picture(view.grid, picture)) {
+    policy.actions = std::move(picture.actions);
+    policy.reaches = std::move(picture.reaches);
+  } else {
+    policy.actions.assign(policy.cells.size(), -1);
+    policy.reaches.assign(policy.cells.size(), -1);
+  }
+  for (const Region& region : view.details.trained_regions) {
+    policy.region_row0.push_back(region.r0);
+    policy.region_col0.push_back(region.c0);
+    policy.region_rows.push_back(region.rows());
+    policy.region_cols.push_back(region.cols());
+  }
+  policy.num_regions = static_cast<int32_t>(policy.region_row0.size());
+  bus_.Publish(protocol::channel::kPolicy, policy);
+}
+
+int Coordinator::Run(const std::atomic<bool>& stop) {
+  std::atomic<int> state{heartbeat_t::STATE_RUNNING};
+  std::string failure;
+  heartbeat_t base{};
+  base.role = heartbeat_t::ROLE_COORDINATOR;
+  base.batch_id = -1;
+  base.round = -1;
+  protocol::HeartbeatSender heartbeat(bus_, base, 0.1, [&state](heartbeat_t& beat) {
+    beat.state = static_cast<int8_t>(state.load());
+  });
+  spdlog::info("coordinator: run {}, waiting for {} agent(s)", bus_.run_id(), options_.min_agents);
+
+  int exit_code = 0;
+  try {
+    const int64_t start = protocol::SteadyMs();
+    while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
+      if (stop) throw std::runtime_error("interrupted");
+      if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
+        throw std::runtime_error("only " + std::to_string(agents_.Live().size()) + " of " +
+                                 std::to_string(options_.min_agents) + " agents appeared within " +
+                                 std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
+                                 " s");
+      }
+      inbox_.RunFor(std::chrono::milliseconds(50));
+    }
+    std::string ids;
+    for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
+    spdlog::info("coordinator: agents{} alive", ids);
+
+    EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, &stop);
+    const grid_t& maze = envsim.Connect(options_.agent_wait_seconds);
+    cli::RunPlan plan = options_.plan;
+    plan.options.run_seed = static_cast<uint64_t>(maze.seed);
+    const RunLabels labels{maze.size_label, maze.difficulty};
+    spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
+                 labels.difficulty_label, maze.source, maze.total_steps, plan.approaches.size());
+    Result<std::vector<ApproachRun>> runs =
+        cli::RunApproaches(envsim, trainer_, plan, labels, [&](const StepView& view) {
+          if (stop) throw std::runtime_error("interrupted");
+          PublishStep(view, view.pass);
+        });
+    if (!runs) throw std::runtime_error(runs.error().message);
+    const TrafficStats& t = trainer_.traffic();
+    spdlog::info(
+        "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
+        "messages / {} bytes; {} resends, {} reassignments",
+        t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
+        t.epochs);
+    spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
+                 plan.out_dir);
+    state = heartbeat_t::STATE_FINISHED;
+  } catch (const std::exception& e) {
+    spdlog::error("coordinator: {}", e.what());
+    state = heartbeat_t::STATE_FAILED;
+    exit_code = 1;
+  }
+  // Let agents and envsim hear the final state (heartbeats may be lost).
+  for (int i = 0; i < 5; ++i) {
+    heartbeat.SendNow();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return exit_code;
+}
+
+}  // namespace dynapath::coordinator

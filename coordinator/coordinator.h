@@ -1,0 +1,45 @@
+#pragma once
+// The coordinator process's logic: waits for agents, gets the maze from the
+// environment simulator, runs every approach (the quadtree, tables,
+// retraining decisions and baselines live in core/'s planners; training goes
+// to the agents through DistributedTrainer), publishes per-step reports and
+// policies, and writes the result files exactly as `dynapath run --local`.
+
+#include <atomic>
+#include <string>
+
+#include "coordinator/agent_registry.h"
+#include "coordinator/distributed_trainer.h"
+#include "lcmtypes/protocol/bus.h"
+#include "lcmtypes/protocol/inbox.h"
+#include "tools/common/run_driver.h"
+
+namespace dynapath::coordinator {
+
+struct CoordinatorOptions {
+  cli::RunPlan plan;
+  int min_agents = 1;                 // wait for this many agents before starting
+  double agent_wait_seconds = 60.0;   // ... for at most this long
+  double agent_timeout_seconds = 2.0; // an agent silent this long is dropped
+  double envsim_timeout_seconds = 5.0;
+  bool publish_policy = true;
+};
+
+class Coordinator {
+ public:
+  Coordinator(protocol::Bus& bus, CoordinatorOptions options);
+  // Runs the whole experiment. Returns 0 on success, 1 on failure (logged).
+  int Run(const std::atomic<bool>& stop);
+  const TrafficStats& traffic() const { return trainer_.traffic(); }
+
+ private:
+  void PublishStep(const StepView& view, int pass);
+
+  protocol::Bus& bus_;
+  CoordinatorOptions options_;
+  protocol::Inbox inbox_;
+  AgentRegistry agents_;
+  DistributedTrainer trainer_;
+};
+
+}  // namespace dynapath::coordinator

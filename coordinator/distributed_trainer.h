@@ -1,0 +1,93 @@
+#pragma once
+// Trains quadtree nodes on agent processes over LCM: the Trainer the
+// coordinator gives the planners instead of LocalTrainer, with the same
+// results.
+//
+// A Train call is one batch. Placement: when the batch has at least as many
+// jobs as there are live agents (or the learners are single-agent), whole
+// jobs are spread over the agents (largest first), each agent runs its jobs
+// with all their learners and returns final tables: no per-round traffic.
+// Otherwise every job's learners are split over the agents, which return
+// their shards each round; the coordinator combines them in learner order
+// (FederatedAverager, exactly as in-process) and publishes the averages.
+//
+// Faults: an agent that falls silent is dropped; the batch gets a new epoch
+// in which its work is reassigned, split jobs from the last completed round
+// (the coordinator holds their shared tables and start statistics), whole
+// jobs from their start. Lost messages are re-sent: the coordinator repeats
+// its last message when an agent's heartbeat shows it lacks the batch or has
+// sent something that did not arrive; agents answer a repeat by re-sending.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "coordinator/agent_registry.h"
+#include "core/fedasynq.h"
+#include "core/region_model.h"
+#include "core/trainer.h"
+#include "dynapath/average_t.hpp"
+#include "dynapath/job_batch_t.hpp"
+#include "dynapath/job_result_t.hpp"
+#include "dynapath/shards_t.hpp"
+#include "lcmtypes/protocol/bus.h"
+#include "lcmtypes/protocol/inbox.h"
+
+namespace dynapath::coordinator {
+
+struct DistributedTrainerOptions {
+  // How long to wait for at least one live agent before a batch fails.
+  double agent_wait_seconds = 60.0;
+  // Minimum time between two repeats of the same message.
+  double resend_seconds = 0.3;
+};
+
+// Traffic of the training protocol (for the benchmark).
+struct TrafficStats {
+  int64_t batches = 0;
+  int64_t rounds = 0;  // split rounds combined
+  int64_t messages_out = 0, bytes_out = 0;  // batches and averages published
+  int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
+  int64_t resends = 0, epochs = 0;
+};
+
+class DistributedTrainer : public Trainer {
+ public:
+  // Subscribes to shards and results on `bus`; runs its work on `inbox`, the
+  // coordinator thread's mailbox (Train calls inbox.RunFor while waiting).
+  DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbox, const AgentRegistry& agents,
+                     DistributedTrainerOptions options = {});
+  ~DistributedTrainer() override;
+
+  // Throws std::runtime_error when no agent is left for longer than
+  // agent_wait_seconds.
+  TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
+                      const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
+                      RootQTable& root) override;
+
+  const TrafficStats& traffic() const { return traffic_; }
+
+ private:
+  struct JobState;
+  struct Batch;
+
+  void OnShards(const shards_t& message, int64_t bytes);
+  void OnResult(const job_result_t& message, int64_t bytes);
+  std::vector<int> WaitForAgents();
+  void StartEpoch(std::vector<int> agents);
+  void PublishBatch();
+  void TryCombine();
+  void CheckAgents();
+  bool Done() const;
+
+  protocol::Bus& bus_;
+  protocol::Inbox& inbox_;
+  const AgentRegistry& agents_;
+  DistributedTrainerOptions options_;
+  int64_t next_batch_id_ = 0;
+  std::unique_ptr<Batch> batch_;  // the batch in hand (coordinator thread only)
+  TrafficStats traffic_;
+};
+
+}  // namespace dynapath::coordinator

@@ -1,0 +1,90 @@
+#include "coordinator/envsim_client.h"
+
+#include <spdlog/spdlog.h>
+
+#include <stdexcept>
+
+#include "dynapath/heartbeat_t.hpp"
+#include "dynapath/step_request_t.hpp"
+#include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/liveness.h"
+
+namespace dynapath::coordinator {
+
+EnvSimClient::EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
+                           const std::atomic<bool>* stop)
+    : bus_(bus), inbox_(inbox), timeout_seconds_(timeout_seconds), stop_(stop) {
+  namespace ch = protocol::channel;
+  bus_.Subscribe<grid_t>(ch::kEnvGrid, [this](grid_t& grid) {
+    inbox_.Post([this, grid = std::move(grid)] {
+      if (grid.pass == want_pass_ && want_step_ == 0) grid_answer_ = grid;
+    });
+  });
+  bus_.Subscribe<changes_t>(ch::kEnvChanges, [this](changes_t& changes) {
+    inbox_.Post([this, changes = std::move(changes)] {
+      if (changes.pass == want_pass_ && changes.time_step == want_step_) changes_answer_ = changes;
+    });
+  });
+  bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
+    if (beat.role == heartbeat_t::ROLE_ENVSIM) envsim_seen_ms_ = protocol::SteadyMs();
+  });
+}
+
+void EnvSimClient::Request(int pass, int t, double startup_seconds) {
+  want_pass_ = pass;
+  want_step_ = t;
+  grid_answer_.reset();
+  changes_answer_.reset();
+  step_request_t request{};
+  request.run_id = bus_.run_id();
+  request.pass = pass;
+  request.time_step = t;
+  request.request_id = next_request_++;
+  const int64_t start = protocol::SteadyMs();
+  int64_t sent = -1000000;
+  while (!grid_answer_ && !changes_answer_) {
+    const int64_t now = protocol::SteadyMs();
+    if (stop_ != nullptr && *stop_) throw std::runtime_error("interrupted");
+    // Repeat the request until answered (requests and answers may be lost).
+    if (now - sent >= 250) {
+      bus_.Publish(protocol::channel::kEnvRequest, request);
+      sent = now;
+    }
+    const int64_t seen = envsim_seen_ms_;
+    if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
+                 : static_cast<double>(now - seen) > timeout_seconds_ * 1000) {
+      throw std::runtime_error(seen < 0 ? "no environment simulator answered for run " +
+                                              bus_.run_id()
+                                        : "the environment simulator is gone");
+    }
+    inbox_.RunFor(std::chrono::milliseconds(5));
+  }
+  want_pass_ = want_step_ = -1;
+}
+
+const grid_t& EnvSimClient::Connect(double startup_seconds) {
+  Request(0, 0, startup_seconds);
+  first_ = *grid_answer_;
+  return *first_;
+}
+
+Grid EnvSimClient::Initial(int pass) {
+  Request(pass, 0, timeout_seconds_);
+  const grid_t& grid = *grid_answer_;
+  if (grid.rows != first_->rows || grid.cols != first_->cols ||
+      grid.total_steps != first_->total_steps || grid.cells != first_->cells) {
+    throw std::runtime_error("the environment simulator sent a different maze for pass " +
+                             std::to_string(pass));
+  }
+  return protocol::GridFromMessage(grid);
+}
+
+ChangeStep EnvSimClient::Changes(int pass, int t) {
+  Request(pass, t, timeout_seconds_);
+  Result<ChangeStep> step = protocol::ChangesFromMessage(*changes_answer_, first_->rows, first_->cols);
+  if (!step) throw std::runtime_error(step.error().message);
+  return *step;
+}
+
+}  // namespace dynapath::coordinator

@@ -1,0 +1,49 @@
+#pragma once
+// The coordinator's view of the environment simulator: a StepSource whose
+// maze and changes are requested over LCM, one time step at a time (which is
+// what keeps envsim in lock-step with the coordinator). Requests are repeated
+// until answered; the simulator counts as gone when its heartbeats stop.
+
+#include <atomic>
+#include <optional>
+
+#include "core/experiment.h"
+#include "dynapath/changes_t.hpp"
+#include "dynapath/grid_t.hpp"
+#include "lcmtypes/protocol/bus.h"
+#include "lcmtypes/protocol/inbox.h"
+
+namespace dynapath::coordinator {
+
+class EnvSimClient : public StepSource {
+ public:
+  // `stop` (may be null) aborts waits with std::runtime_error.
+  EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
+               const std::atomic<bool>* stop);
+
+  // Fetches the maze of pass 0 (waiting up to `startup_seconds` for envsim):
+  // the run's size, labels and seed.
+  const grid_t& Connect(double startup_seconds);
+
+  int total_steps() const override { return first_ ? first_->total_steps : 0; }
+  Grid Initial(int pass) override;
+  ChangeStep Changes(int pass, int t) override;
+
+ private:
+  // Publishes the request and waits for its answer (either message kind).
+  void Request(int pass, int t, double startup_seconds);
+
+  protocol::Bus& bus_;
+  protocol::Inbox& inbox_;
+  double timeout_seconds_;
+  const std::atomic<bool>* stop_;
+  int64_t next_request_ = 1;
+  std::atomic<int64_t> envsim_seen_ms_{-1};
+  std::optional<grid_t> first_;
+  // The answer being waited for.
+  int want_pass_ = -1, want_step_ = -1;
+  std::optional<grid_t> grid_answer_;
+  std::optional<changes_t> changes_answer_;
+};
+
+}  // namespace dynapath::coordinator

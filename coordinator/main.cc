@@ -1,0 +1,58 @@
+// dynapath-coordinator: runs a distributed experiment (see coordinator.h).
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <string>
+
+#include "coordinator/coordinator.h"
+#include "lcmtypes/protocol/dispatcher.h"
+#include "tools/common/process_options.h"
+#include "tools/common/scenario_options.h"
+
+int main(int argc, char** argv) {
+  using namespace dynapath;
+  spdlog::set_default_logger(spdlog::stderr_color_mt("coordinator"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  cli::ArgParser parser(
+      "dynapath-coordinator --run-id ID [options]",
+      "Runs the chosen approaches on the maze of the run's environment simulator,\n"
+      "training on the run's agent processes, and writes DIR/results.csv and\n"
+      "DIR/results_detailed.csv exactly as `dynapath run --local` does.");
+  cli::AddProcessOptions(parser, true);
+  cli::AddRunOptions(parser);
+  parser.AddOption("agents", "N", "wait for N live agents before starting", "1");
+  parser.AddOption("wait", "SECONDS", "how long to wait for agents and envsim", "60");
+  cli::AddLogLevelOption(parser);
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-coordinator"); code >= 0) {
+    return code;
+  }
+  auto fail = [](const std::string& message) {
+    std::fprintf(stderr, "dynapath-coordinator: %s\n", message.c_str());
+    return 2;
+  };
+  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  if (!setup) return fail(setup.error().message);
+  Result<cli::RunPlan> plan = cli::ResolveRunOptions(parser);
+  if (!plan) return fail(plan.error().message);
+  Result<long long> agents = parser.GetInt("agents", 1, 1, 4096);
+  if (!agents) return fail(agents.error().message);
+  Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
+  if (!wait) return fail(wait.error().message);
+
+  Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
+  if (!lcm) {
+    std::fprintf(stderr, "dynapath-coordinator: %s\n", lcm.error().message.c_str());
+    return 1;
+  }
+  const std::atomic<bool>& stop = protocol::StopOnSignals();
+  protocol::Bus bus(**lcm, setup->run_id, setup->bus);
+  coordinator::CoordinatorOptions options;
+  options.plan = std::move(*plan);
+  options.min_agents = static_cast<int>(*agents);
+  options.agent_wait_seconds = static_cast<double>(*wait);
+  coordinator::Coordinator coordinator(bus, std::move(options));
+  protocol::Dispatcher dispatcher(**lcm);
+  return coordinator.Run(stop);
+}

@@ -1,0 +1,225 @@
+#include "lcmtypes/protocol/bus.h"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+
+#include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/channels.h"
+
+namespace dynapath::protocol {
+namespace {
+
+int64_t NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// Big-endian int64 at the start of an LCM message: its type's fingerprint.
+int64_t PeekFingerprint(const uint8_t* data, int size) {
+  if (size < 8) return 0;
+  uint64_t value = 0;
+  for (int i = 0; i < 8; ++i) value = (value << 8) | data[i];
+  return static_cast<int64_t>(value);
+}
+
+// Partial messages not completed within this time are forgotten.
+constexpr int64_t kPartialLifetimeMs = 30000;
+// At most this many partial messages are kept (a flood of garbage fragments
+// cannot exhaust memory).
+constexpr size_t kMaxPartials = 256;
+constexpr int32_t kMaxMessageBytes = 256 * 1024 * 1024;
+
+}  // namespace
+
+Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
+    : lcm_(lcm),
+      run_id_(std::move(run_id)),
+      options_(options),
+      // Message ids: distinct per process and bus, so a receiver never mixes
+      // the fragments of two senders.
+      next_message_id_(static_cast<int64_t>(
+          (static_cast<uint64_t>(getpid()) << 40) ^
+          (static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()) &
+           0xffffffffffULL) ^
+          (reinterpret_cast<uintptr_t>(this) & 0xfffff0))),
+      fault_rng_(options.fault_seed) {}
+
+Bus::~Bus() {
+  for (lcm::Subscription* subscription : subscriptions_) lcm_.unsubscribe(subscription);
+}
+
+std::string Bus::Channel(std::string_view name) const { return ChannelName(run_id_, name); }
+
+BusCounters Bus::counters() const {
+  BusCounters c;
+  c.published = counters_published_.load();
+  c.received = counters_received_.load();
+  c.dropped = counters_dropped_.load();
+  c.fragments_received = counters_fragments_.load();
+  c.injected_drops = counters_injected_drops_.load();
+  c.injected_duplicates = counters_injected_duplicates_.load();
+  return c;
+}
+
+void Bus::PublishRaw(const std::string& channel, const void* data, size_t size) {
+  int copies = 1;
+  if (options_.drop_probability > 0.0 || options_.duplicate_probability > 0.0) {
+    std::lock_guard lock(fault_mutex_);
+    if (fault_rng_.Uniform() < options_.drop_probability) {
+      copies = 0;
+      ++counters_injected_drops_;
+    } else if (fault_rng_.Uniform() < options_.duplicate_probability) {
+      copies = 2;
+      ++counters_injected_duplicates_;
+    }
+  }
+  for (int i = 0; i < copies; ++i) {
+    lcm_.publish(channel, data, static_cast<unsigned>(size));
+    ++counters_published_;
+  }
+}
+
+void Bus::PublishBytes(const std::string& channel, const std::vector<uint8_t>& bytes,
+                       int64_t fingerprint) {
+  if (options_.fragment_above <= 0 || static_cast<int>(bytes.size()) <= options_.fragment_above) {
+    PublishRaw(channel, bytes.data(), bytes.size());
+    return;
+  }
+  fragment_t fragment{};
+  fragment.run_id = run_id_;
+  fragment.message_id = next_message_id_.fetch_add(1);
+  fragment.fingerprint = fingerprint;
+  fragment.total_size = static_cast<int32_t>(bytes.size());
+  const int piece = std::max(1024, options_.fragment_size);
+  fragment.count = static_cast<int32_t>((bytes.size() + piece - 1) / piece);
+  std::vector<uint8_t> encoded;
+  for (int32_t i = 0; i < fragment.count; ++i) {
+    const size_t begin = static_cast<size_t>(i) * piece;
+    const size_t end = std::min(bytes.size(), begin + piece);
+    fragment.index = i;
+    fragment.offset = static_cast<int32_t>(begin);
+    fragment.size = static_cast<int32_t>(end - begin);
+    fragment.data.assign(bytes.begin() + static_cast<ptrdiff_t>(begin),
+                         bytes.begin() + static_cast<ptrdiff_t>(end));
+    encoded.resize(static_cast<size_t>(fragment.getEncodedSize()));
+    fragment.encode(encoded.data(), 0, static_cast<int>(encoded.size()));
+    PublishRaw(channel, encoded.data(), encoded.size());
+  }
+}
+
+void Bus::AddRoute(const std::string& channel, int64_t fingerprint, Deliver deliver) {
+  auto [it, inserted] = routes_.try_emplace(channel);
+  it->second.push_back(Route{fingerprint, std::move(deliver)});
+  if (inserted) {
+    // LCM channel arguments are regexes; run ids and names hold no
+    // metacharacters (CheckRunId), so the name matches only itself.
+    lcm::Subscription* subscription = lcm_.subscribe(channel, &Bus::OnRaw, this);
+    // The default queue of 30 drops bursts (a batch's shards, fragments).
+    subscription->setQueueCapacity(100000);
+    subscriptions_.push_back(subscription);
+  }
+}
+
+void Bus::OnRaw(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  const auto* data = static_cast<const uint8_t*>(buffer->data);
+  const int size = static_cast<int>(buffer->data_size);
+  if (PeekFingerprint(data, size) == static_cast<int64_t>(fragment_t::getHash())) {
+    OnFragment(channel, data, size);
+  } else {
+    Dispatch(channel, data, size);
+  }
+}
+
+void Bus::Dispatch(const std::string& channel, const uint8_t* data, int size) {
+  auto it = routes_.find(channel);
+  if (it == routes_.end()) return;
+  const int64_t fingerprint = PeekFingerprint(data, size);
+  bool delivered = false;
+  for (const Route& route : it->second) {  // every subscriber of this type
+    if (route.fingerprint == fingerprint) {
+      route.deliver(data, size, channel);
+      delivered = true;
+    }
+  }
+  if (!delivered) Drop(channel, "message of an unexpected type");
+}
+
+void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) {
+  fragment_t fragment{};
+  int used = -1;
+  try {
+    used = fragment.decode(data, 0, size);
+  } catch (const std::exception&) {
+    used = -1;
+  }
+  if (used != size) return Drop(channel, "undecodable fragment_t");
+  if (fragment.run_id != run_id_) return Drop(channel, "fragment of another run");
+  if (std::string error = Validate(fragment); !error.empty()) {
+    return Drop(channel, "fragment_t: " + error);
+  }
+  if (fragment.total_size > kMaxMessageBytes) return Drop(channel, "fragment_t: message too big");
+  ++counters_fragments_;
+  const int64_t now = NowMs();
+  // Forget stale partial messages (their sender gave up or died).
+  for (auto it = partials_.begin(); it != partials_.end();) {
+    it = now - it->second.last_seen_ms > kPartialLifetimeMs ? partials_.erase(it) : std::next(it);
+  }
+  const auto key = std::make_pair(channel, fragment.message_id);
+  auto it = partials_.find(key);
+  if (it == partials_.end()) {
+    if (partials_.size() >= kMaxPartials) return Drop(channel, "too many partial messages");
+    Partial partial;
+    partial.fingerprint = fragment.fingerprint;
+    partial.total_size = fragment.total_size;
+    partial.count = fragment.count;
+    partial.bytes.resize(static_cast<size_t>(fragment.total_size));
+    partial.present.assign(static_cast<size_t>(fragment.count), false);
+    it = partials_.emplace(key, std::move(partial)).first;
+  }
+  Partial& partial = it->second;
+  const int64_t offset = fragment.offset;
+  if (partial.fingerprint != fragment.fingerprint || partial.total_size != fragment.total_size ||
+      partial.count != fragment.count || offset < 0 ||
+      offset + fragment.size > partial.total_size) {
+    partials_.erase(it);
+    return Drop(channel, "fragment_t inconsistent with its message");
+  }
+  partial.last_seen_ms = now;
+  if (!partial.present[static_cast<size_t>(fragment.index)]) {
+    std::memcpy(partial.bytes.data() + offset, fragment.data.data(),
+                static_cast<size_t>(fragment.size));
+    partial.present[static_cast<size_t>(fragment.index)] = true;
+    ++partial.have;
+  }
+  if (partial.have == partial.count) {
+    const std::vector<uint8_t> bytes = std::move(partial.bytes);
+    const int64_t fingerprint = partial.fingerprint;
+    partials_.erase(it);
+    if (PeekFingerprint(bytes.data(), static_cast<int>(bytes.size())) != fingerprint) {
+      return Drop(channel, "reassembled message has the wrong type");
+    }
+    Dispatch(channel, bytes.data(), static_cast<int>(bytes.size()));
+  }
+}
+
+void Bus::Drop(const std::string& channel, const std::string& why) {
+  const int64_t dropped = ++counters_dropped_;
+  const int64_t now = NowMs();
+  // At most one warning a second: a flood of garbage must not flood the log.
+  if (now - last_warning_ms_ >= 1000) {
+    spdlog::warn("dropped a message on {}: {} ({} dropped so far{})", channel, why, dropped,
+                 warnings_suppressed_ > 0
+                     ? ", " + std::to_string(warnings_suppressed_) + " warnings suppressed"
+                     : std::string());
+    last_warning_ms_ = now;
+    warnings_suppressed_ = 0;
+  } else {
+    ++warnings_suppressed_;
+  }
+}
+
+}  // namespace dynapath::protocol

@@ -1,0 +1,176 @@
+#include "lcmtypes/protocol/convert.h"
+
+#include "core/region_model.h"
+
+namespace dynapath::protocol {
+
+void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
+  batch.kind = config.kind == LearnerKind::kFedAsynQ ? job_batch_t::KIND_FEDASYNQ
+                                                     : job_batch_t::KIND_SINGLE_AGENT;
+  batch.bootstrap = config.bootstrap == Bootstrap::kInGrid ? 0 : 1;
+  batch.averaging = config.federated.averaging == Averaging::kEqual ? 0 : 1;
+  const SingleAgentOptions& s = config.single_agent;
+  batch.max_episodes = s.max_episodes;
+  batch.epsilon_start = s.epsilon_start;
+  batch.epsilon_decay = s.epsilon_decay;
+  batch.epsilon_min = s.epsilon_min;
+  batch.replay_capacity = s.replay_capacity;
+  batch.replay_start_episode = s.replay_start_episode;
+  batch.replay_batch = s.replay_batch;
+  batch.convergence_start_episode = s.convergence_start_episode;
+  batch.convergence_interval = s.convergence_interval;
+  batch.convergence_threshold = s.convergence_threshold;
+  batch.convergence_checks = s.convergence_checks;
+  batch.learners = config.federated.learners;
+  batch.sync_period = config.federated.sync_period;
+  batch.iterations_per_cell = config.federated.iterations_per_cell;
+}
+
+void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& batch) {
+  job_t m{};
+  m.node = job.node;
+  m.row0 = job.region.r0;
+  m.col0 = job.region.c0;
+  m.rows = job.region.rows();
+  m.cols = job.region.cols();
+  m.grid_rows = job.grid_rows;
+  m.grid_cols = job.grid_cols;
+  m.seed = static_cast<int64_t>(job.seed);
+  m.num_cells = static_cast<int32_t>(job.codes.size());
+  m.codes.assign(job.codes.begin(), job.codes.end());
+  m.start_round = progress.round;
+  const std::vector<float>& table =
+      progress.table.values().empty() ? job.warm_start.values() : progress.table.values();
+  // An all-zero table (never trained) travels as nothing.
+  bool zero = true;
+  for (float v : table) zero = zero && v == 0.0f;
+  if (!zero) m.values = table;
+  m.num_values = static_cast<int32_t>(m.values.size());
+  m.attempts.assign(progress.attempts.begin(), progress.attempts.end());
+  m.successes.assign(progress.successes.begin(), progress.successes.end());
+  m.num_starts = static_cast<int32_t>(m.attempts.size());
+  batch.jobs.push_back(std::move(m));
+  batch.num_jobs = static_cast<int32_t>(batch.jobs.size());
+}
+
+Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
+  const job_t& m = batch.jobs[static_cast<size_t>(index)];
+  ReceivedJob received;
+  TrainingJob& job = received.job;
+  job.node = m.node;
+  job.region = Region{m.row0, m.row0 + m.rows - 1, m.col0, m.col0 + m.cols - 1};
+  job.codes.assign(m.codes.begin(), m.codes.end());
+  job.grid_rows = m.grid_rows;
+  job.grid_cols = m.grid_cols;
+  job.bootstrap = batch.bootstrap == 0 ? Bootstrap::kInGrid : Bootstrap::kInRegion;
+  job.warm_start = QTable(m.num_cells);
+  if (m.num_values > 0) job.warm_start.values() = m.values;
+  job.seed = static_cast<uint64_t>(m.seed);
+  job.kind =
+      batch.kind == job_batch_t::KIND_FEDASYNQ ? LearnerKind::kFedAsynQ : LearnerKind::kSingleAgent;
+  SingleAgentOptions& s = job.single_agent;
+  s.max_episodes = batch.max_episodes;
+  s.epsilon_start = batch.epsilon_start;
+  s.epsilon_decay = batch.epsilon_decay;
+  s.epsilon_min = batch.epsilon_min;
+  s.replay_capacity = batch.replay_capacity;
+  s.replay_start_episode = batch.replay_start_episode;
+  s.replay_batch = batch.replay_batch;
+  s.convergence_start_episode = batch.convergence_start_episode;
+  s.convergence_interval = batch.convergence_interval;
+  s.convergence_threshold = batch.convergence_threshold;
+  s.convergence_checks = batch.convergence_checks;
+  job.federated.learners = batch.learners;
+  job.federated.sync_period = batch.sync_period;
+  job.federated.iterations_per_cell = batch.iterations_per_cell;
+  job.federated.averaging = batch.averaging == 0 ? Averaging::kEqual : Averaging::kImportance;
+  received.start_round = m.start_round;
+  received.attempts.assign(m.attempts.begin(), m.attempts.end());
+  received.successes.assign(m.successes.begin(), m.successes.end());
+  if (m.num_starts > 0) {
+    const RegionModel model(job);
+    if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
+      return Error{"job " + std::to_string(index) +
+                   ": start statistics do not match the region's start cells"};
+    }
+  }
+  if (job.kind == LearnerKind::kFedAsynQ &&
+      received.start_round > FederatedRounds(job.region, job.federated)) {
+    return Error{"job " + std::to_string(index) + ": start round beyond the job's rounds"};
+  }
+  return received;
+}
+
+learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_visits) {
+  learner_shard_t m{};
+  m.job = job;
+  m.learner = shard.learner;
+  m.num_entries = static_cast<int32_t>(shard.entries.size());
+  m.entries.assign(shard.entries.begin(), shard.entries.end());
+  m.values = shard.values;
+  if (with_visits) m.visits.assign(shard.visits.begin(), shard.visits.end());
+  m.num_visits = static_cast<int32_t>(m.visits.size());
+  m.start_cell = shard.start_cell;
+  m.reached_station = shard.reached_station;
+  m.steps = shard.steps;
+  return m;
+}
+
+LearnerShard ShardFromMessage(const learner_shard_t& m, int64_t round) {
+  LearnerShard shard;
+  shard.learner = m.learner;
+  shard.round = round;
+  shard.entries.assign(m.entries.begin(), m.entries.end());
+  shard.values = m.values;
+  if (m.num_visits > 0) {
+    shard.visits.assign(m.visits.begin(), m.visits.end());
+  } else {
+    shard.visits.assign(shard.entries.size(), 1u);
+  }
+  shard.start_cell = m.start_cell;
+  shard.reached_station = m.reached_station;
+  shard.steps = m.steps;
+  return shard;
+}
+
+grid_t GridToMessage(const Grid& grid) {
+  grid_t m{};
+  m.rows = grid.rows();
+  m.cols = grid.cols();
+  m.num_cells = grid.size();
+  m.cells.assign(grid.codes().begin(), grid.codes().end());
+  return m;
+}
+
+Grid GridFromMessage(const grid_t& m) {
+  Grid grid(m.rows, m.cols);
+  for (int i = 0; i < m.num_cells; ++i) grid.set(i, static_cast<Cell>(m.cells[i]));
+  return grid;
+}
+
+changes_t ChangesToMessage(const ChangeStep& step, int time_step, int total_steps) {
+  changes_t m{};
+  m.time_step = time_step;
+  m.total_steps = total_steps;
+  m.requested_moves = step.requested_moves;
+  m.num_changes = static_cast<int32_t>(step.changes.size());
+  for (const CellChange& change : step.changes) {
+    m.cells.push_back(change.cell);
+    m.codes.push_back(static_cast<int8_t>(change.code));
+  }
+  return m;
+}
+
+Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
+  ChangeStep step;
+  step.requested_moves = m.requested_moves;
+  for (int i = 0; i < m.num_changes; ++i) {
+    if (m.cells[i] >= rows * cols) {
+      return Error{"change of time step " + std::to_string(m.time_step) + " outside the grid"};
+    }
+    step.changes.push_back(CellChange{m.cells[i], static_cast<Cell>(m.codes[i])});
+  }
+  return step;
+}
+
+}  // namespace dynapath::protocol

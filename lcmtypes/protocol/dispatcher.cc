@@ -1,0 +1,57 @@
+#include "lcmtypes/protocol/dispatcher.h"
+
+#include <csignal>
+#include <cstdlib>
+
+namespace dynapath::protocol {
+
+std::string ResolveLcmUrl(const std::string& url) {
+  if (!url.empty()) return url;
+  if (const char* env = std::getenv("LCM_DEFAULT_URL"); env != nullptr && *env != '\0') return env;
+  return "udpm://239.255.76.67:7667?ttl=0";
+}
+
+bool IsMemq(const std::string& url) { return url.rfind("memq://", 0) == 0; }
+
+Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
+  const std::string resolved = ResolveLcmUrl(url);
+  auto lcm = std::make_unique<lcm::LCM>(resolved);
+  if (!lcm->good()) {
+    return Error{"cannot open LCM at '" + resolved +
+                 "' (bad URL, or no multicast route: see docs/NETWORKING.md)"};
+  }
+  return lcm;
+}
+
+Dispatcher::Dispatcher(lcm::LCM& lcm) : lcm_(lcm) {
+  thread_ = std::thread([this] {
+    while (!stop_) {
+      if (lcm_.handleTimeout(20) < 0) break;
+    }
+  });
+}
+
+Dispatcher::~Dispatcher() {
+  stop_ = true;
+  thread_.join();
+}
+
+namespace {
+std::atomic<bool> g_stop{false};
+extern "C" void OnStopSignal(int) { g_stop = true; }
+}  // namespace
+
+const std::atomic<bool>& StopOnSignals() {
+  static const bool installed = [] {
+    struct sigaction action {};
+    action.sa_handler = OnStopSignal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+    return true;
+  }();
+  (void)installed;
+  return g_stop;
+}
+
+}  // namespace dynapath::protocol

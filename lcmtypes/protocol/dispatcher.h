@@ -1,0 +1,41 @@
+#pragma once
+// Opening LCM and running its dispatch loop. One thread per lcm::LCM calls
+// handle (LCM allows no other way); handlers only decode, validate and post
+// work to the components' inboxes.
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/result.h"
+
+namespace dynapath::protocol {
+
+// The URL to use: `url` if not empty, else $LCM_DEFAULT_URL, else LCM's
+// default udpm group with ttl=0 (nothing leaves the host).
+std::string ResolveLcmUrl(const std::string& url);
+// Opens LCM; one clear error when the provider cannot start.
+Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url);
+// True for memq:// (one process, nothing to fragment).
+bool IsMemq(const std::string& url);
+
+class Dispatcher {
+ public:
+  explicit Dispatcher(lcm::LCM& lcm);
+  ~Dispatcher();  // stops and joins
+  Dispatcher(const Dispatcher&) = delete;
+  Dispatcher& operator=(const Dispatcher&) = delete;
+
+ private:
+  lcm::LCM& lcm_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// SIGINT and SIGTERM set the returned flag (installed once per process).
+const std::atomic<bool>& StopOnSignals();
+
+}  // namespace dynapath::protocol

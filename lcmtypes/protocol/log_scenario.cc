@@ -1,0 +1,94 @@
+#include "lcmtypes/protocol/log_scenario.h"
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdio>
+#include <map>
+#include <optional>
+
+#include "dynapath/changes_t.hpp"
+#include "dynapath/grid_t.hpp"
+#include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/validate.h"
+
+namespace dynapath::protocol {
+namespace {
+
+template <class T>
+bool Decode(const lcm::LogEvent* event, T& message) {
+  try {
+    return message.decode(event->data, 0, event->datalen) == event->datalen &&
+           Validate(message).empty();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool EndsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::string& run_id) {
+  if (FILE* probe = std::fopen(path.c_str(), "rb"); probe == nullptr) {
+    return Error{"cannot open log " + path};
+  } else {
+    std::fclose(probe);
+  }
+  lcm::LogFile log(path, "r");
+  if (!log.good()) return Error{"cannot read " + path + " as an LCM log"};
+  std::optional<grid_t> grid;
+  std::map<int, changes_t> steps;
+  std::string run = run_id;
+  int64_t events = 0;
+  const std::string grid_suffix = "/" + std::string(channel::kEnvGrid);
+  const std::string changes_suffix = "/" + std::string(channel::kEnvChanges);
+  while (const lcm::LogEvent* event = log.readNextEvent()) {
+    ++events;
+    if (EndsWith(event->channel, grid_suffix)) {
+      grid_t message{};
+      if (!Decode(event, message)) continue;
+      if (run.empty()) run = message.run_id;
+      if (message.run_id != run) continue;
+      if (grid && (grid->cells != message.cells || grid->total_steps != message.total_steps)) {
+        return Error{"log " + path + " holds two different mazes for run " + run};
+      }
+      grid = message;
+    } else if (EndsWith(event->channel, changes_suffix)) {
+      changes_t message{};
+      if (!Decode(event, message)) continue;
+      if (run.empty()) run = message.run_id;
+      if (message.run_id != run) continue;
+      auto [it, inserted] = steps.emplace(message.time_step, message);
+      if (!inserted && (it->second.cells != message.cells || it->second.codes != message.codes ||
+                        it->second.requested_moves != message.requested_moves)) {
+        return Error{"log " + path + " holds two different versions of time step " +
+                     std::to_string(message.time_step)};
+      }
+    }
+  }
+  if (events == 0) return Error{path + " is empty or not an LCM log"};
+  if (!grid) return Error{"log " + path + " holds no maze" + (run.empty() ? "" : " of run " + run)};
+  LoggedScenario logged;
+  logged.run_id = run;
+  logged.scenario.grid = GridFromMessage(*grid);
+  logged.size_label = grid->size_label;
+  logged.difficulty = grid->difficulty;
+  logged.seed = static_cast<uint64_t>(grid->seed);
+  for (int t = 1; t <= grid->total_steps; ++t) {
+    auto it = steps.find(t);
+    if (it == steps.end()) {
+      return Error{"log " + path + " misses time step " + std::to_string(t) + " of " +
+                   std::to_string(grid->total_steps) + " (was the run complete?)"};
+    }
+    Result<ChangeStep> step = ChangesFromMessage(it->second, grid->rows, grid->cols);
+    if (!step) return step.error();
+    logged.scenario.changes.steps.push_back(std::move(*step));
+  }
+  return logged;
+}
+
+}  // namespace dynapath::protocol

@@ -1,0 +1,238 @@
+#include "lcmtypes/protocol/validate.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/mdp.h"
+
+namespace dynapath::protocol {
+namespace {
+
+bool Count(int32_t count, size_t size) { return count >= 0 && static_cast<size_t>(count) == size; }
+
+bool Finite(const std::vector<float>& values) {
+  for (float v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+bool Codes(const std::vector<int8_t>& codes) {
+  for (int8_t c : codes) {
+    if (c < 0 || c > 2) return false;
+  }
+  return true;
+}
+
+bool GridSize(int32_t rows, int32_t cols) {
+  return rows >= 1 && cols >= 1 && rows <= kMaxGridSide && cols <= kMaxGridSide;
+}
+
+}  // namespace
+
+std::string Validate(const heartbeat_t& m) {
+  if (m.role < heartbeat_t::ROLE_COORDINATOR || m.role > heartbeat_t::ROLE_ENVSIM) {
+    return "unknown role";
+  }
+  if (m.state < heartbeat_t::STATE_RUNNING || m.state > heartbeat_t::STATE_FAILED) {
+    return "unknown state";
+  }
+  if (m.sender < 0 || m.threads < 0 || m.epoch < 0) return "negative field";
+  return {};
+}
+
+std::string Validate(const step_request_t& m) {
+  if (m.pass < 0 || m.time_step < 0) return "negative pass or time step";
+  return {};
+}
+
+std::string Validate(const grid_t& m) {
+  if (!GridSize(m.rows, m.cols)) return "bad grid size";
+  if (m.num_cells != m.rows * m.cols || !Count(m.num_cells, m.cells.size())) {
+    return "cell count does not match rows x cols";
+  }
+  if (!Codes(m.cells)) return "bad cell code";
+  if (m.total_steps < 0 || m.pass < 0) return "negative steps or pass";
+  return {};
+}
+
+std::string Validate(const changes_t& m) {
+  if (m.time_step < 1 || m.time_step > m.total_steps) return "time step out of range";
+  if (!Count(m.num_changes, m.cells.size()) || m.codes.size() != m.cells.size()) {
+    return "change count mismatch";
+  }
+  if (m.requested_moves < 0 || m.pass < 0) return "negative field";
+  for (int32_t cell : m.cells) {
+    if (cell < 0 || cell >= kMaxGridSide * kMaxGridSide) return "cell out of range";
+  }
+  if (!Codes(m.codes)) return "bad cell code";
+  return {};
+}
+
+std::string Validate(const job_batch_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0) return "negative batch or epoch";
+  if (m.kind != job_batch_t::KIND_SINGLE_AGENT && m.kind != job_batch_t::KIND_FEDASYNQ) {
+    return "unknown learner kind";
+  }
+  if (m.bootstrap < 0 || m.bootstrap > 1 || m.averaging < 0 || m.averaging > 1) {
+    return "bad bootstrap or averaging";
+  }
+  if (m.learners < 1 || m.learners > 4096 || m.sync_period < 1 || m.iterations_per_cell < 1) {
+    return "bad federated options";
+  }
+  if (m.max_episodes < 1 || m.replay_capacity < 1 || m.replay_batch < 0 ||
+      m.convergence_interval < 1 || m.convergence_checks < 1 ||
+      !std::isfinite(m.epsilon_start) || !std::isfinite(m.epsilon_decay) ||
+      !std::isfinite(m.epsilon_min) || !std::isfinite(m.convergence_threshold)) {
+    return "bad single-agent options";
+  }
+  if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
+  for (const job_t& job : m.jobs) {
+    if (!GridSize(job.grid_rows, job.grid_cols) || job.rows < 1 || job.cols < 1 ||
+        job.row0 < 0 || job.col0 < 0 || job.row0 + job.rows > job.grid_rows ||
+        job.col0 + job.cols > job.grid_cols) {
+      return "job region outside its grid";
+    }
+    if (job.node < 0) return "negative node";
+    if (job.num_cells != job.rows * job.cols || !Count(job.num_cells, job.codes.size())) {
+      return "job cell count mismatch";
+    }
+    if (!Codes(job.codes)) return "bad cell code";
+    if (!Count(job.num_values, job.values.size()) ||
+        (job.num_values != 0 && job.num_values != job.num_cells * kNumActions)) {
+      return "job table size mismatch";
+    }
+    if (!Finite(job.values)) return "job table not finite";
+    if (job.start_round < 0) return "negative start round";
+    if (!Count(job.num_starts, job.attempts.size()) || job.successes.size() != job.attempts.size()) {
+      return "start statistics size mismatch";
+    }
+    for (size_t i = 0; i < job.attempts.size(); ++i) {
+      if (job.attempts[i] < 0 || job.successes[i] < 0 || job.successes[i] > job.attempts[i]) {
+        return "bad start statistics";
+      }
+    }
+  }
+  if (!Count(m.num_items, m.item_job.size()) || m.item_learner.size() != m.item_job.size() ||
+      m.item_agent.size() != m.item_job.size()) {
+    return "item count mismatch";
+  }
+  for (int32_t i = 0; i < m.num_items; ++i) {
+    if (m.item_job[i] < 0 || m.item_job[i] >= m.num_jobs) return "item job out of range";
+    if (m.item_learner[i] < -1 || m.item_learner[i] >= m.learners) {
+      return "item learner out of range";
+    }
+    if (m.item_agent[i] < 0) return "negative agent id";
+  }
+  return {};
+}
+
+std::string Validate(const shards_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0 || m.agent < 0) return "negative field";
+  if (!Count(m.num_shards, m.shards.size())) return "shard count mismatch";
+  for (const learner_shard_t& s : m.shards) {
+    if (s.job < 0 || s.learner < 0 || s.steps < 0 || s.start_cell < -1) {
+      return "negative field in a shard";
+    }
+    if (!Count(s.num_entries, s.entries.size()) || s.values.size() != s.entries.size()) {
+      return "shard entry count mismatch";
+    }
+    if (!Count(s.num_visits, s.visits.size()) ||
+        (s.num_visits != 0 && s.num_visits != s.num_entries)) {
+      return "shard visit count mismatch";
+    }
+    for (size_t i = 0; i < s.entries.size(); ++i) {
+      if (s.entries[i] < 0 || (i > 0 && s.entries[i] <= s.entries[i - 1])) {
+        return "shard entries not ascending";
+      }
+    }
+    for (int32_t v : s.visits) {
+      if (v < 1) return "shard visit count below 1";
+    }
+    if (!Finite(s.values)) return "shard value not finite";
+  }
+  return {};
+}
+
+std::string Validate(const average_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0) return "negative field";
+  if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
+  for (const job_average_t& a : m.jobs) {
+    if (a.job < 0) return "negative job";
+    if (!Count(a.num_entries, a.entries.size()) || a.values.size() != a.entries.size()) {
+      return "entry count mismatch";
+    }
+    for (size_t i = 0; i < a.entries.size(); ++i) {
+      if (a.entries[i] < 0 || (i > 0 && a.entries[i] <= a.entries[i - 1])) {
+        return "entries not ascending";
+      }
+    }
+    if (!Finite(a.values)) return "value not finite";
+    if (!Count(a.num_learners, a.start_cells.size()) ||
+        a.reached.size() != a.start_cells.size()) {
+      return "learner count mismatch";
+    }
+    for (int32_t cell : a.start_cells) {
+      if (cell < -1) return "bad start cell";
+    }
+  }
+  return {};
+}
+
+std::string Validate(const job_result_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0 || m.agent < 0 || m.job < 0) return "negative field";
+  if (m.episodes_or_rounds < 0 || m.steps < 0) return "negative counts";
+  if (!Count(m.num_values, m.values.size()) || m.num_values % kNumActions != 0) {
+    return "table size mismatch";
+  }
+  if (!Finite(m.values)) return "table not finite";
+  return {};
+}
+
+std::string Validate(const fragment_t& m) {
+  if (m.count < 1 || m.index < 0 || m.index >= m.count) return "bad fragment index";
+  if (m.total_size < 1 || m.offset < 0 || !Count(m.size, m.data.size()) ||
+      static_cast<int64_t>(m.offset) + m.size > m.total_size) {
+    return "bad fragment size";
+  }
+  return {};
+}
+
+std::string Validate(const step_report_t& m) {
+  if (m.time_step < 0 || m.time_step > m.total_steps || m.pass < 0) return "bad time step";
+  if (!std::isfinite(m.success_rate) || !std::isfinite(m.average_path_length) ||
+      !std::isfinite(m.adapt_seconds) || !std::isfinite(m.initial_seconds)) {
+    return "figure not finite";
+  }
+  return {};
+}
+
+std::string Validate(const policy_t& m) {
+  if (!GridSize(m.rows, m.cols)) return "bad grid size";
+  if (m.num_cells != m.rows * m.cols || !Count(m.num_cells, m.cells.size()) ||
+      m.actions.size() != m.cells.size() || m.reaches.size() != m.cells.size()) {
+    return "cell count mismatch";
+  }
+  if (!Codes(m.cells)) return "bad cell code";
+  for (size_t i = 0; i < m.cells.size(); ++i) {
+    if (m.actions[i] < -1 || m.actions[i] >= kNumActions) return "bad action";
+    if (m.reaches[i] < -1 || m.reaches[i] > 1) return "bad reach flag";
+  }
+  if (!Count(m.num_regions, m.region_row0.size()) ||
+      m.region_col0.size() != m.region_row0.size() ||
+      m.region_rows.size() != m.region_row0.size() ||
+      m.region_cols.size() != m.region_row0.size()) {
+    return "region count mismatch";
+  }
+  for (int32_t i = 0; i < m.num_regions; ++i) {
+    if (m.region_row0[i] < 0 || m.region_col0[i] < 0 || m.region_rows[i] < 1 ||
+        m.region_cols[i] < 1 || m.region_row0[i] + m.region_rows[i] > m.rows ||
+        m.region_col0[i] + m.region_cols[i] > m.cols) {
+      return "region outside the grid";
+    }
+  }
+  return {};
+}
+
+}  // namespace dynapath::protocol

@@ -1,0 +1,252 @@
+#include "tools/cli/launcher.h"
+
+#include <spdlog/spdlog.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <thread>
+
+#include "agent/agent.h"
+#include "coordinator/coordinator.h"
+#include "envsim/envsim.h"
+#include "lcmtypes/protocol/dispatcher.h"
+
+namespace dynapath::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The process binaries: next to this one (installed), or in the build tree
+// (build/tools/dynapath -> build/<name>/dynapath-<name>), or $DYNAPATH_BIN_DIR.
+std::string FindBinary(const std::string& name) {
+  const std::string file = "dynapath-" + name;
+  if (const char* dir = std::getenv("DYNAPATH_BIN_DIR"); dir != nullptr && *dir != '\0') {
+    return (fs::path(dir) / file).string();
+  }
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    for (const fs::path& candidate :
+         {self.parent_path() / file, self.parent_path().parent_path() / name / file}) {
+      if (fs::exists(candidate, error)) return candidate.string();
+    }
+  }
+  return file;  // from PATH
+}
+
+struct Child {
+  std::string name;
+  pid_t pid = -1;
+  bool running = true;
+  int status = 0;
+};
+
+pid_t Spawn(const std::vector<std::string>& argv) {
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid != 0) return pid;
+  // Child: die with the launcher, whatever kills it.
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) _exit(1);
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  execvp(args[0], args.data());
+  std::fprintf(stderr, "dynapath: cannot start %s: %s\n", argv[0].c_str(), std::strerror(errno));
+  _exit(127);
+}
+
+std::string Describe(int status) {
+  if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return "was killed by signal " + std::to_string(WTERMSIG(status));
+  return "stopped";
+}
+
+bool Succeeded(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
+
+// Reaps exited children; returns false when none is left running.
+void Reap(std::vector<Child>& children) {
+  int status = 0;
+  pid_t pid;
+  while ((pid = waitpid(-1, &status, WNOHANG)) > 0) {
+    for (Child& child : children) {
+      if (child.pid == pid && child.running) {
+        child.running = false;
+        child.status = status;
+      }
+    }
+  }
+}
+
+// SIGTERM (SIGINT for lcm-logger, which then closes its file), then SIGKILL
+// after `grace`.
+void StopAll(std::vector<Child>& children, std::chrono::milliseconds grace) {
+  for (Child& child : children) {
+    if (child.running) kill(child.pid, child.name == "lcm-logger" ? SIGINT : SIGTERM);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + grace;
+  while (std::chrono::steady_clock::now() < deadline) {
+    Reap(children);
+    bool any = false;
+    for (const Child& child : children) any = any || child.running;
+    if (!any) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  for (Child& child : children) {
+    if (child.running) {
+      spdlog::warn("{} did not stop; killing it", child.name);
+      kill(child.pid, SIGKILL);
+    }
+  }
+  for (Child& child : children) {
+    if (child.running) {
+      waitpid(child.pid, &child.status, 0);
+      child.running = false;
+    }
+  }
+}
+
+}  // namespace
+
+int LaunchProcesses(const DistributedRun& run) {
+  const std::atomic<bool>& stop = protocol::StopOnSignals();
+  std::vector<std::string> common = {"--run-id", run.process.run_id, "--log-level", run.log_level};
+  if (!run.process.lcm_url.empty()) {
+    common.insert(common.end(), {"--lcm-url", run.process.lcm_url});
+  }
+  if (run.process.bus.drop_probability > 0) {
+    common.insert(common.end(), {"--fault-drop", std::to_string(run.process.bus.drop_probability)});
+  }
+  if (run.process.bus.duplicate_probability > 0) {
+    common.insert(common.end(),
+                  {"--fault-dup", std::to_string(run.process.bus.duplicate_probability)});
+  }
+  std::vector<Child> children;
+  auto start = [&](const std::string& name, std::vector<std::string> argv) {
+    const pid_t pid = Spawn(argv);
+    if (pid < 0) return false;
+    children.push_back(Child{name, pid});
+    return true;
+  };
+  if (!run.log_file.empty()) {
+    start("lcm-logger", {"lcm-logger", "--force",
+                         "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
+                         "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
+  }
+  std::vector<std::string> argv = {FindBinary("coordinator")};
+  argv.insert(argv.end(), common.begin(), common.end());
+  argv.insert(argv.end(), run.coordinator_args.begin(), run.coordinator_args.end());
+  argv.insert(argv.end(), {"--agents", std::to_string(run.agents)});
+  start("coordinator", argv);
+  argv = {FindBinary("envsim")};
+  argv.insert(argv.end(), common.begin(), common.end());
+  argv.insert(argv.end(), run.envsim_args.begin(), run.envsim_args.end());
+  start("envsim", argv);
+  for (int i = 1; i <= run.agents; ++i) {
+    argv = {FindBinary("agent")};
+    argv.insert(argv.end(), common.begin(), common.end());
+    argv.insert(argv.end(), {"--id", std::to_string(i), "--threads",
+                             std::to_string(run.threads_per_agent)});
+    start("agent " + std::to_string(i), argv);
+  }
+
+  int exit_code = 0;
+  std::vector<bool> reported(children.size(), false);
+  while (true) {
+    Reap(children);
+    if (stop) {
+      spdlog::warn("interrupted: stopping the run");
+      StopAll(children, std::chrono::milliseconds(5000));
+      return 130;
+    }
+    bool finished = false;
+    for (size_t i = 0; i < children.size(); ++i) {
+      Child& child = children[i];
+      if (child.running || reported[i]) continue;
+      reported[i] = true;
+      if (child.name == "coordinator") {
+        finished = true;
+        if (!Succeeded(child.status)) {
+          spdlog::error("the coordinator {}", Describe(child.status));
+          exit_code = 1;
+        }
+      } else if (child.name == "envsim") {
+        if (!Succeeded(child.status)) {
+          spdlog::error("envsim {}; stopping the run", Describe(child.status));
+          exit_code = 1;
+          finished = true;
+        }
+      } else if (!Succeeded(child.status)) {
+        // Agents are replaceable: the coordinator reassigns their work.
+        spdlog::warn("{} {}; the run goes on without it", child.name, Describe(child.status));
+      }
+    }
+    if (finished) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // The others exit by themselves once they hear the coordinator's final
+  // heartbeat; give them a moment, then stop whatever is left.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(3000);
+  while (std::chrono::steady_clock::now() < deadline) {
+    Reap(children);
+    bool any = false;
+    for (const Child& child : children) any = any || (child.running && child.name != "lcm-logger");
+    if (!any) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  StopAll(children, std::chrono::milliseconds(3000));
+  if (!run.log_file.empty()) spdlog::info("recorded the run's messages in {}", run.log_file);
+  return exit_code;
+}
+
+int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSetup& scenario) {
+  const std::atomic<bool>& stop = protocol::StopOnSignals();
+  // One memq:// instance: a second one in this process would hear nothing.
+  lcm::LCM lcm("memq://");
+  if (!lcm.good()) {
+    spdlog::error("cannot open LCM memq://");
+    return 1;
+  }
+  protocol::BusOptions bus_options = run.process.bus;
+  bus_options.fragment_above = 0;
+  protocol::Bus envsim_bus(lcm, run.process.run_id, bus_options);
+  protocol::Bus coordinator_bus(lcm, run.process.run_id, bus_options);
+  envsim::EnvSim sim(envsim_bus,
+                     envsim::ScenarioInfo{scenario.scenario, scenario.labels, scenario.seed,
+                                          scenario.source},
+                     envsim::EnvSimOptions{});
+  std::vector<std::unique_ptr<protocol::Bus>> agent_buses;
+  std::vector<std::unique_ptr<agent::Agent>> agents;
+  for (int i = 1; i <= run.agents; ++i) {
+    agent_buses.push_back(std::make_unique<protocol::Bus>(lcm, run.process.run_id, bus_options));
+    agent::AgentOptions options;
+    options.id = i;
+    options.threads = run.threads_per_agent;
+    agents.push_back(std::make_unique<agent::Agent>(*agent_buses.back(), options));
+  }
+  coordinator::CoordinatorOptions options;
+  options.plan = plan;
+  options.min_agents = run.agents;
+  coordinator::Coordinator coordinator(coordinator_bus, options);
+
+  protocol::Dispatcher dispatcher(lcm);
+  std::atomic<bool> stop_components{false};
+  std::vector<std::thread> threads;
+  threads.emplace_back([&] { sim.Run(stop_components); });
+  for (auto& agent : agents) {
+    threads.emplace_back([&, a = agent.get()] { a->Run(stop_components); });
+  }
+  const int code = coordinator.Run(stop);
+  // They exit on the coordinator's final heartbeat; the flag is a backstop.
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  stop_components = true;
+  for (std::thread& thread : threads) thread.join();
+  return stop ? 130 : code;
+}
+
+}  // namespace dynapath::cli

@@ -1,0 +1,78 @@
+#include "tools/common/process_options.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/dispatcher.h"
+#include "tools/common/scenario_options.h"
+
+namespace dynapath::cli {
+
+void AddProcessOptions(ArgParser& parser, bool run_id_required) {
+  parser.AddOption("run-id", "ID",
+                   run_id_required ? "the run to join (printed by the coordinator/launcher)"
+                                   : "id of the run (channels DYNAPATH/<ID>/...)",
+                   run_id_required ? "required" : "generated");
+  parser.AddOption("lcm-url", "URL", "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
+  parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
+  parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
+                   "0");
+}
+
+const std::vector<std::string>& ProcessOptionNames() {
+  static const std::vector<std::string> names = {"fault-drop", "fault-dup"};
+  return names;
+}
+
+namespace {
+Result<double> GetProbability(const ArgParser& parser, const std::string& name) {
+  const std::string text = parser.Get(name, "0");
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(value >= 0.0 && value < 1.0)) {
+    return Error{"option --" + name + " must be a probability in [0, 1), got '" + text + "'"};
+  }
+  return value;
+}
+}  // namespace
+
+Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_required) {
+  ProcessSetup setup;
+  if (parser.Has("run-id")) {
+    setup.run_id = parser.Get("run-id");
+  } else if (run_id_required) {
+    return Error{"option --run-id is required"};
+  } else {
+    setup.run_id = protocol::NewRunId();
+  }
+  if (Status status = protocol::CheckRunId(setup.run_id); !status) return status.error();
+  setup.lcm_url = parser.Get("lcm-url", "");
+  Result<double> drop = GetProbability(parser, "fault-drop");
+  if (!drop) return drop.error();
+  Result<double> dup = GetProbability(parser, "fault-dup");
+  if (!dup) return dup.error();
+  setup.bus.drop_probability = *drop;
+  setup.bus.duplicate_probability = *dup;
+  if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
+  return setup;
+}
+
+int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args,
+                     const char* program) {
+  if (Status status = parser.Parse(args); !status) {
+    std::fprintf(stderr, "%s: %s\n", program, status.error().message.c_str());
+    return 2;
+  }
+  if (parser.WantsHelp()) {
+    std::fputs(parser.Help().c_str(), stdout);
+    return 0;
+  }
+  if (Status status = ApplyLogLevel(parser); !status) {
+    std::fprintf(stderr, "%s: %s\n", program, status.error().message.c_str());
+    return 2;
+  }
+  return -1;
+}
+
+}  // namespace dynapath::cli

@@ -1,0 +1,28 @@
+#pragma once
+// Options every process of a distributed run takes: the run id, the LCM URL
+// and (tests only) fault injection.
+
+#include <string>
+
+#include "lcmtypes/protocol/bus.h"
+#include "tools/common/arg_parser.h"
+
+namespace dynapath::cli {
+
+struct ProcessSetup {
+  std::string run_id;
+  std::string lcm_url;  // as given; "" means $LCM_DEFAULT_URL or LCM's default
+  protocol::BusOptions bus;
+};
+
+// `run_id_required`: processes need --run-id; the launcher makes one.
+void AddProcessOptions(ArgParser& parser, bool run_id_required);
+const std::vector<std::string>& ProcessOptionNames();  // to forward
+Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_required);
+
+// Common start of a process main: parse, --help, log level. Returns -1 to
+// continue, else the exit code to return.
+int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args,
+                     const char* program);
+
+}  // namespace dynapath::cli

@@ -1,0 +1,99 @@
+#include "tools/common/run_driver.h"
+
+#include <spdlog/spdlog.h>
+
+namespace dynapath::cli {
+namespace {
+
+// Logs one line per approach every few seconds, and at its start and end.
+class ProgressLog {
+ public:
+  explicit ProgressLog(Clock clock) : clock_(std::move(clock)) {}
+
+  void operator()(const StepView& view) {
+    const ApproachRun& run = view.run;
+    const int step = run.steps.back().time_step;
+    const double now = clock_();
+    const bool finished = step == view.total_steps;
+    if (!finished && step != 0 && now - last_ < kIntervalSeconds) return;
+    last_ = now;
+    const StepRecord& record = run.steps.back();
+    if (step == 0) {
+      spdlog::info("{} {} {}: initial training {:.3f} s, success rate {:.4f}, path length {:.3f}",
+                   ApproachName(run.approach), run.size_label, run.difficulty_label,
+                   run.initial_seconds, record.success_rate, record.average_path_length);
+    } else {
+      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step",
+                   ApproachName(run.approach), run.size_label, run.difficulty_label, step,
+                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep());
+    }
+  }
+
+ private:
+  static constexpr double kIntervalSeconds = 2.0;
+  Clock clock_;
+  double last_ = 0.0;
+};
+
+}  // namespace
+
+void AddRunOptions(ArgParser& parser) {
+  parser.AddOption("approach", "LIST",
+                   "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
+                   "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg; or all",
+                   "all");
+  parser.AddOption("out", "DIR", "output directory", "results");
+  parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
+  parser.AddOption(
+      "bootstrap", "SCOPE",
+      "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
+      "in-grid");
+}
+
+const std::vector<std::string>& RunOptionNames() {
+  static const std::vector<std::string> names = {"approach", "out", "leaf-limit", "bootstrap"};
+  return names;
+}
+
+Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
+  RunPlan plan;
+  Result<std::vector<Approach>> approaches = ParseApproachList(parser.Get("approach", "all"));
+  if (!approaches) return approaches.error();
+  plan.approaches = *approaches;
+  Result<long long> leaf_limit = parser.GetInt("leaf-limit", QuadTree::kDefaultLeafLimit, 1, 10000);
+  if (!leaf_limit) return leaf_limit.error();
+  plan.options.leaf_limit = static_cast<int>(*leaf_limit);
+  const std::string bootstrap = parser.Get("bootstrap", "in-grid");
+  if (bootstrap != "in-grid" && bootstrap != "in-region") {
+    return Error{"option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'"};
+  }
+  plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
+  plan.out_dir = parser.Get("out", "results");
+  if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
+  return plan;
+}
+
+Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
+                                               const RunPlan& plan, const RunLabels& labels,
+                                               const StepCallback& extra) {
+  std::vector<ApproachRun> runs;
+  int pass = 0;
+  for (Approach approach : plan.approaches) {
+    ProgressLog progress(SteadyClock());
+    const StepCallback on_step = [&](const StepView& view) {
+      progress(view);
+      if (extra) extra(view);
+    };
+    runs.push_back(RunApproach(source, pass++, approach, plan.options, &trainer, labels,
+                               SteadyClock(), on_step));
+    const ApproachRun& run = runs.back();
+    spdlog::info(
+        "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
+        ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
+        run.AverageSuccessRate(), run.AveragePathLength());
+    if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
+  }
+  return runs;
+}
+
+}  // namespace dynapath::cli

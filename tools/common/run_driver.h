@@ -1,0 +1,37 @@
+#pragma once
+// Runs a list of approaches over one maze and change sequence and writes the
+// result files: the part of a run shared by `dynapath run --local` and the
+// coordinator process, so both produce the same files the same way.
+
+#include <string>
+#include <vector>
+
+#include "core/experiment.h"
+#include "core/results_csv.h"
+#include "tools/common/arg_parser.h"
+
+namespace dynapath::cli {
+
+struct RunPlan {
+  std::vector<Approach> approaches;
+  PlannerOptions options;  // run_seed is set from the scenario
+  std::string out_dir = "results";
+};
+
+// Declares --approach, --out, --leaf-limit and --bootstrap.
+void AddRunOptions(ArgParser& parser);
+// The names of those options (for the launcher to forward them).
+const std::vector<std::string>& RunOptionNames();
+Result<RunPlan> ResolveRunOptions(const ArgParser& parser);
+
+// Runs `plan.approaches` in order over `source` (pass i for the i-th
+// approach), logging progress, and (re)writes DIR/results.csv and
+// DIR/results_detailed.csv atomically after every approach, so an
+// interrupted run keeps what finished. `extra` is called after every step.
+// Fails when the files cannot be written; exceptions from the source or the
+// trainer propagate.
+Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
+                                               const RunPlan& plan, const RunLabels& labels,
+                                               const StepCallback& extra = {});
+
+}  // namespace dynapath::cli
