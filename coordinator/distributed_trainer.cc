@@ -355,10 +355,14 @@ void DistributedTrainer::CheckAgents() {
       lost = true;
       break;
     }
-    // Its heartbeat shows it lacks the batch, or sent what did not arrive.
+    // Its heartbeat shows it lacks the batch, or sent what did not arrive;
+    // or (split) a round, which takes milliseconds, is overdue: our average
+    // or its shards were lost.
     if (info.batch_id != batch.id || info.epoch != batch.epoch) {
       resend = true;
-    } else if (batch.split ? info.round >= batch.round : info.round > results_received) {
+    } else if (batch.split ? static_cast<double>(now - batch.last_progress_ms) >
+                                 options_.resend_seconds * 1000
+                           : info.round > results_received) {
       resend = true;
     }
   }

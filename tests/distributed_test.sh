@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# End-to-end tests of the distributed runtime. Runs inside a private network
+# namespace (ctest starts it with `dynapath netns --`): nothing reaches the
+# host network. Usage: distributed_test.sh PATH_TO_DYNAPATH PATH_TO_LCM_GARBAGE
+#
+# 1. Same answers everywhere: --local, --embedded, 1 and 3 agent processes.
+# 2. An agent killed with SIGKILL mid-run changes nothing.
+# 3. Dropped and duplicated messages (fault injection) change nothing.
+# 4. Garbage on every channel is dropped and counted; results unchanged.
+# 5. A killed coordinator leaves no orphans after 5 s.
+# 6. A run logged with --log replays with --replay to the same results.
+# 7. Bad options: one error line, exit 2.
+set -uo pipefail
+dynapath=${1:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
+garbage=${2:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
+bin_dir=$(cd "$(dirname "$dynapath")/.." && pwd)
+work=$(mktemp -d)
+trap 'pkill -9 -f "dynapath-(agent|envsim|coordinator)" 2>/dev/null; rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+pass() { echo "ok ($SECONDS s): $*"; }
+
+if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
+  echo "distributed_test.sh must run in a private network (dynapath netns --)" >&2
+  exit 2
+fi
+
+# Result files without the time columns (InitialTime, AdaptTimePerStep, AdaptTime).
+strip_times() {
+  python3 - "$1" <<'PY'
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+drop = {i for i, name in enumerate(rows[0]) if 'Time' in name and name != 'TimeStep'}
+for row in rows:
+    print(','.join(v for i, v in enumerate(row) if i not in drop))
+PY
+}
+same_results() {  # same_results DIR_A DIR_B LABEL
+  local ok=1
+  for file in results.csv results_detailed.csv; do
+    if [ ! -s "$1/$file" ] || [ ! -s "$2/$file" ]; then ok=0; continue; fi
+    diff -q <(strip_times "$1/$file") <(strip_times "$2/$file") >/dev/null || ok=0
+  done
+  if [ $ok -eq 1 ]; then pass "$3: identical results"; else fail "$3: results differ from --local"; fi
+}
+
+# 1. Same answers everywhere, all seven approaches (30x30: four leaves, so
+# batches of several jobs (whole placement) and of one job (learners split)).
+scenario=(--size 30 --difficulty medium --steps 30)
+"$dynapath" run --local "${scenario[@]}" --out "$work/local" --log-level warn >/dev/null || fail "--local run"
+"$dynapath" run --embedded --agents 2 "${scenario[@]}" --out "$work/embedded" --log-level warn >/dev/null \
+  || fail "--embedded run"
+same_results "$work/local" "$work/embedded" "--embedded with 2 agent threads"
+for agents in 1 3; do
+  "$dynapath" run --agents $agents "${scenario[@]}" --out "$work/agents$agents" --log-level warn \
+    >/dev/null 2>"$work/agents$agents.log" || { fail "--agents $agents run"; cat "$work/agents$agents.log"; }
+  same_results "$work/local" "$work/agents$agents" "--agents $agents"
+done
+
+# 2. SIGKILL an agent in the middle of a federated run.
+big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
+"$dynapath" run --local "${big[@]}" --out "$work/big_local" --log-level warn >/dev/null || fail "big --local"
+"$dynapath" run --agents 2 "${big[@]}" --out "$work/big_killed" --log-level info \
+  >/dev/null 2>"$work/killed.log" &
+launcher=$!
+sleep 0.7
+victim=$(pgrep -f "dynapath-agent .*--id 2" | head -1)
+if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill"; fi
+wait $launcher || fail "run with a killed agent exited $?"
+grep -q "reassigning its work" "$work/killed.log" || fail "the coordinator did not reassign the killed agent's work"
+same_results "$work/big_local" "$work/big_killed" "agent killed with SIGKILL"
+
+# 3. Dropped and duplicated messages.
+small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps 20)
+"$dynapath" run --local "${small[@]}" --out "$work/small_local" --log-level warn >/dev/null || fail "small --local"
+"$dynapath" run --agents 2 "${small[@]}" --fault-drop 0.05 --fault-dup 0.05 --out "$work/faults" \
+  --log-level warn >/dev/null 2>"$work/faults.log" || { fail "run with faults"; tail "$work/faults.log"; }
+same_results "$work/small_local" "$work/faults" "5% of messages dropped and 5% duplicated"
+
+# 4. Garbage on every channel of a run, from before it starts to its end.
+# --lcm-url: the run uses this test's network (by default the launcher would
+# make a network of its own, which the garbage could not reach).
+"$garbage" garbage-run 6 >/dev/null &
+garbage_pid=$!
+sleep 0.2
+"$dynapath" run --agents 2 "${small[@]}" --run-id garbage-run \
+  --lcm-url "udpm://239.255.76.67:7667?ttl=0" --out "$work/garbage" --log-level warn \
+  >/dev/null 2>"$work/garbage.log" || fail "run under garbage exited $?"
+wait $garbage_pid || fail "lcm_garbage"
+grep -q "dropped a message" "$work/garbage.log" || fail "garbage was not reported as dropped"
+same_results "$work/small_local" "$work/garbage" "garbage on every channel"
+
+# 5. Kill the coordinator: agents and envsim must exit within 5 s.
+"$bin_dir/envsim/dynapath-envsim" --run-id orphans "${big[@]:0:4}" --log-level error &
+envsim=$!
+"$bin_dir/agent/dynapath-agent" --run-id orphans --id 1 --threads 1 --log-level error &
+agent=$!
+"$bin_dir/coordinator/dynapath-coordinator" --run-id orphans --approach fedAsynQ_EqAvg \
+  --out "$work/orphans" --log-level error &
+coordinator=$!
+sleep 1
+kill -9 $coordinator
+sleep 5.5
+if kill -0 $envsim 2>/dev/null || kill -0 $agent 2>/dev/null; then
+  fail "agent or envsim still running 5 s after the coordinator was killed"
+else
+  pass "no orphans 5 s after the coordinator was killed"
+fi
+wait $envsim $agent 2>/dev/null
+[ ! -e "$work/orphans/results.csv" ] || fail "a killed coordinator left a result file"
+
+# 6. Log and replay.
+replay=(--approach "fedAsynQ_EqAvg,BFS Oracle")
+"$dynapath" run --agents 1 --size 20 --difficulty hard --steps 15 "${replay[@]}" --log "$work/run.lcm" \
+  --out "$work/logged" --log-level warn >/dev/null 2>&1 || fail "logged run"
+"$dynapath" run --local --replay "$work/run.lcm" "${replay[@]}" --out "$work/replayed" --log-level warn \
+  >/dev/null || fail "--replay run"
+same_results "$work/logged" "$work/replayed" "--replay of a --log"
+"$dynapath" run --agents 2 --replay "$work/run.lcm" "${replay[@]}" --out "$work/replayed2" \
+  --log-level warn >/dev/null 2>&1 || fail "--replay with agents"
+same_results "$work/logged" "$work/replayed2" "--replay of a --log with 2 agents"
+
+# 7. Bad input.
+expect_usage_error() {
+  local needle=$1; shift
+  "$@" >"$work/out" 2>"$work/err"
+  local code=$?
+  [ $code -eq 2 ] || fail "'$*' exited $code, expected 2"
+  [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'$*' printed $(wc -l <"$work/err") lines"
+  grep -q -- "$needle" "$work/err" || fail "'$*': $(cat "$work/err")"
+}
+expect_usage_error "--agents" "$dynapath" run --agents 0
+expect_usage_error "choose one" "$dynapath" run --local --agents 2
+expect_usage_error "--log" "$dynapath" run --local --log x.lcm
+expect_usage_error "run id" "$dynapath" run --agents 1 --run-id "bad/id"
+expect_usage_error "probability" "$dynapath" run --agents 1 --fault-drop 2
+expect_usage_error "cannot open log" "$dynapath" run --local --replay "$work/missing.lcm"
+echo "garbage" >"$work/not-a-log.lcm"
+"$dynapath" run --local --replay "$work/not-a-log.lcm" >/dev/null 2>"$work/err"
+[ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] || fail "--replay of a non-log: $(cat "$work/err")"
+expect_usage_error "--run-id" "$bin_dir/agent/dynapath-agent"
+expect_usage_error "--threads" "$bin_dir/agent/dynapath-agent" --run-id x --threads 0
+expect_usage_error "--hz" "$bin_dir/envsim/dynapath-envsim" --run-id x --hz fast
+expect_usage_error "unknown option" "$bin_dir/coordinator/dynapath-coordinator" --run-id x --frob 1
+
+if [ $failures -gt 0 ]; then
+  echo "$failures check(s) failed"
+  exit 1
+fi
+echo "all distributed checks passed"
