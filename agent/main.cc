@@ -1,7 +1,6 @@
 // dynapath-agent: hosts learners for a run's coordinator. Start any number,
 // on this machine or others (same --run-id and LCM network).
 
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -16,8 +15,7 @@
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  spdlog::set_default_logger(spdlog::stderr_color_mt("agent"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  cli::InitProcessLogging("agent");
   cli::ArgParser parser("dynapath-agent --run-id ID [options]",
                         "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
                         "returns Q-table shards per round (or final tables), sends heartbeats.\n"
@@ -30,8 +28,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (int code = cli::ParseProcessArgs(parser, args, "dynapath-agent"); code >= 0) return code;
   auto fail = [](const std::string& message) {
-    std::fprintf(stderr, "dynapath-agent: %s\n", message.c_str());
-    return 2;
+    return cli::ProcessError("dynapath-agent", message);
   };
   Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
@@ -39,7 +36,8 @@ int main(int argc, char** argv) {
   gethostname(host, sizeof host - 1);
   const long long derived =
       static_cast<long long>((std::hash<std::string>{}(host) ^ static_cast<size_t>(getpid())) %
-                             1000000000ULL) + 1;
+                             1000000000ULL) +
+      1;
   Result<long long> id = parser.GetInt("id", derived, 0, 2147483647LL);
   if (!id) return fail(id.error().message);
   const long long hardware = std::max(1u, std::thread::hardware_concurrency());
@@ -49,10 +47,7 @@ int main(int argc, char** argv) {
   if (!wait) return fail(wait.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) {
-    std::fprintf(stderr, "dynapath-agent: %s\n", lcm.error().message.c_str());
-    return 1;
-  }
+  if (!lcm) return cli::ProcessError("dynapath-agent", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   agent::AgentOptions options;

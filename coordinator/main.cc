@@ -1,6 +1,5 @@
 // dynapath-coordinator: runs a distributed experiment (see coordinator.h).
 
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <string>
@@ -12,8 +11,7 @@
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  spdlog::set_default_logger(spdlog::stderr_color_mt("coordinator"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  cli::InitProcessLogging("coordinator");
   cli::ArgParser parser(
       "dynapath-coordinator --run-id ID [options]",
       "Runs the chosen approaches on the maze of the run's environment simulator,\n"
@@ -29,8 +27,7 @@ int main(int argc, char** argv) {
     return code;
   }
   auto fail = [](const std::string& message) {
-    std::fprintf(stderr, "dynapath-coordinator: %s\n", message.c_str());
-    return 2;
+    return cli::ProcessError("dynapath-coordinator", message);
   };
   Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
@@ -42,10 +39,7 @@ int main(int argc, char** argv) {
   if (!wait) return fail(wait.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) {
-    std::fprintf(stderr, "dynapath-coordinator: %s\n", lcm.error().message.c_str());
-    return 1;
-  }
+  if (!lcm) return cli::ProcessError("dynapath-coordinator", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   coordinator::CoordinatorOptions options;

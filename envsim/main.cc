@@ -1,6 +1,5 @@
 // dynapath-envsim: the environment simulator of a run.
 
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
@@ -13,8 +12,7 @@
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  spdlog::set_default_logger(spdlog::stderr_color_mt("envsim"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  cli::InitProcessLogging("envsim");
   cli::ArgParser parser(
       "dynapath-envsim --run-id ID [maze options] [--hz RATE]",
       "Holds a run's maze and its change sequence (generated from a seed exactly as\n"
@@ -29,8 +27,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (int code = cli::ParseProcessArgs(parser, args, "dynapath-envsim"); code >= 0) return code;
   auto fail = [](const std::string& message) {
-    std::fprintf(stderr, "dynapath-envsim: %s\n", message.c_str());
-    return 2;
+    return cli::ProcessError("dynapath-envsim", message);
   };
   Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
@@ -48,10 +45,7 @@ int main(int argc, char** argv) {
   options.startup_timeout_seconds = static_cast<double>(*wait);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) {
-    std::fprintf(stderr, "dynapath-envsim: %s\n", lcm.error().message.c_str());
-    return 1;
-  }
+  if (!lcm) return cli::ProcessError("dynapath-envsim", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   envsim::ScenarioInfo info{std::move(scenario->scenario), scenario->labels, scenario->seed,

@@ -1,5 +1,8 @@
 #include "tools/common/process_options.h"
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <cstdlib>
 
@@ -58,19 +61,25 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   return setup;
 }
 
-int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args,
-                     const char* program) {
-  if (Status status = parser.Parse(args); !status) {
-    std::fprintf(stderr, "%s: %s\n", program, status.error().message.c_str());
-    return 2;
-  }
+void InitProcessLogging(const std::string& name) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt(name));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+}
+
+int ProcessError(const char* program, const std::string& message, int exit_code) {
+  std::fprintf(stderr, "%s: %s\n", program, message.c_str());
+  return exit_code;
+}
+
+int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args, const char* program) {
+  if (Status status = parser.Parse(args); !status)
+    return ProcessError(program, status.error().message);
   if (parser.WantsHelp()) {
     std::fputs(parser.Help().c_str(), stdout);
     return 0;
   }
   if (Status status = ApplyLogLevel(parser); !status) {
-    std::fprintf(stderr, "%s: %s\n", program, status.error().message.c_str());
-    return 2;
+    return ProcessError(program, status.error().message);
   }
   return -1;
 }

@@ -20,9 +20,14 @@ void AddProcessOptions(ArgParser& parser, bool run_id_required);
 const std::vector<std::string>& ProcessOptionNames();  // to forward
 Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_required);
 
+// Logs of a process go to stderr, named after the process, in the project's
+// format (stdout stays free for results).
+void InitProcessLogging(const std::string& name);
+// Prints "PROGRAM: MESSAGE" on stderr and returns `exit_code` (2: bad usage).
+int ProcessError(const char* program, const std::string& message, int exit_code = 2);
+
 // Common start of a process main: parse, --help, log level. Returns -1 to
 // continue, else the exit code to return.
-int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args,
-                     const char* program);
+int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args, const char* program);
 
 }  // namespace dynapath::cli
