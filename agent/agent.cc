@@ -175,8 +175,8 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     try {
       result = job.kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job) : TrainSingleAgent(job);
     } catch (const std::exception& e) {
-      spdlog::error("agent {}: job {} of batch {} failed: {}", options_.id, jobs[i],
-                    batch.batch_id, e.what());
+      spdlog::error("agent {}: job {} of batch {} failed: {}", options_.id, jobs[i], batch.batch_id,
+                    e.what());
       return;
     }
     job_result_t message{};
@@ -201,7 +201,8 @@ void Agent::RunSplitRound() {
   std::vector<std::pair<HostedJob*, int>> items;
   for (auto& job : split_jobs_) {
     if (round_ >= job->rounds) continue;
-    for (size_t k = 0; k < job->learners.size(); ++k) items.emplace_back(job.get(), static_cast<int>(k));
+    for (size_t k = 0; k < job->learners.size(); ++k)
+      items.emplace_back(job.get(), static_cast<int>(k));
   }
   if (items.empty()) return;  // every hosted job is finished
   std::vector<LearnerShard> shards(items.size());
@@ -217,7 +218,8 @@ void Agent::RunSplitRound() {
   message.round = round_;
   message.agent = options_.id;
   for (size_t i = 0; i < items.size(); ++i) {
-    message.shards.push_back(protocol::ShardToMessage(shards[i], items[i].first->index, importance_));
+    message.shards.push_back(
+        protocol::ShardToMessage(shards[i], items[i].first->index, importance_));
   }
   message.num_shards = static_cast<int32_t>(message.shards.size());
   bus_.Publish(protocol::channel::kShards, message);
@@ -241,7 +243,8 @@ void Agent::OnAverage(const average_t& average) {
       const int64_t entries = static_cast<int64_t>(job.model->cells()) * kNumActions;
       bool ok = job_average.num_learners == job.received.job.federated.learners &&
                 (job_average.entries.empty() || job_average.entries.back() < entries);
-      for (int32_t cell : job_average.start_cells) ok = ok && (cell < 0 || job.stats.SlotOf(cell) >= 0);
+      for (int32_t cell : job_average.start_cells)
+        ok = ok && (cell < 0 || job.stats.SlotOf(cell) >= 0);
       if (!ok) {
         spdlog::warn("agent {}: dropped an average that does not fit job {}", options_.id,
                      job.index);

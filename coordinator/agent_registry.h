@@ -20,12 +20,13 @@ struct AgentInfo {
   int64_t last_seen_ms = 0;
   int64_t batch_id = -1;  // what its last heartbeat said it holds
   int32_t epoch = 0;
-  int64_t round = -1;     // split: last round sent; whole: results sent
+  int64_t round = -1;  // split: last round sent; whole: results sent
 };
 
 class AgentRegistry {
  public:
-  explicit AgentRegistry(double timeout_seconds) : timeout_ms_(static_cast<int64_t>(timeout_seconds * 1000)) {}
+  explicit AgentRegistry(double timeout_seconds)
+      : timeout_ms_(static_cast<int64_t>(timeout_seconds * 1000)) {}
 
   static int64_t NowMs() {
     return std::chrono::duration_cast<std::chrono::milliseconds>(

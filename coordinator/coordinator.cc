@@ -16,8 +16,7 @@ Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
     : bus_(bus),
       options_(std::move(options)),
       agents_(options_.agent_timeout_seconds),
-      trainer_(bus, inbox_, agents_,
-               DistributedTrainerOptions{options_.agent_wait_seconds, 0.3}) {
+      trainer_(bus, inbox_, agents_, DistributedTrainerOptions{options_.agent_wait_seconds, 0.3}) {
   bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat,
                               [this](heartbeat_t& beat) { agents_.OnHeartbeat(beat); });
 }

@@ -18,9 +18,9 @@ namespace dynapath::coordinator {
 
 struct CoordinatorOptions {
   cli::RunPlan plan;
-  int min_agents = 1;                 // wait for this many agents before starting
-  double agent_wait_seconds = 60.0;   // ... for at most this long
-  double agent_timeout_seconds = 2.0; // an agent silent this long is dropped
+  int min_agents = 1;                  // wait for this many agents before starting
+  double agent_wait_seconds = 60.0;    // ... for at most this long
+  double agent_timeout_seconds = 2.0;  // an agent silent this long is dropped
   double envsim_timeout_seconds = 5.0;
   bool publish_policy = true;
 };

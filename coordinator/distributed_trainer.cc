@@ -38,11 +38,11 @@ struct DistributedTrainer::Batch {
   bool split = false;
   LearnerConfig config;
   std::vector<JobState> jobs;
-  std::vector<int> agents;            // of the current epoch
-  job_batch_t message{};                // the current epoch's batch
-  std::optional<average_t> average;   // the last average published (split)
-  int64_t round = 0;                  // split: the round being collected
-  int64_t start_round = 0;            // split: first round of this epoch
+  std::vector<int> agents;           // of the current epoch
+  job_batch_t message{};             // the current epoch's batch
+  std::optional<average_t> average;  // the last average published (split)
+  int64_t round = 0;                 // split: the round being collected
+  int64_t start_round = 0;           // split: first round of this epoch
   // Who owes what in this epoch: agent -> (job, learner) items (-1: whole).
   std::map<int, std::vector<std::pair<int, int>>> items;
   std::map<int, bool> agent_round_done;  // split: shards of `round` arrived
@@ -182,7 +182,8 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
       const int learners = state.job.federated.learners;
       state.shards.assign(static_cast<size_t>(learners), std::nullopt);
       for (int k = 0; k < learners; ++k) {
-        add_item(static_cast<int>(j), k, batch.agents[static_cast<size_t>(k * agent_count / learners)]);
+        add_item(static_cast<int>(j), k,
+                 batch.agents[static_cast<size_t>(k * agent_count / learners)]);
       }
     }
   } else {
@@ -196,7 +197,8 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
     });
     std::vector<int64_t> load(static_cast<size_t>(agent_count), 0);
     for (int j : order) {
-      const size_t least = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+      const size_t least =
+          static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
       load[least] += batch.jobs[j].job.region.cells();
       add_item(j, -1, batch.agents[least]);
     }
@@ -218,7 +220,8 @@ void DistributedTrainer::PublishBatch() {
 void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   if (!batch_ || !batch_->split) return;
   Batch& batch = *batch_;
-  if (message.batch_id != batch.id || message.epoch != batch.epoch || message.round != batch.round) {
+  if (message.batch_id != batch.id || message.epoch != batch.epoch ||
+      message.round != batch.round) {
     return;  // stale or repeated
   }
   auto owed = batch.items.find(message.agent);
@@ -226,7 +229,8 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   // The message must hold exactly the agent's items of the jobs still running.
   std::vector<std::pair<int, int>> expected;
   for (const auto& [job, learner] : owed->second) {
-    if (batch.round < batch.jobs[static_cast<size_t>(job)].rounds) expected.emplace_back(job, learner);
+    if (batch.round < batch.jobs[static_cast<size_t>(job)].rounds)
+      expected.emplace_back(job, learner);
   }
   std::vector<std::pair<int, int>> got;
   for (const learner_shard_t& shard : message.shards) got.emplace_back(shard.job, shard.learner);
@@ -240,9 +244,10 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   for (const learner_shard_t& m : message.shards) {
     const JobState& state = batch.jobs[static_cast<size_t>(m.job)];
     const int64_t entries = static_cast<int64_t>(state.shared.values().size());
-    const bool fits = (m.entries.empty() || m.entries.back() < entries) &&
-                      (m.start_cell < 0 || state.stats.SlotOf(m.start_cell) >= 0) &&
-                      (m.num_visits > 0) == (state.job.federated.averaging == Averaging::kImportance);
+    const bool fits =
+        (m.entries.empty() || m.entries.back() < entries) &&
+        (m.start_cell < 0 || state.stats.SlotOf(m.start_cell) >= 0) &&
+        (m.num_visits > 0) == (state.job.federated.averaging == Averaging::kImportance);
     if (!fits) {
       spdlog::warn("dropped shards of agent {}: a shard does not fit job {}", message.agent, m.job);
       return;
@@ -350,8 +355,8 @@ void DistributedTrainer::CheckAgents() {
     if (!owes) continue;
     AgentInfo info;
     if (!agents_.IsLive(agent) || !agents_.Get(agent, info)) {
-      spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent,
-                   batch.id, batch.epoch + 1);
+      spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent, batch.id,
+                   batch.epoch + 1);
       lost = true;
       break;
     }
@@ -374,7 +379,8 @@ void DistributedTrainer::CheckAgents() {
     return;
   }
   const bool stalled = now - batch.last_progress_ms > 10000 && now - batch.last_send_ms > 10000;
-  if ((resend || stalled) && static_cast<double>(now - batch.last_send_ms) > options_.resend_seconds * 1000) {
+  if ((resend || stalled) &&
+      static_cast<double>(now - batch.last_send_ms) > options_.resend_seconds * 1000) {
     ++traffic_.resends;
     if (batch.split && batch.average) {
       bus_.Publish(protocol::channel::kAverages, *batch.average);

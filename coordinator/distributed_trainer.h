@@ -46,7 +46,7 @@ struct DistributedTrainerOptions {
 // Traffic of the training protocol (for the benchmark).
 struct TrafficStats {
   int64_t batches = 0;
-  int64_t rounds = 0;  // split rounds combined
+  int64_t rounds = 0;                       // split rounds combined
   int64_t messages_out = 0, bytes_out = 0;  // batches and averages published
   int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
   int64_t resends = 0, epochs = 0;

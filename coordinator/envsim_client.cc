@@ -54,9 +54,9 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
     const int64_t seen = envsim_seen_ms_;
     if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
                  : static_cast<double>(now - seen) > timeout_seconds_ * 1000) {
-      throw std::runtime_error(seen < 0 ? "no environment simulator answered for run " +
-                                              bus_.run_id()
-                                        : "the environment simulator is gone");
+      throw std::runtime_error(seen < 0
+                                   ? "no environment simulator answered for run " + bus_.run_id()
+                                   : "the environment simulator is gone");
     }
     inbox_.RunFor(std::chrono::milliseconds(5));
   }
@@ -82,7 +82,8 @@ Grid EnvSimClient::Initial(int pass) {
 
 ChangeStep EnvSimClient::Changes(int pass, int t) {
   Request(pass, t, timeout_seconds_);
-  Result<ChangeStep> step = protocol::ChangesFromMessage(*changes_answer_, first_->rows, first_->cols);
+  Result<ChangeStep> step =
+      protocol::ChangesFromMessage(*changes_answer_, first_->rows, first_->cols);
   if (!step) throw std::runtime_error(step.error().message);
   return *step;
 }

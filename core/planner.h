@@ -28,7 +28,7 @@ struct PlannerOptions {
 // What an initialisation or adaptation did (extra result columns).
 struct StepDetails {
   int nodes_trained = 0;
-  int highest_level = -1;              // smallest quadtree level trained, -1 if none
+  int highest_level = -1;               // smallest quadtree level trained, -1 if none
   std::vector<Region> trained_regions;  // regions of the trained nodes (for viewers)
 };
 

@@ -47,8 +47,8 @@ void EnvSim::OnRequest(const step_request_t& request) {
     bus_.Publish(protocol::channel::kEnvGrid, grid);
   } else {
     changes_t changes = protocol::ChangesToMessage(
-        info_.scenario.changes.steps[static_cast<size_t>(request.time_step - 1)],
-        request.time_step, total);
+        info_.scenario.changes.steps[static_cast<size_t>(request.time_step - 1)], request.time_step,
+        total);
     changes.run_id = bus_.run_id();
     changes.request_id = request.request_id;
     changes.pass = request.pass;

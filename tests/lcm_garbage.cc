@@ -5,11 +5,11 @@
 // valid message of another run. Usage: lcm_garbage RUN_ID SECONDS
 // Refuses to run when an interface other than lo exists (host network).
 
-#include <lcm/lcm-cpp.hpp>
 #include <net/if.h>
 
 #include <chrono>
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <random>
 #include <string>
 #include <thread>
@@ -49,11 +49,11 @@ int main(int argc, char** argv) {
                                           "JOBS",      "AVERAGES",    "SHARDS",   "RESULTS",
                                           "REPORT",    "POLICY"};
   const std::vector<int64_t> hashes = {
-      dynapath::heartbeat_t::getHash(),    dynapath::step_request_t::getHash(),
-      dynapath::grid_t::getHash(),         dynapath::changes_t::getHash(),
-      dynapath::job_batch_t::getHash(),    dynapath::average_t::getHash(),
-      dynapath::shards_t::getHash(),       dynapath::job_result_t::getHash(),
-      dynapath::step_report_t::getHash(),  dynapath::policy_t::getHash(),
+      dynapath::heartbeat_t::getHash(),   dynapath::step_request_t::getHash(),
+      dynapath::grid_t::getHash(),        dynapath::changes_t::getHash(),
+      dynapath::job_batch_t::getHash(),   dynapath::average_t::getHash(),
+      dynapath::shards_t::getHash(),      dynapath::job_result_t::getHash(),
+      dynapath::step_report_t::getHash(), dynapath::policy_t::getHash(),
       dynapath::fragment_t::getHash()};
   std::mt19937_64 random(12345);
   std::vector<uint8_t> bytes;

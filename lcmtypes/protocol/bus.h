@@ -16,11 +16,10 @@
 // thread) and must be quick: components post the work to their own thread.
 // Subscribe before dispatching starts. Publish is safe from any thread.
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -46,8 +45,8 @@ struct BusOptions {
 
 struct BusCounters {
   int64_t published = 0;
-  int64_t received = 0;   // messages delivered to handlers
-  int64_t dropped = 0;    // invalid, undecodable or foreign messages
+  int64_t received = 0;  // messages delivered to handlers
+  int64_t dropped = 0;   // invalid, undecodable or foreign messages
   int64_t fragments_received = 0;
   int64_t injected_drops = 0;
   int64_t injected_duplicates = 0;

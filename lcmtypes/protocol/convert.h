@@ -23,7 +23,7 @@ namespace dynapath::protocol {
 // after `round` completed rounds.
 struct JobProgress {
   int64_t round = 0;
-  QTable table;  // empty: the job's warm start
+  QTable table;                               // empty: the job's warm start
   std::vector<uint32_t> attempts, successes;  // empty: fresh statistics
 };
 

@@ -3,9 +3,8 @@
 // handle (LCM allows no other way); handlers only decode, validate and post
 // work to the components' inboxes.
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <atomic>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
 #include <thread>

@@ -36,7 +36,7 @@ CoordinatorWatch::Verdict CoordinatorWatch::Check(double startup_seconds,
   const int64_t now = SteadyMs();
   if (seen < 0) {
     return static_cast<double>(now - created_ms_) > startup_seconds * 1000 ? Verdict::kNeverCame
-                                                                         : Verdict::kWaiting;
+                                                                           : Verdict::kWaiting;
   }
   return static_cast<double>(now - seen) > timeout_seconds * 1000 ? Verdict::kGone
                                                                   : Verdict::kRunning;
@@ -73,8 +73,8 @@ void HeartbeatSender::Loop() {
     // Sleep in small slices so destruction is quick.
     const auto until = std::chrono::steady_clock::now() + period_;
     while (!stop_ && std::chrono::steady_clock::now() < until) {
-      std::this_thread::sleep_for(std::min<std::chrono::microseconds>(
-          period_, std::chrono::microseconds(20000)));
+      std::this_thread::sleep_for(
+          std::min<std::chrono::microseconds>(period_, std::chrono::microseconds(20000)));
     }
   }
 }

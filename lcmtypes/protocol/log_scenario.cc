@@ -1,8 +1,7 @@
 #include "lcmtypes/protocol/log_scenario.h"
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <optional>
 

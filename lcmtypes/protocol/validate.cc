@@ -82,15 +82,15 @@ std::string Validate(const job_batch_t& m) {
     return "bad federated options";
   }
   if (m.max_episodes < 1 || m.replay_capacity < 1 || m.replay_batch < 0 ||
-      m.convergence_interval < 1 || m.convergence_checks < 1 ||
-      !std::isfinite(m.epsilon_start) || !std::isfinite(m.epsilon_decay) ||
-      !std::isfinite(m.epsilon_min) || !std::isfinite(m.convergence_threshold)) {
+      m.convergence_interval < 1 || m.convergence_checks < 1 || !std::isfinite(m.epsilon_start) ||
+      !std::isfinite(m.epsilon_decay) || !std::isfinite(m.epsilon_min) ||
+      !std::isfinite(m.convergence_threshold)) {
     return "bad single-agent options";
   }
   if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
   for (const job_t& job : m.jobs) {
-    if (!GridSize(job.grid_rows, job.grid_cols) || job.rows < 1 || job.cols < 1 ||
-        job.row0 < 0 || job.col0 < 0 || job.row0 + job.rows > job.grid_rows ||
+    if (!GridSize(job.grid_rows, job.grid_cols) || job.rows < 1 || job.cols < 1 || job.row0 < 0 ||
+        job.col0 < 0 || job.row0 + job.rows > job.grid_rows ||
         job.col0 + job.cols > job.grid_cols) {
       return "job region outside its grid";
     }
@@ -105,7 +105,8 @@ std::string Validate(const job_batch_t& m) {
     }
     if (!Finite(job.values)) return "job table not finite";
     if (job.start_round < 0) return "negative start round";
-    if (!Count(job.num_starts, job.attempts.size()) || job.successes.size() != job.attempts.size()) {
+    if (!Count(job.num_starts, job.attempts.size()) ||
+        job.successes.size() != job.attempts.size()) {
       return "start statistics size mismatch";
     }
     for (size_t i = 0; i < job.attempts.size(); ++i) {
@@ -169,8 +170,7 @@ std::string Validate(const average_t& m) {
       }
     }
     if (!Finite(a.values)) return "value not finite";
-    if (!Count(a.num_learners, a.start_cells.size()) ||
-        a.reached.size() != a.start_cells.size()) {
+    if (!Count(a.num_learners, a.start_cells.size()) || a.reached.size() != a.start_cells.size()) {
       return "learner count mismatch";
     }
     for (int32_t cell : a.start_cells) {
@@ -219,8 +219,7 @@ std::string Validate(const policy_t& m) {
     if (m.actions[i] < -1 || m.actions[i] >= kNumActions) return "bad action";
     if (m.reaches[i] < -1 || m.reaches[i] > 1) return "bad reach flag";
   }
-  if (!Count(m.num_regions, m.region_row0.size()) ||
-      m.region_col0.size() != m.region_row0.size() ||
+  if (!Count(m.num_regions, m.region_row0.size()) || m.region_col0.size() != m.region_row0.size() ||
       m.region_rows.size() != m.region_row0.size() ||
       m.region_cols.size() != m.region_row0.size()) {
     return "region count mismatch";

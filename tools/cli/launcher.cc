@@ -133,9 +133,9 @@ int LaunchProcesses(const DistributedRun& run) {
     return true;
   };
   if (!run.log_file.empty()) {
-    start("lcm-logger", {"lcm-logger", "--force",
-                         "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
-                         "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file});
+    start("lcm-logger",
+          {"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
+           "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file});
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
   }
   std::vector<std::string> argv = {FindBinary("coordinator")};
@@ -150,8 +150,8 @@ int LaunchProcesses(const DistributedRun& run) {
   for (int i = 1; i <= run.agents; ++i) {
     argv = {FindBinary("agent")};
     argv.insert(argv.end(), common.begin(), common.end());
-    argv.insert(argv.end(), {"--id", std::to_string(i), "--threads",
-                             std::to_string(run.threads_per_agent)});
+    argv.insert(argv.end(),
+                {"--id", std::to_string(i), "--threads", std::to_string(run.threads_per_agent)});
     start("agent " + std::to_string(i), argv);
   }
 
@@ -216,10 +216,10 @@ int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSe
   bus_options.fragment_above = 0;
   protocol::Bus envsim_bus(lcm, run.process.run_id, bus_options);
   protocol::Bus coordinator_bus(lcm, run.process.run_id, bus_options);
-  envsim::EnvSim sim(envsim_bus,
-                     envsim::ScenarioInfo{scenario.scenario, scenario.labels, scenario.seed,
-                                          scenario.source},
-                     envsim::EnvSimOptions{});
+  envsim::EnvSim sim(
+      envsim_bus,
+      envsim::ScenarioInfo{scenario.scenario, scenario.labels, scenario.seed, scenario.source},
+      envsim::EnvSimOptions{});
   std::vector<std::unique_ptr<protocol::Bus>> agent_buses;
   std::vector<std::unique_ptr<agent::Agent>> agents;
   for (int i = 1; i <= run.agents; ++i) {

@@ -14,13 +14,13 @@
 namespace dynapath::cli {
 
 struct DistributedRun {
-  ProcessSetup process;                    // run id, LCM URL, fault injection
+  ProcessSetup process;  // run id, LCM URL, fault injection
   int agents = 1;
   int threads_per_agent = 1;
   std::vector<std::string> envsim_args;       // scenario options to forward
   std::vector<std::string> coordinator_args;  // run options to forward
   std::string log_level = "info";
-  std::string log_file;      // --log: record with lcm-logger
+  std::string log_file;  // --log: record with lcm-logger
   bool private_network = true;
 };
 

@@ -82,7 +82,8 @@ int RunCommand(const std::vector<std::string>& args) {
     run.coordinator_args = parser.Forward(RunOptionNames());
     run.log_level = parser.Get("log-level", "info");
     run.log_file = parser.Get("log", "");
-    const bool host_network = !process->lcm_url.empty() || std::getenv("LCM_DEFAULT_URL") != nullptr;
+    const bool host_network =
+        !process->lcm_url.empty() || std::getenv("LCM_DEFAULT_URL") != nullptr;
     bool embedded = parser.Has("embedded");
     if (!embedded && !host_network) {
       if (Status status = EnterPrivateNetwork(); !status) {
@@ -110,8 +111,7 @@ int RunCommand(const std::vector<std::string>& args) {
   ThreadPool pool(static_cast<int>(*threads));
   LocalTrainer trainer(pool);
   ScenarioStepSource source(setup->scenario);
-  Result<std::vector<ApproachRun>> runs =
-      RunApproaches(source, trainer, *plan, setup->labels);
+  Result<std::vector<ApproachRun>> runs = RunApproaches(source, trainer, *plan, setup->labels);
   if (!runs) {
     spdlog::error("{}", runs.error().message);
     return kExitFailure;

@@ -21,8 +21,8 @@ void AddScenarioOptions(ArgParser& parser) {
 }
 
 const std::vector<std::string>& ScenarioOptionNames() {
-  static const std::vector<std::string> names = {"size",  "cols",    "difficulty", "seed",
-                                                 "steps", "maze",    "changes",    "replay"};
+  static const std::vector<std::string> names = {"size",  "cols", "difficulty", "seed",
+                                                 "steps", "maze", "changes",    "replay"};
   return names;
 }
 
