@@ -11,7 +11,10 @@ packages=(
   liblcm-dev liblcm-bin liblcm-java   # LCM transport, lcm-gen, lcm-logger, lcm-spy classes
   default-jdk-headless                # javac/jar: the message jar that lets lcm-spy decode our channels
   libjchart2d-java                    # charts of lcm-spy's detail view (tools/dynapath-spy)
-  python3
+  python3 python3-matplotlib python3-pandas   # dynapath plot, reproduction report
+  libsfml-dev                         # dynapath view (live policy window)
+  zlib1g-dev                          # PNG output of dynapath render
+  xvfb xauth                          # the viewer's one headless check (tests)
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi

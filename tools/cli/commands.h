@@ -11,6 +11,11 @@ int RunCommand(const std::vector<std::string>& args);
 // Runs a command in a private network namespace (tools/netns). Must be
 // called while the process has a single thread.
 int NetnsCommand(const std::vector<std::string>& args);
+// Replaces this process with the executable `tool` that sits next to the
+// dynapath binary (plot, view, render), passing `args`; when it is missing,
+// prints one error naming `missing_hint` and returns kExitFailure.
+int SiblingCommand(const std::string& tool, const std::vector<std::string>& args,
+                   const std::string& missing_hint);
 
 // Exit codes: 0 success, 1 run-time failure, 2 bad usage.
 inline constexpr int kExitFailure = 1;

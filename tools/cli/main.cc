@@ -21,6 +21,9 @@ constexpr const char* kUsage =
     "  maze   generate or load a maze and print it with its facts\n"
     "  run    run approaches on a maze and its change sequence, write result CSVs\n"
     "  netns  run a command in a private, loopback-only network (for LCM)\n"
+    "  plot   draw the report's figures from a study's result files (PNG)\n"
+    "  view   watch a run's policy live in a window\n"
+    "  render draw a logged run's policy as PNG frames and an animated GIF\n"
     "\n"
     "Run 'dynapath <command> --help' for the options of a command.\n";
 
@@ -49,6 +52,18 @@ int main(int argc, char** argv) {
   // Still single-threaded here, as unshare(CLONE_NEWUSER) requires: the
   // synchronous stderr logger starts no thread.
   if (command == "netns") return dynapath::cli::NetnsCommand(args);
+  if (command == "plot") {
+    return dynapath::cli::SiblingCommand("dynapath-plot", args,
+                                         "it is installed with the build from tools/plot");
+  }
+  if (command == "view") {
+    return dynapath::cli::SiblingCommand("dynapath-view", args,
+                                         "it is built only when libsfml-dev is installed");
+  }
+  if (command == "render") {
+    return dynapath::cli::SiblingCommand("dynapath-render", args,
+                                         "it is built with the project from tools/view");
+  }
   std::fprintf(stderr, "dynapath: unknown command '%s' (see dynapath --help)\n", command.c_str());
   return dynapath::cli::kExitUsage;
 }
