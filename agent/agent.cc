@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 
@@ -11,17 +12,23 @@
 
 namespace dynapath::agent {
 
-// A split job: the learners of it this agent hosts, each with its own table,
-// and a replica of the job's start statistics (kept equal to the
-// coordinator's by recording every average's start outcomes).
+// A split job: the learners of it this agent hosts, each with its own table.
+// The job's shared table and start statistics live in the combiner.
 struct Agent::HostedJob {
   int index = 0;  // in the batch
   protocol::ReceivedJob received;
   std::unique_ptr<RegionModel> model;
   std::vector<std::unique_ptr<FedAsynQLearner>> learners;
-  StartStatistics stats;
   int64_t rounds = 0;
 };
+
+namespace {
+using Ms = std::chrono::milliseconds;
+// Re-send our shards when a round waited this long for others' (doubling
+// while it waits on, up to the cap), or twice our own compute time if longer.
+constexpr int64_t kNudgeMs = 10;
+constexpr int64_t kNudgeCapMs = 250;
+}  // namespace
 
 Agent::Agent(protocol::Bus& bus, AgentOptions options)
     : bus_(bus),
@@ -32,8 +39,9 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
   bus_.Subscribe<job_batch_t>(ch::kJobs, [this](job_batch_t& batch) {
     inbox_.Post([this, batch = std::move(batch)] { OnBatch(batch); });
   });
-  bus_.Subscribe<average_t>(ch::kAverages, [this](average_t& average) {
-    inbox_.Post([this, average = std::move(average)] { OnAverage(average); });
+  bus_.Subscribe<shards_t>(ch::kShards, [this](shards_t& shards) {
+    if (shards.agent == options_.id) return;  // our own, looped back
+    inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
   });
 }
 
@@ -65,8 +73,19 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
   protocol::HeartbeatSender heartbeat(bus_, base, options_.heartbeat_seconds, fill, watchdog);
   spdlog::info("agent {}: {} threads, waiting for the coordinator of run {}", options_.id,
                pool_.threads(), bus_.run_id());
+  bool announced = false;
   while (!stop) {
-    inbox_.RunFor(std::chrono::milliseconds(50));
+    // While a split round waits for others, wake in time to nudge them.
+    int64_t wait_ms = 50;
+    if (combiner_ && computed_round_ == combiner_->round()) {
+      wait_ms = std::clamp<int64_t>(next_nudge_ms_ - protocol::SteadyMs(), 1, 50);
+    }
+    inbox_.RunFor(Ms(wait_ms));
+    NudgeIfStalled();
+    if (!announced && coordinator_.Seen()) {
+      heartbeat.SendNow();  // join at once, not at the next heartbeat
+      announced = true;
+    }
     switch (coordinator_.Check(options_.startup_timeout_seconds,
                                options_.coordinator_timeout_seconds)) {
       case Verdict::kFinished:
@@ -99,16 +118,21 @@ void Agent::OnBatch(const job_batch_t& batch) {
   importance_ = batch.averaging == 1;
   sync_period_ = batch.sync_period;
   split_jobs_.clear();
+  combiner_.reset();
   results_.clear();
-  last_shards_.reset();
-  round_ = -1;
+  sent_.clear();
+  computed_round_ = -1;
   reported_batch_ = batch_id_;
   reported_epoch_ = epoch_;
   reported_round_ = -1;
 
   std::vector<int> whole;
+  protocol::RoundCombiner::Items items;  // every agent's split learners
   std::vector<std::vector<int>> split_learners(static_cast<size_t>(batch.num_jobs));
   for (int i = 0; i < batch.num_items; ++i) {
+    if (batch.item_learner[i] >= 0) {
+      items[batch.item_agent[i]].emplace_back(batch.item_job[i], batch.item_learner[i]);
+    }
     if (batch.item_agent[i] != options_.id) continue;
     if (batch.item_learner[i] < 0) {
       whole.push_back(batch.item_job[i]);
@@ -116,6 +140,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
       split_learners[static_cast<size_t>(batch.item_job[i])].push_back(batch.item_learner[i]);
     }
   }
+  std::vector<protocol::RoundCombiner::Job> combined;
   int64_t start_round = -1;
   for (int j = 0; j < batch.num_jobs; ++j) {
     if (split_learners[j].empty()) continue;
@@ -136,24 +161,46 @@ void Agent::OnBatch(const job_batch_t& batch) {
     }
     const TrainingJob& job = hosted->received.job;
     hosted->rounds = FederatedRounds(job.region, job.federated);
+    protocol::RoundCombiner::Job c;
+    c.index = j;
+    c.learners = job.federated.learners;
+    c.rounds = hosted->rounds;
+    c.averaging = job.federated.averaging;
+    c.shared = StartingTable(job);
     if (hosted->received.attempts.empty()) {
-      hosted->stats = StartStatistics(hosted->model->start_cells());
+      c.stats = StartStatistics(hosted->model->start_cells());
     } else {
-      hosted->stats = StartStatistics(hosted->model->start_cells(), hosted->received.attempts,
-                                      hosted->received.successes);
+      c.stats = StartStatistics(hosted->model->start_cells(), hosted->received.attempts,
+                                hosted->received.successes);
     }
     for (int learner : split_learners[j]) {
       hosted->learners.push_back(std::make_unique<FedAsynQLearner>(*hosted->model, learner));
-      hosted->learners.back()->Reset(job.warm_start);
+      hosted->learners.back()->Reset(c.shared);
     }
     start_round = std::max(start_round, hosted->received.start_round);
+    combined.push_back(std::move(c));
     split_jobs_.push_back(std::move(hosted));
   }
   if (!whole.empty()) RunWholeJobs(batch, whole);
-  if (!split_jobs_.empty()) {
-    round_ = start_round;
-    RunSplitRound();
+  if (split_jobs_.empty()) return;
+  // Our combiner sees only the jobs we host: their learners on other agents
+  // are the only ones it waits for.
+  for (auto& [agent, owned] : items) {
+    std::erase_if(owned, [&](const std::pair<int, int>& item) {
+      return split_learners[static_cast<size_t>(item.first)].empty();
+    });
   }
+  std::erase_if(items, [](const auto& entry) { return entry.second.empty(); });
+  try {
+    combiner_ = std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items),
+                                                          start_round);
+  } catch (const std::exception& e) {
+    spdlog::error("agent {}: dropped batch {}: {}", options_.id, batch.batch_id, e.what());
+    split_jobs_.clear();
+    return;
+  }
+  computed_round_ = start_round - 1;
+  ContinueSplit();
 }
 
 void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs) {
@@ -196,87 +243,105 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
   });
 }
 
-void Agent::RunSplitRound() {
-  // (job, learner) pairs of the jobs still running at round_.
+void Agent::ContinueSplit() {
+  while (combiner_ && !combiner_->Finished()) {
+    if (computed_round_ < combiner_->round()) {
+      ComputeRound();
+      continue;
+    }
+    if (!combiner_->RoundComplete()) return;  // OnShards or a nudge continues
+    for (const protocol::RoundCombiner::JobRound& job_round : combiner_->Combine()) {
+      for (auto& job : split_jobs_) {
+        if (job->index != job_round.index) continue;
+        for (auto& learner : job->learners) {
+          learner->ApplyAverage(job_round.entries, job_round.values);
+        }
+      }
+    }
+  }
+}
+
+void Agent::ComputeRound() {
+  const int64_t round = combiner_->round();
+  // (job, hosted learner) pairs of the jobs still running in this round.
   std::vector<std::pair<HostedJob*, int>> items;
   for (auto& job : split_jobs_) {
-    if (round_ >= job->rounds) continue;
+    if (round >= job->rounds) continue;
     for (size_t k = 0; k < job->learners.size(); ++k)
       items.emplace_back(job.get(), static_cast<int>(k));
   }
-  if (items.empty()) return;  // every hosted job is finished
+  const int64_t started = protocol::SteadyMs();
   std::vector<LearnerShard> shards(items.size());
   pool_.ParallelFor(static_cast<int>(items.size()), [&](int i) {
     HostedJob& job = *items[i].first;
-    shards[i] = job.learners[items[i].second]->RunRound(job.stats, job.received.job.seed, round_,
-                                                        sync_period_);
+    shards[i] = job.learners[items[i].second]->RunRound(
+        combiner_->job(job.index).stats, job.received.job.seed, round, sync_period_);
   });
+  round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};
   message.run_id = bus_.run_id();
   message.batch_id = batch_id_;
   message.epoch = epoch_;
-  message.round = round_;
+  message.round = round;
   message.agent = options_.id;
   for (size_t i = 0; i < items.size(); ++i) {
     message.shards.push_back(
         protocol::ShardToMessage(shards[i], items[i].first->index, importance_));
   }
   message.num_shards = static_cast<int32_t>(message.shards.size());
-  bus_.Publish(protocol::channel::kShards, message);
-  last_shards_ = std::move(message);
-  reported_round_ = round_;
+  computed_round_ = round;
+  PublishShards(message, round);
+  // Ours go through the same path as everyone's, so all combine the same.
+  std::string why;
+  if (combiner_->Add(message, &why) != protocol::RoundCombiner::Added::kStored) {
+    spdlog::error("agent {}: own shards rejected: {}", options_.id, why);
+  }
+  sent_.push_back(std::move(message));
+  if (sent_.size() > 2) sent_.pop_front();
+  reported_round_ = round;
+  waiting_since_ms_ = protocol::SteadyMs();
+  nudge_interval_ms_ = std::max(kNudgeMs, 2 * round_compute_ms_);
+  next_nudge_ms_ = waiting_since_ms_ + nudge_interval_ms_;
 }
 
-void Agent::OnAverage(const average_t& average) {
-  if (average.batch_id != batch_id_ || average.epoch != epoch_ || split_jobs_.empty()) return;
-  if (average.round < round_) {
-    Resend();  // our shards of round_ were lost
+void Agent::PublishShards(const shards_t& shards, int64_t needs_round) {
+  if (shards.needs_round == needs_round) {
+    bus_.Publish(protocol::channel::kShards, shards);
     return;
   }
-  if (average.round > round_) return;  // cannot happen without our shards; ignore
-  // Check everything before changing anything.
-  std::vector<const job_average_t*> by_job(split_jobs_.size(), nullptr);
-  for (const job_average_t& job_average : average.jobs) {
-    for (size_t i = 0; i < split_jobs_.size(); ++i) {
-      HostedJob& job = *split_jobs_[i];
-      if (job.index != job_average.job) continue;
-      const int64_t entries = static_cast<int64_t>(job.model->cells()) * kNumActions;
-      bool ok = job_average.num_learners == job.received.job.federated.learners &&
-                (job_average.entries.empty() || job_average.entries.back() < entries);
-      for (int32_t cell : job_average.start_cells)
-        ok = ok && (cell < 0 || job.stats.SlotOf(cell) >= 0);
-      if (!ok) {
-        spdlog::warn("agent {}: dropped an average that does not fit job {}", options_.id,
-                     job.index);
-        return;
-      }
-      by_job[i] = &job_average;
+  shards_t copy = shards;
+  copy.needs_round = needs_round;
+  bus_.Publish(protocol::channel::kShards, copy);
+}
+
+void Agent::OnShards(const shards_t& shards) {
+  if (!combiner_ || shards.batch_id != batch_id_ || shards.epoch != epoch_) return;
+  // The sender still lacks shards of an earlier round: ours of it got lost.
+  if (shards.needs_round < combiner_->round()) {
+    for (const shards_t& sent : sent_) {
+      if (sent.round == shards.needs_round) PublishShards(sent, combiner_->round());
     }
   }
-  for (size_t i = 0; i < split_jobs_.size(); ++i) {
-    HostedJob& job = *split_jobs_[i];
-    if (round_ >= job.rounds) continue;
-    if (by_job[i] == nullptr) {
-      spdlog::warn("agent {}: an average lacks job {}; dropped", options_.id, job.index);
-      return;
-    }
+  std::string why;
+  if (combiner_->Add(shards, &why) == protocol::RoundCombiner::Added::kInvalid) {
+    spdlog::warn("agent {}: dropped shards of agent {}: {}", options_.id, shards.agent, why);
+    return;
   }
-  for (size_t i = 0; i < split_jobs_.size(); ++i) {
-    HostedJob& job = *split_jobs_[i];
-    if (by_job[i] == nullptr) continue;
-    const job_average_t& a = *by_job[i];
-    const std::vector<uint32_t> entries(a.entries.begin(), a.entries.end());
-    for (auto& learner : job.learners) learner->ApplyAverage(entries, a.values);
-    for (int k = 0; k < a.num_learners; ++k) {
-      if (a.start_cells[k] >= 0) job.stats.Record(job.stats.SlotOf(a.start_cells[k]), a.reached[k]);
-    }
-  }
-  ++round_;
-  RunSplitRound();
+  ContinueSplit();
+}
+
+void Agent::NudgeIfStalled() {
+  if (!combiner_ || combiner_->Finished() || computed_round_ != combiner_->round()) return;
+  const int64_t now = protocol::SteadyMs();
+  if (now < next_nudge_ms_ || sent_.empty()) return;
+  PublishShards(sent_.back(), combiner_->round());
+  nudge_interval_ms_ = std::min(kNudgeCapMs, nudge_interval_ms_ * 2);
+  next_nudge_ms_ = now + nudge_interval_ms_;
 }
 
 void Agent::Resend() {
-  if (last_shards_) bus_.Publish(protocol::channel::kShards, *last_shards_);
+  const int64_t needs = combiner_ ? combiner_->round() : 0;
+  for (const shards_t& sent : sent_) PublishShards(sent, needs);
   for (const job_result_t& result : results_) bus_.Publish(protocol::channel::kResults, result);
 }
 

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -15,7 +16,6 @@
 #include "core/fedasynq.h"
 #include "core/region_model.h"
 #include "core/thread_pool.h"
-#include "dynapath/average_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
@@ -24,6 +24,7 @@
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/inbox.h"
 #include "lcmtypes/protocol/liveness.h"
+#include "lcmtypes/protocol/round_combiner.h"
 
 namespace dynapath::agent {
 
@@ -56,9 +57,15 @@ class Agent {
   struct HostedJob;
 
   void OnBatch(const job_batch_t& batch);
-  void OnAverage(const average_t& average);
+  void OnShards(const shards_t& shards);
   void RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs);
-  void RunSplitRound();
+  // Computes this agent's shards of every round it can, combining each round
+  // as soon as all agents' shards are there, until a round waits for others.
+  void ContinueSplit();
+  void ComputeRound();
+  void PublishShards(const shards_t& shards, int64_t needs_round);
+  // Waiting for others' shards too long: re-send ours (with needs_round).
+  void NudgeIfStalled();
   void Resend();
 
   protocol::Bus& bus_;
@@ -73,8 +80,13 @@ class Agent {
   bool importance_ = false;
   int sync_period_ = 0;
   std::vector<std::unique_ptr<HostedJob>> split_jobs_;  // jobs with learners here
-  int64_t round_ = -1;                                  // split round last computed
-  std::optional<shards_t> last_shards_;
+  std::unique_ptr<protocol::RoundCombiner> combiner_;   // all agents' rounds of them
+  int64_t computed_round_ = -1;                         // last round computed here
+  std::deque<shards_t> sent_;                           // our last two rounds' shards
+  int64_t waiting_since_ms_ = 0;   // when our shards of the round went out
+  int64_t next_nudge_ms_ = 0;
+  int64_t nudge_interval_ms_ = 0;
+  int64_t round_compute_ms_ = 0;   // how long computing our last round took
   std::vector<job_result_t> results_;  // whole jobs finished in this batch
 
   // What the heartbeat reports (written by the agent thread).

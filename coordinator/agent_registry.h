@@ -34,9 +34,13 @@ class AgentRegistry {
         .count();
   }
 
-  void OnHeartbeat(const heartbeat_t& beat) {
-    if (beat.role != heartbeat_t::ROLE_AGENT) return;
+  // Records an agent's heartbeat; true when the agent was not live before.
+  bool OnHeartbeat(const heartbeat_t& beat) {
+    if (beat.role != heartbeat_t::ROLE_AGENT) return false;
     std::lock_guard lock(mutex_);
+    const auto known = agents_.find(beat.sender);
+    const bool is_new =
+        known == agents_.end() || NowMs() - known->second.last_seen_ms > timeout_ms_;
     AgentInfo& info = agents_[beat.sender];
     info.id = beat.sender;
     info.threads = beat.threads;
@@ -44,6 +48,7 @@ class AgentRegistry {
     info.batch_id = beat.batch_id;
     info.epoch = beat.epoch;
     info.round = beat.round;
+    return is_new;
   }
 
   // Agents heard from within the timeout, ascending ids.

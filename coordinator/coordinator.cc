@@ -18,7 +18,11 @@ Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
       agents_(options_.agent_timeout_seconds),
       trainer_(bus, inbox_, agents_, DistributedTrainerOptions{options_.agent_wait_seconds, 0.3}) {
   bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat,
-                              [this](heartbeat_t& beat) { agents_.OnHeartbeat(beat); });
+                              [this](heartbeat_t& beat) {
+                                // Wake the coordinator thread for a new agent:
+                                // the run starts as soon as enough are there.
+                                if (agents_.OnHeartbeat(beat)) inbox_.Wake();
+                              });
 }
 
 void Coordinator::PublishStep(const StepView& view, int pass) {
@@ -124,10 +128,11 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     state = heartbeat_t::STATE_FAILED;
     exit_code = 1;
   }
-  // Let agents and envsim hear the final state (heartbeats may be lost).
-  for (int i = 0; i < 5; ++i) {
+  // Let agents and envsim hear the final state (heartbeats may be lost; if
+  // all are, they still exit when the coordinator falls silent).
+  for (int i = 0; i < 3; ++i) {
     heartbeat.SendNow();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   return exit_code;
 }

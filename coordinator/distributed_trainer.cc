@@ -9,6 +9,7 @@
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/round_combiner.h"
 
 namespace dynapath::coordinator {
 namespace {
@@ -20,13 +21,6 @@ using Ms = std::chrono::milliseconds;
 // One job of the batch in hand.
 struct DistributedTrainer::JobState {
   TrainingJob job;
-  // Split jobs: the shared table and start statistics after `round` rounds.
-  std::unique_ptr<RegionModel> model;
-  std::unique_ptr<FederatedAverager> averager;
-  QTable shared;
-  StartStatistics stats;
-  int64_t rounds = 0;
-  std::vector<std::optional<LearnerShard>> shards;  // of the round being collected
   // Whole jobs: the final table once received.
   std::optional<QTable> result;
   int64_t steps = 0;
@@ -39,13 +33,11 @@ struct DistributedTrainer::Batch {
   LearnerConfig config;
   std::vector<JobState> jobs;
   std::vector<int> agents;           // of the current epoch
-  job_batch_t message{};             // the current epoch's batch
-  std::optional<average_t> average;  // the last average published (split)
-  int64_t round = 0;                 // split: the round being collected
-  int64_t start_round = 0;           // split: first round of this epoch
+  job_batch_t message{};  // the current epoch's batch
+  // Split: the shared tables and start statistics, round by round.
+  std::unique_ptr<protocol::RoundCombiner> combiner;
   // Who owes what in this epoch: agent -> (job, learner) items (-1: whole).
   std::map<int, std::vector<std::pair<int, int>>> items;
-  std::map<int, bool> agent_round_done;  // split: shards of `round` arrived
   int64_t last_send_ms = 0;
   int64_t last_progress_ms = 0;
   int64_t steps = 0;
@@ -106,16 +98,6 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   ++traffic_.batches;
   std::vector<int> agents = WaitForAgents();
   batch.split = config.kind == LearnerKind::kFedAsynQ && nodes.size() < agents.size();
-  if (batch.split) {
-    for (JobState& state : batch.jobs) {
-      state.model = std::make_unique<RegionModel>(state.job);
-      state.shared = StartingTable(state.job);
-      state.stats = StartStatistics(state.model->start_cells());
-      state.rounds = FederatedRounds(state.job.region, state.job.federated);
-      state.averager = std::make_unique<FederatedAverager>(
-          static_cast<int>(state.shared.values().size()), state.job.federated.averaging);
-    }
-  }
   StartEpoch(std::move(agents));
   while (!Done()) {
     inbox_.RunFor(Ms(20));
@@ -123,8 +105,10 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   }
 
   TrainingStats stats;
-  for (JobState& state : batch.jobs) {
-    root.Commit(state.job.region, batch.split ? state.shared : *state.result);
+  for (size_t j = 0; j < batch.jobs.size(); ++j) {
+    JobState& state = batch.jobs[j];
+    root.Commit(state.job.region,
+                batch.split ? batch.combiner->job(static_cast<int>(j)).shared : *state.result);
     ++stats.jobs;
     stats.steps += state.steps;
   }
@@ -133,8 +117,9 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
 }
 
 bool DistributedTrainer::Done() const {
+  if (batch_->split) return batch_->combiner->Finished();
   for (const JobState& state : batch_->jobs) {
-    if (batch_->split ? batch_->round < state.rounds : !state.result) return false;
+    if (!state.result) return false;
   }
   return true;
 }
@@ -145,9 +130,28 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   if (batch.epoch > 0) ++traffic_.epochs;
   batch.agents = std::move(agents);
   batch.items.clear();
-  batch.agent_round_done.clear();
-  batch.average.reset();
-  batch.start_round = batch.round;
+
+  // Split jobs restart from the last round the combiner completed.
+  std::vector<protocol::RoundCombiner::Job> combined;
+  int64_t round = 0;
+  if (batch.split) {
+    if (batch.combiner) {
+      combined = batch.combiner->jobs();
+      round = batch.combiner->round();
+    } else {
+      for (size_t j = 0; j < batch.jobs.size(); ++j) {
+        const TrainingJob& job = batch.jobs[j].job;
+        protocol::RoundCombiner::Job c;
+        c.index = static_cast<int>(j);
+        c.learners = job.federated.learners;
+        c.rounds = FederatedRounds(job.region, job.federated);
+        c.averaging = job.federated.averaging;
+        c.shared = StartingTable(job);
+        c.stats = StartStatistics(RegionModel(job).start_cells());
+        combined.push_back(std::move(c));
+      }
+    }
+  }
 
   job_batch_t& message = batch.message;
   message = job_batch_t();
@@ -155,17 +159,15 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   message.batch_id = batch.id;
   message.epoch = batch.epoch;
   protocol::SetBatchOptions(batch.config, message);
-  for (const JobState& state : batch.jobs) {
+  for (size_t j = 0; j < batch.jobs.size(); ++j) {
     protocol::JobProgress progress;
-    if (batch.split) {
-      progress.round = batch.round;
-      if (batch.round > 0) {
-        progress.table = state.shared;
-        progress.attempts = state.stats.attempts();
-        progress.successes = state.stats.successes();
-      }
+    if (batch.split && round > 0) {
+      progress.round = round;
+      progress.table = combined[j].shared;
+      progress.attempts = combined[j].stats.attempts();
+      progress.successes = combined[j].stats.successes();
     }
-    protocol::AddJob(state.job, progress, message);
+    protocol::AddJob(batch.jobs[j].job, progress, message);
   }
   const int agent_count = static_cast<int>(batch.agents.size());
   auto add_item = [&](int job, int learner, int agent) {
@@ -175,17 +177,16 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
     batch.items[agent].emplace_back(job, learner);
   };
   if (batch.split) {
-    // Contiguous blocks of learners per agent.
+    // Contiguous blocks of every job's learners per agent.
     for (size_t j = 0; j < batch.jobs.size(); ++j) {
-      JobState& state = batch.jobs[j];
-      if (batch.round >= state.rounds) continue;
-      const int learners = state.job.federated.learners;
-      state.shards.assign(static_cast<size_t>(learners), std::nullopt);
+      const int learners = combined[j].learners;
       for (int k = 0; k < learners; ++k) {
         add_item(static_cast<int>(j), k,
                  batch.agents[static_cast<size_t>(k * agent_count / learners)]);
       }
     }
+    batch.combiner =
+        std::make_unique<protocol::RoundCombiner>(std::move(combined), batch.items, round);
   } else {
     // Largest job first, each to the least loaded agent (by cells).
     std::vector<int> order;
@@ -204,7 +205,6 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
     }
   }
   message.num_items = static_cast<int32_t>(message.item_job.size());
-  for (const auto& [agent, owed] : batch.items) batch.agent_round_done[agent] = false;
   batch.last_progress_ms = AgentRegistry::NowMs();
   PublishBatch();
 }
@@ -220,94 +220,26 @@ void DistributedTrainer::PublishBatch() {
 void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   if (!batch_ || !batch_->split) return;
   Batch& batch = *batch_;
-  if (message.batch_id != batch.id || message.epoch != batch.epoch ||
-      message.round != batch.round) {
-    return;  // stale or repeated
-  }
-  auto owed = batch.items.find(message.agent);
-  if (owed == batch.items.end() || batch.agent_round_done[message.agent]) return;
-  // The message must hold exactly the agent's items of the jobs still running.
-  std::vector<std::pair<int, int>> expected;
-  for (const auto& [job, learner] : owed->second) {
-    if (batch.round < batch.jobs[static_cast<size_t>(job)].rounds)
-      expected.emplace_back(job, learner);
-  }
-  std::vector<std::pair<int, int>> got;
-  for (const learner_shard_t& shard : message.shards) got.emplace_back(shard.job, shard.learner);
-  std::sort(expected.begin(), expected.end());
-  std::sort(got.begin(), got.end());
-  if (got != expected) {
-    spdlog::warn("dropped shards of agent {}: they do not match its assignment", message.agent);
-    return;
-  }
-  std::vector<LearnerShard> shards;
-  for (const learner_shard_t& m : message.shards) {
-    const JobState& state = batch.jobs[static_cast<size_t>(m.job)];
-    const int64_t entries = static_cast<int64_t>(state.shared.values().size());
-    const bool fits =
-        (m.entries.empty() || m.entries.back() < entries) &&
-        (m.start_cell < 0 || state.stats.SlotOf(m.start_cell) >= 0) &&
-        (m.num_visits > 0) == (state.job.federated.averaging == Averaging::kImportance);
-    if (!fits) {
-      spdlog::warn("dropped shards of agent {}: a shard does not fit job {}", message.agent, m.job);
+  if (message.batch_id != batch.id || message.epoch != batch.epoch) return;  // stale
+  std::string why;
+  switch (batch.combiner->Add(message, &why)) {
+    case protocol::RoundCombiner::Added::kInvalid:
+      spdlog::warn("dropped shards of agent {}: {}", message.agent, why);
       return;
-    }
-    shards.push_back(protocol::ShardFromMessage(m, message.round));
+    case protocol::RoundCombiner::Added::kStored:
+      break;
+    default:
+      return;  // repeated, or a round we cannot use
   }
-  for (size_t i = 0; i < shards.size(); ++i) {
-    JobState& state = batch.jobs[static_cast<size_t>(message.shards[i].job)];
-    state.shards[static_cast<size_t>(shards[i].learner)] = std::move(shards[i]);
-  }
-  batch.agent_round_done[message.agent] = true;
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
   batch.last_progress_ms = AgentRegistry::NowMs();
-  TryCombine();
-}
-
-void DistributedTrainer::TryCombine() {
-  Batch& batch = *batch_;
-  for (const auto& [agent, done] : batch.agent_round_done) {
-    if (!done) return;
-  }
-  average_t average{};
-  average.run_id = bus_.run_id();
-  average.batch_id = batch.id;
-  average.epoch = batch.epoch;
-  average.round = batch.round;
-  std::vector<LearnerShard> shards;
-  for (size_t j = 0; j < batch.jobs.size(); ++j) {
-    JobState& state = batch.jobs[j];
-    if (batch.round >= state.rounds) continue;
-    shards.clear();
-    for (auto& shard : state.shards) {
-      shards.push_back(std::move(*shard));
-      shard.reset();
+  while (batch.combiner->RoundComplete()) {
+    for (const protocol::RoundCombiner::JobRound& job_round : batch.combiner->Combine()) {
+      batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
     }
-    job_average_t job_average{};
-    job_average.job = static_cast<int32_t>(j);
-    std::vector<uint32_t> entries;
-    state.averager->Combine(shards, state.shared, state.stats, entries, job_average.values);
-    job_average.entries.assign(entries.begin(), entries.end());
-    job_average.num_entries = static_cast<int32_t>(entries.size());
-    for (const LearnerShard& shard : shards) {
-      job_average.start_cells.push_back(shard.start_cell);
-      job_average.reached.push_back(shard.reached_station);
-      state.steps += shard.steps;
-    }
-    job_average.num_learners = static_cast<int32_t>(shards.size());
-    average.jobs.push_back(std::move(job_average));
+    ++traffic_.rounds;
   }
-  average.num_jobs = static_cast<int32_t>(average.jobs.size());
-  ++batch.round;
-  ++traffic_.rounds;
-  for (auto& [agent, done] : batch.agent_round_done) done = false;
-  if (Done()) return;  // the last round's average is not needed by anyone
-  bus_.Publish(protocol::channel::kAverages, average);
-  ++traffic_.messages_out;
-  traffic_.bytes_out += average.getEncodedSize();
-  batch.last_send_ms = AgentRegistry::NowMs();
-  batch.average = std::move(average);
 }
 
 void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
@@ -336,42 +268,51 @@ void DistributedTrainer::CheckAgents() {
   Batch& batch = *batch_;
   const int64_t now = AgentRegistry::NowMs();
   // Which agents still owe something, and are they alive?
-  bool lost = false;
-  bool resend = false;
-  for (const auto& [agent, owed] : batch.items) {
-    bool owes = false;
-    int64_t results_received = 0;
-    if (batch.split) {
-      owes = !batch.agent_round_done[agent];
-    } else {
+  std::vector<int> owing;
+  if (batch.split) {
+    owing = batch.combiner->Missing();
+  } else {
+    for (const auto& [agent, owed] : batch.items) {
       for (const auto& [job, learner] : owed) {
-        if (batch.jobs[static_cast<size_t>(job)].result) {
-          ++results_received;
-        } else {
-          owes = true;
+        if (!batch.jobs[static_cast<size_t>(job)].result) {
+          owing.push_back(agent);
+          break;
         }
       }
     }
-    if (!owes) continue;
+  }
+  bool resend = false;
+  bool restart = false;
+  for (int agent : owing) {
     AgentInfo info;
     if (!agents_.IsLive(agent) || !agents_.Get(agent, info)) {
       spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent, batch.id,
                    batch.epoch + 1);
-      lost = true;
+      restart = true;
       break;
     }
-    // Its heartbeat shows it lacks the batch, or sent what did not arrive;
-    // or (split) a round, which takes milliseconds, is overdue: our average
-    // or its shards were lost.
     if (info.batch_id != batch.id || info.epoch != batch.epoch) {
-      resend = true;
-    } else if (batch.split ? static_cast<double>(now - batch.last_progress_ms) >
-                                 options_.resend_seconds * 1000
-                           : info.round > results_received) {
+      resend = true;  // it lacks the batch
+    } else if (!batch.split) {
+      int64_t received = 0;  // results of it that arrived
+      for (const auto& [job, learner] : batch.items[agent]) {
+        received += batch.jobs[static_cast<size_t>(job)].result ? 1 : 0;
+      }
+      resend = resend || info.round > received;  // it sent what did not arrive
+    } else if (static_cast<double>(now - batch.last_progress_ms) >
+               options_.resend_seconds * 1000) {
+      // Agents keep their shards of their last two rounds only: one further
+      // ahead cannot fill our gap, so the batch restarts from our round.
+      if (info.round > batch.combiner->round() + 1) {
+        spdlog::warn("shards of agent {} for round {} were lost; restarting the round (batch {})",
+                     agent, batch.combiner->round(), batch.id);
+        restart = true;
+        break;
+      }
       resend = true;
     }
   }
-  if (lost) {
+  if (restart) {
     std::vector<int> live;
     for (const AgentInfo& info : agents_.Live()) live.push_back(info.id);
     if (live.empty()) live = WaitForAgents();
@@ -382,14 +323,7 @@ void DistributedTrainer::CheckAgents() {
   if ((resend || stalled) &&
       static_cast<double>(now - batch.last_send_ms) > options_.resend_seconds * 1000) {
     ++traffic_.resends;
-    if (batch.split && batch.average) {
-      bus_.Publish(protocol::channel::kAverages, *batch.average);
-      ++traffic_.messages_out;
-      traffic_.bytes_out += batch.average->getEncodedSize();
-      batch.last_send_ms = now;
-    } else {
-      PublishBatch();
-    }
+    PublishBatch();  // agents answer a repeat by re-sending what they sent
   }
 }
 

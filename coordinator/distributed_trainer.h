@@ -7,16 +7,18 @@
 // jobs as there are live agents (or the learners are single-agent), whole
 // jobs are spread over the agents (largest first), each agent runs its jobs
 // with all their learners and returns final tables: no per-round traffic.
-// Otherwise every job's learners are split over the agents, which return
-// their shards each round; the coordinator combines them in learner order
-// (FederatedAverager, exactly as in-process) and publishes the averages.
+// Otherwise every job's learners are split over the agents, which publish
+// their shards each round; the agents and the coordinator all combine them in
+// learner order (protocol::RoundCombiner: FederatedAverager, exactly as
+// in-process), the coordinator's tables being the authoritative ones.
 //
 // Faults: an agent that falls silent is dropped; the batch gets a new epoch
-// in which its work is reassigned, split jobs from the last completed round
-// (the coordinator holds their shared tables and start statistics), whole
-// jobs from their start. Lost messages are re-sent: the coordinator repeats
-// its last message when an agent's heartbeat shows it lacks the batch or has
-// sent something that did not arrive; agents answer a repeat by re-sending.
+// in which its work is reassigned, split jobs from the last round the
+// coordinator completed (it holds their shared tables and start statistics),
+// whole jobs from their start. Lost messages are re-sent: agents ask each
+// other for missing shards (shards_t.needs_round); the coordinator repeats
+// the batch when an agent's heartbeat shows it lacks the batch, or has sent
+// something that did not arrive; agents answer a repeat by re-sending.
 
 #include <functional>
 #include <memory>
@@ -27,7 +29,6 @@
 #include "core/fedasynq.h"
 #include "core/region_model.h"
 #include "core/trainer.h"
-#include "dynapath/average_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/shards_t.hpp"
@@ -39,15 +40,16 @@ namespace dynapath::coordinator {
 struct DistributedTrainerOptions {
   // How long to wait for at least one live agent before a batch fails.
   double agent_wait_seconds = 60.0;
-  // Minimum time between two repeats of the same message.
-  double resend_seconds = 0.3;
+  // Minimum time between two repeats of the batch message, and how long a
+  // split round may make no progress before the batch is repeated.
+  double resend_seconds = 0.2;
 };
 
 // Traffic of the training protocol (for the benchmark).
 struct TrafficStats {
   int64_t batches = 0;
   int64_t rounds = 0;                       // split rounds combined
-  int64_t messages_out = 0, bytes_out = 0;  // batches and averages published
+  int64_t messages_out = 0, bytes_out = 0;  // batch messages published
   int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
   int64_t resends = 0, epochs = 0;
 };
@@ -77,7 +79,6 @@ class DistributedTrainer : public Trainer {
   std::vector<int> WaitForAgents();
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
-  void TryCombine();
   void CheckAgents();
   bool Done() const;
 

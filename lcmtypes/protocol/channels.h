@@ -16,7 +16,6 @@ inline constexpr std::string_view kEnvRequest = "ENV_REQUEST";
 inline constexpr std::string_view kEnvGrid = "ENV_GRID";
 inline constexpr std::string_view kEnvChanges = "ENV_CHANGES";
 inline constexpr std::string_view kJobs = "JOBS";
-inline constexpr std::string_view kAverages = "AVERAGES";
 inline constexpr std::string_view kShards = "SHARDS";
 inline constexpr std::string_view kResults = "RESULTS";
 inline constexpr std::string_view kReport = "REPORT";

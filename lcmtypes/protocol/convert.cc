@@ -1,6 +1,7 @@
 #include "lcmtypes/protocol/convert.h"
 
 #include "core/region_model.h"
+#include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
 
@@ -106,10 +107,11 @@ learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_vis
   m.job = job;
   m.learner = shard.learner;
   m.num_entries = static_cast<int32_t>(shard.entries.size());
-  m.entries.assign(shard.entries.begin(), shard.entries.end());
+  m.entry_gaps = EncodeAscending(shard.entries);
+  m.entry_bytes = static_cast<int32_t>(m.entry_gaps.size());
   m.values = shard.values;
-  if (with_visits) m.visits.assign(shard.visits.begin(), shard.visits.end());
-  m.num_visits = static_cast<int32_t>(m.visits.size());
+  if (with_visits) m.visits = EncodeCounts(shard.visits);
+  m.visit_bytes = static_cast<int32_t>(m.visits.size());
   m.start_cell = shard.start_cell;
   m.reached_station = shard.reached_station;
   m.steps = shard.steps;
@@ -120,10 +122,11 @@ LearnerShard ShardFromMessage(const learner_shard_t& m, int64_t round) {
   LearnerShard shard;
   shard.learner = m.learner;
   shard.round = round;
-  shard.entries.assign(m.entries.begin(), m.entries.end());
+  // The message was validated: the encodings decode.
+  DecodeAscending(m.entry_gaps, m.num_entries, shard.entries);
   shard.values = m.values;
-  if (m.num_visits > 0) {
-    shard.visits.assign(m.visits.begin(), m.visits.end());
+  if (m.visit_bytes > 0) {
+    DecodeCounts(m.visits, m.num_entries, shard.visits);
   } else {
     shard.visits.assign(shard.entries.size(), 1u);
   }

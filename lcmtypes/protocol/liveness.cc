@@ -21,9 +21,9 @@ int64_t WallUs() {
 CoordinatorWatch::CoordinatorWatch(Bus& bus, Inbox* inbox) : created_ms_(SteadyMs()) {
   bus.Subscribe<heartbeat_t>(channel::kHeartbeat, [this, inbox](heartbeat_t& beat) {
     if (beat.role != heartbeat_t::ROLE_COORDINATOR) return;
-    seen_ms_ = SteadyMs();
+    const bool first = seen_ms_.exchange(SteadyMs()) < 0;
     state_ = beat.state;
-    if (beat.state != heartbeat_t::STATE_RUNNING && inbox != nullptr) inbox->Wake();
+    if ((first || beat.state != heartbeat_t::STATE_RUNNING) && inbox != nullptr) inbox->Wake();
   });
 }
 

@@ -21,9 +21,12 @@ class CoordinatorWatch {
  public:
   enum class Verdict { kWaiting, kRunning, kFinished, kFailed, kGone, kNeverCame };
 
-  // Subscribes on `bus`; wakes `inbox` (may be null) when the coordinator
-  // reports it finished or failed.
+  // Subscribes on `bus`; wakes `inbox` (may be null) when the coordinator is
+  // first heard from, and when it reports it finished or failed.
   CoordinatorWatch(Bus& bus, Inbox* inbox);
+
+  // A coordinator heartbeat arrived.
+  bool Seen() const { return seen_ms_ >= 0; }
 
   // `startup_seconds`: how long to wait for a first heartbeat;
   // `timeout_seconds`: how long a seen coordinator may be silent.

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/mdp.h"
+#include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -130,52 +131,24 @@ std::string Validate(const job_batch_t& m) {
 }
 
 std::string Validate(const shards_t& m) {
-  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0 || m.agent < 0) return "negative field";
+  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0 || m.agent < 0 || m.needs_round < 0) {
+    return "negative field";
+  }
   if (!Count(m.num_shards, m.shards.size())) return "shard count mismatch";
+  std::vector<uint32_t> decoded;
   for (const learner_shard_t& s : m.shards) {
     if (s.job < 0 || s.learner < 0 || s.steps < 0 || s.start_cell < -1) {
       return "negative field in a shard";
     }
-    if (!Count(s.num_entries, s.entries.size()) || s.values.size() != s.entries.size()) {
-      return "shard entry count mismatch";
+    if (!Count(s.num_entries, s.values.size()) || !Count(s.entry_bytes, s.entry_gaps.size()) ||
+        !DecodeAscending(s.entry_gaps, s.num_entries, decoded)) {
+      return "shard entries malformed";
     }
-    if (!Count(s.num_visits, s.visits.size()) ||
-        (s.num_visits != 0 && s.num_visits != s.num_entries)) {
-      return "shard visit count mismatch";
-    }
-    for (size_t i = 0; i < s.entries.size(); ++i) {
-      if (s.entries[i] < 0 || (i > 0 && s.entries[i] <= s.entries[i - 1])) {
-        return "shard entries not ascending";
-      }
-    }
-    for (int32_t v : s.visits) {
-      if (v < 1) return "shard visit count below 1";
+    if (!Count(s.visit_bytes, s.visits.size()) ||
+        (s.visit_bytes != 0 && !DecodeCounts(s.visits, s.num_entries, decoded))) {
+      return "shard visit counts malformed";
     }
     if (!Finite(s.values)) return "shard value not finite";
-  }
-  return {};
-}
-
-std::string Validate(const average_t& m) {
-  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0) return "negative field";
-  if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
-  for (const job_average_t& a : m.jobs) {
-    if (a.job < 0) return "negative job";
-    if (!Count(a.num_entries, a.entries.size()) || a.values.size() != a.entries.size()) {
-      return "entry count mismatch";
-    }
-    for (size_t i = 0; i < a.entries.size(); ++i) {
-      if (a.entries[i] < 0 || (i > 0 && a.entries[i] <= a.entries[i - 1])) {
-        return "entries not ascending";
-      }
-    }
-    if (!Finite(a.values)) return "value not finite";
-    if (!Count(a.num_learners, a.start_cells.size()) || a.reached.size() != a.start_cells.size()) {
-      return "learner count mismatch";
-    }
-    for (int32_t cell : a.start_cells) {
-      if (cell < -1) return "bad start cell";
-    }
   }
   return {};
 }

@@ -7,7 +7,6 @@
 
 #include <string>
 
-#include "dynapath/average_t.hpp"
 #include "dynapath/changes_t.hpp"
 #include "dynapath/fragment_t.hpp"
 #include "dynapath/grid_t.hpp"
@@ -31,7 +30,6 @@ std::string Validate(const grid_t& message);
 std::string Validate(const changes_t& message);
 std::string Validate(const job_batch_t& message);
 std::string Validate(const shards_t& message);
-std::string Validate(const average_t& message);
 std::string Validate(const job_result_t& message);
 std::string Validate(const fragment_t& message);
 std::string Validate(const step_report_t& message);

@@ -1,0 +1,141 @@
+#include "lcmtypes/protocol/round_combiner.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/mdp.h"
+#include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/varint.h"
+
+namespace dynapath::protocol {
+
+RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round)
+    : jobs_(std::move(jobs)), items_(std::move(items)), round_(start_round) {
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    position_[jobs_[i].index] = i;
+    averagers_.push_back(std::make_unique<FederatedAverager>(
+        static_cast<int>(jobs_[i].shared.values().size()), jobs_[i].averaging));
+  }
+  // Every learner of every job is hosted exactly once.
+  std::vector<std::vector<int>> hosts(jobs_.size());
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    hosts[i].assign(static_cast<size_t>(std::max(0, jobs_[i].learners)), 0);
+  }
+  for (auto& [agent, owned] : items_) {
+    for (const auto& [job, learner] : owned) {
+      auto it = position_.find(job);
+      if (it == position_.end() || learner < 0 || learner >= jobs_[it->second].learners) {
+        throw std::invalid_argument("round combiner: an item names no learner of its jobs");
+      }
+      ++hosts[it->second][static_cast<size_t>(learner)];
+    }
+    std::sort(owned.begin(), owned.end());
+  }
+  for (const std::vector<int>& counts : hosts) {
+    for (int count : counts) {
+      if (count != 1) throw std::invalid_argument("round combiner: a learner is not hosted once");
+    }
+  }
+}
+
+bool RoundCombiner::Finished() const {
+  for (const Job& job : jobs_) {
+    if (round_ < job.rounds) return false;
+  }
+  return true;
+}
+
+const RoundCombiner::Job& RoundCombiner::job(int index) const {
+  return jobs_.at(position_.at(index));
+}
+
+bool RoundCombiner::Running(int job_index, int64_t round) const {
+  return round < jobs_[position_.at(job_index)].rounds;
+}
+
+std::vector<std::pair<int, int>> RoundCombiner::Expected(int agent, int64_t round) const {
+  std::vector<std::pair<int, int>> expected;
+  auto it = items_.find(agent);
+  if (it == items_.end()) return expected;
+  for (const auto& item : it->second) {
+    if (Running(item.first, round)) expected.push_back(item);
+  }
+  return expected;  // sorted: items_ is
+}
+
+std::string RoundCombiner::Mismatch(const shards_t& message) const {
+  std::vector<std::pair<int, int>> got;
+  for (const learner_shard_t& shard : message.shards) got.emplace_back(shard.job, shard.learner);
+  std::sort(got.begin(), got.end());
+  if (got != Expected(message.agent, message.round)) {
+    return "its shards do not match its learners";
+  }
+  std::vector<uint32_t> entries;
+  for (const learner_shard_t& shard : message.shards) {
+    const Job& job = this->job(shard.job);
+    DecodeAscending(shard.entry_gaps, shard.num_entries, entries);  // validated by the Bus
+    if (!entries.empty() && entries.back() >= job.shared.values().size()) {
+      return "a shard's entry lies outside job " + std::to_string(shard.job);
+    }
+    if (shard.start_cell >= 0 && job.stats.SlotOf(shard.start_cell) < 0) {
+      return "a shard's start cell is not a start of job " + std::to_string(shard.job);
+    }
+    if ((shard.visit_bytes > 0) != (job.averaging == Averaging::kImportance && shard.num_entries > 0)) {
+      return "a shard's visit counts do not fit the averaging of job " + std::to_string(shard.job);
+    }
+  }
+  return {};
+}
+
+RoundCombiner::Added RoundCombiner::Add(const shards_t& message, std::string* why) {
+  if (message.round < round_) return Added::kPast;
+  if (message.round > round_ + 1) return Added::kFuture;
+  if (std::string mismatch = Mismatch(message); !mismatch.empty()) {
+    if (why != nullptr) *why = std::move(mismatch);
+    return Added::kInvalid;
+  }
+  auto& by_agent = pending_[message.round];
+  if (by_agent.count(message.agent) > 0) return Added::kDuplicate;
+  by_agent.emplace(message.agent, message);
+  return Added::kStored;
+}
+
+std::vector<int> RoundCombiner::Missing() const {
+  std::vector<int> missing;
+  auto round = pending_.find(round_);
+  for (const auto& [agent, owned] : items_) {
+    if (Expected(agent, round_).empty()) continue;
+    if (round == pending_.end() || round->second.count(agent) == 0) missing.push_back(agent);
+  }
+  return missing;
+}
+
+bool RoundCombiner::RoundComplete() const { return !Finished() && Missing().empty(); }
+
+std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
+  if (!RoundComplete()) throw std::logic_error("round combiner: round incomplete");
+  const std::map<int, shards_t>& messages = pending_[round_];
+  std::vector<JobRound> result;
+  std::vector<LearnerShard> shards;
+  for (size_t j = 0; j < jobs_.size(); ++j) {
+    Job& job = jobs_[j];
+    if (round_ >= job.rounds) continue;
+    shards.assign(static_cast<size_t>(job.learners), LearnerShard{});
+    JobRound job_round;
+    job_round.index = job.index;
+    for (const auto& [agent, message] : messages) {
+      for (const learner_shard_t& shard : message.shards) {
+        if (shard.job != job.index) continue;
+        shards[static_cast<size_t>(shard.learner)] = ShardFromMessage(shard, round_);
+        job_round.steps += shard.steps;
+      }
+    }
+    averagers_[j]->Combine(shards, job.shared, job.stats, job_round.entries, job_round.values);
+    result.push_back(std::move(job_round));
+  }
+  pending_.erase(round_);
+  ++round_;
+  return result;
+}
+
+}  // namespace dynapath::protocol

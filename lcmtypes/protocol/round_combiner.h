@@ -1,0 +1,95 @@
+#pragma once
+// The rounds of a training batch's split jobs (jobs whose learners are spread
+// over several agents). Every agent publishes one shards_t per round with the
+// shards of the learners it hosts; the combiner collects the round's messages
+// of all agents and, once all are there, combines each job's shards in
+// learner order (FederatedAverager, exactly as in-process training) into the
+// job's shared table and start statistics.
+//
+// The coordinator and every agent hosting learners of the batch run the same
+// combiner on the same messages, so all hold identical tables after every
+// round without an average being sent back: a round costs one message per
+// agent and a single network hop. The coordinator's copy is the authoritative
+// one (final tables, and the restart point when an agent is lost).
+//
+// Messages of the round being collected and of the next one are kept (a fast
+// agent may be one round ahead); older ones are reported as kPast so the
+// caller can tell a lagging sender, newer ones are dropped.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/fedasynq.h"
+#include "core/q_table.h"
+#include "core/start_statistics.h"
+#include "core/training_job.h"
+#include "dynapath/shards_t.hpp"
+
+namespace dynapath::protocol {
+
+class RoundCombiner {
+ public:
+  struct Job {
+    int index = 0;           // in the batch (shards' job field)
+    int learners = 0;        // K: learners of the job over all agents
+    int64_t rounds = 0;      // rounds of the job
+    Averaging averaging = Averaging::kEqual;
+    QTable shared;           // the shared table after start_round rounds
+    StartStatistics stats;   // the start statistics after start_round rounds
+  };
+  // (job index, learner) pairs an agent hosts.
+  using Items = std::map<int, std::vector<std::pair<int, int>>>;
+
+  RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round);
+
+  // The round being collected.
+  int64_t round() const { return round_; }
+  // Every job has all its rounds combined.
+  bool Finished() const;
+
+  enum class Added { kStored, kDuplicate, kPast, kFuture, kInvalid };
+  // Keeps `message` (batch and epoch are the caller's to check). kInvalid
+  // (with `why`) when it does not match the sender's items or the jobs'
+  // tables and statistics.
+  Added Add(const shards_t& message, std::string* why = nullptr);
+  // All shards of round() are there.
+  bool RoundComplete() const;
+  // Agents whose shards of round() are missing.
+  std::vector<int> Missing() const;
+
+  // What a round changed in one job: the averaged entries (ascending) and
+  // their new values, and the Q-learning steps its learners took.
+  struct JobRound {
+    int index = 0;
+    std::vector<uint32_t> entries;
+    std::vector<float> values;
+    int64_t steps = 0;
+  };
+  // Combines round() (RoundComplete() must hold) and moves to the next one.
+  std::vector<JobRound> Combine();
+
+  // The job of batch index `index` (must be one of the combiner's jobs).
+  const Job& job(int index) const;
+  const std::vector<Job>& jobs() const { return jobs_; }
+  const Items& items() const { return items_; }
+
+ private:
+  bool Running(int job_index, int64_t round) const;
+  // The agent's items of the jobs still running in `round`, sorted.
+  std::vector<std::pair<int, int>> Expected(int agent, int64_t round) const;
+  std::string Mismatch(const shards_t& message) const;
+
+  std::vector<Job> jobs_;
+  std::map<int, size_t> position_;  // batch index -> position in jobs_
+  std::vector<std::unique_ptr<FederatedAverager>> averagers_;
+  Items items_;
+  int64_t round_ = 0;
+  // round -> agent -> its message (rounds round_ and round_ + 1 only).
+  std::map<int64_t, std::map<int, shards_t>> pending_;
+};
+
+}  // namespace dynapath::protocol
