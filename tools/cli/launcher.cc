@@ -187,7 +187,7 @@ int LaunchProcesses(const DistributedRun& run) {
       }
     }
     if (finished) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   // The others exit by themselves once they hear the coordinator's final
   // heartbeat; give them a moment, then stop whatever is left.
