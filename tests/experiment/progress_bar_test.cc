@@ -46,6 +46,10 @@ TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
   EXPECT_EQ(BarLine(s, 200),
             "[###.........]  25% 3/13 50 Hard, seed 52 | fedAsynQ_EqAvg 6/7 step 45/100 | 12:03 "
             "elapsed, ~40:00 left");
+  s.short_label = "50 Hard s52";
+  EXPECT_EQ(BarLine(s, 81),
+            "[###.........]  25% 3/13 50 Hard s52 fedAsynQ_EqAvg 6/7 t45/100 12:03 ~40:00 left");
+  EXPECT_EQ(BarLine(s, 80), "3/13 50 Hard s52 fedAsynQ_EqAvg 6/7 t45/100 12:03 ~40:00 left");
   EXPECT_EQ(BarLine(s, 40).size(), 40u);
   EXPECT_EQ(PlainLine(s),
             "[12:03] configuration 3/13 50 Hard, seed 52 | fedAsynQ_EqAvg 6/7 step 45/100; ~40:00 "
@@ -62,7 +66,7 @@ TEST(ProgressBarTest, PlainDisplayPrintsLinesPerApproach) {
   {
     ProgressDisplay display(out, false);
     display.Start({100, 100}, {true, false});
-    display.BeginConfiguration(1, "20 Easy, seed 50");
+    display.BeginConfiguration(1, "20 Easy, seed 50", "20 Easy s50");
     display.Step("A* Static", 0, 2, 0, 10);
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
     display.Step("BFS Oracle", 1, 2, 3, 10);

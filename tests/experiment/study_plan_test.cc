@@ -48,6 +48,8 @@ TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
   EXPECT_EQ(plan[15].Directory(), "runs/edge_50_hard_102");
   EXPECT_EQ(plan[15].Label(), "edge case 50 Hard, seed 102");
   EXPECT_EQ(plan[4].Label(), "50 Medium, seed 51");
+  EXPECT_EQ(plan[4].ShortLabel(), "50 Medium s51");
+  EXPECT_EQ(plan[15].ShortLabel(), "edge 50 Hard s102");
   EXPECT_DOUBLE_EQ(plan[0].Work(), 20.0 * 20 * 41);
 }
 

@@ -53,7 +53,7 @@ constexpr const char* kSummary =
     "an interrupted one is redone. Ctrl-C stops at the end of the current time step\n"
     "(a second Ctrl-C at once). --config FILE reads options from a TOML file under\n"
     "the same names (sizes = [20, 50]); the command line overrides it. See\n"
-    "docs/EXPERIMENTS.md. A full default study takes hours (300x300 mazes).\n"
+    "docs/EXPERIMENTS.md. The full default study (up to 300x300) takes an hour or more.\n"
     "Exit status: 0 all done, 1 a configuration failed (the others still ran),\n"
     "2 bad options, 130 interrupted.";
 
@@ -83,7 +83,7 @@ void OnSignal(int signal) {
       previous.sa_handler(signal);
     }
     constexpr char kMessage[] =
-        "\ndynapath experiment: stopping after the current time step (Ctrl-C again: at once)\n";
+        "\ndynapath experiment: stopping the current configuration (Ctrl-C again: at once)\n";
     [[maybe_unused]] ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
     return;
   }
@@ -465,7 +465,8 @@ int ExperimentCommand(const std::vector<std::string>& args) {
                  StudyModeName(mode));
     if (!terminal)
       display.Print("configuration " + position + " " + configuration.Label() + ": started");
-    display.BeginConfiguration(static_cast<int>(i), configuration.Label());
+    display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
+                               configuration.ShortLabel());
     const double start = Seconds();
     Status result = RunConfiguration(session, configuration, static_cast<int>(i));
     const double wall = Seconds() - start;
@@ -487,7 +488,7 @@ int ExperimentCommand(const std::vector<std::string>& args) {
     display.EndConfiguration(static_cast<int>(i), wall, record.status == "done");
     const std::string outcome = "configuration " + position + " " + configuration.Label() + ": " +
                                 record.status + " in " + FormatDuration(wall) +
-                                (record.error.empty() ? "" : " (" + record.error + ")");
+                                (record.status == "failed" ? " (" + record.error + ")" : "");
     if (record.status == "failed") {
       spdlog::error("{}", outcome);
     } else {

@@ -90,15 +90,28 @@ std::string FormatDuration(double seconds) {
 
 std::string BarLine(const ProgressSnapshot& s, size_t width) {
   constexpr int kBar = 12;
-  const int filled = static_cast<int>(std::floor(std::clamp(s.done_fraction, 0.0, 1.0) * kBar));
-  std::string line = "[" + std::string(static_cast<size_t>(filled), '#') +
-                     std::string(static_cast<size_t>(kBar - filled), '.') + "] ";
+  const double done = std::clamp(s.done_fraction, 0.0, 1.0);
+  const int filled = static_cast<int>(std::floor(done * kBar));
   char percent[8];
-  std::snprintf(percent, sizeof percent, "%3d%% ",
-                static_cast<int>(std::floor(std::clamp(s.done_fraction, 0.0, 1.0) * 100)));
-  line += percent + Where(s) + " | " + Times(s);
-  if (line.size() > width) line = line.substr(0, width > 3 ? width - 3 : width) + "...";
-  return line;
+  std::snprintf(percent, sizeof percent, "%3d%%", static_cast<int>(std::floor(done * 100)));
+  const std::string bar = "[" + std::string(static_cast<size_t>(filled), '#') +
+                          std::string(static_cast<size_t>(kBar - filled), '.') + "] " + percent +
+                          " ";
+  const std::string full = bar + Where(s) + " | " + Times(s);
+  if (full.size() <= width) return full;
+  // Narrow terminals: a compact line, without the bar if need be, then cut.
+  std::string compact = std::to_string(s.index) + "/" + std::to_string(s.count) + " " +
+                        (s.short_label.empty() ? s.label : s.short_label);
+  if (s.approach_index > 0) {
+    compact += " " + s.approach + " " + std::to_string(s.approach_index) + "/" +
+               std::to_string(s.approach_count) + " t" + std::to_string(s.step) + "/" +
+               std::to_string(s.total_steps);
+  }
+  compact += " " + FormatDuration(s.elapsed) +
+             (s.remaining ? " ~" + FormatDuration(*s.remaining) + " left" : "");
+  if (bar.size() + compact.size() <= width) return bar + compact;
+  if (compact.size() <= width) return compact;
+  return compact.substr(0, width > 3 ? width - 3 : width) + "...";
 }
 
 std::string PlainLine(const ProgressSnapshot& s) {
@@ -125,10 +138,12 @@ void ProgressDisplay::AddHistory(double work, double seconds) {
   estimator_.AddFinished(work, seconds);
 }
 
-void ProgressDisplay::BeginConfiguration(int index, const std::string& label) {
+void ProgressDisplay::BeginConfiguration(int index, const std::string& label,
+                                         const std::string& short_label) {
   std::lock_guard lock(mutex_);
   current_ = index;
   label_ = label;
+  short_label_ = short_label;
   current_start_ = Now();
   approach_.clear();
   approach_index_ = approach_count_ = total_steps_ = 0;
@@ -187,6 +202,7 @@ ProgressSnapshot ProgressDisplay::Snapshot() const {
   s.index = current_ + 1;
   s.count = static_cast<int>(work_.size());
   s.label = label_;
+  s.short_label = short_label_;
   s.approach = approach_;
   s.approach_index = approach_index_;
   s.approach_count = approach_count_;

@@ -39,7 +39,8 @@ class TimeEstimator {
 struct ProgressSnapshot {
   int index = 0;  // 1-based configuration number
   int count = 0;
-  std::string label;  // "50 Hard, seed 52"
+  std::string label;        // "50 Hard, seed 52"
+  std::string short_label;  // "50 Hard s52", for narrow terminals
   std::string approach;
   int approach_index = 0;  // 1-based; 0: no time step reported yet
   int approach_count = 0;
@@ -71,7 +72,8 @@ class ProgressDisplay {
   // A finished configuration of an earlier session with a known wall time
   // (for the estimate).
   void AddHistory(double work, double seconds);
-  void BeginConfiguration(int index, const std::string& label);  // 0-based index
+  // 0-based index; `short_label` is used on narrow terminals.
+  void BeginConfiguration(int index, const std::string& label, const std::string& short_label);
   // A time step of the current configuration (0-based approach index); any thread.
   void Step(const std::string& approach, int approach_index, int approach_count, int step,
             int total_steps);
@@ -100,7 +102,7 @@ class ProgressDisplay {
   std::vector<bool> finished_;
   TimeEstimator estimator_;
   int current_ = -1;
-  std::string label_;
+  std::string label_, short_label_;
   double current_start_ = 0.0;
   std::string approach_;
   int approach_index_ = 0, approach_count_ = 0, step_ = -1, total_steps_ = 0;

@@ -348,6 +348,11 @@ std::string StudyConfiguration::Label() const {
          DifficultyName(difficulty) + ", seed " + std::to_string(seed);
 }
 
+std::string StudyConfiguration::ShortLabel() const {
+  return std::string(edge_case ? "edge " : "") + std::to_string(size) + " " +
+         DifficultyName(difficulty) + " s" + std::to_string(seed);
+}
+
 double StudyConfiguration::Work() const {
   return static_cast<double>(size) * size * (static_cast<double>(steps) + 1.0);
 }

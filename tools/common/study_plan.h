@@ -84,6 +84,8 @@ struct StudyConfiguration {
   std::string Directory() const;
   // "50 Hard, seed 52" (the edge case: "edge case 50 Hard, seed 102").
   std::string Label() const;
+  // "50 Hard s52" ("edge 50 Hard s102").
+  std::string ShortLabel() const;
   // A rough cost for the time estimate: cells x (steps + 1).
   double Work() const;
 };
