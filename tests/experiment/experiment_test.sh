@@ -16,7 +16,7 @@
 #     resumed, the same result rows as the uninterrupted study.
 #  7. dynapath plot on the study, when dynapath-plot is built.
 set -uo pipefail
-dynapath=${1:?usage: experiment_test.sh DYNAPATH}
+dynapath=$(realpath "${1:?usage: experiment_test.sh DYNAPATH}")
 work=$(mktemp -d)
 pids=()
 trap 'for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done; rm -rf "$work"' EXIT

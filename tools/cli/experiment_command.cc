@@ -17,8 +17,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <thread>
+#include <variant>
 
 #include "core/experiment.h"
 #include "lcmtypes/protocol/channels.h"
@@ -50,7 +52,7 @@ constexpr const char* kSummary =
     "  manifest.json                                options, build, machine, times, status\n"
     "  study.log                                    everything the components log\n"
     "Run the same command again to resume: finished configurations are skipped and\n"
-    "an interrupted one is redone. Ctrl-C stops at the end of the current time step\n"
+    "an interrupted one is redone. Ctrl-C stops the current configuration cleanly\n"
     "(a second Ctrl-C at once). --config FILE reads options from a TOML file under\n"
     "the same names (sizes = [20, 50]); the command line overrides it. See\n"
     "docs/EXPERIMENTS.md. The full default study (up to 300x300) takes an hour or more.\n"
@@ -239,10 +241,8 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   return Error{"the run failed (exit status " + std::to_string(code) + "); see study.log"};
 }
 
-}  // namespace
-
-int ExperimentCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
+// Declares the options: the study's, --config and --force.
+void DeclareOptions(ArgParser& parser) {
   for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
     if (spec.value_name.empty()) {
       parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
@@ -256,74 +256,79 @@ int ExperimentCommand(const std::vector<std::string>& args) {
                    "read options from a TOML file (key = value, same names); the command line "
                    "overrides it");
   parser.AddFlag("force", "start over: delete the results of the study already in DIR");
-  if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
-  if (parser.WantsHelp()) {
-    std::fputs(parser.Help().c_str(), stdout);
-    return 0;
-  }
+}
 
-  // Options: the config file, overridden by the command line.
+// The options of the config file (if any) overridden by the command line's.
+Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
   Result<OptionValues> command_line = CommandLineValues(parser);
-  if (!command_line) return UsageError(command_line.error().message);
+  if (!command_line) return command_line.error();
   OptionValues file_values;
   if (parser.Has("config")) {
     Result<ConfigFile> file = ReadConfigFile(parser.Get("config"));
-    if (!file) return UsageError(file.error().message);
+    if (!file) return file.error();
     Result<OptionValues> values = ConfigOptionValues(*file);
-    if (!values) return UsageError(values.error().message);
+    if (!values) return values.error();
     file_values = std::move(*values);
   }
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  Result<StudyOptions> resolved =
-      ResolveStudyOptions(MergeOptionValues(file_values, *command_line), hardware);
-  if (!resolved) return UsageError(resolved.error().message);
-  const StudyOptions& options = *resolved;
-  const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
-  const Json identity = StudyIdentityJson(options);
+  return ResolveStudyOptions(MergeOptionValues(file_values, *command_line), hardware);
+}
 
-  // The study directory: new, or a study of the same options to resume.
-  const fs::path out = options.out;
-  const fs::path manifest_path = out / "manifest.json";
-  const bool force = parser.Has("force");
-  Manifest manifest;
-  bool resumed = false;
+// An error of the command and its exit status.
+struct CommandError {
+  int code;
+  std::string message;
+};
+
+// Checks the study directory: the manifest of the same study to resume, or
+// none (a new study; with --force, the old one is deleted first).
+std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs::path& out,
+                                                                       const Json& identity,
+                                                                       bool force) {
   std::error_code error;
   if (fs::exists(out, error) && !fs::is_directory(out, error)) {
-    return UsageError(out.string() + " exists and is not a directory");
+    return CommandError{kExitUsage, out.string() + " exists and is not a directory"};
   }
+  std::optional<Manifest> previous;
+  const fs::path manifest_path = out / "manifest.json";
   if (!force) {
     if (fs::exists(manifest_path, error)) {
-      Result<Manifest> previous = ReadManifest(manifest_path.string());
-      if (!previous) {
-        return UsageError(previous.error().message +
-                          " (use --force to start over, or another --out)");
+      Result<Manifest> read = ReadManifest(manifest_path.string());
+      if (!read) {
+        return CommandError{
+            kExitUsage, read.error().message + " (use --force to start over, or another --out)"};
       }
-      if (previous->study != identity) {
-        return UsageError(out.string() + " holds a study of other options (" +
-                          Differences(previous->study, identity) +
-                          "); use --force to replace it, or another --out");
+      if (read->study != identity) {
+        return CommandError{kExitUsage, out.string() + " holds a study of other options (" +
+                                            Differences(read->study, identity) +
+                                            "); use --force to replace it, or another --out"};
       }
-      manifest = std::move(*previous);
-      resumed = true;
+      previous = std::move(*read);
     } else if (fs::exists(out / "runs", error) || fs::exists(out / "results.csv", error)) {
-      return UsageError(out.string() +
-                        " holds result files but no manifest.json; use --force to replace them, "
-                        "or another --out");
+      return CommandError{kExitUsage, out.string() +
+                                          " holds result files but no manifest.json; use "
+                                          "--force to replace them, or another --out"};
     }
   }
   fs::create_directories(out, error);
-  if (error) return Failure(out.string() + ": cannot create directory: " + error.message());
-  if (force) {
-    if (Status status = RemovePreviousStudy(out); !status) return Failure(status.error().message);
+  if (error) {
+    return CommandError{kExitFailure,
+                        out.string() + ": cannot create directory: " + error.message()};
   }
+  if (force) {
+    if (Status status = RemovePreviousStudy(out); !status) {
+      return CommandError{kExitFailure, status.error().message};
+    }
+  }
+  return previous;
+}
 
-  // Logging: everything at --log-level into study.log (the children write
-  // there too); warnings and errors also on stderr, above the progress bar.
-  const spdlog::level::level_enum level = spdlog::level::from_str(options.log_level);
-  const bool terminal = isatty(STDERR_FILENO) && std::getenv("TERM") != nullptr &&
-                        std::string(std::getenv("TERM")) != "dumb";
-  ProgressDisplay display(stderr, terminal);
-  const std::string log_path = (out / "study.log").string();
+// The default logger of the study: everything at `level` into the log file
+// (the components' processes write there too), warnings and errors also on
+// stderr through the progress display.
+Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path,
+                                                    spdlog::level::level_enum level,
+                                                    ProgressDisplay& display) {
   std::shared_ptr<spdlog::logger> logger;
   try {
     auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_path, false);
@@ -334,11 +339,199 @@ int ExperimentCommand(const std::vector<std::string>& args) {
     logger = std::make_shared<spdlog::logger>("experiment",
                                               spdlog::sinks_init_list{file_sink, console_sink});
   } catch (const std::exception& e) {
-    return Failure(log_path + ": cannot open: " + e.what());
+    return Error{log_path + ": cannot open: " + e.what()};
   }
   logger->set_level(level);
-  logger->flush_on(spdlog::level::trace);
-  spdlog::set_default_logger(logger);
+  logger->flush_on(spdlog::level::trace);  // in order with the processes' lines
+  return logger;
+}
+
+// The manifest of this session: the previous one's records (resume) with
+// their status taken from the configurations' files.
+Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& options,
+                         StudyMode mode, const std::vector<StudyConfiguration>& plan,
+                         const fs::path& out) {
+  const std::string now = NowIso8601();
+  Manifest manifest;
+  if (previous) {
+    manifest = std::move(*previous);
+    ++manifest.sessions;
+  } else {
+    manifest.created = now;
+  }
+  const GitCommit commit = FindGitCommit();
+  manifest.version = kDynapathVersion;
+  manifest.git_commit = commit.commit;
+  manifest.git_commit_source = commit.source;
+  manifest.study = StudyIdentityJson(options);
+  manifest.execution = ExecutionJson(options);
+  manifest.execution["mode"] = StudyModeName(mode);  // after a fall-back to embedded
+  manifest.machine = CollectMachineInfo();
+  manifest.started = now;
+  manifest.ended.clear();
+  manifest.status = "running";
+  std::vector<ConfigurationRecord> records;
+  for (const StudyConfiguration& configuration : plan) {
+    const ConfigurationRecord* record = manifest.Find(configuration.Name());
+    records.push_back(record ? *record : FreshRecord(configuration));
+    if (Complete(out, configuration, options)) {
+      records.back().status = "done";
+    } else if (records.back().status != "failed" && records.back().status != "interrupted") {
+      records.back().status = "pending";
+    }
+  }
+  manifest.configurations = std::move(records);
+  return manifest;
+}
+
+// Runs the configurations of a study that are not done, in order, keeping
+// the manifest and the merged result files up to date.
+class StudyRunner {
+ public:
+  StudyRunner(const Session& session, const std::vector<StudyConfiguration>& plan,
+              Manifest& manifest, bool terminal)
+      : session_(session), plan_(plan), manifest_(manifest), terminal_(terminal) {}
+
+  // Returns the exit status: 0, kExitFailure or 130 (interrupted).
+  int Run() {
+    for (size_t i = 0; i < plan_.size() && !interrupted_; ++i) {
+      if (manifest_.configurations[i].status == "done") {
+        spdlog::info("configuration {} {}: done before, skipped", Position(i), plan_[i].Label());
+        continue;
+      }
+      if (session_.stop) {
+        interrupted_ = true;
+        break;
+      }
+      RunOne(i);
+      Merge();  // a failure is logged; the last merge below counts
+      Save();
+    }
+    if (!Merge()) ++failures_;
+    manifest_.status = interrupted_ ? "interrupted" : failures_ > 0 ? "failed" : "finished";
+    manifest_.ended = NowIso8601();
+    if (!Save()) ++failures_;
+    return interrupted_ ? 130 : failures_ > 0 ? kExitFailure : 0;
+  }
+
+  int failures() const { return failures_; }
+
+ private:
+  std::string Position(size_t i) const {
+    return std::to_string(i + 1) + "/" + std::to_string(plan_.size());
+  }
+
+  void RunOne(size_t i) {
+    const StudyConfiguration& configuration = plan_[i];
+    ConfigurationRecord& record = manifest_.configurations[i];
+    const fs::path directory = session_.out / configuration.Directory();
+    std::error_code error;
+    fs::create_directories(directory, error);
+    // A run rewrites its files after every approach: drop an earlier partial run's.
+    fs::remove(directory / "results.csv", error);
+    fs::remove(directory / "results_detailed.csv", error);
+    record.status = "running";
+    record.mode = StudyModeName(session_.mode);
+    record.started = NowIso8601();
+    record.ended.clear();
+    record.wall_seconds = -1;
+    record.error.clear();
+    Save();
+    const std::string name = "configuration " + Position(i) + " " + configuration.Label();
+    spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
+                 session_.options.approaches.size(), StudyModeName(session_.mode));
+    if (!terminal_) session_.display.Print(name + ": started");
+    session_.display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
+                                        configuration.ShortLabel());
+
+    const double start = Seconds();
+    const Status result = RunConfiguration(session_, configuration, static_cast<int>(i));
+    const double wall = Seconds() - start;
+    record.ended = NowIso8601();
+    record.wall_seconds = wall;
+    if (result && Complete(session_.out, configuration, session_.options)) {
+      record.status = "done";
+    } else if (session_.stop) {
+      record.status = "interrupted";
+      record.error = "interrupted";
+      interrupted_ = true;
+    } else {
+      record.status = "failed";
+      record.error =
+          result ? "the run ended without complete result files" : result.error().message;
+      ++failures_;
+    }
+    session_.display.EndConfiguration(static_cast<int>(i), wall, record.status == "done");
+    const std::string outcome = name + ": " + record.status + " in " + FormatDuration(wall);
+    if (record.status == "failed") {
+      spdlog::error("{} ({})", outcome, record.error);
+    } else {
+      spdlog::info("{}", outcome);
+      session_.display.Print(outcome);
+    }
+  }
+
+  // Rewrites the merged result files from the configurations done.
+  bool Merge() {
+    std::vector<std::string> main_dirs, edge_dirs;
+    bool has_edge = false;
+    for (size_t i = 0; i < plan_.size(); ++i) {
+      has_edge = has_edge || plan_[i].edge_case;
+      if (manifest_.configurations[i].status != "done") continue;
+      (plan_[i].edge_case ? edge_dirs : main_dirs)
+          .push_back((session_.out / plan_[i].Directory()).string());
+    }
+    Status status = MergeResultFiles(main_dirs, session_.out.string(), "");
+    if (status && has_edge) status = MergeResultFiles(edge_dirs, session_.out.string(), "edge_");
+    if (!status) spdlog::error("{}", status.error().message);
+    return static_cast<bool>(status);
+  }
+
+  bool Save() {
+    Status status = WriteManifest(manifest_, (session_.out / "manifest.json").string());
+    if (!status) spdlog::error("{}", status.error().message);
+    return static_cast<bool>(status);
+  }
+
+  const Session& session_;
+  const std::vector<StudyConfiguration>& plan_;
+  Manifest& manifest_;
+  const bool terminal_;
+  int failures_ = 0;
+  bool interrupted_ = false;
+};
+
+}  // namespace
+
+int ExperimentCommand(const std::vector<std::string>& args) {
+  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
+  DeclareOptions(parser);
+  if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
+  if (parser.WantsHelp()) {
+    std::fputs(parser.Help().c_str(), stdout);
+    return 0;
+  }
+  Result<StudyOptions> resolved = ResolveOptions(parser);
+  if (!resolved) return UsageError(resolved.error().message);
+  const StudyOptions& options = *resolved;
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
+  const fs::path out = options.out;
+
+  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), parser.Has("force"));
+  if (const CommandError* error = std::get_if<CommandError>(&opened)) {
+    std::fprintf(stderr, "dynapath experiment: %s\n", error->message.c_str());
+    return error->code;
+  }
+  std::optional<Manifest> previous = std::get<std::optional<Manifest>>(std::move(opened));
+
+  const char* term = std::getenv("TERM");
+  const bool terminal = isatty(STDERR_FILENO) && term != nullptr && std::string(term) != "dumb";
+  ProgressDisplay display(stderr, terminal);
+  const std::string log_path = (out / "study.log").string();
+  Result<std::shared_ptr<spdlog::logger>> logger =
+      StudyLogger(log_path, spdlog::level::from_str(options.log_level), display);
+  if (!logger) return Failure(logger.error().message);
+  spdlog::set_default_logger(*logger);
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
   if (log_fd < 0) return Failure(log_path + ": cannot open: " + std::strerror(errno));
   struct CloseLog {
@@ -346,11 +539,9 @@ int ExperimentCommand(const std::vector<std::string>& args) {
     ~CloseLog() { close(fd); }
   } close_log{log_fd};
 
-  // The build, before entering a namespace (git runs as a child process).
-  const GitCommit commit = FindGitCommit();
-
   // --agents: one private network for the whole study, entered while this
-  // process still has a single thread (no thread has been started so far).
+  // process still has a single thread (no thread has been started so far;
+  // the manifest, which runs git, comes after: children are fine).
   StudyMode mode = options.mode;
   if (mode == StudyMode::kAgents) {
     const ProcessNetwork network = EnterProcessNetwork(options.lcm_url);
@@ -360,48 +551,21 @@ int ExperimentCommand(const std::vector<std::string>& args) {
     }
   }
 
-  // The manifest of this session.
-  const std::string now = NowIso8601();
-  if (resumed) {
-    ++manifest.sessions;
-  } else {
-    manifest = Manifest{};
-    manifest.created = now;
+  Manifest manifest = SessionManifest(std::move(previous), options, mode, plan, out);
+  if (Status status = WriteManifest(manifest, (out / "manifest.json").string()); !status) {
+    return Failure(status.error().message);
   }
-  manifest.version = kDynapathVersion;
-  manifest.git_commit = commit.commit;
-  manifest.git_commit_source = commit.source;
-  manifest.study = identity;
-  manifest.execution = ExecutionJson(options);
-  if (mode != options.mode) manifest.execution["mode"] = StudyModeName(mode);
-  manifest.machine = CollectMachineInfo();
-  manifest.started = now;
-  manifest.ended.clear();
-  manifest.status = "running";
-  std::vector<ConfigurationRecord> records;
   std::vector<double> work;
   std::vector<bool> done;
-  for (const StudyConfiguration& configuration : plan) {
-    const ConfigurationRecord* previous = manifest.Find(configuration.Name());
-    ConfigurationRecord record = previous ? *previous : FreshRecord(configuration);
-    if (Complete(out, configuration, options)) {
-      record.status = "done";
-    } else if (record.status != "failed" && record.status != "interrupted") {
-      record.status = "pending";
-    }
-    records.push_back(record);
-    work.push_back(configuration.Work());
-    done.push_back(record.status == "done");
-  }
-  manifest.configurations = records;
-  if (Status status = WriteManifest(manifest, manifest_path.string()); !status) {
-    return Failure(status.error().message);
+  for (size_t i = 0; i < plan.size(); ++i) {
+    work.push_back(plan[i].Work());
+    done.push_back(manifest.configurations[i].status == "done");
   }
   const int already = static_cast<int>(std::count(done.begin(), done.end(), true));
   spdlog::info(
       "dynapath {} (commit {}) on {}: study in {}, {} configurations ({} done before), "
       "{} approaches, mode {}",
-      kDynapathVersion, commit.commit, manifest.machine.hostname, out.string(), plan.size(),
+      manifest.version, manifest.git_commit, manifest.machine.hostname, out.string(), plan.size(),
       already, options.approaches.size(), StudyModeName(mode));
   if (already > 0) {
     display.Print("resuming the study in " + out.string() + ": " + std::to_string(already) +
@@ -412,104 +576,15 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   const std::atomic<bool>& stop = InstallSignalHandlers();
   display.Start(work, done);
   for (size_t i = 0; i < plan.size(); ++i) {
-    if (done[i] && records[i].wall_seconds >= 0) {
-      display.AddHistory(work[i], records[i].wall_seconds);
-    }
+    const double seconds = manifest.configurations[i].wall_seconds;
+    if (done[i] && seconds >= 0) display.AddHistory(work[i], seconds);
   }
   const Session session{options, mode, out, display, stop, log_fd};
   const double study_start = Seconds();
-  int failures = 0;
-  bool interrupted = false;
-  auto merge = [&] {
-    std::vector<std::string> main_dirs, edge_dirs;
-    bool has_edge = false;
-    for (size_t i = 0; i < plan.size(); ++i) {
-      has_edge = has_edge || plan[i].edge_case;
-      if (manifest.configurations[i].status != "done") continue;
-      (plan[i].edge_case ? edge_dirs : main_dirs).push_back((out / plan[i].Directory()).string());
-    }
-    Status status = MergeResultFiles(main_dirs, out.string(), "");
-    if (status && has_edge) status = MergeResultFiles(edge_dirs, out.string(), "edge_");
-    if (!status) spdlog::error("{}", status.error().message);
-    return static_cast<bool>(status);
-  };
-
-  for (size_t i = 0; i < plan.size() && !interrupted; ++i) {
-    const StudyConfiguration& configuration = plan[i];
-    ConfigurationRecord& record = manifest.configurations[i];
-    const std::string position = std::to_string(i + 1) + "/" + std::to_string(plan.size());
-    if (record.status == "done") {
-      spdlog::info("configuration {} {}: done before, skipped", position, configuration.Label());
-      continue;
-    }
-    if (stop) {
-      interrupted = true;
-      break;
-    }
-    const fs::path directory = out / configuration.Directory();
-    fs::create_directories(directory, error);
-    // A run rewrites its files after every approach: drop an earlier partial run's.
-    fs::remove(directory / "results.csv", error);
-    fs::remove(directory / "results_detailed.csv", error);
-    record.status = "running";
-    record.mode = StudyModeName(mode);
-    record.started = NowIso8601();
-    record.ended.clear();
-    record.wall_seconds = -1;
-    record.error.clear();
-    if (Status status = WriteManifest(manifest, manifest_path.string()); !status) {
-      spdlog::error("{}", status.error().message);
-    }
-    spdlog::info("configuration {} {}: {} time steps, {} approaches, mode {}", position,
-                 configuration.Label(), configuration.steps, options.approaches.size(),
-                 StudyModeName(mode));
-    if (!terminal)
-      display.Print("configuration " + position + " " + configuration.Label() + ": started");
-    display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
-                               configuration.ShortLabel());
-    const double start = Seconds();
-    Status result = RunConfiguration(session, configuration, static_cast<int>(i));
-    const double wall = Seconds() - start;
-    const bool complete = Complete(out, configuration, options);
-    record.ended = NowIso8601();
-    record.wall_seconds = wall;
-    if (result && complete) {
-      record.status = "done";
-    } else if (stop) {
-      record.status = "interrupted";
-      record.error = "interrupted";
-      interrupted = true;
-    } else {
-      record.status = "failed";
-      record.error =
-          result ? "the run ended without complete result files" : result.error().message;
-      ++failures;
-    }
-    display.EndConfiguration(static_cast<int>(i), wall, record.status == "done");
-    const std::string outcome = "configuration " + position + " " + configuration.Label() + ": " +
-                                record.status + " in " + FormatDuration(wall) +
-                                (record.status == "failed" ? " (" + record.error + ")" : "");
-    if (record.status == "failed") {
-      spdlog::error("{}", outcome);
-    } else {
-      spdlog::info("{}", outcome);
-      display.Print(outcome);
-    }
-    merge();  // a failure is logged; the last merge below counts
-    if (Status status = WriteManifest(manifest, manifest_path.string()); !status) {
-      spdlog::error("{}", status.error().message);
-      ++failures;
-    }
-  }
-  if (!merge()) ++failures;
-
-  manifest.status = interrupted ? "interrupted" : failures > 0 ? "failed" : "finished";
-  manifest.ended = NowIso8601();
-  if (Status status = WriteManifest(manifest, manifest_path.string()); !status) {
-    spdlog::error("{}", status.error().message);
-    if (!interrupted) failures = std::max(failures, 1);
-  }
+  StudyRunner runner(session, plan, manifest, terminal);
+  const int code = runner.Run();
   display.Stop();
+
   int finished = 0;
   for (const ConfigurationRecord& record : manifest.configurations) {
     finished += record.status == "done";
@@ -517,16 +592,13 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   const std::string summary =
       "study " + manifest.status + ": " + std::to_string(finished) + " of " +
       std::to_string(plan.size()) + " configurations done (" + std::to_string(already) +
-      " before this session), " + std::to_string(failures) + " failed, " +
+      " before this session), " + std::to_string(runner.failures()) + " failed, " +
       FormatDuration(Seconds() - study_start) + "; results in " + (out / "results.csv").string() +
       (options.edge_case ? " and " + (out / "edge_results.csv").string() : "");
   spdlog::info("{}", summary);
   std::fprintf(stderr, "%s\n", summary.c_str());
-  if (interrupted) {
-    std::fprintf(stderr, "run the same command again to resume\n");
-    return 130;
-  }
-  return failures > 0 ? kExitFailure : 0;
+  if (code == 130) std::fprintf(stderr, "run the same command again to resume\n");
+  return code;
 }
 
 }  // namespace dynapath::cli

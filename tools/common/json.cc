@@ -48,7 +48,10 @@ class Parser {
     Json value;
     if (!Value(value, 0)) return Error{error_};
     SkipSpace();
-    if (pos_ != text_.size()) return Fail("unexpected text after the JSON value"), Error{error_};
+    if (pos_ != text_.size()) {
+      Fail("unexpected text after the JSON value");
+      return Error{error_};
+    }
     return value;
   }
 
