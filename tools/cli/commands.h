@@ -8,6 +8,10 @@ namespace dynapath::cli {
 
 int MazeCommand(const std::vector<std::string>& args);
 int RunCommand(const std::vector<std::string>& args);
+// Runs a whole study (sizes x difficulties, edge case), resumable. With
+// --agents it enters a private network namespace, so it must be called
+// while the process has a single thread.
+int ExperimentCommand(const std::vector<std::string>& args);
 // Runs a command in a private network namespace (tools/netns). Must be
 // called while the process has a single thread.
 int NetnsCommand(const std::vector<std::string>& args);

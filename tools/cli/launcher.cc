@@ -8,12 +8,16 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
 #include "agent/agent.h"
 #include "coordinator/coordinator.h"
+#include "dynapath/step_report_t.hpp"
 #include "envsim/envsim.h"
+#include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "tools/netns/private_network.h"
 
 namespace dynapath::cli {
 namespace {
@@ -45,13 +49,14 @@ struct Child {
   int status = 0;
 };
 
-pid_t Spawn(const std::vector<std::string>& argv) {
+pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid != 0) return pid;
   // Child: die with the launcher, whatever kills it.
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(1);
+  if (stderr_fd >= 0 && dup2(stderr_fd, STDERR_FILENO) < 0) _exit(126);
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
@@ -110,10 +115,49 @@ void StopAll(std::vector<Child>& children, std::chrono::milliseconds grace) {
   }
 }
 
+// Passes the coordinator's step reports of a run to a callback.
+class ReportListener {
+ public:
+  ReportListener(lcm::LCM& lcm, const std::string& run_id,
+                 std::function<void(const StepReport&)> on_step)
+      : bus_(lcm, run_id) {
+    bus_.Subscribe<step_report_t>(
+        protocol::channel::kReport, [on_step = std::move(on_step)](step_report_t& report) {
+          on_step(StepReport{report.approach, report.pass, report.time_step, report.total_steps});
+        });
+  }
+
+ private:
+  protocol::Bus bus_;
+};
+
 }  // namespace
+
+ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
+  if (!lcm_url.empty() || std::getenv("LCM_DEFAULT_URL") != nullptr) return ProcessNetwork::kHost;
+  if (Status status = EnterPrivateNetwork(); !status) {
+    spdlog::warn("{}; running embedded (memq://) instead", status.error().message);
+    return ProcessNetwork::kNone;
+  }
+  return ProcessNetwork::kPrivate;
+}
 
 int LaunchProcesses(const DistributedRun& run) {
   const std::atomic<bool>& stop = protocol::StopOnSignals();
+  // Listen to the run's reports before its processes start.
+  std::unique_ptr<lcm::LCM> report_lcm;
+  std::optional<ReportListener> listener;
+  std::optional<protocol::Dispatcher> report_dispatcher;
+  if (run.on_step) {
+    Result<std::unique_ptr<lcm::LCM>> opened = protocol::OpenLcm(run.process.lcm_url);
+    if (opened) {
+      report_lcm = std::move(*opened);
+      listener.emplace(*report_lcm, run.process.run_id, run.on_step);
+      report_dispatcher.emplace(*report_lcm);
+    } else {
+      spdlog::warn("no progress reports: {}", opened.error().message);
+    }
+  }
   std::vector<std::string> common = {"--run-id", run.process.run_id, "--log-level", run.log_level};
   if (!run.process.lcm_url.empty()) {
     common.insert(common.end(), {"--lcm-url", run.process.lcm_url});
@@ -127,7 +171,7 @@ int LaunchProcesses(const DistributedRun& run) {
   }
   std::vector<Child> children;
   auto start = [&](const std::string& name, std::vector<std::string> argv) {
-    const pid_t pid = Spawn(argv);
+    const pid_t pid = Spawn(argv, run.child_stderr);
     if (pid < 0) return false;
     children.push_back(Child{name, pid});
     return true;
@@ -233,6 +277,9 @@ int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSe
   options.plan = plan;
   options.min_agents = run.agents;
   coordinator::Coordinator coordinator(coordinator_bus, options);
+
+  std::optional<ReportListener> listener;
+  if (run.on_step) listener.emplace(lcm, run.process.run_id, run.on_step);
 
   protocol::Dispatcher dispatcher(lcm);
   std::atomic<bool> stop_components{false};

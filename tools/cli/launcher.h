@@ -4,6 +4,7 @@
 // or on the network of --lcm-url), or all of them as threads of this process
 // over memq:// (--embedded).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,14 @@
 #include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
+
+// One time step of one approach, as the coordinator reports it.
+struct StepReport {
+  std::string approach;
+  int pass = 0;  // the approach's index in the run
+  int time_step = 0;
+  int total_steps = 0;
+};
 
 struct DistributedRun {
   ProcessSetup process;  // run id, LCM URL, fault injection
@@ -22,7 +31,21 @@ struct DistributedRun {
   std::string log_level = "info";
   std::string log_file;  // --log: record with lcm-logger
   bool private_network = true;
+  // Optional: called with the coordinator's step reports (its REPORT
+  // channel), on another thread; the launcher listens when this is set.
+  std::function<void(const StepReport&)> on_step;
+  // When >= 0, the children's stderr goes to this descriptor (a log file)
+  // instead of the launcher's.
+  int child_stderr = -1;
 };
+
+// Where the processes of an --agents run talk. kHost: on the network that
+// `lcm_url` or $LCM_DEFAULT_URL names. kPrivate: in a private network
+// namespace this process has just entered (it must still be single-threaded;
+// children inherit it). kNone: namespaces are not permitted here (a warning
+// is logged): run embedded (memq://) instead.
+enum class ProcessNetwork { kHost, kPrivate, kNone };
+ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
 
 // Starts the processes, waits for the coordinator, stops every child on
 // Ctrl-C or failure. Returns the exit code.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tools/cli/commands.h"
+#include "tools/common/build_info.h"
 
 namespace {
 
@@ -18,12 +19,13 @@ constexpr const char* kUsage =
     "Path planning in dynamic mazes with hierarchical multi-agent Q-learning.\n"
     "\n"
     "Commands:\n"
-    "  maze   generate or load a maze and print it with its facts\n"
-    "  run    run approaches on a maze and its change sequence, write result CSVs\n"
-    "  netns  run a command in a private, loopback-only network (for LCM)\n"
-    "  plot   draw the report's figures from a study's result files (PNG)\n"
-    "  view   watch a run's policy live in a window\n"
-    "  render draw a logged run's policy as PNG frames and an animated GIF\n"
+    "  maze        generate or load a maze and print it with its facts\n"
+    "  run         run approaches on a maze and its change sequence, write result CSVs\n"
+    "  experiment  run a whole study (sizes x difficulties, edge case), resumable\n"
+    "  netns       run a command in a private, loopback-only network (for LCM)\n"
+    "  plot        draw the report's figures from a study's result files (PNG)\n"
+    "  view        watch a run's policy live in a window\n"
+    "  render      draw a logged run's policy as PNG frames and an animated GIF\n"
     "\n"
     "Run 'dynapath <command> --help' for the options of a command.\n";
 
@@ -44,11 +46,13 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "--version") {
-    std::puts("dynapath 0.1.0");
+    std::printf("dynapath %s\n", dynapath::cli::kDynapathVersion);
     return 0;
   }
   if (command == "maze") return dynapath::cli::MazeCommand(args);
   if (command == "run") return dynapath::cli::RunCommand(args);
+  // Single-threaded too (--agents enters a private network namespace).
+  if (command == "experiment") return dynapath::cli::ExperimentCommand(args);
   // Still single-threaded here, as unshare(CLONE_NEWUSER) requires: the
   // synchronous stderr logger starts no thread.
   if (command == "netns") return dynapath::cli::NetnsCommand(args);

@@ -1,17 +1,15 @@
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <thread>
 
-#include "core/local_trainer.h"
-#include "core/thread_pool.h"
 #include "lcmtypes/protocol/dispatcher.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/launcher.h"
 #include "tools/common/process_options.h"
 #include "tools/common/run_driver.h"
 #include "tools/common/scenario_options.h"
-#include "tools/netns/private_network.h"
 
 namespace dynapath::cli {
 
@@ -82,14 +80,11 @@ int RunCommand(const std::vector<std::string>& args) {
     run.coordinator_args = parser.Forward(RunOptionNames());
     run.log_level = parser.Get("log-level", "info");
     run.log_file = parser.Get("log", "");
-    const bool host_network =
-        !process->lcm_url.empty() || std::getenv("LCM_DEFAULT_URL") != nullptr;
     bool embedded = parser.Has("embedded");
-    if (!embedded && !host_network) {
-      if (Status status = EnterPrivateNetwork(); !status) {
-        spdlog::warn("{}; running embedded (memq://) instead", status.error().message);
-        embedded = true;
-      } else {
+    if (!embedded) {
+      const ProcessNetwork network = EnterProcessNetwork(process->lcm_url);
+      if (network == ProcessNetwork::kNone) embedded = true;
+      if (network == ProcessNetwork::kPrivate) {
         spdlog::info("run {} in a private network; watch it with: dynapath-spy --pid {}",
                      process->run_id, getpid());
       }
@@ -104,14 +99,10 @@ int RunCommand(const std::vector<std::string>& args) {
     return LaunchProcesses(run);
   }
 
-  plan->options.run_seed = setup->seed;
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
                setup->labels.size_label, setup->labels.difficulty_label, setup->source,
                setup->scenario.changes.steps.size(), plan->approaches.size(), *threads);
-  ThreadPool pool(static_cast<int>(*threads));
-  LocalTrainer trainer(pool);
-  ScenarioStepSource source(setup->scenario);
-  Result<std::vector<ApproachRun>> runs = RunApproaches(source, trainer, *plan, setup->labels);
+  Result<std::vector<ApproachRun>> runs = RunLocal(*plan, *setup, static_cast<int>(*threads));
   if (!runs) {
     spdlog::error("{}", runs.error().message);
     return kExitFailure;

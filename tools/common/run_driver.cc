@@ -2,6 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <exception>
+
+#include "core/local_trainer.h"
+#include "core/thread_pool.h"
+
 namespace dynapath::cli {
 namespace {
 
@@ -94,6 +99,20 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
   }
   return runs;
+}
+
+Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
+                                          int threads, const StepCallback& extra) {
+  RunPlan seeded = plan;
+  seeded.options.run_seed = setup.seed;
+  ThreadPool pool(threads);
+  LocalTrainer trainer(pool);
+  ScenarioStepSource source(setup.scenario);
+  try {
+    return RunApproaches(source, trainer, seeded, setup.labels, extra);
+  } catch (const std::exception& e) {
+    return Error{e.what()};
+  }
 }
 
 }  // namespace dynapath::cli

@@ -9,6 +9,7 @@
 #include "core/experiment.h"
 #include "core/results_csv.h"
 #include "tools/common/arg_parser.h"
+#include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
 
@@ -33,5 +34,12 @@ Result<RunPlan> ResolveRunOptions(const ArgParser& parser);
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
                                                const StepCallback& extra = {});
+
+// `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
+// seed set from it) with a LocalTrainer on a pool of `threads` threads.
+// An exception thrown by `extra` (e.g. to stop the run) ends the run and
+// comes back as an error, after the approaches before it were written.
+Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
+                                          int threads, const StepCallback& extra = {});
 
 }  // namespace dynapath::cli

@@ -1,0 +1,233 @@
+#!/usr/bin/env bash
+# End-to-end test of `dynapath experiment`: a small study (sizes 20 and 50,
+# easy and hard, all seven approaches, the edge case, 10 time steps) with 2
+# agent processes. Runs inside a private network namespace (ctest starts it
+# with `dynapath netns --`), so no LCM traffic reaches the host network.
+# Usage: experiment_test.sh PATH_TO_DYNAPATH
+#
+#  1. Bad options and bad config files: exit 2 and one error line.
+#  2. The study: combined CSVs (header, rows, study order), edge files,
+#     per-configuration directories, manifest fields, study.log.
+#  3. Resume: running it again skips everything, quickly, files unchanged.
+#  4. --local gives the same results (apart from the time columns).
+#  5. A config file with the same options resumes the same study; other
+#     options are refused (exit 2) unless --force.
+#  6. SIGINT mid-way: exit 130, manifest "interrupted", no temporary files;
+#     resumed, the same result rows as the uninterrupted study.
+#  7. dynapath plot on the study, when dynapath-plot is built.
+set -uo pipefail
+dynapath=$(realpath "${1:?usage: experiment_test.sh DYNAPATH}")
+work=$(mktemp -d)
+pids=()
+trap 'for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done; rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+pass() { echo "ok ($SECONDS s): $*"; }
+
+if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
+  echo "experiment_test.sh must run in a private network (dynapath netns --)" >&2
+  exit 2
+fi
+
+cd "$work" || exit 1
+study=(--sizes 20,50 --difficulties easy,hard --steps 10)
+approaches=7
+configs=4
+rows_per_config=$((approaches * (10 + 1)))
+
+# Result files without the time columns (InitialTime, AdaptTimePerStep, AdaptTime).
+strip_times() {
+  python3 - "$1" <<'PY'
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+drop = {i for i, name in enumerate(rows[0]) if 'Time' in name and name != 'TimeStep'}
+for row in rows:
+    print(','.join(v for i, v in enumerate(row) if i not in drop))
+PY
+}
+same_results() {  # same_results DIR_A DIR_B LABEL
+  local ok=1
+  for file in results.csv results_detailed.csv edge_results.csv edge_results_detailed.csv; do
+    if [ ! -s "$1/$file" ] || [ ! -s "$2/$file" ]; then ok=0; continue; fi
+    diff -q <(strip_times "$1/$file") <(strip_times "$2/$file") >/dev/null || ok=0
+  done
+  if [ $ok -eq 1 ]; then pass "$3: identical results"; else fail "$3: results differ"; fi
+}
+expect_usage_error() {  # expect exit 2 and exactly one stderr line containing $1
+  local needle=$1
+  shift
+  "$dynapath" experiment "$@" >"$work/out" 2>"$work/err"
+  local code=$?
+  [ $code -eq 2 ] || fail "'experiment $*' exited $code, expected 2"
+  [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'experiment $*' printed $(wc -l <"$work/err") error lines"
+  grep -qF -- "$needle" "$work/err" || fail "'experiment $*': error does not mention '$needle': $(cat "$work/err")"
+}
+json() {  # json FILE PYTHON_EXPRESSION_OF_m
+  python3 -c "import json, sys; m = json.load(open(sys.argv[1])); print($2)" "$1"
+}
+
+# 1. Bad options and bad config files.
+"$dynapath" experiment --help | grep -q -- "--sizes" || fail "experiment --help"
+expect_usage_error "size '1' is not an integer from 2" --sizes 1,20
+expect_usage_error "size 20 is given twice" --sizes 20,50,20
+expect_usage_error "unknown difficulty 'extreme'" --difficulties easy,extreme
+expect_usage_error "unknown approach 'magic'" --approaches magic
+expect_usage_error "unknown option --sise" --sise 20
+expect_usage_error "choose one of --local" --local --agents 2
+expect_usage_error "choose one of --edge-case and --no-edge-case" --edge-case --no-edge-case
+expect_usage_error "missing.toml" --config "$work/missing.toml"
+printf 'sizes = [20, 50]\n# comment\nsteps = "ten"\n' >"$work/bad1.toml"
+expect_usage_error "bad1.toml:3: steps: expected an integer" --config "$work/bad1.toml"
+printf 'sizes = [20,\n  50\n' >"$work/bad2.toml"
+expect_usage_error "bad2.toml:1: unterminated array" --config "$work/bad2.toml"
+printf 'sizes = [20]\n\ncolour = "red"\n' >"$work/bad3.toml"
+expect_usage_error "bad3.toml:3: unknown key 'colour'" --config "$work/bad3.toml"
+printf '[study]\nsizes = [20]\n' >"$work/bad4.toml"
+expect_usage_error "bad4.toml:1: tables" --config "$work/bad4.toml"
+printf 'difficulties = ["easy", "brutal"]\n' >"$work/bad5.toml"
+expect_usage_error "bad5.toml:1: difficulties: unknown difficulty 'brutal'" --config "$work/bad5.toml"
+[ ! -e study ] || fail "a refused study created ./study"
+pass "bad options and config files: exit 2, one line"
+
+# 2. The study, with 2 agent processes per configuration.
+start=$SECONDS
+"$dynapath" experiment --agents 2 "${study[@]}" --out "$work/a" >"$work/a.out" 2>"$work/a.err"
+code=$?
+[ $code -eq 0 ] || { fail "study exited $code"; tail -20 "$work/a.err"; }
+echo "   the study took $((SECONDS - start)) s"
+a=$work/a
+head -1 "$a/results.csv" | grep -qx "Approach,Size,Difficulty,InitialTime,AdaptTimePerStep,AvgSuccessRate,AvgPathLength" \
+  || fail "results.csv header"
+head -1 "$a/results_detailed.csv" \
+  | grep -qx "Approach,Size,Difficulty,TimeStep,NumChanges,AdaptTime,SuccessRate,AvgPathLength,NodesTrained,HighestLevel" \
+  || fail "results_detailed.csv header"
+[ "$(wc -l <"$a/results.csv")" -eq $((approaches * configs + 1)) ] || fail "results.csv rows: $(wc -l <"$a/results.csv")"
+[ "$(wc -l <"$a/results_detailed.csv")" -eq $((rows_per_config * configs + 1)) ] \
+  || fail "results_detailed.csv rows: $(wc -l <"$a/results_detailed.csv")"
+[ "$(wc -l <"$a/edge_results.csv")" -eq $((approaches + 1)) ] || fail "edge_results.csv rows"
+[ "$(wc -l <"$a/edge_results_detailed.csv")" -eq $((rows_per_config + 1)) ] || fail "edge_results_detailed.csv rows"
+# Study order: sizes, then difficulties; approaches in the order of `all`.
+order=$(tail -n +2 "$a/results.csv" | cut -d, -f2,3 | uniq | tr '\n' ' ')
+[ "$order" = "20,Easy 20,Hard 50,Easy 50,Hard " ] || fail "study order: $order"
+approach_order=$(tail -n +2 "$a/results.csv" | head -7 | cut -d, -f1 | tr '\n' ';')
+[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;" ] \
+  || fail "approach order: $approach_order"
+[ "$(tail -n +2 "$a/edge_results.csv" | cut -d, -f2,3 | sort -u)" = "50,Hard" ] || fail "edge case labels"
+# Each configuration's own files, merged exactly.
+for dir in 20_easy_50 20_hard_52 50_easy_50 50_hard_52 edge_50_hard_102; do
+  [ -s "$a/runs/$dir/results.csv" ] || fail "missing runs/$dir/results.csv"
+done
+cmp -s <(tail -n +2 "$a/runs/edge_50_hard_102/results_detailed.csv") <(tail -n +2 "$a/edge_results_detailed.csv") \
+  || fail "edge_results_detailed.csv is not the edge configuration's file"
+cmp -s <(for d in 20_easy_50 20_hard_52 50_easy_50 50_hard_52; do tail -n +2 "$a/runs/$d/results.csv"; done) \
+  <(tail -n +2 "$a/results.csv") || fail "results.csv is not the configurations' rows in order"
+# The manifest.
+m=$a/manifest.json
+json "$m" 'm["dynapath_version"]' | grep -qx "$("$dynapath" --version | cut -d' ' -f2)" || fail "manifest version"
+[ -n "$(json "$m" 'm["git_commit"]')" ] || fail "manifest git_commit"
+[ "$(json "$m" 'm["status"]')" = finished ] || fail "manifest status: $(json "$m" 'm["status"]')"
+[ "$(json "$m" '" ".join(c["name"] + ":" + str(c["seed"]) + ":" + c["status"] for c in m["configurations"])')" = \
+  "20_easy_50:50:done 20_hard_52:52:done 50_easy_50:50:done 50_hard_52:52:done edge_50_hard_102:102:done" ] \
+  || fail "manifest configurations: $(json "$m" '[(c["name"], c["status"]) for c in m["configurations"]]')"
+[ "$(json "$m" 'all(c["mode"] == "agents" and c["wall_seconds"] > 0 and c["started"] and c["ended"] for c in m["configurations"])')" = True ] \
+  || fail "manifest: per-configuration mode, wall time, times"
+[ "$(json "$m" 'm["options"]["study"]["sizes"] == [20, 50] and m["options"]["study"]["steps"] == 10 and m["options"]["study"]["edge_case"] and len(m["options"]["study"]["approaches"]) == 7')" = True ] \
+  || fail "manifest study options"
+[ "$(json "$m" 'm["options"]["execution"]["mode"] == "agents" and m["options"]["execution"]["agents"] == 2')" = True ] \
+  || fail "manifest execution options"
+[ "$(json "$m" 'all(m["machine"][k] for k in ("hostname", "cpu_model", "cores", "memory_bytes", "os"))')" = True ] \
+  || fail "manifest machine: $(json "$m" 'm["machine"]')"
+[ "$(json "$m" 'bool(m["started"] and m["ended"] and m["created"])')" = True ] || fail "manifest times"
+# The log: the launcher's lines and the processes' lines, with timestamps.
+grep -q "configuration 5/5 edge case 50 Hard, seed 102: done" "$a/study.log" || fail "study.log: launcher lines"
+grep -q "coordinator: agents 1 2 alive" "$a/study.log" || fail "study.log: coordinator lines"
+grep -q "agent 2: " "$a/study.log" || fail "study.log: agent lines"
+grep -vq '^\[' "$a/study.log" && fail "study.log: a line without a timestamp: $(grep -v '^\[' "$a/study.log" | head -1)"
+grep -q "study finished: 5 of 5" "$work/a.err" || fail "summary line: $(tail -1 "$work/a.err")"
+pass "study with --agents 2: files, order, manifest, log"
+
+# 3. Resume: everything is skipped, quickly; files unchanged.
+md5sum "$a"/*.csv "$a"/runs/*/*.csv >"$work/a.md5"
+start=$SECONDS
+"$dynapath" experiment --agents 2 "${study[@]}" --out "$a" >/dev/null 2>"$work/resume.err" || fail "resume exited $?"
+[ $((SECONDS - start)) -le 2 ] || fail "resuming a finished study took $((SECONDS - start)) s"
+md5sum -c --quiet "$work/a.md5" || fail "resuming changed result files"
+grep -q "5 of 5 configurations were done before and are skipped" "$work/resume.err" || fail "resume message: $(cat "$work/resume.err")"
+[ "$(json "$m" 'm["sessions"]')" = 2 ] || fail "manifest sessions after resume"
+pass "resume of a finished study"
+
+# 4. --local: the same results.
+"$dynapath" experiment --local "${study[@]}" --out "$work/local" >/dev/null 2>&1 || fail "--local study exited $?"
+same_results "$a" "$work/local" "--local vs --agents 2"
+
+# 5. A config file with the same options is the same study; other options are refused.
+cat >"$work/study.toml" <<EOF
+# the study of part 2
+sizes = [20, 50]
+difficulties = ["easy", "hard"]
+approaches = "all"
+steps = 10
+edge-case = true
+agents = 2
+EOF
+"$dynapath" experiment --config "$work/study.toml" --out "$a" >/dev/null 2>"$work/config.err" || fail "--config exited $?"
+grep -q "5 of 5 configurations were done before" "$work/config.err" || fail "--config did not resume the same study"
+md5sum -c --quiet "$work/a.md5" || fail "--config run changed result files"
+expect_usage_error "holds a study of other options (steps: 10 there, 12 here)" --config "$work/study.toml" --steps 12 --out "$a"
+expect_usage_error "use --force" --sizes 20 --out "$a"
+pass "config file and option checks against the study in OUT"
+
+# 6. SIGINT in the middle of configuration 4, then resume.
+k=$work/killed
+"$dynapath" experiment --agents 2 "${study[@]}" --out "$k" >/dev/null 2>"$work/killed.err" &
+study_pid=$!
+pids+=($study_pid)
+for _ in $(seq 1 600); do
+  grep -q "configuration 4/5" "$k/study.log" 2>/dev/null && break
+  sleep 0.05
+done
+sleep 0.2
+kill -INT $study_pid
+wait $study_pid
+code=$?
+[ $code -eq 130 ] || fail "interrupted study exited $code, expected 130"
+[ "$(json "$k/manifest.json" 'm["status"]')" = interrupted ] || fail "manifest status after SIGINT"
+statuses=$(json "$k/manifest.json" '" ".join(c["status"] for c in m["configurations"])')
+[ "$statuses" = "done done done interrupted pending" ] || fail "statuses after SIGINT: $statuses"
+[ "$(wc -l <"$k/results.csv")" -eq $((approaches * 3 + 1)) ] || fail "results.csv after SIGINT: $(wc -l <"$k/results.csv") lines"
+find "$k" -name '*.tmp.*' | grep -q . && fail "temporary files left: $(find "$k" -name '*.tmp.*')"
+# The runs' ids hold the study's pid.
+pgrep -f -- "--run-id r[0-9-]*-$study_pid-c" >/dev/null && fail "processes left after SIGINT"
+"$dynapath" experiment --agents 2 "${study[@]}" --out "$k" >/dev/null 2>"$work/killed2.err" || fail "resumed study exited $?"
+grep -q "3 of 5 configurations were done before" "$work/killed2.err" || fail "resume after SIGINT: $(cat "$work/killed2.err")"
+[ "$(json "$k/manifest.json" 'm["status"]')" = finished ] || fail "manifest status after resume"
+same_results "$a" "$k" "interrupted by SIGINT, then resumed"
+
+# --force replaces a study of other options.
+"$dynapath" experiment --local --sizes 20 --difficulties easy --no-edge-case --approaches "BFS Oracle" --steps 3 \
+  --out "$k" --force >/dev/null 2>&1 || fail "--force exited $?"
+[ "$(wc -l <"$k/results.csv")" -eq 2 ] || fail "--force: results.csv rows"
+[ ! -e "$k/edge_results.csv" ] && [ "$(ls "$k/runs")" = 20_easy_50 ] || fail "--force left the old study's files"
+pass "--force"
+
+# 7. Figures, when dynapath-plot is built.
+plot="$(dirname "$dynapath")/dynapath-plot"
+if [ -x "$plot" ]; then
+  if "$dynapath" plot "$a" >"$work/plot.out" 2>&1; then
+    found=0
+    for png in "$a"/figures/*.png; do
+      [ -e "$png" ] || continue
+      found=$((found + 1))
+      [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
+    done
+    [ $found -gt 0 ] || fail "dynapath plot wrote no PNG into $a/figures"
+    pass "dynapath plot: $found PNG figures"
+  else
+    fail "dynapath plot exited non-zero: $(tail -3 "$work/plot.out")"
+  fi
+else
+  echo "skipped: dynapath plot ($plot is not built)"
+fi
+
+echo "experiment_test took $SECONDS s"
+if [ $failures -eq 0 ]; then echo "experiment_test: all checks passed"; else echo "experiment_test: $failures failures"; exit 1; fi

@@ -1,0 +1,108 @@
+#include "tools/common/study_config.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace dynapath::cli {
+namespace {
+
+TEST(StudyConfigTest, ParsesTheSubset) {
+  const char* text =
+      "# A study\n"
+      "sizes = [20, 50,\n"
+      "         100]   # trailing comment\n"
+      "\n"
+      "difficulties = [\"easy\", 'hard',]\n"
+      "approaches = \"BFS Oracle\"\n"
+      "edge-case = false\n"
+      "edge_case2 = true\n"
+      "steps = 1_000\n"
+      "seed = -3\n"
+      "out = \"a \\\"quoted\\\" dir\\\\x\"\n"
+      "path = 'C:\\raw'\n"
+      "  indented = 1\n";
+  Result<ConfigFile> file = ParseConfigText(text, "study.toml");
+  ASSERT_TRUE(file) << file.error().message;
+  const std::vector<ConfigEntry>& e = file->entries;
+  ASSERT_EQ(e.size(), 10u);
+  EXPECT_EQ(e[0].key, "sizes");
+  EXPECT_EQ(e[0].line, 2);
+  ASSERT_EQ(e[0].value.kind, ConfigValue::Kind::kArray);
+  ASSERT_EQ(e[0].value.items.size(), 3u);
+  EXPECT_EQ(e[0].value.items[2].integer, 100);
+  EXPECT_EQ(e[0].value.items[2].line, 3);
+  EXPECT_EQ(e[1].key, "difficulties");
+  EXPECT_EQ(e[1].line, 5);
+  ASSERT_EQ(e[1].value.items.size(), 2u);
+  EXPECT_EQ(e[1].value.items[1].string, "hard");
+  EXPECT_EQ(e[2].value.kind, ConfigValue::Kind::kString);
+  EXPECT_EQ(e[2].value.string, "BFS Oracle");
+  EXPECT_EQ(e[3].key, "edge-case");
+  EXPECT_EQ(e[3].value.kind, ConfigValue::Kind::kBoolean);
+  EXPECT_FALSE(e[3].value.boolean);
+  EXPECT_TRUE(e[4].value.boolean);
+  EXPECT_EQ(e[5].value.integer, 1000);
+  EXPECT_EQ(e[6].value.integer, -3);
+  EXPECT_EQ(e[7].value.string, "a \"quoted\" dir\\x");
+  EXPECT_EQ(e[8].value.string, "C:\\raw");
+  EXPECT_EQ(e[9].key, "indented");
+  EXPECT_EQ(e[9].line, 13);
+}
+
+TEST(StudyConfigTest, EmptyFileAndEmptyArray) {
+  Result<ConfigFile> file = ParseConfigText("# nothing\n\n", "f");
+  ASSERT_TRUE(file);
+  EXPECT_TRUE(file->entries.empty());
+  file = ParseConfigText("sizes = []", "f");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_TRUE(file->entries[0].value.items.empty());
+}
+
+// Every error names the file and the line.
+TEST(StudyConfigTest, ErrorsNameTheLine) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"sizes = [20]\n[study]\n", "f.toml:2: tables"},
+      {"a = 1\nout = \"unterminated\n", "f.toml:2: unterminated string"},
+      {"\nsizes = [20,\n 50\n", "f.toml:2: unterminated array"},
+      {"steps = 1.5\n", "f.toml:1: '1.5': floating-point"},
+      {"\n\nbootstrap = in-grid\n", "f.toml:3: 'in-grid' is not a value"},
+      {"seed = 1\nsteps = 2\nseed = 3\n", "f.toml:3: 'seed' is set twice (first on line 1)"},
+      {"steps =\n", "f.toml:1: missing value"},
+      {"sizes = [[20]]\n", "f.toml:1: nested arrays"},
+      {"sizes = [20,\n \"fifty\"]\n", "f.toml:2: an array mixes integers and strings"},
+      {"steps = 10 20\n", "f.toml:1: unexpected text after the value of 'steps'"},
+      {"\"sizes\" = [20]\n", "f.toml:1: quoted keys"},
+      {"a.b = 1\n", "f.toml:1: dotted keys"},
+      {"sizes [20]\n", "f.toml:1: expected '=' after 'sizes'"},
+      {"x = {a = 1}\n", "f.toml:1: inline tables"},
+      {"x = \"\\q\"\n", "f.toml:1: unsupported escape"},
+      {"x = 99999999999999999999\n", "f.toml:1: '99999999999999999999' is out of range"},
+      {"x = \"\"\"multi\n\"\"\"\n", "f.toml:1: multi-line strings"},
+      {"= 3\n", "f.toml:1: expected 'key = value'"},
+  };
+  for (const auto& [text, expected] : cases) {
+    Result<ConfigFile> file = ParseConfigText(text, "f.toml");
+    ASSERT_FALSE(file) << text;
+    EXPECT_EQ(file.error().message.rfind(expected, 0), 0u)
+        << "for:\n"
+        << text << "got: " << file.error().message;
+  }
+}
+
+TEST(StudyConfigTest, ReadsAFileAndReportsAMissingOne) {
+  const std::string path = ::testing::TempDir() + "/study_config_test.toml";
+  {
+    std::ofstream out(path);
+    out << "sizes = [20]\n";
+  }
+  Result<ConfigFile> file = ReadConfigFile(path);
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_EQ(file->name, path);
+  Result<ConfigFile> missing = ReadConfigFile(path + ".missing");
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find(".missing"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dynapath::cli

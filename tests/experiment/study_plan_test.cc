@@ -1,0 +1,200 @@
+#include "tools/common/study_plan.h"
+
+#include <gtest/gtest.h>
+
+namespace dynapath::cli {
+namespace {
+
+OptionValues Cli(std::initializer_list<std::pair<std::string, std::string>> values) {
+  OptionValues result;
+  for (const auto& [name, text] : values) result[name] = OptionValue{text, "option --" + name};
+  return result;
+}
+
+Result<StudyOptions> FromFile(const std::string& text) {
+  Result<ConfigFile> file = ParseConfigText(text, "s.toml");
+  if (!file) return file.error();
+  Result<OptionValues> values = ConfigOptionValues(*file);
+  if (!values) return values.error();
+  return ResolveStudyOptions(*values, 4);
+}
+
+TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
+  Result<StudyOptions> options = ResolveStudyOptions({}, 4);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->sizes, (std::vector<int>{20, 50, 100, 200, 300}));
+  EXPECT_EQ(options->approaches, AllApproaches());
+  EXPECT_TRUE(options->edge_case);
+  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->threads, 4);
+  EXPECT_EQ(options->out, "study");
+
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 16u);
+  // Sizes in order, each with easy, medium, hard; seeds 50 + difficulty index;
+  // 2 x rows time steps.
+  const char* names[] = {"20_easy_50",   "20_medium_51",  "20_hard_52",    "50_easy_50",
+                         "50_medium_51", "50_hard_52",    "100_easy_50",   "100_medium_51",
+                         "100_hard_52",  "200_easy_50",   "200_medium_51", "200_hard_52",
+                         "300_easy_50",  "300_medium_51", "300_hard_52",   "edge_50_hard_102"};
+  for (size_t i = 0; i < plan.size(); ++i) {
+    EXPECT_EQ(plan[i].Name(), names[i]) << i;
+    EXPECT_EQ(plan[i].steps, 2 * plan[i].size) << i;
+    EXPECT_EQ(plan[i].edge_case, i == 15) << i;
+  }
+  EXPECT_EQ(plan[15].size, 50);
+  EXPECT_EQ(plan[15].difficulty, Difficulty::kHard);
+  EXPECT_EQ(plan[15].seed, 102u);
+  EXPECT_EQ(plan[15].Directory(), "runs/edge_50_hard_102");
+  EXPECT_EQ(plan[15].Label(), "edge case 50 Hard, seed 102");
+  EXPECT_EQ(plan[4].Label(), "50 Medium, seed 51");
+  EXPECT_EQ(plan[4].ShortLabel(), "50 Medium s51");
+  EXPECT_EQ(plan[15].ShortLabel(), "edge 50 Hard s102");
+  EXPECT_DOUBLE_EQ(plan[0].Work(), 20.0 * 20 * 41);
+}
+
+TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
+  Result<StudyOptions> options =
+      ResolveStudyOptions(Cli({{"sizes", "50, 20"},
+                               {"difficulties", "hard,easy"},
+                               {"seed", "7"},
+                               {"steps", "10"},
+                               {"approaches", "BFS Oracle,fedAsynQ_ImAvg"}}),
+                          2);
+  ASSERT_TRUE(options) << options.error().message;
+  std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 5u);
+  EXPECT_EQ(plan[0].Name(), "50_hard_7");
+  EXPECT_EQ(plan[1].Name(), "50_easy_7");
+  EXPECT_EQ(plan[2].Name(), "20_hard_7");
+  EXPECT_EQ(plan[3].Name(), "20_easy_7");
+  // The edge case keeps its seed, takes --steps.
+  EXPECT_EQ(plan[4].Name(), "edge_50_hard_102");
+  EXPECT_EQ(plan[4].steps, 10);
+  EXPECT_EQ(ScenarioArguments(plan[0]),
+            (std::vector<std::string>{"--size", "50", "--difficulty", "hard", "--seed", "7",
+                                      "--steps", "10"}));
+  EXPECT_EQ(
+      RunArguments(*options, "out/runs/x"),
+      (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out", "out/runs/x",
+                                "--leaf-limit", "20", "--bootstrap", "in-grid"}));
+
+  options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
+  ASSERT_TRUE(options);
+  plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 3u);
+  EXPECT_EQ(plan[2].Name(), "20_hard_52");
+}
+
+TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
+  Result<ConfigFile> file = ParseConfigText(
+      "sizes = [20, 50]\n"
+      "difficulties = 'easy'\n"
+      "approaches = [\"A* Static\", \"singleAgent\"]\n"
+      "edge_case = false\n"
+      "agents = 3\n"
+      "leaf-limit = 10\n"
+      "local = false\n"
+      "out = \"from-file\"\n",
+      "s.toml");
+  ASSERT_TRUE(file) << file.error().message;
+  Result<OptionValues> values = ConfigOptionValues(*file);
+  ASSERT_TRUE(values) << values.error().message;
+  EXPECT_EQ(values->at("sizes").text, "20,50");
+  EXPECT_EQ(values->at("sizes").origin, "s.toml:1: sizes");
+  EXPECT_EQ(values->at("edge-case").text, "false");
+  EXPECT_EQ(values->count("local"), 0u);  // false sets nothing
+
+  Result<StudyOptions> options = ResolveStudyOptions(*values, 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->sizes, (std::vector<int>{20, 50}));
+  EXPECT_EQ(options->difficulties, (std::vector<Difficulty>{Difficulty::kEasy}));
+  EXPECT_EQ(options->approaches,
+            (std::vector<Approach>{Approach::kAStarStatic, Approach::kSingleAgent}));
+  EXPECT_FALSE(options->edge_case);
+  EXPECT_EQ(options->mode, StudyMode::kAgents);
+  EXPECT_EQ(options->agents, 3);
+  EXPECT_EQ(options->leaf_limit, 10);
+
+  // The command line wins; its mode replaces the file's.
+  options = ResolveStudyOptions(
+      MergeOptionValues(*values, Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->sizes, (std::vector<int>{30}));
+  EXPECT_EQ(options->out, "cli");
+  EXPECT_EQ(options->leaf_limit, 10);
+
+  options = ResolveStudyOptions(MergeOptionValues(*values, Cli({{"embedded", "true"}})), 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->mode, StudyMode::kEmbedded);
+  EXPECT_EQ(options->agents, 1);
+}
+
+TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
+  const std::pair<OptionValues, const char*> cases[] = {
+      {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 10000"},
+      {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
+      {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
+      {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},
+      {Cli({{"sizes", ""}}), "option --sizes: the list is empty"},
+      {Cli({{"difficulties", "easy,extreme"}}),
+       "option --difficulties: unknown difficulty 'extreme'"},
+      {Cli({{"difficulties", "hard,HARD"}}),
+       "option --difficulties: difficulty HARD is given twice"},
+      {Cli({{"approaches", "magic"}}), "option --approaches: unknown approach 'magic'"},
+      {Cli({{"seed", "-1"}}), "option --seed: must be between 0 and 4294967295"},
+      {Cli({{"steps", "x"}}), "option --steps: needs an integer"},
+      {Cli({{"agents", "0"}}), "option --agents: must be between 1 and 256"},
+      {Cli({{"local", "true"}, {"agents", "2"}}), "option --local: choose one of"},
+      {Cli({{"lcm-url", "udpm://"}}), "option --lcm-url: an LCM URL needs --agents N"},
+      {Cli({{"bootstrap", "both"}}), "option --bootstrap: must be in-grid or in-region"},
+      {Cli({{"log-level", "loud"}}), "option --log-level: must be trace"},
+      {Cli({{"out", ""}}), "option --out: must not be empty"},
+  };
+  for (const auto& [values, expected] : cases) {
+    Result<StudyOptions> options = ResolveStudyOptions(values, 2);
+    ASSERT_FALSE(options) << expected;
+    EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
+  }
+}
+
+TEST(StudyPlanTest, BadFileValuesNameTheLine) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"sizes = [20]\ncolour = 'red'\n", "s.toml:2: unknown key 'colour'"},
+      {"\nsteps = '10'\n", "s.toml:2: steps: expected an integer, got a string"},
+      {"sizes = '20'\n", "s.toml:1: sizes: expected an integer or an array of integers"},
+      {"sizes = [20,\n 1]\n", "s.toml:1: sizes: size '1' is not an integer from 2"},
+      {"difficulties = [1]\n", "s.toml:1: difficulties: expected an array of strings"},
+      {"\n\nedge-case = 'no'\n", "s.toml:3: edge-case: expected true or false"},
+      {"approaches = ['magic']\n", "s.toml:1: approaches: unknown approach 'magic'"},
+      {"approaches = ['A* Static,BFS Oracle']\n",
+       "s.toml:1: approaches: 'A* Static,BFS Oracle' holds a comma"},
+      {"local = true\nagents = 2\n", "s.toml:1: local: choose one of"},
+  };
+  for (const auto& [text, expected] : cases) {
+    Result<StudyOptions> options = FromFile(text);
+    ASSERT_FALSE(options) << text;
+    EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
+  }
+}
+
+TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
+  Result<StudyOptions> a = ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}}), 2);
+  Result<StudyOptions> b = ResolveStudyOptions(
+      Cli({{"sizes", "20"}, {"steps", "10"}, {"agents", "2"}, {"threads", "7"}, {"out", "x"}}), 2);
+  Result<StudyOptions> c = ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "11"}}), 2);
+  ASSERT_TRUE(a && b && c);
+  EXPECT_EQ(StudyIdentityJson(*a), StudyIdentityJson(*b));  // mode, threads, out do not count
+  EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*c));
+  EXPECT_EQ(StudyIdentityJson(*a).Dump(0),
+            "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
+            "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
+            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
+            "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
+  EXPECT_EQ(ExecutionJson(*b).Find("mode")->AsString(), "agents");
+  EXPECT_EQ(ExecutionJson(*b).Find("agents")->AsInt(), 2);
+}
+
+}  // namespace
+}  // namespace dynapath::cli

@@ -1,0 +1,604 @@
+// dynapath experiment: runs a whole study (every size x difficulty, plus the
+// report's edge case) one configuration after the other, each exactly as
+// `dynapath run` would, and keeps it resumable: per-configuration result
+// files, merged result files, a manifest and a log in one directory.
+
+#include <fcntl.h>
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+#include <variant>
+
+#include "core/experiment.h"
+#include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/dispatcher.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/launcher.h"
+#include "tools/common/build_info.h"
+#include "tools/common/manifest.h"
+#include "tools/common/progress_bar.h"
+#include "tools/common/run_driver.h"
+#include "tools/common/scenario_options.h"
+#include "tools/common/study_config.h"
+#include "tools/common/study_plan.h"
+#include "tools/common/study_results.h"
+
+namespace dynapath::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kSummary =
+    "Runs a study: every approach on every maze of --sizes x --difficulties (the\n"
+    "report's seeds 50 + difficulty index unless --seed), then on the report's edge\n"
+    "case (the hard 50x50 maze of seed 102), one configuration after the other, each\n"
+    "exactly as `dynapath run` would. Writes into DIR (--out):\n"
+    "  results.csv, results_detailed.csv            the whole study, in study order\n"
+    "  edge_results.csv, edge_results_detailed.csv  the edge case\n"
+    "  runs/<size>_<difficulty>_<seed>/             each configuration's own files\n"
+    "  manifest.json                                options, build, machine, times, status\n"
+    "  study.log                                    everything the components log\n"
+    "Run the same command again to resume: finished configurations are skipped and\n"
+    "an interrupted one is redone. Ctrl-C stops the current configuration cleanly\n"
+    "(a second Ctrl-C at once). --config FILE reads options from a TOML file under\n"
+    "the same names (sizes = [20, 50]); the command line overrides it. See\n"
+    "docs/EXPERIMENTS.md. The full default study (up to 300x300) takes an hour or more.\n"
+    "Exit status: 0 all done, 1 a configuration failed (the others still ran),\n"
+    "2 bad options, 130 interrupted.";
+
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "dynapath experiment: %s\n", message.c_str());
+  return kExitUsage;
+}
+
+int Failure(const std::string& message) {
+  std::fprintf(stderr, "dynapath experiment: %s\n", message.c_str());
+  return kExitFailure;
+}
+
+// The first Ctrl-C (or SIGTERM) sets the protocol's stop flag, which every
+// mode polls (local runs at every time step); a second one ends the process
+// at once (the configuration in progress stays "running" in the manifest and
+// is redone on resume; result files are always written atomically).
+struct sigaction g_previous_int {};
+struct sigaction g_previous_term {};
+std::atomic<int> g_signals{0};
+
+void OnSignal(int signal) {
+  if (g_signals.fetch_add(1) == 0) {
+    const struct sigaction& previous = signal == SIGINT ? g_previous_int : g_previous_term;
+    if (previous.sa_handler != SIG_DFL && previous.sa_handler != SIG_IGN &&
+        previous.sa_handler != nullptr) {
+      previous.sa_handler(signal);
+    }
+    constexpr char kMessage[] =
+        "\ndynapath experiment: stopping the current configuration (Ctrl-C again: at once)\n";
+    [[maybe_unused]] ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+    return;
+  }
+  constexpr char kMessage[] = "\ndynapath experiment: stopped at once\n";
+  [[maybe_unused]] ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  _exit(130);
+}
+
+const std::atomic<bool>& InstallSignalHandlers() {
+  const std::atomic<bool>& stop = protocol::StopOnSignals();
+  struct sigaction action {};
+  action.sa_handler = OnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &g_previous_int);
+  sigaction(SIGTERM, &action, &g_previous_term);
+  return stop;
+}
+
+// The option values given on the command line.
+Result<OptionValues> CommandLineValues(const ArgParser& parser) {
+  OptionValues values;
+  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
+    if (!parser.Has(spec.name)) continue;
+    const std::string origin = "option --" + spec.name;
+    if (spec.name == "edge-case" || spec.name == "no-edge-case") {
+      if (parser.Has("edge-case") && parser.Has("no-edge-case")) {
+        return Error{"choose one of --edge-case and --no-edge-case"};
+      }
+      values["edge-case"] = OptionValue{spec.name == "edge-case" ? "true" : "false", origin};
+    } else if (spec.value_name.empty()) {
+      values[spec.name] = OptionValue{"true", origin};
+    } else {
+      values[spec.name] = OptionValue{parser.Get(spec.name), origin};
+    }
+  }
+  return values;
+}
+
+// "sizes: [20, 50] there, [20] here; steps: ...".
+std::string Differences(const Json& there, const Json& here) {
+  std::string text;
+  for (const auto& [key, value] : here.members()) {
+    const Json* old = there.Find(key);
+    if (old != nullptr && *old == value) continue;
+    text += (text.empty() ? "" : "; ") + key + ": " + (old ? old->Dump(0) : "missing") +
+            " there, " + value.Dump(0) + " here";
+  }
+  return text.empty() ? "different options" : text;
+}
+
+// Removes what an earlier study wrote into `out` (--force).
+Status RemovePreviousStudy(const fs::path& out) {
+  std::error_code error;
+  fs::remove_all(out / "runs", error);
+  if (error) return Error{(out / "runs").string() + ": cannot remove: " + error.message()};
+  for (const char* file : {"manifest.json", "study.log", "results.csv", "results_detailed.csv",
+                           "edge_results.csv", "edge_results_detailed.csv"}) {
+    fs::remove(out / file, error);
+    if (error) return Error{(out / file).string() + ": cannot remove: " + error.message()};
+  }
+  return Ok{};
+}
+
+ConfigurationRecord FreshRecord(const StudyConfiguration& configuration) {
+  ConfigurationRecord record;
+  record.name = configuration.Name();
+  record.directory = configuration.Directory();
+  record.size = configuration.size;
+  record.difficulty = DifficultyName(configuration.difficulty);
+  record.seed = configuration.seed;
+  record.steps = configuration.steps;
+  record.edge_case = configuration.edge_case;
+  return record;
+}
+
+bool Complete(const fs::path& out, const StudyConfiguration& configuration,
+              const StudyOptions& options) {
+  return ConfigurationComplete((out / configuration.Directory()).string(), options.approaches,
+                               SizeLabel(configuration.size, configuration.size),
+                               DifficultyName(configuration.difficulty), configuration.steps);
+}
+
+double Seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct Session {
+  const StudyOptions& options;
+  StudyMode mode;  // after the fall-back to embedded
+  fs::path out;
+  ProgressDisplay& display;
+  const std::atomic<bool>& stop;
+  int log_fd;
+};
+
+// Runs one configuration in the session's mode, with the arguments
+// `dynapath run` would take. Ok when it ran to its end.
+Status RunConfiguration(const Session& session, const StudyConfiguration& configuration,
+                        int index) {
+  ArgParser run_parser("dynapath run", "");
+  AddScenarioOptions(run_parser);
+  AddRunOptions(run_parser);
+  const std::string directory = (session.out / configuration.Directory()).string();
+  std::vector<std::string> args = ScenarioArguments(configuration);
+  const std::vector<std::string> run_args = RunArguments(session.options, directory);
+  args.insert(args.end(), run_args.begin(), run_args.end());
+  if (Status status = run_parser.Parse(args); !status) return status;
+  Result<ScenarioSetup> setup = ResolveScenario(run_parser);
+  if (!setup) return setup.error();
+  Result<RunPlan> plan = ResolveRunOptions(run_parser);
+  if (!plan) return plan.error();
+  const int approaches = static_cast<int>(plan->approaches.size());
+  ProgressDisplay& display = session.display;
+
+  if (session.mode == StudyMode::kLocal) {
+    const std::atomic<bool>& stop = session.stop;
+    Result<std::vector<ApproachRun>> runs =
+        RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
+          if (stop) throw std::runtime_error("interrupted");
+          display.Step(ApproachName(view.run.approach), view.pass, approaches,
+                       view.run.steps.back().time_step, view.total_steps);
+        });
+    if (!runs) return runs.error();
+    return Ok{};
+  }
+
+  DistributedRun run;
+  char suffix[16];
+  std::snprintf(suffix, sizeof suffix, "-c%02d", index + 1);
+  run.process.run_id = protocol::NewRunId() + suffix;
+  run.process.lcm_url = session.options.lcm_url;
+  run.agents = session.options.agents;
+  run.threads_per_agent = std::max(1, session.options.threads / session.options.agents);
+  run.envsim_args = ScenarioArguments(configuration);
+  run.coordinator_args = run_args;
+  run.log_level = session.options.log_level;
+  run.child_stderr = session.log_fd;
+  run.on_step = [&display, approaches](const StepReport& report) {
+    display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
+  };
+  int code = 0;
+  if (session.mode == StudyMode::kEmbedded) {
+    spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
+                 run.process.run_id, run.agents);
+    code = RunEmbedded(run, *plan, *setup);
+  } else {
+    spdlog::info("run {}: envsim, coordinator and {} agent processes", run.process.run_id,
+                 run.agents);
+    code = LaunchProcesses(run);
+  }
+  if (code == 0) return Ok{};
+  if (code == 130) return Error{"interrupted"};
+  return Error{"the run failed (exit status " + std::to_string(code) + "); see study.log"};
+}
+
+// Declares the options: the study's, --config and --force.
+void DeclareOptions(ArgParser& parser) {
+  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
+    if (spec.value_name.empty()) {
+      parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
+                                                 ? std::string()
+                                                 : " (default: " + spec.default_text + ")"));
+    } else {
+      parser.AddOption(spec.name, spec.value_name, spec.help, spec.default_text);
+    }
+  }
+  parser.AddOption("config", "FILE",
+                   "read options from a TOML file (key = value, same names); the command line "
+                   "overrides it");
+  parser.AddFlag("force", "start over: delete the results of the study already in DIR");
+}
+
+// The options of the config file (if any) overridden by the command line's.
+Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
+  Result<OptionValues> command_line = CommandLineValues(parser);
+  if (!command_line) return command_line.error();
+  OptionValues file_values;
+  if (parser.Has("config")) {
+    Result<ConfigFile> file = ReadConfigFile(parser.Get("config"));
+    if (!file) return file.error();
+    Result<OptionValues> values = ConfigOptionValues(*file);
+    if (!values) return values.error();
+    file_values = std::move(*values);
+  }
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return ResolveStudyOptions(MergeOptionValues(file_values, *command_line), hardware);
+}
+
+// An error of the command and its exit status.
+struct CommandError {
+  int code;
+  std::string message;
+};
+
+// Checks the study directory: the manifest of the same study to resume, or
+// none (a new study; with --force, the old one is deleted first).
+std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs::path& out,
+                                                                       const Json& identity,
+                                                                       bool force) {
+  std::error_code error;
+  if (fs::exists(out, error) && !fs::is_directory(out, error)) {
+    return CommandError{kExitUsage, out.string() + " exists and is not a directory"};
+  }
+  std::optional<Manifest> previous;
+  const fs::path manifest_path = out / "manifest.json";
+  if (!force) {
+    if (fs::exists(manifest_path, error)) {
+      Result<Manifest> read = ReadManifest(manifest_path.string());
+      if (!read) {
+        return CommandError{
+            kExitUsage, read.error().message + " (use --force to start over, or another --out)"};
+      }
+      if (read->study != identity) {
+        return CommandError{kExitUsage, out.string() + " holds a study of other options (" +
+                                            Differences(read->study, identity) +
+                                            "); use --force to replace it, or another --out"};
+      }
+      previous = std::move(*read);
+    } else if (fs::exists(out / "runs", error) || fs::exists(out / "results.csv", error)) {
+      return CommandError{kExitUsage, out.string() +
+                                          " holds result files but no manifest.json; use "
+                                          "--force to replace them, or another --out"};
+    }
+  }
+  fs::create_directories(out, error);
+  if (error) {
+    return CommandError{kExitFailure,
+                        out.string() + ": cannot create directory: " + error.message()};
+  }
+  if (force) {
+    if (Status status = RemovePreviousStudy(out); !status) {
+      return CommandError{kExitFailure, status.error().message};
+    }
+  }
+  return previous;
+}
+
+// The default logger of the study: everything at `level` into the log file
+// (the components' processes write there too), warnings and errors also on
+// stderr through the progress display.
+Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path,
+                                                    spdlog::level::level_enum level,
+                                                    ProgressDisplay& display) {
+  std::shared_ptr<spdlog::logger> logger;
+  try {
+    auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_path, false);
+    file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
+    auto console_sink = MakeDisplaySink(display);
+    console_sink->set_pattern("[%H:%M:%S] [%l] %v");
+    console_sink->set_level(std::max(level, spdlog::level::warn));
+    logger = std::make_shared<spdlog::logger>("experiment",
+                                              spdlog::sinks_init_list{file_sink, console_sink});
+  } catch (const std::exception& e) {
+    return Error{log_path + ": cannot open: " + e.what()};
+  }
+  logger->set_level(level);
+  logger->flush_on(spdlog::level::trace);  // in order with the processes' lines
+  return logger;
+}
+
+// The manifest of this session: the previous one's records (resume) with
+// their status taken from the configurations' files.
+Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& options,
+                         StudyMode mode, const std::vector<StudyConfiguration>& plan,
+                         const fs::path& out) {
+  const std::string now = NowIso8601();
+  Manifest manifest;
+  if (previous) {
+    manifest = std::move(*previous);
+    ++manifest.sessions;
+  } else {
+    manifest.created = now;
+  }
+  const GitCommit commit = FindGitCommit();
+  manifest.version = kDynapathVersion;
+  manifest.git_commit = commit.commit;
+  manifest.git_commit_source = commit.source;
+  manifest.study = StudyIdentityJson(options);
+  manifest.execution = ExecutionJson(options);
+  manifest.execution["mode"] = StudyModeName(mode);  // after a fall-back to embedded
+  manifest.machine = CollectMachineInfo();
+  manifest.started = now;
+  manifest.ended.clear();
+  manifest.status = "running";
+  std::vector<ConfigurationRecord> records;
+  for (const StudyConfiguration& configuration : plan) {
+    const ConfigurationRecord* record = manifest.Find(configuration.Name());
+    records.push_back(record ? *record : FreshRecord(configuration));
+    if (Complete(out, configuration, options)) {
+      records.back().status = "done";
+    } else if (records.back().status != "failed" && records.back().status != "interrupted") {
+      records.back().status = "pending";
+    }
+  }
+  manifest.configurations = std::move(records);
+  return manifest;
+}
+
+// Runs the configurations of a study that are not done, in order, keeping
+// the manifest and the merged result files up to date.
+class StudyRunner {
+ public:
+  StudyRunner(const Session& session, const std::vector<StudyConfiguration>& plan,
+              Manifest& manifest, bool terminal)
+      : session_(session), plan_(plan), manifest_(manifest), terminal_(terminal) {}
+
+  // Returns the exit status: 0, kExitFailure or 130 (interrupted).
+  int Run() {
+    for (size_t i = 0; i < plan_.size() && !interrupted_; ++i) {
+      if (manifest_.configurations[i].status == "done") {
+        spdlog::info("configuration {} {}: done before, skipped", Position(i), plan_[i].Label());
+        continue;
+      }
+      if (session_.stop) {
+        interrupted_ = true;
+        break;
+      }
+      RunOne(i);
+      Merge();  // a failure is logged; the last merge below counts
+      Save();
+    }
+    if (!Merge()) ++failures_;
+    manifest_.status = interrupted_ ? "interrupted" : failures_ > 0 ? "failed" : "finished";
+    manifest_.ended = NowIso8601();
+    if (!Save()) ++failures_;
+    return interrupted_ ? 130 : failures_ > 0 ? kExitFailure : 0;
+  }
+
+  int failures() const { return failures_; }
+
+ private:
+  std::string Position(size_t i) const {
+    return std::to_string(i + 1) + "/" + std::to_string(plan_.size());
+  }
+
+  void RunOne(size_t i) {
+    const StudyConfiguration& configuration = plan_[i];
+    ConfigurationRecord& record = manifest_.configurations[i];
+    const fs::path directory = session_.out / configuration.Directory();
+    std::error_code error;
+    fs::create_directories(directory, error);
+    // A run rewrites its files after every approach: drop an earlier partial run's.
+    fs::remove(directory / "results.csv", error);
+    fs::remove(directory / "results_detailed.csv", error);
+    record.status = "running";
+    record.mode = StudyModeName(session_.mode);
+    record.started = NowIso8601();
+    record.ended.clear();
+    record.wall_seconds = -1;
+    record.error.clear();
+    Save();
+    const std::string name = "configuration " + Position(i) + " " + configuration.Label();
+    spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
+                 session_.options.approaches.size(), StudyModeName(session_.mode));
+    if (!terminal_) session_.display.Print(name + ": started");
+    session_.display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
+                                        configuration.ShortLabel());
+
+    const double start = Seconds();
+    const Status result = RunConfiguration(session_, configuration, static_cast<int>(i));
+    const double wall = Seconds() - start;
+    record.ended = NowIso8601();
+    record.wall_seconds = wall;
+    if (result && Complete(session_.out, configuration, session_.options)) {
+      record.status = "done";
+    } else if (session_.stop) {
+      record.status = "interrupted";
+      record.error = "interrupted";
+      interrupted_ = true;
+    } else {
+      record.status = "failed";
+      record.error =
+          result ? "the run ended without complete result files" : result.error().message;
+      ++failures_;
+    }
+    session_.display.EndConfiguration(static_cast<int>(i), wall, record.status == "done");
+    const std::string outcome = name + ": " + record.status + " in " + FormatDuration(wall);
+    if (record.status == "failed") {
+      spdlog::error("{} ({})", outcome, record.error);
+    } else {
+      spdlog::info("{}", outcome);
+      session_.display.Print(outcome);
+    }
+  }
+
+  // Rewrites the merged result files from the configurations done.
+  bool Merge() {
+    std::vector<std::string> main_dirs, edge_dirs;
+    bool has_edge = false;
+    for (size_t i = 0; i < plan_.size(); ++i) {
+      has_edge = has_edge || plan_[i].edge_case;
+      if (manifest_.configurations[i].status != "done") continue;
+      (plan_[i].edge_case ? edge_dirs : main_dirs)
+          .push_back((session_.out / plan_[i].Directory()).string());
+    }
+    Status status = MergeResultFiles(main_dirs, session_.out.string(), "");
+    if (status && has_edge) status = MergeResultFiles(edge_dirs, session_.out.string(), "edge_");
+    if (!status) spdlog::error("{}", status.error().message);
+    return static_cast<bool>(status);
+  }
+
+  bool Save() {
+    Status status = WriteManifest(manifest_, (session_.out / "manifest.json").string());
+    if (!status) spdlog::error("{}", status.error().message);
+    return static_cast<bool>(status);
+  }
+
+  const Session& session_;
+  const std::vector<StudyConfiguration>& plan_;
+  Manifest& manifest_;
+  const bool terminal_;
+  int failures_ = 0;
+  bool interrupted_ = false;
+};
+
+}  // namespace
+
+int ExperimentCommand(const std::vector<std::string>& args) {
+  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
+  DeclareOptions(parser);
+  if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
+  if (parser.WantsHelp()) {
+    std::fputs(parser.Help().c_str(), stdout);
+    return 0;
+  }
+  Result<StudyOptions> resolved = ResolveOptions(parser);
+  if (!resolved) return UsageError(resolved.error().message);
+  const StudyOptions& options = *resolved;
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
+  const fs::path out = options.out;
+
+  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), parser.Has("force"));
+  if (const CommandError* error = std::get_if<CommandError>(&opened)) {
+    std::fprintf(stderr, "dynapath experiment: %s\n", error->message.c_str());
+    return error->code;
+  }
+  std::optional<Manifest> previous = std::get<std::optional<Manifest>>(std::move(opened));
+
+  const char* term = std::getenv("TERM");
+  const bool terminal = isatty(STDERR_FILENO) && term != nullptr && std::string(term) != "dumb";
+  ProgressDisplay display(stderr, terminal);
+  const std::string log_path = (out / "study.log").string();
+  Result<std::shared_ptr<spdlog::logger>> logger =
+      StudyLogger(log_path, spdlog::level::from_str(options.log_level), display);
+  if (!logger) return Failure(logger.error().message);
+  spdlog::set_default_logger(*logger);
+  const int log_fd = open(log_path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+  if (log_fd < 0) return Failure(log_path + ": cannot open: " + std::strerror(errno));
+  struct CloseLog {
+    int fd;
+    ~CloseLog() { close(fd); }
+  } close_log{log_fd};
+
+  // --agents: one private network for the whole study, entered while this
+  // process still has a single thread (no thread has been started so far;
+  // the manifest, which runs git, comes after: children are fine).
+  StudyMode mode = options.mode;
+  if (mode == StudyMode::kAgents) {
+    const ProcessNetwork network = EnterProcessNetwork(options.lcm_url);
+    if (network == ProcessNetwork::kNone) mode = StudyMode::kEmbedded;
+    if (network == ProcessNetwork::kPrivate) {
+      spdlog::info("study in a private network; watch a run with: dynapath-spy --pid {}", getpid());
+    }
+  }
+
+  Manifest manifest = SessionManifest(std::move(previous), options, mode, plan, out);
+  if (Status status = WriteManifest(manifest, (out / "manifest.json").string()); !status) {
+    return Failure(status.error().message);
+  }
+  std::vector<double> work;
+  std::vector<bool> done;
+  for (size_t i = 0; i < plan.size(); ++i) {
+    work.push_back(plan[i].Work());
+    done.push_back(manifest.configurations[i].status == "done");
+  }
+  const int already = static_cast<int>(std::count(done.begin(), done.end(), true));
+  spdlog::info(
+      "dynapath {} (commit {}) on {}: study in {}, {} configurations ({} done before), "
+      "{} approaches, mode {}",
+      manifest.version, manifest.git_commit, manifest.machine.hostname, out.string(), plan.size(),
+      already, options.approaches.size(), StudyModeName(mode));
+  if (already > 0) {
+    display.Print("resuming the study in " + out.string() + ": " + std::to_string(already) +
+                  " of " + std::to_string(plan.size()) +
+                  " configurations were done before and are skipped");
+  }
+
+  const std::atomic<bool>& stop = InstallSignalHandlers();
+  display.Start(work, done);
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const double seconds = manifest.configurations[i].wall_seconds;
+    if (done[i] && seconds >= 0) display.AddHistory(work[i], seconds);
+  }
+  const Session session{options, mode, out, display, stop, log_fd};
+  const double study_start = Seconds();
+  StudyRunner runner(session, plan, manifest, terminal);
+  const int code = runner.Run();
+  display.Stop();
+
+  int finished = 0;
+  for (const ConfigurationRecord& record : manifest.configurations) {
+    finished += record.status == "done";
+  }
+  const std::string summary =
+      "study " + manifest.status + ": " + std::to_string(finished) + " of " +
+      std::to_string(plan.size()) + " configurations done (" + std::to_string(already) +
+      " before this session), " + std::to_string(runner.failures()) + " failed, " +
+      FormatDuration(Seconds() - study_start) + "; results in " + (out / "results.csv").string() +
+      (options.edge_case ? " and " + (out / "edge_results.csv").string() : "");
+  spdlog::info("{}", summary);
+  std::fprintf(stderr, "%s\n", summary.c_str());
+  if (code == 130) std::fprintf(stderr, "run the same command again to resume\n");
+  return code;
+}
+
+}  // namespace dynapath::cli

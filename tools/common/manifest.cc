@@ -1,0 +1,217 @@
+#include "tools/common/manifest.h"
+
+#include <sys/utsname.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <thread>
+
+#include "core/text_file.h"
+#include "core/text_util.h"
+
+namespace dynapath::cli {
+namespace {
+
+std::string CpuModel() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    const std::string key = Trim(line.substr(0, colon));
+    // x86: "model name"; some ARM kernels: "Processor" or "Hardware".
+    if (key == "model name" || key == "Processor" || key == "Hardware") {
+      return Trim(line.substr(colon + 1));
+    }
+  }
+  return "unknown";
+}
+
+long long MemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  long long kilobytes = 0;
+  while (meminfo >> key >> kilobytes) {
+    if (key == "MemTotal:") return kilobytes * 1024;
+    meminfo.ignore(1 << 16, '\n');
+  }
+  return 0;
+}
+
+Json MachineJson(const MachineInfo& machine) {
+  Json json = Json::Object();
+  json["hostname"] = machine.hostname;
+  json["cpu_model"] = machine.cpu_model;
+  json["cores"] = machine.cores;
+  json["memory_bytes"] = machine.memory_bytes;
+  json["os"] = machine.os;
+  return json;
+}
+
+Json OptionalString(const std::string& text) { return text.empty() ? Json() : Json(text); }
+
+// Reads member `key` of `object`: a string (or null: "") / number / bool.
+bool GetString(const Json& object, const std::string& key, std::string& out, bool required) {
+  const Json* value = object.Find(key);
+  if (value == nullptr || value->IsNull()) return !required;
+  if (!value->IsString()) return false;
+  out = value->AsString();
+  return true;
+}
+
+}  // namespace
+
+MachineInfo CollectMachineInfo() {
+  MachineInfo machine;
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) == 0) machine.hostname = host;
+  machine.cpu_model = CpuModel();
+  machine.cores = static_cast<int>(std::thread::hardware_concurrency());
+  machine.memory_bytes = MemoryBytes();
+  struct utsname name {};
+  if (uname(&name) == 0) {
+    machine.os = std::string(name.sysname) + " " + name.release + " " + name.machine;
+  }
+  // The distribution, when it says.
+  std::ifstream release("/etc/os-release");
+  std::string line;
+  while (std::getline(release, line)) {
+    if (line.rfind("PRETTY_NAME=", 0) == 0) {
+      std::string pretty = line.substr(12);
+      if (pretty.size() >= 2 && pretty.front() == '"') pretty = pretty.substr(1, pretty.size() - 2);
+      machine.os += " (" + pretty + ")";
+    }
+  }
+  return machine;
+}
+
+ConfigurationRecord* Manifest::Find(const std::string& name) {
+  for (ConfigurationRecord& record : configurations) {
+    if (record.name == name) return &record;
+  }
+  return nullptr;
+}
+
+Json ManifestToJson(const Manifest& manifest) {
+  Json json = Json::Object();
+  json["dynapath_version"] = manifest.version;
+  json["git_commit"] = manifest.git_commit;
+  json["git_commit_source"] = OptionalString(manifest.git_commit_source);
+  json["status"] = manifest.status;
+  json["created"] = OptionalString(manifest.created);
+  json["started"] = OptionalString(manifest.started);
+  json["ended"] = OptionalString(manifest.ended);
+  json["sessions"] = manifest.sessions;
+  Json& options = json["options"] = Json::Object();
+  options["study"] = manifest.study;
+  options["execution"] = manifest.execution;
+  json["machine"] = MachineJson(manifest.machine);
+  Json& configurations = json["configurations"] = Json::Array();
+  for (const ConfigurationRecord& record : manifest.configurations) {
+    Json entry = Json::Object();
+    entry["name"] = record.name;
+    entry["directory"] = record.directory;
+    entry["size"] = record.size;
+    entry["difficulty"] = record.difficulty;
+    entry["seed"] = record.seed;
+    entry["steps"] = record.steps;
+    entry["edge_case"] = record.edge_case;
+    entry["status"] = record.status;
+    entry["mode"] = OptionalString(record.mode);
+    entry["started"] = OptionalString(record.started);
+    entry["ended"] = OptionalString(record.ended);
+    entry["wall_seconds"] =
+        record.wall_seconds < 0 ? Json() : Json(std::round(record.wall_seconds * 1000) / 1000);
+    entry["error"] = OptionalString(record.error);
+    configurations.Push(std::move(entry));
+  }
+  return json;
+}
+
+Result<Manifest> ManifestFromJson(const Json& json) {
+  if (!json.IsObject()) return Error{"the manifest is not a JSON object"};
+  Manifest manifest;
+  auto bad = [](const std::string& what) { return Error{"manifest: missing or bad " + what}; };
+  if (!GetString(json, "dynapath_version", manifest.version, true)) return bad("dynapath_version");
+  if (!GetString(json, "git_commit", manifest.git_commit, false)) return bad("git_commit");
+  if (!GetString(json, "git_commit_source", manifest.git_commit_source, false)) {
+    return bad("git_commit_source");
+  }
+  if (!GetString(json, "status", manifest.status, true)) return bad("status");
+  for (auto [key, field] :
+       {std::pair{"created", &manifest.created}, std::pair{"started", &manifest.started},
+        std::pair{"ended", &manifest.ended}}) {
+    if (!GetString(json, key, *field, false)) return bad(key);
+  }
+  if (const Json* sessions = json.Find("sessions")) {
+    manifest.sessions = static_cast<int>(sessions->AsInt(1));
+  }
+  const Json* options = json.Find("options");
+  if (options == nullptr || !options->IsObject()) return bad("options");
+  const Json* study = options->Find("study");
+  if (study == nullptr || !study->IsObject()) return bad("options.study");
+  manifest.study = *study;
+  if (const Json* execution = options->Find("execution")) manifest.execution = *execution;
+  if (const Json* machine = json.Find("machine"); machine != nullptr && machine->IsObject()) {
+    GetString(*machine, "hostname", manifest.machine.hostname, false);
+    GetString(*machine, "cpu_model", manifest.machine.cpu_model, false);
+    GetString(*machine, "os", manifest.machine.os, false);
+    if (const Json* cores = machine->Find("cores")) {
+      manifest.machine.cores = static_cast<int>(cores->AsInt());
+    }
+    if (const Json* memory = machine->Find("memory_bytes")) {
+      manifest.machine.memory_bytes = memory->AsInt();
+    }
+  }
+  const Json* configurations = json.Find("configurations");
+  if (configurations == nullptr || !configurations->IsArray()) return bad("configurations");
+  for (const Json& entry : configurations->items()) {
+    if (!entry.IsObject()) return bad("configuration entry");
+    ConfigurationRecord record;
+    if (!GetString(entry, "name", record.name, true)) return bad("configuration name");
+    if (!GetString(entry, "status", record.status, true)) return bad("configuration status");
+    GetString(entry, "directory", record.directory, false);
+    GetString(entry, "difficulty", record.difficulty, false);
+    GetString(entry, "mode", record.mode, false);
+    GetString(entry, "started", record.started, false);
+    GetString(entry, "ended", record.ended, false);
+    GetString(entry, "error", record.error, false);
+    if (const Json* size = entry.Find("size")) record.size = static_cast<int>(size->AsInt());
+    if (const Json* seed = entry.Find("seed")) record.seed = static_cast<unsigned>(seed->AsInt());
+    if (const Json* steps = entry.Find("steps")) record.steps = static_cast<int>(steps->AsInt());
+    if (const Json* edge = entry.Find("edge_case")) record.edge_case = edge->AsBool();
+    if (const Json* wall = entry.Find("wall_seconds")) record.wall_seconds = wall->AsNumber(-1);
+    manifest.configurations.push_back(std::move(record));
+  }
+  return manifest;
+}
+
+Status WriteManifest(const Manifest& manifest, const std::string& path) {
+  return WriteTextFileAtomically(path, ManifestToJson(manifest).Dump(2));
+}
+
+Result<Manifest> ReadManifest(const std::string& path) {
+  Result<std::string> text = ReadTextFile(path);
+  if (!text) return text.error();
+  Result<Json> json = Json::Parse(*text);
+  if (!json) return Error{path + ": not valid JSON: " + json.error().message};
+  Result<Manifest> manifest = ManifestFromJson(*json);
+  if (!manifest) return Error{path + ": " + manifest.error().message};
+  return manifest;
+}
+
+std::string NowIso8601() {
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  char stamp[40];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S%z", &local);
+  // %z gives +0100; ISO 8601 extended wants +01:00.
+  std::string text = stamp;
+  if (text.size() >= 5) text.insert(text.size() - 2, ":");
+  return text;
+}
+
+}  // namespace dynapath::cli

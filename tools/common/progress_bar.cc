@@ -1,0 +1,292 @@
+#include "tools/common/progress_bar.h"
+
+#include <spdlog/pattern_formatter.h>
+#include <spdlog/sinks/base_sink.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace dynapath::cli {
+namespace {
+
+double Now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+size_t TerminalWidth(std::FILE* out) {
+  struct winsize size {};
+  if (ioctl(fileno(out), TIOCGWINSZ, &size) == 0 && size.ws_col > 10) return size.ws_col;
+  return 100;
+}
+
+// Where the current configuration is, 0..1, by approaches and time steps.
+double ConfigurationFraction(int approach_index, int approach_count, int step, int total_steps) {
+  if (approach_count <= 0 || approach_index <= 0) return 0.0;
+  const double in_approach =
+      step < 0 ? 0.0 : (static_cast<double>(step) + 1.0) / (static_cast<double>(total_steps) + 1.0);
+  return std::clamp((approach_index - 1 + in_approach) / approach_count, 0.0, 1.0);
+}
+
+std::string Where(const ProgressSnapshot& s) {
+  std::string text = std::to_string(s.index) + "/" + std::to_string(s.count) + " " + s.label;
+  if (s.approach_index > 0) {
+    text += " | " + s.approach + " " + std::to_string(s.approach_index) + "/" +
+            std::to_string(s.approach_count) + " step " + std::to_string(s.step) + "/" +
+            std::to_string(s.total_steps);
+  } else {
+    text += " | starting";
+  }
+  return text;
+}
+
+std::string Times(const ProgressSnapshot& s) {
+  std::string text = FormatDuration(s.elapsed) + " elapsed";
+  text += s.remaining ? ", ~" + FormatDuration(*s.remaining) + " left" : ", time left unknown";
+  return text;
+}
+
+}  // namespace
+
+void TimeEstimator::AddFinished(double work, double seconds) {
+  if (work <= 0 || seconds < 0) return;
+  work_ += work;
+  seconds_ += seconds;
+}
+
+std::optional<double> TimeEstimator::Remaining(double current_work, double elapsed, double fraction,
+                                               double remaining_work) const {
+  const bool by_fraction = fraction >= 0.02 && elapsed >= 1.0;
+  if (work_ > 0 && seconds_ > 0) {
+    const double rate = seconds_ / work_;
+    double current_left = rate * current_work - elapsed;
+    if (current_left < 0) current_left = by_fraction ? elapsed * (1 - fraction) / fraction : 0.0;
+    return current_left + rate * remaining_work;
+  }
+  if (by_fraction && current_work > 0) {
+    const double total = elapsed / fraction;
+    return total - elapsed + total / current_work * remaining_work;
+  }
+  return std::nullopt;
+}
+
+std::string FormatDuration(double seconds) {
+  const long long total = std::llround(std::max(0.0, seconds));
+  char buffer[32];
+  if (seconds < 9.95) {
+    std::snprintf(buffer, sizeof buffer, "%.1f s", std::max(0.0, seconds));
+  } else if (total < 60) {
+    std::snprintf(buffer, sizeof buffer, "%lld s", total);
+  } else if (total < 3600) {
+    std::snprintf(buffer, sizeof buffer, "%lld:%02lld", total / 60, total % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%lld:%02lld:%02lld", total / 3600, total / 60 % 60,
+                  total % 60);
+  }
+  return buffer;
+}
+
+std::string BarLine(const ProgressSnapshot& s, size_t width) {
+  constexpr int kBar = 12;
+  const double done = std::clamp(s.done_fraction, 0.0, 1.0);
+  const int filled = static_cast<int>(std::floor(done * kBar));
+  char percent[8];
+  std::snprintf(percent, sizeof percent, "%3d%%", static_cast<int>(std::floor(done * 100)));
+  const std::string bar = "[" + std::string(static_cast<size_t>(filled), '#') +
+                          std::string(static_cast<size_t>(kBar - filled), '.') + "] " + percent +
+                          " ";
+  const std::string full = bar + Where(s) + " | " + Times(s);
+  if (full.size() <= width) return full;
+  // Narrow terminals: a compact line, without the bar if need be, then cut.
+  std::string compact = std::to_string(s.index) + "/" + std::to_string(s.count) + " " +
+                        (s.short_label.empty() ? s.label : s.short_label);
+  if (s.approach_index > 0) {
+    compact += " " + s.approach + " " + std::to_string(s.approach_index) + "/" +
+               std::to_string(s.approach_count) + " t" + std::to_string(s.step) + "/" +
+               std::to_string(s.total_steps);
+  }
+  compact += " " + FormatDuration(s.elapsed) +
+             (s.remaining ? " ~" + FormatDuration(*s.remaining) + " left" : "");
+  if (bar.size() + compact.size() <= width) return bar + compact;
+  if (compact.size() <= width) return compact;
+  return compact.substr(0, width > 3 ? width - 3 : width) + "...";
+}
+
+std::string PlainLine(const ProgressSnapshot& s) {
+  return "[" + FormatDuration(s.elapsed) + "] configuration " + Where(s) + "; " +
+         (s.remaining ? "~" + FormatDuration(*s.remaining) + " left" : "time left unknown");
+}
+
+ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal)
+    : out_(out), terminal_(terminal), start_(Now()) {}
+
+ProgressDisplay::~ProgressDisplay() { Stop(); }
+
+void ProgressDisplay::Start(const std::vector<double>& work, const std::vector<bool>& done) {
+  std::lock_guard lock(mutex_);
+  work_ = work;
+  finished_ = done;
+  finished_.resize(work_.size(), false);
+  start_ = Now();
+  if (!thread_.joinable()) thread_ = std::thread([this] { Loop(); });
+}
+
+void ProgressDisplay::AddHistory(double work, double seconds) {
+  std::lock_guard lock(mutex_);
+  estimator_.AddFinished(work, seconds);
+}
+
+void ProgressDisplay::BeginConfiguration(int index, const std::string& label,
+                                         const std::string& short_label) {
+  std::lock_guard lock(mutex_);
+  current_ = index;
+  label_ = label;
+  short_label_ = short_label;
+  current_start_ = Now();
+  approach_.clear();
+  approach_index_ = approach_count_ = total_steps_ = 0;
+  step_ = -1;
+  if (terminal_) DrawLocked();
+}
+
+void ProgressDisplay::Step(const std::string& approach, int approach_index, int approach_count,
+                           int step, int total_steps) {
+  std::lock_guard lock(mutex_);
+  if (current_ < 0) return;
+  approach_ = approach;
+  approach_index_ = approach_index + 1;
+  approach_count_ = approach_count;
+  step_ = step;
+  total_steps_ = total_steps;
+  if (!terminal_ && (plain_config_ != current_ || plain_approach_ != approach_index_)) {
+    wake_.notify_one();  // a line for the new approach
+  }
+}
+
+void ProgressDisplay::EndConfiguration(int index, double seconds, bool completed) {
+  std::lock_guard lock(mutex_);
+  if (index >= 0 && static_cast<size_t>(index) < work_.size()) {
+    if (completed) {
+      estimator_.AddFinished(work_[static_cast<size_t>(index)], seconds);
+      finished_[static_cast<size_t>(index)] = true;
+    }
+  }
+  current_ = -1;
+  if (terminal_) ClearLocked();
+}
+
+void ProgressDisplay::Print(const std::string& line) {
+  std::lock_guard lock(mutex_);
+  if (terminal_) ClearLocked();
+  std::fputs(line.c_str(), out_);
+  if (line.empty() || line.back() != '\n') std::fputc('\n', out_);
+  if (terminal_ && current_ >= 0) DrawLocked();
+  std::fflush(out_);
+}
+
+void ProgressDisplay::Stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    if (terminal_) ClearLocked();
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+ProgressSnapshot ProgressDisplay::Snapshot() const {
+  ProgressSnapshot s;
+  const double now = Now();
+  s.index = current_ + 1;
+  s.count = static_cast<int>(work_.size());
+  s.label = label_;
+  s.short_label = short_label_;
+  s.approach = approach_;
+  s.approach_index = approach_index_;
+  s.approach_count = approach_count_;
+  s.step = step_;
+  s.total_steps = total_steps_;
+  s.elapsed = now - start_;
+  double total = 0, done = 0, after = 0, current = 0;
+  for (size_t i = 0; i < work_.size(); ++i) {
+    total += work_[i];
+    if (finished_[i]) {
+      done += work_[i];
+    } else if (static_cast<int>(i) == current_) {
+      current = work_[i];
+    } else {
+      after += work_[i];
+    }
+  }
+  const double fraction =
+      ConfigurationFraction(approach_index_, approach_count_, step_, total_steps_);
+  s.done_fraction = total > 0 ? (done + current * fraction) / total : 0.0;
+  s.remaining = estimator_.Remaining(current, now - current_start_, fraction, after);
+  return s;
+}
+
+void ProgressDisplay::ClearLocked() {
+  if (!bar_shown_) return;
+  std::fputs("\r\033[K", out_);
+  std::fflush(out_);
+  bar_shown_ = false;
+}
+
+void ProgressDisplay::DrawLocked() {
+  if (current_ < 0) return;
+  const std::string line = BarLine(Snapshot(), TerminalWidth(out_) - 1);
+  std::fputs(("\r\033[K" + line).c_str(), out_);
+  std::fflush(out_);
+  bar_shown_ = true;
+}
+
+void ProgressDisplay::Loop() {
+  constexpr double kPlainInterval = 10.0;
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, std::chrono::milliseconds(terminal_ ? 250 : 500));
+    if (stopping_ || current_ < 0) continue;
+    if (terminal_) {
+      DrawLocked();
+      continue;
+    }
+    const double now = Now();
+    const bool new_approach =
+        approach_index_ > 0 && (plain_config_ != current_ || plain_approach_ != approach_index_);
+    if (new_approach || now - plain_last_ >= kPlainInterval) {
+      std::fputs((PlainLine(Snapshot()) + "\n").c_str(), out_);
+      std::fflush(out_);
+      plain_config_ = current_;
+      plain_approach_ = approach_index_;
+      plain_last_ = now;
+    }
+  }
+}
+
+namespace {
+
+class DisplaySink : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  explicit DisplaySink(ProgressDisplay& display) : display_(display) {}
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& message) override {
+    spdlog::memory_buf_t formatted;
+    formatter_->format(message, formatted);
+    display_.Print(std::string(formatted.data(), formatted.size()));
+  }
+  void flush_() override {}
+
+ private:
+  ProgressDisplay& display_;
+};
+
+}  // namespace
+
+std::shared_ptr<spdlog::sinks::sink> MakeDisplaySink(ProgressDisplay& display) {
+  return std::make_shared<DisplaySink>(display);
+}
+
+}  // namespace dynapath::cli

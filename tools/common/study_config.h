@@ -1,0 +1,51 @@
+#pragma once
+// The file of `dynapath experiment --config FILE`: a small subset of TOML,
+//
+//   # a comment
+//   sizes = [20, 50]                 # integers, arrays (may span lines)
+//   difficulties = ["easy", "hard"]  # "basic" or 'literal' strings
+//   edge-case = false                # booleans
+//
+// one `key = value` per line at the top level. Tables, floats, dates, inline
+// tables and nested arrays are refused with an error naming the line. This
+// module only parses; which keys exist is the study's business
+// (study_plan.h).
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+
+namespace dynapath::cli {
+
+struct ConfigValue {
+  enum class Kind { kString, kInteger, kBoolean, kArray };
+  Kind kind = Kind::kString;
+  std::string string;
+  long long integer = 0;
+  bool boolean = false;
+  std::vector<ConfigValue> items;  // kArray: strings, integers or booleans
+  int line = 0;
+
+  // "string", "integer", "boolean" or "array".
+  std::string KindName() const;
+};
+
+struct ConfigEntry {
+  std::string key;
+  ConfigValue value;
+  int line = 0;
+};
+
+struct ConfigFile {
+  std::string name;  // as given, for messages
+  std::vector<ConfigEntry> entries;
+};
+
+// Parses `text`; errors read "NAME:LINE: what is wrong".
+Result<ConfigFile> ParseConfigText(std::string_view text, const std::string& name);
+// Reads and parses the file at `path`.
+Result<ConfigFile> ReadConfigFile(const std::string& path);
+
+}  // namespace dynapath::cli

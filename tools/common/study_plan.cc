@@ -1,0 +1,428 @@
+#include "tools/common/study_plan.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+
+#include "core/scenario.h"
+#include "core/text_util.h"
+
+namespace dynapath::cli {
+namespace {
+
+constexpr int kMaxSize = 10000;
+
+// How a config-file key's value must look.
+enum class FileKind { kInteger, kString, kBoolean, kIntegerList, kStringList };
+
+struct KeyKind {
+  const char* name;
+  FileKind kind;
+};
+
+constexpr KeyKind kFileKeys[] = {
+    {"sizes", FileKind::kIntegerList},
+    {"difficulties", FileKind::kStringList},
+    {"approaches", FileKind::kStringList},
+    {"edge-case", FileKind::kBoolean},
+    {"seed", FileKind::kInteger},
+    {"steps", FileKind::kInteger},
+    {"leaf-limit", FileKind::kInteger},
+    {"bootstrap", FileKind::kString},
+    {"local", FileKind::kBoolean},
+    {"agents", FileKind::kInteger},
+    {"embedded", FileKind::kBoolean},
+    {"threads", FileKind::kInteger},
+    {"log-level", FileKind::kString},
+    {"lcm-url", FileKind::kString},
+    {"out", FileKind::kString},
+};
+
+std::string ScalarText(const ConfigValue& value) {
+  switch (value.kind) {
+    case ConfigValue::Kind::kString:
+      return value.string;
+    case ConfigValue::Kind::kInteger:
+      return std::to_string(value.integer);
+    case ConfigValue::Kind::kBoolean:
+      return value.boolean ? "true" : "false";
+    case ConfigValue::Kind::kArray:
+      break;
+  }
+  return "";
+}
+
+Result<long long> ParseInteger(const OptionValue& value, long long min, long long max) {
+  const std::string& text = value.text;
+  char* end = nullptr;
+  errno = 0;
+  const long long number = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE) {
+    return Error{value.origin + ": needs an integer, got '" + text + "'"};
+  }
+  if (number < min || number > max) {
+    return Error{value.origin + ": must be between " + std::to_string(min) + " and " +
+                 std::to_string(max) + ", got " + text};
+  }
+  return number;
+}
+
+std::string Join(const std::vector<std::string>& pieces, const std::string& separator) {
+  std::string text;
+  for (const std::string& piece : pieces) text += (text.empty() ? "" : separator) + piece;
+  return text;
+}
+
+std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
+
+}  // namespace
+
+std::string StudyModeName(StudyMode mode) {
+  switch (mode) {
+    case StudyMode::kLocal:
+      return "local";
+    case StudyMode::kAgents:
+      return "agents";
+    case StudyMode::kEmbedded:
+      return "embedded";
+  }
+  return "local";
+}
+
+const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
+  static const std::vector<StudyOptionSpec> specs = {
+      {"sizes", "LIST", "comma-separated maze sizes (rows = columns, at least 2)",
+       "20,50,100,200,300"},
+      {"difficulties", "LIST", "comma-separated difficulties: easy, medium, hard",
+       "easy,medium,hard"},
+      {"approaches", "LIST",
+       "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
+       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg; or all",
+       "all"},
+      {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
+      {"no-edge-case", "", "leave the edge case out", ""},
+      {"seed", "S", "one seed for every maze", "the report's: 50 + difficulty index"},
+      {"steps", "T", "time steps of every maze", "2 x rows, the report's"},
+      {"leaf-limit", "N", "largest quadtree leaf side", "20"},
+      {"bootstrap", "SCOPE", "in-grid or in-region (docs/DECISIONS.md)", "in-grid"},
+      {"local", "", "run each maze in this process on a thread pool (default)", ""},
+      {"agents", "N",
+       "run each maze with envsim, coordinator and N agent processes over LCM (one private "
+       "network for the whole study, or --lcm-url's)",
+       ""},
+      {"embedded", "", "run each maze's components as threads over memq://", ""},
+      {"threads", "N", "worker threads (--local), in all (distributed)", "hardware threads"},
+      {"lcm-url", "URL", "with --agents: use this LCM network instead of a private one", ""},
+      {"log-level", "LEVEL", "trace, debug, info, warn, error or off (of OUT/study.log)", "info"},
+      {"out", "DIR", "study directory", "study"},
+  };
+  return specs;
+}
+
+Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
+  OptionValues values;
+  for (const ConfigEntry& entry : file.entries) {
+    std::string key = entry.key;
+    std::replace(key.begin(), key.end(), '_', '-');
+    const KeyKind* spec = nullptr;
+    for (const KeyKind& candidate : kFileKeys) {
+      if (key == candidate.name) spec = &candidate;
+    }
+    const std::string where = file.name + ":" + std::to_string(entry.line);
+    if (spec == nullptr) {
+      std::string names;
+      for (const KeyKind& candidate : kFileKeys) {
+        names += (names.empty() ? "" : ", ") + std::string(candidate.name);
+      }
+      return Error{where + ": unknown key '" + entry.key + "' (expected one of: " + names + ")"};
+    }
+    const ConfigValue& value = entry.value;
+    const std::string origin = where + ": " + key;
+    auto wrong = [&](const std::string& expected) {
+      return Error{
+          origin + ": expected " + expected + ", got " +
+          (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
+    };
+    using Kind = ConfigValue::Kind;
+    switch (spec->kind) {
+      case FileKind::kInteger:
+        if (value.kind != Kind::kInteger) return wrong("an integer");
+        break;
+      case FileKind::kString:
+        if (value.kind != Kind::kString) return wrong("a string");
+        break;
+      case FileKind::kBoolean:
+        if (value.kind != Kind::kBoolean) return wrong("true or false");
+        break;
+      case FileKind::kIntegerList:
+        if (value.kind == Kind::kArray) {
+          if (!value.items.empty() && value.items.front().kind != Kind::kInteger) {
+            return wrong("an array of integers");
+          }
+        } else if (value.kind != Kind::kInteger) {
+          return wrong("an integer or an array of integers");
+        }
+        break;
+      case FileKind::kStringList:
+        if (value.kind == Kind::kArray) {
+          if (!value.items.empty() && value.items.front().kind != Kind::kString) {
+            return wrong("an array of strings");
+          }
+        } else if (value.kind != Kind::kString) {
+          return wrong("a string or an array of strings");
+        }
+        break;
+    }
+    if ((key == "local" || key == "embedded") && !value.boolean) continue;
+    std::string text;
+    if (value.kind == Kind::kArray) {
+      std::vector<std::string> items;
+      for (const ConfigValue& item : value.items) {
+        if (item.string.find(',') != std::string::npos) {
+          return Error{origin + ": '" + item.string + "' holds a comma"};
+        }
+        items.push_back(ScalarText(item));
+      }
+      text = Join(items, ",");
+    } else {
+      text = ScalarText(value);
+    }
+    values[key] = OptionValue{text, origin};
+  }
+  return values;
+}
+
+OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& command_line) {
+  OptionValues merged = file;
+  const bool mode_given =
+      command_line.count("local") || command_line.count("agents") || command_line.count("embedded");
+  if (mode_given) {
+    for (const char* mode : {"local", "agents", "embedded"}) merged.erase(mode);
+  }
+  for (const auto& [name, value] : command_line) merged[name] = value;
+  return merged;
+}
+
+Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads) {
+  StudyOptions options;
+  auto find = [&](const std::string& name) -> const OptionValue* {
+    const auto it = values.find(name);
+    return it == values.end() ? nullptr : &it->second;
+  };
+  auto list = [&](const OptionValue& value) -> Result<std::vector<std::string>> {
+    std::vector<std::string> pieces = Split(value.text, ',');
+    if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
+    for (const std::string& piece : pieces) {
+      if (piece.empty()) return Error{value.origin + ": empty item in '" + value.text + "'"};
+    }
+    return pieces;
+  };
+
+  const OptionValue default_sizes{"20,50,100,200,300", "default sizes"};
+  const OptionValue* sizes = find("sizes");
+  Result<std::vector<std::string>> size_items = list(sizes ? *sizes : default_sizes);
+  if (!size_items) return size_items.error();
+  for (const std::string& item : *size_items) {
+    Result<long long> size = ParseInteger(OptionValue{item, ""}, 2, kMaxSize);
+    if (!size) {
+      return Error{(sizes ? *sizes : default_sizes).origin + ": size '" + item +
+                   "' is not an integer from 2 to " + std::to_string(kMaxSize)};
+    }
+    if (std::find(options.sizes.begin(), options.sizes.end(), *size) != options.sizes.end()) {
+      return Error{(sizes ? *sizes : default_sizes).origin + ": size " + item + " is given twice"};
+    }
+    options.sizes.push_back(static_cast<int>(*size));
+  }
+
+  const OptionValue default_difficulties{"easy,medium,hard", "default difficulties"};
+  const OptionValue& difficulties =
+      find("difficulties") ? *find("difficulties") : default_difficulties;
+  Result<std::vector<std::string>> difficulty_items = list(difficulties);
+  if (!difficulty_items) return difficulty_items.error();
+  for (const std::string& item : *difficulty_items) {
+    const std::optional<Difficulty> difficulty = ParseDifficulty(item);
+    if (!difficulty) {
+      return Error{difficulties.origin + ": unknown difficulty '" + item +
+                   "' (expected easy, medium or hard)"};
+    }
+    if (std::find(options.difficulties.begin(), options.difficulties.end(), *difficulty) !=
+        options.difficulties.end()) {
+      return Error{difficulties.origin + ": difficulty " + item + " is given twice"};
+    }
+    options.difficulties.push_back(*difficulty);
+  }
+
+  if (const OptionValue* approaches = find("approaches")) {
+    if (Trim(approaches->text).empty()) return Error{approaches->origin + ": the list is empty"};
+    Result<std::vector<Approach>> parsed = ParseApproachList(approaches->text);
+    if (!parsed) return Error{approaches->origin + ": " + parsed.error().message};
+    options.approaches = *parsed;
+  } else {
+    options.approaches = AllApproaches();
+  }
+
+  if (const OptionValue* edge = find("edge-case")) {
+    if (edge->text != "true" && edge->text != "false") {
+      return Error{edge->origin + ": must be true or false, got '" + edge->text + "'"};
+    }
+    options.edge_case = edge->text == "true";
+  }
+  if (const OptionValue* seed = find("seed")) {
+    Result<long long> value = ParseInteger(*seed, 0, 4294967295LL);
+    if (!value) return value.error();
+    options.seed = static_cast<unsigned>(*value);
+  }
+  if (const OptionValue* steps = find("steps")) {
+    Result<long long> value = ParseInteger(*steps, 0, 1'000'000);
+    if (!value) return value.error();
+    options.steps = static_cast<int>(*value);
+  }
+  if (const OptionValue* leaf = find("leaf-limit")) {
+    Result<long long> value = ParseInteger(*leaf, 1, 10000);
+    if (!value) return value.error();
+    options.leaf_limit = static_cast<int>(*value);
+  }
+  if (const OptionValue* bootstrap = find("bootstrap")) {
+    if (bootstrap->text != "in-grid" && bootstrap->text != "in-region") {
+      return Error{bootstrap->origin + ": must be in-grid or in-region, got '" + bootstrap->text +
+                   "'"};
+    }
+    options.bootstrap = bootstrap->text;
+  }
+
+  // The mode, as `dynapath run` takes it: --embedded may come with --agents N.
+  const OptionValue* local = find("local");
+  const OptionValue* agents = find("agents");
+  const OptionValue* embedded = find("embedded");
+  if ((local && (agents || embedded))) {
+    return Error{local->origin + ": choose one of --local, --agents N and --embedded"};
+  }
+  if (agents) {
+    Result<long long> value = ParseInteger(*agents, 1, 256);
+    if (!value) return value.error();
+    options.agents = static_cast<int>(*value);
+  }
+  options.mode = embedded ? StudyMode::kEmbedded : agents ? StudyMode::kAgents : StudyMode::kLocal;
+
+  if (const OptionValue* threads = find("threads")) {
+    Result<long long> value = ParseInteger(*threads, 1, 1024);
+    if (!value) return value.error();
+    options.threads = static_cast<int>(*value);
+  } else {
+    options.threads = std::max(1, hardware_threads);
+  }
+  if (const OptionValue* level = find("log-level")) {
+    const spdlog::level::level_enum parsed = spdlog::level::from_str(level->text);
+    if (parsed == spdlog::level::off && level->text != "off") {
+      return Error{level->origin + ": must be trace, debug, info, warn, error or off, got '" +
+                   level->text + "'"};
+    }
+    options.log_level = level->text;
+  }
+  if (const OptionValue* url = find("lcm-url")) {
+    if (options.mode != StudyMode::kAgents) {
+      return Error{url->origin + ": an LCM URL needs --agents N (processes)"};
+    }
+    if (url->text.empty()) return Error{url->origin + ": must not be empty"};
+    options.lcm_url = url->text;
+  }
+  if (const OptionValue* out = find("out")) {
+    if (out->text.empty()) return Error{out->origin + ": must not be empty"};
+    options.out = out->text;
+  }
+  return options;
+}
+
+std::string StudyConfiguration::Name() const {
+  const std::string name =
+      std::to_string(size) + "_" + LowerDifficulty(difficulty) + "_" + std::to_string(seed);
+  return edge_case ? "edge_" + name : name;
+}
+
+std::string StudyConfiguration::Directory() const { return "runs/" + Name(); }
+
+std::string StudyConfiguration::Label() const {
+  return std::string(edge_case ? "edge case " : "") + std::to_string(size) + " " +
+         DifficultyName(difficulty) + ", seed " + std::to_string(seed);
+}
+
+std::string StudyConfiguration::ShortLabel() const {
+  return std::string(edge_case ? "edge " : "") + std::to_string(size) + " " +
+         DifficultyName(difficulty) + " s" + std::to_string(seed);
+}
+
+double StudyConfiguration::Work() const {
+  return static_cast<double>(size) * size * (static_cast<double>(steps) + 1.0);
+}
+
+std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
+  std::vector<StudyConfiguration> plan;
+  for (const int size : options.sizes) {
+    for (const Difficulty difficulty : options.difficulties) {
+      StudyConfiguration configuration;
+      configuration.size = size;
+      configuration.difficulty = difficulty;
+      configuration.seed = options.seed ? *options.seed : ReportSeed(difficulty);
+      configuration.steps = options.steps ? *options.steps : ReportTimeSteps(size);
+      plan.push_back(configuration);
+    }
+  }
+  if (options.edge_case) {
+    StudyConfiguration edge;
+    edge.size = 50;
+    edge.difficulty = Difficulty::kHard;
+    edge.seed = kEdgeCaseSeed;
+    edge.steps = options.steps ? *options.steps : ReportTimeSteps(50);
+    edge.edge_case = true;
+    plan.push_back(edge);
+  }
+  return plan;
+}
+
+std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration) {
+  return {"--size",       std::to_string(configuration.size),
+          "--difficulty", LowerDifficulty(configuration.difficulty),
+          "--seed",       std::to_string(configuration.seed),
+          "--steps",      std::to_string(configuration.steps)};
+}
+
+std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir) {
+  std::vector<std::string> names;
+  for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
+  return {"--approach",  Join(names, ","), "--out",
+          out_dir,       "--leaf-limit",   std::to_string(options.leaf_limit),
+          "--bootstrap", options.bootstrap};
+}
+
+Json StudyIdentityJson(const StudyOptions& options) {
+  Json json = Json::Object();
+  Json& sizes = json["sizes"] = Json::Array();
+  for (const int size : options.sizes) sizes.Push(size);
+  Json& difficulties = json["difficulties"] = Json::Array();
+  for (const Difficulty difficulty : options.difficulties) {
+    difficulties.Push(LowerDifficulty(difficulty));
+  }
+  Json& approaches = json["approaches"] = Json::Array();
+  for (const Approach approach : options.approaches) approaches.Push(ApproachName(approach));
+  json["edge_case"] = options.edge_case;
+  json["seed"] = options.seed ? Json(*options.seed) : Json();
+  json["steps"] = options.steps ? Json(*options.steps) : Json();
+  json["leaf_limit"] = options.leaf_limit;
+  json["bootstrap"] = options.bootstrap;
+  return json;
+}
+
+Json ExecutionJson(const StudyOptions& options) {
+  Json json = Json::Object();
+  json["mode"] = StudyModeName(options.mode);
+  json["agents"] = options.mode == StudyMode::kLocal ? Json() : Json(options.agents);
+  json["threads"] = options.threads;
+  json["lcm_url"] = options.lcm_url.empty() ? Json() : Json(options.lcm_url);
+  json["log_level"] = options.log_level;
+  json["out"] = options.out;
+  return json;
+}
+
+}  // namespace dynapath::cli

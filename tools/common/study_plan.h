@@ -1,0 +1,108 @@
+#pragma once
+// What a study (`dynapath experiment`) runs: its options, taken from the
+// command line and from a config file (study_config.h) under the same names,
+// and the list of maze configurations they give, in study order.
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/approach.h"
+#include "core/difficulty.h"
+#include "core/result.h"
+#include "tools/common/json.h"
+#include "tools/common/study_config.h"
+
+namespace dynapath::cli {
+
+enum class StudyMode { kLocal, kAgents, kEmbedded };
+// "local", "agents", "embedded".
+std::string StudyModeName(StudyMode mode);
+
+struct StudyOptions {
+  // What the study computes: a study is resumed only with the same values.
+  std::vector<int> sizes;
+  std::vector<Difficulty> difficulties;
+  std::vector<Approach> approaches;
+  bool edge_case = true;
+  std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
+  std::optional<int> steps;      // none: the report's 2 x rows
+  int leaf_limit = 20;
+  std::string bootstrap = "in-grid";
+  // How it runs; may change from one session of a study to the next.
+  StudyMode mode = StudyMode::kLocal;
+  int agents = 1;
+  int threads = 1;
+  std::string log_level = "info";
+  std::string lcm_url;
+  std::string out = "study";
+};
+
+// One option value and where it came from, for error messages:
+// "option --sizes" or "study.toml:3: sizes".
+struct OptionValue {
+  std::string text;
+  std::string origin;
+};
+// By option name ("sizes", "edge-case", ...). Lists are comma-separated
+// text, as on the command line; booleans are "true" or "false".
+using OptionValues = std::map<std::string, OptionValue>;
+
+// The study's options: name, value name for --help ("" for a flag), help
+// text and default. The config file takes the same names (with '-' or '_').
+struct StudyOptionSpec {
+  std::string name;
+  std::string value_name;
+  std::string help;
+  std::string default_text;
+};
+const std::vector<StudyOptionSpec>& StudyOptionSpecs();
+
+// The entries of a config file as option values; unknown keys and values of
+// the wrong type are errors naming the line. `local = false`,
+// `embedded = false` set nothing.
+Result<OptionValues> ConfigOptionValues(const ConfigFile& file);
+// The file's values overridden by the command line's. A mode given on the
+// command line (--local, --agents, --embedded) replaces the file's mode.
+OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& command_line);
+// Checks and converts every value (one error naming its origin);
+// `hardware_threads` is the default of --threads.
+Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads);
+
+// One maze of the study.
+struct StudyConfiguration {
+  int size = 20;
+  Difficulty difficulty = Difficulty::kEasy;
+  unsigned seed = 50;
+  int steps = 40;
+  bool edge_case = false;  // the report's edge case, kept in edge_results*.csv
+
+  // "20_easy_50"; the edge case is "edge_50_hard_102".
+  std::string Name() const;
+  // "runs/<name>", relative to the study directory.
+  std::string Directory() const;
+  // "50 Hard, seed 52" (the edge case: "edge case 50 Hard, seed 102").
+  std::string Label() const;
+  // "50 Hard s52" ("edge 50 Hard s102").
+  std::string ShortLabel() const;
+  // A rough cost for the time estimate: cells x (steps + 1).
+  double Work() const;
+};
+
+// Sizes in order, each with the difficulties in order; then the edge case
+// (hard 50x50 of seed 102, with --steps when given) when enabled.
+std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
+
+// The `dynapath run` maze options of a configuration (--size, --difficulty,
+// --seed, --steps), and its run options (--approach, --out, --leaf-limit,
+// --bootstrap), as arguments.
+std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration);
+std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir);
+
+// The options that determine the results (compared to resume a study), and
+// the others, as manifest objects.
+Json StudyIdentityJson(const StudyOptions& options);
+Json ExecutionJson(const StudyOptions& options);
+
+}  // namespace dynapath::cli
