@@ -11,12 +11,22 @@
 #include "lcmtypes/protocol/liveness.h"
 
 namespace dynapath::coordinator {
+namespace {
+
+DistributedTrainerOptions MakeTrainerOptions(const CoordinatorOptions& options) {
+  DistributedTrainerOptions trainer;
+  trainer.agent_wait_seconds = options.agent_wait_seconds;
+  trainer.placement = options.plan.placement;
+  return trainer;
+}
+
+}  // namespace
 
 Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
     : bus_(bus),
       options_(std::move(options)),
       agents_(options_.agent_timeout_seconds),
-      trainer_(bus, inbox_, agents_, DistributedTrainerOptions{options_.agent_wait_seconds, 0.3}) {
+      trainer_(bus, inbox_, agents_, MakeTrainerOptions(options_)) {
   bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat,
                               [this](heartbeat_t& beat) {
                                 // Wake the coordinator thread for a new agent:

@@ -43,6 +43,33 @@ struct DistributedTrainer::Batch {
   int64_t steps = 0;
 };
 
+double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOptions& options) {
+  double us = 0.0;
+  for (const Region& region : regions) {
+    const double ns_per_step = region.cells() <= 64 * 64 ? 25.0 : 90.0;
+    us += static_cast<double>(options.learners) * options.sync_period * ns_per_step / 1000.0;
+  }
+  return us;
+}
+
+bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
+  if (batch.config.kind != LearnerKind::kFedAsynQ || batch.jobs.empty() ||
+      batch.jobs.size() >= agents) {
+    return false;
+  }
+  switch (options_.placement) {
+    case cli::Placement::kWhole:
+      return false;
+    case cli::Placement::kSplit:
+      return true;
+    case cli::Placement::kAuto:
+      break;
+  }
+  std::vector<Region> regions;
+  for (const JobState& state : batch.jobs) regions.push_back(state.job.region);
+  return EstimatedRoundUs(regions, batch.jobs.front().job.federated) >= options_.split_min_round_us;
+}
+
 DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbox,
                                        const AgentRegistry& agents,
                                        DistributedTrainerOptions options)
@@ -97,7 +124,7 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   }
   ++traffic_.batches;
   std::vector<int> agents = WaitForAgents();
-  batch.split = config.kind == LearnerKind::kFedAsynQ && nodes.size() < agents.size();
+  batch.split = ShouldSplit(batch, agents.size());
   StartEpoch(std::move(agents));
   while (!Done()) {
     inbox_.RunFor(Ms(20));

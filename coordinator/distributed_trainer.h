@@ -3,11 +3,13 @@
 // coordinator gives the planners instead of LocalTrainer, with the same
 // results.
 //
-// A Train call is one batch. Placement: when the batch has at least as many
-// jobs as there are live agents (or the learners are single-agent), whole
-// jobs are spread over the agents (largest first), each agent runs its jobs
-// with all their learners and returns final tables: no per-round traffic.
-// Otherwise every job's learners are split over the agents, which publish
+// A Train call is one batch. Placement: by default whole jobs are spread over
+// the agents (largest first); each agent runs its jobs with all their
+// learners and returns final tables: no per-round traffic. When a batch has
+// fewer jobs than agents and its federated rounds are long enough that
+// parallel learners save more than a round's messages cost (EstimatedRoundUs
+// against split_min_round_us), or when placement is kSplit, every job's
+// learners are split over the agents instead, which publish
 // their shards each round; the agents and the coordinator all combine them in
 // learner order (protocol::RoundCombiner: FederatedAverager, exactly as
 // in-process), the coordinator's tables being the authoritative ones.
@@ -34,6 +36,7 @@
 #include "dynapath/shards_t.hpp"
 #include "lcmtypes/protocol/bus.h"
 #include "lcmtypes/protocol/inbox.h"
+#include "tools/common/run_driver.h"
 
 namespace dynapath::coordinator {
 
@@ -43,7 +46,19 @@ struct DistributedTrainerOptions {
   // Minimum time between two repeats of the batch message, and how long a
   // split round may make no progress before the batch is repeated.
   double resend_seconds = 0.2;
+  cli::Placement placement = cli::Placement::kAuto;
+  // kAuto splits a batch's learners when one round of all its jobs is
+  // estimated to take at least this long on one thread. A split round costs
+  // every agent a message out, one in per other agent and a combine:
+  // 0.3-0.5 ms on the 2-core development machine (docs/PERFORMANCE.md), so
+  // with two agents splitting pays from about twice that.
+  double split_min_round_us = 2000.0;
 };
+
+// Estimated single-thread time of one federated round of `nodes`' jobs: K
+// learners x tau steps x the measured cost of a step (25 ns in regions that
+// fit the caches, 90 ns in 300x300 ones; bench/core_bench).
+double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOptions& options);
 
 // Traffic of the training protocol (for the benchmark).
 struct TrafficStats {
@@ -77,6 +92,7 @@ class DistributedTrainer : public Trainer {
   void OnShards(const shards_t& message, int64_t bytes);
   void OnResult(const job_result_t& message, int64_t bytes);
   std::vector<int> WaitForAgents();
+  bool ShouldSplit(const Batch& batch, size_t agents) const;
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
   void CheckAgents();

@@ -1,5 +1,7 @@
 #include "coordinator/envsim_client.h"
 
+#include <algorithm>
+
 #include <spdlog/spdlog.h>
 
 #include <stdexcept>
@@ -43,11 +45,14 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
   request.request_id = next_request_++;
   const int64_t start = protocol::SteadyMs();
   int64_t sent = -1000000;
+  // Repeat the request until answered (requests and answers may be lost, and
+  // at start-up envsim may not listen yet): after 10 ms, doubling up to 250.
+  int64_t interval = 10;
   while (!grid_answer_ && !changes_answer_) {
     const int64_t now = protocol::SteadyMs();
     if (stop_ != nullptr && *stop_) throw std::runtime_error("interrupted");
-    // Repeat the request until answered (requests and answers may be lost).
-    if (now - sent >= 250) {
+    if (now - sent >= interval) {
+      if (sent >= 0) interval = std::min<int64_t>(250, 2 * interval);
       bus_.Publish(protocol::channel::kEnvRequest, request);
       sent = now;
     }
@@ -58,7 +63,7 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
                                    ? "no environment simulator answered for run " + bus_.run_id()
                                    : "the environment simulator is gone");
     }
-    inbox_.RunFor(std::chrono::milliseconds(5));
+    inbox_.RunFor(std::chrono::milliseconds(2));
   }
   want_pass_ = want_step_ = -1;
 }

@@ -45,35 +45,48 @@ same_results() {  # same_results DIR_A DIR_B LABEL
 }
 
 # 1. Same answers everywhere, all seven approaches (30x30: four leaves, so
-# batches of several jobs (whole placement) and of one job (learners split)).
+# batches of several jobs and of one job), with whole-job placement (auto, the
+# default, chooses it for rounds this short) and with learners split over the
+# agents (--placement split).
 scenario=(--size 30 --difficulty medium --steps 30)
 "$dynapath" run --local "${scenario[@]}" --out "$work/local" --log-level warn >/dev/null || fail "--local run"
-"$dynapath" run --embedded --agents 2 "${scenario[@]}" --out "$work/embedded" --log-level warn >/dev/null \
-  || fail "--embedded run"
-same_results "$work/local" "$work/embedded" "--embedded with 2 agent threads"
-for agents in 1 3; do
-  "$dynapath" run --agents $agents "${scenario[@]}" --out "$work/agents$agents" --log-level warn \
-    >/dev/null 2>"$work/agents$agents.log" || { fail "--agents $agents run"; cat "$work/agents$agents.log"; }
-  same_results "$work/local" "$work/agents$agents" "--agents $agents"
+"$dynapath" run --embedded --agents 2 --placement split "${scenario[@]}" --out "$work/embedded" \
+  --log-level warn >/dev/null || fail "--embedded run"
+same_results "$work/local" "$work/embedded" "--embedded with 2 agent threads, learners split"
+for case in "1 auto" "2 auto" "3 split"; do
+  read -r agents placement <<<"$case"
+  out="$work/agents${agents}_$placement"
+  "$dynapath" run --agents $agents --placement $placement "${scenario[@]}" --out "$out" \
+    --log-level info >/dev/null 2>"$out.log" || { fail "--agents $agents run"; cat "$out.log"; }
+  same_results "$work/local" "$out" "--agents $agents, placement $placement"
+  if [ "$placement" = split ]; then
+    grep -Eq "[1-9][0-9]* federated rounds" "$out.log" || fail "--placement split ran no split round"
+  fi
 done
 
-# 2. SIGKILL an agent in the middle of a federated run.
+# 2. SIGKILL an agent in the middle of a federated run: during the initial
+# training (whole jobs), and while learners are split over the agents.
 big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
 "$dynapath" run --local "${big[@]}" --out "$work/big_local" --log-level warn >/dev/null || fail "big --local"
-"$dynapath" run --agents 2 "${big[@]}" --out "$work/big_killed" --log-level info \
-  >/dev/null 2>"$work/killed.log" &
-launcher=$!
-sleep 0.7
-victim=$(pgrep -f "dynapath-agent .*--id 2" | head -1)
-if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill"; fi
-wait $launcher || fail "run with a killed agent exited $?"
-grep -q "reassigning its work" "$work/killed.log" || fail "the coordinator did not reassign the killed agent's work"
-same_results "$work/big_local" "$work/big_killed" "agent killed with SIGKILL"
+for case in "auto 0.7" "split 1.2"; do
+  read -r placement delay <<<"$case"
+  "$dynapath" run --agents 2 --placement $placement "${big[@]}" --out "$work/big_killed_$placement" \
+    --log-level info >/dev/null 2>"$work/killed_$placement.log" &
+  launcher=$!
+  sleep "$delay"
+  victim=$(pgrep -f "dynapath-agent .*--id 2" | head -1)
+  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($placement)"; fi
+  wait $launcher || fail "run with a killed agent exited $? ($placement)"
+  grep -q "reassigning its work" "$work/killed_$placement.log" ||
+    fail "the coordinator did not reassign the killed agent's work ($placement)"
+  same_results "$work/big_local" "$work/big_killed_$placement" "agent killed with SIGKILL ($placement)"
+done
 
 # 3. Dropped and duplicated messages.
 small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps 20)
 "$dynapath" run --local "${small[@]}" --out "$work/small_local" --log-level warn >/dev/null || fail "small --local"
-"$dynapath" run --agents 2 "${small[@]}" --fault-drop 0.05 --fault-dup 0.05 --out "$work/faults" \
+"$dynapath" run --agents 2 --placement split "${small[@]}" --fault-drop 0.05 --fault-dup 0.05 \
+  --out "$work/faults" \
   --log-level warn >/dev/null 2>"$work/faults.log" || { fail "run with faults"; tail "$work/faults.log"; }
 same_results "$work/small_local" "$work/faults" "5% of messages dropped and 5% duplicated"
 
@@ -134,6 +147,7 @@ expect_usage_error "choose one" "$dynapath" run --local --agents 2
 expect_usage_error "--log" "$dynapath" run --local --log x.lcm
 expect_usage_error "run id" "$dynapath" run --agents 1 --run-id "bad/id"
 expect_usage_error "probability" "$dynapath" run --agents 1 --fault-drop 2
+expect_usage_error "placement" "$dynapath" run --agents 1 --placement sideways
 expect_usage_error "cannot open log" "$dynapath" run --local --replay "$work/missing.lcm"
 echo "garbage" >"$work/not-a-log.lcm"
 "$dynapath" run --local --replay "$work/not-a-log.lcm" >/dev/null 2>"$work/err"

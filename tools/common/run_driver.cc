@@ -53,10 +53,14 @@ void AddRunOptions(ArgParser& parser) {
       "bootstrap", "SCOPE",
       "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
       "in-grid");
+  parser.AddOption("placement", "MODE",
+                   "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)",
+                   "auto");
 }
 
 const std::vector<std::string>& RunOptionNames() {
-  static const std::vector<std::string> names = {"approach", "out", "leaf-limit", "bootstrap"};
+  static const std::vector<std::string> names = {"approach", "out", "leaf-limit", "bootstrap",
+                                                 "placement"};
   return names;
 }
 
@@ -75,6 +79,16 @@ Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
   plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
   plan.out_dir = parser.Get("out", "results");
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
+  const std::string placement = parser.Get("placement", "auto");
+  if (placement == "auto") {
+    plan.placement = Placement::kAuto;
+  } else if (placement == "whole") {
+    plan.placement = Placement::kWhole;
+  } else if (placement == "split") {
+    plan.placement = Placement::kSplit;
+  } else {
+    return Error{"option --placement must be auto, whole or split, got '" + placement + "'"};
+  }
   return plan;
 }
 

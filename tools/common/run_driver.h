@@ -13,13 +13,22 @@
 
 namespace dynapath::cli {
 
+// How a distributed run spreads a training batch over the agent processes
+// (coordinator/distributed_trainer.h); --local ignores it.
+enum class Placement {
+  kAuto,   // split a batch's learners only when its rounds are long enough to pay
+  kWhole,  // always whole jobs per agent
+  kSplit,  // split learners whenever the batch has fewer jobs than agents
+};
+
 struct RunPlan {
   std::vector<Approach> approaches;
   PlannerOptions options;  // run_seed is set from the scenario
   std::string out_dir = "results";
+  Placement placement = Placement::kAuto;
 };
 
-// Declares --approach, --out, --leaf-limit and --bootstrap.
+// Declares --approach, --out, --leaf-limit, --bootstrap and --placement.
 void AddRunOptions(ArgParser& parser);
 // The names of those options (for the launcher to forward them).
 const std::vector<std::string>& RunOptionNames();
