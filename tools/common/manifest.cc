@@ -209,9 +209,9 @@ std::string NowIso8601() {
   char stamp[40];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S%z", &local);
   // %z gives +0100; ISO 8601 extended wants +01:00.
-  std::string text = stamp;
-  if (text.size() >= 5) text.insert(text.size() - 2, ":");
-  return text;
+  const std::string text = stamp;
+  if (text.size() < 5) return text;
+  return text.substr(0, text.size() - 2) + std::string(":") + text.substr(text.size() - 2);
 }
 
 }  // namespace dynapath::cli

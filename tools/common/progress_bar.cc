@@ -44,7 +44,8 @@ std::string Where(const ProgressSnapshot& s) {
 
 std::string Times(const ProgressSnapshot& s) {
   std::string text = FormatDuration(s.elapsed) + " elapsed";
-  text += s.remaining ? ", ~" + FormatDuration(*s.remaining) + " left" : ", time left unknown";
+  text += s.remaining ? std::string(", ~") + FormatDuration(*s.remaining) + " left"
+                      : ", time left unknown";
   return text;
 }
 
@@ -94,7 +95,7 @@ std::string BarLine(const ProgressSnapshot& s, size_t width) {
   const int filled = static_cast<int>(std::floor(done * kBar));
   char percent[8];
   std::snprintf(percent, sizeof percent, "%3d%%", static_cast<int>(std::floor(done * 100)));
-  const std::string bar = "[" + std::string(static_cast<size_t>(filled), '#') +
+  const std::string bar = std::string("[") + std::string(static_cast<size_t>(filled), '#') +
                           std::string(static_cast<size_t>(kBar - filled), '.') + "] " + percent +
                           " ";
   const std::string full = bar + Where(s) + " | " + Times(s);
@@ -107,16 +108,18 @@ std::string BarLine(const ProgressSnapshot& s, size_t width) {
                std::to_string(s.approach_count) + " t" + std::to_string(s.step) + "/" +
                std::to_string(s.total_steps);
   }
-  compact += " " + FormatDuration(s.elapsed) +
-             (s.remaining ? " ~" + FormatDuration(*s.remaining) + " left" : "");
+  compact += " ";
+  compact += FormatDuration(s.elapsed);
+  if (s.remaining) compact += " ~" + FormatDuration(*s.remaining) + " left";
   if (bar.size() + compact.size() <= width) return bar + compact;
   if (compact.size() <= width) return compact;
   return compact.substr(0, width > 3 ? width - 3 : width) + "...";
 }
 
 std::string PlainLine(const ProgressSnapshot& s) {
-  return "[" + FormatDuration(s.elapsed) + "] configuration " + Where(s) + "; " +
-         (s.remaining ? "~" + FormatDuration(*s.remaining) + " left" : "time left unknown");
+  return std::string("[") + FormatDuration(s.elapsed) + "] configuration " + Where(s) + "; " +
+         (s.remaining ? std::string("~") + FormatDuration(*s.remaining) + " left"
+                      : "time left unknown");
 }
 
 ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal)
