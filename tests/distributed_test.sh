@@ -68,12 +68,20 @@ done
 # training (whole jobs), and while learners are split over the agents.
 big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
 "$dynapath" run --local "${big[@]}" --out "$work/big_local" --log-level warn >/dev/null || fail "big --local"
-for case in "auto 0.7" "split 1.2"; do
-  read -r placement delay <<<"$case"
+# The kill waits for a log line, not a fixed delay, so that it lands while
+# agent 2 owes work however loaded the machine is: "maze" starts the initial
+# training (whole jobs on both agents); "initial training" starts the
+# adaptation (split: agent 2 hosts learners of every batch).
+wait_for_line() {  # FILE PATTERN: up to 30 s
+  for _ in $(seq 1500); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
+  return 1
+}
+for case in "auto coordinator: maze" "split initial training"; do
+  read -r placement line <<<"$case"
   "$dynapath" run --agents 2 --placement $placement "${big[@]}" --out "$work/big_killed_$placement" \
     --log-level info >/dev/null 2>"$work/killed_$placement.log" &
   launcher=$!
-  sleep "$delay"
+  wait_for_line "$work/killed_$placement.log" "$line" || fail "no '$line' line ($placement)"
   victim=$(pgrep -f "dynapath-agent .*--id 2" | head -1)
   if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($placement)"; fi
   wait $launcher || fail "run with a killed agent exited $? ($placement)"
