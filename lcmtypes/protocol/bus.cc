@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <thread>
 
 #include "dynapath/fragment_t.hpp"
 #include "lcmtypes/protocol/channels.h"
@@ -107,6 +108,9 @@ void Bus::PublishBytes(const std::string& channel, const std::vector<uint8_t>& b
                          bytes.begin() + static_cast<ptrdiff_t>(end));
     encoded.resize(static_cast<size_t>(fragment.getEncodedSize()));
     fragment.encode(encoded.data(), 0, static_cast<int>(encoded.size()));
+    if (i > 0 && options_.fragment_pause_us > 0) {
+      std::this_thread::sleep_for(std::chrono::microseconds(options_.fragment_pause_us));
+    }
     PublishRaw(channel, encoded.data(), encoded.size());
   }
 }

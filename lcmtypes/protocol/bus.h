@@ -36,6 +36,11 @@ struct BusOptions {
   // Encoded messages above this many bytes are fragmented (0: never).
   int fragment_above = 128 * 1024;
   int fragment_size = 60000;  // payload bytes per fragment: one UDP datagram
+  // Pause between two fragments of a message. LCM's udpm receiver copies
+  // datagrams into a fixed ring buffer its dispatch thread drains; a burst
+  // of several 60 KB fragments overruns it and loses the message (measured:
+  // one in two 250 KB job batches on loopback without pausing).
+  int fragment_pause_us = 300;
   // Test-only fault injection on publish: probability of dropping a message
   // (or fragment) and of sending it twice.
   double drop_probability = 0.0;
