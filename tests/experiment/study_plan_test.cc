@@ -77,7 +77,8 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   EXPECT_EQ(
       RunArguments(*options, "out/runs/x"),
       (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out", "out/runs/x",
-                                "--leaf-limit", "20", "--bootstrap", "in-grid"}));
+                                "--leaf-limit", "20", "--bootstrap", "in-grid", "--placement",
+                                "auto"}));
 
   options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
   ASSERT_TRUE(options);

@@ -35,6 +35,7 @@ constexpr KeyKind kFileKeys[] = {
     {"agents", FileKind::kInteger},
     {"embedded", FileKind::kBoolean},
     {"threads", FileKind::kInteger},
+    {"placement", FileKind::kString},
     {"log-level", FileKind::kString},
     {"lcm-url", FileKind::kString},
     {"out", FileKind::kString},
@@ -113,6 +114,9 @@ const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
        "network for the whole study, or --lcm-url's)",
        ""},
       {"embedded", "", "run each maze's components as threads over memq://", ""},
+      {"placement", "MODE",
+       "distributed modes: auto, whole or split (docs/DISTRIBUTED.md; results are the same)",
+       "auto"},
       {"threads", "N", "worker threads (--local), in all (distributed)", "hardware threads"},
       {"lcm-url", "URL", "with --agents: use this LCM network instead of a private one", ""},
       {"log-level", "LEVEL", "trace, debug, info, warn, error or off (of OUT/study.log)", "info"},
@@ -291,6 +295,13 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     }
     options.bootstrap = bootstrap->text;
   }
+  if (const OptionValue* placement = find("placement")) {
+    if (placement->text != "auto" && placement->text != "whole" && placement->text != "split") {
+      return Error{placement->origin + ": must be auto, whole or split, got '" +
+                   placement->text + "'"};
+    }
+    options.placement = placement->text;
+  }
 
   // The mode, as `dynapath run` takes it: --embedded may come with --agents N.
   const OptionValue* local = find("local");
@@ -393,7 +404,7 @@ std::vector<std::string> RunArguments(const StudyOptions& options, const std::st
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
   return {"--approach",  Join(names, ","), "--out",
           out_dir,       "--leaf-limit",   std::to_string(options.leaf_limit),
-          "--bootstrap", options.bootstrap};
+          "--bootstrap", options.bootstrap, "--placement", options.placement};
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {
@@ -418,6 +429,7 @@ Json ExecutionJson(const StudyOptions& options) {
   Json json = Json::Object();
   json["mode"] = StudyModeName(options.mode);
   json["agents"] = options.mode == StudyMode::kLocal ? Json() : Json(options.agents);
+  json["placement"] = options.mode == StudyMode::kLocal ? Json() : Json(options.placement);
   json["threads"] = options.threads;
   json["lcm_url"] = options.lcm_url.empty() ? Json() : Json(options.lcm_url);
   json["log_level"] = options.log_level;

@@ -34,6 +34,7 @@ struct StudyOptions {
   StudyMode mode = StudyMode::kLocal;
   int agents = 1;
   int threads = 1;
+  std::string placement = "auto";  // distributed modes: auto, whole or split
   std::string log_level = "info";
   std::string lcm_url;
   std::string out = "study";
