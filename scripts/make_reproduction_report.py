@@ -1,19 +1,34 @@
 #!/usr/bin/env python3
 """Writes docs/REPRODUCTION.md: our results beside the report's, row by row.
 
-Usage: scripts/make_reproduction_report.py RESULTS_DIR [OUTPUT]
+Usage: scripts/make_reproduction_report.py STUDY_DIR [OUTPUT]
 
-RESULTS_DIR holds results.csv and edge_results.csv as written by
-scripts/run_reproduction.sh. The report's figures are read from
+STUDY_DIR is a study of `dynapath experiment` (results.csv, edge_results.csv,
+manifest.json) whose figures `dynapath plot STUDY_DIR --overlay-reference`
+drew into STUDY_DIR/figures; the figures the report shows are copied to
+docs/images/reproduction/. The report's figures are read from
 docs/reference/. Standard library only (no pandas needed).
 """
 import csv
+import json
 import os
-import subprocess
+import shutil
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REFERENCE = os.path.join(HERE, "..", "docs", "reference")
+IMAGES = os.path.join(HERE, "..", "docs", "images", "reproduction")
+# Figures of `dynapath plot` shown in the report, with their captions.
+FIGURES = [
+    ("success_rate_by_size.png", "Success rate by maze size (dashed, hollow: the report)"),
+    ("path_length_by_size.png", "Average path length by maze size"),
+    ("initial_time_by_size.png", "Initial training time by maze size (log scale)"),
+    ("adapt_time_by_size.png", "Adaptation time per time step by maze size (log scale)"),
+    ("adapt_box_100_Hard.png", "Adaptation time per step, hard 100x100 (box plots over the steps)"),
+    ("cumulative_adapt_300_Hard.png", "Cumulative adaptation time over the time steps, hard 300x300"),
+    ("success_over_time_300_Hard.png", "Success rate over the time steps, hard 300x300"),
+    ("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"),
+]
 RL = ["onlyTrainLeafNodes", "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg"]
 ORDER = ["A* Static", "A* Oracle", "BFS Oracle"] + RL
 DIFFICULTIES = ["Easy", "Medium", "Hard"]
@@ -118,6 +133,56 @@ def oracle_table(ours_rows, ref_rows, sizes):
     return lines
 
 
+def speedups(ours_rows, ref_rows, key):
+    """Range of report / ours over the RL rows where both are positive."""
+    ours = index(ours_rows)
+    values = []
+    for r in ref_rows:
+        o = ours.get((r["Approach"], r["Size"], r["Difficulty"]))
+        if r["Approach"] in RL and o is not None and float(o[key]) > 0 and float(r[key]) > 0:
+            values.append(float(r[key]) / float(o[key]))
+    if not values:
+        return "–"
+    return f"{min(values):.0f} to {max(values):.0f}"
+
+
+def study_facts(results_dir):
+    """Commit, mode, machine and wall time from the study's manifest.json."""
+    try:
+        with open(os.path.join(results_dir, "manifest.json")) as f:
+            manifest = json.load(f)
+    except (OSError, ValueError):
+        return {"COMMIT": "unknown", "MODE": "unknown mode", "MACHINE": "unknown", "WALL": "unknown"}
+    execution = manifest.get("options", {}).get("execution", {})
+    mode = execution.get("mode", "local")
+    if mode == "local":
+        mode_text = f"`--local`, {execution.get('threads')} threads"
+    else:
+        mode_text = f"`--{mode}` with {execution.get('agents')} agents"
+    machine = manifest.get("machine", {})
+    machine_text = f"{machine.get('cpu_model', '?')}, {machine.get('cores', '?')} cores"
+    wall = sum(c.get("wall_seconds") or 0 for c in manifest.get("configurations", []))
+    wall_text = f"{int(wall // 60)} min {wall % 60:.0f} s over {len(manifest.get('configurations', []))} configurations"
+    return {"COMMIT": manifest.get("git_commit", "unknown"), "MODE": mode_text,
+            "MACHINE": machine_text, "WALL": wall_text}
+
+
+def copy_figures(results_dir):
+    """Copies FIGURES from the study to docs/images/reproduction; returns markdown."""
+    source = os.path.join(results_dir, "figures")
+    lines = []
+    os.makedirs(IMAGES, exist_ok=True)
+    for name, caption in FIGURES:
+        path = os.path.join(source, name)
+        if not os.path.exists(path):
+            print(f"note: {path} missing (run dynapath plot {results_dir} --overlay-reference)",
+                  file=sys.stderr)
+            continue
+        shutil.copyfile(path, os.path.join(IMAGES, name))
+        lines.append(f"**{caption}**\n\n![{caption}](images/reproduction/{name})\n")
+    return lines
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -133,14 +198,14 @@ def main():
         edge = read(edge_path)
         edge_ref = read(os.path.join(REFERENCE, "paper_edge_results.csv"))
         edge_lines, edge_failures = table(edge, edge_ref, ["50"], ["Hard"])
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                                cwd=HERE).stdout.strip()
-    except OSError:
-        commit = "unknown"
     text = open(os.path.join(HERE, "reproduction_intro.md")).read()
-    text = text.replace("{{SIZES}}", ", ".join(sizes)).replace("{{COMMIT}}", commit)
+    text = text.replace("{{SIZES}}", ", ".join(sizes))
+    for key, value in study_facts(results_dir).items():
+        text = text.replace("{{" + key + "}}", value)
     text = text.replace("{{FAILURES}}", str(failures))
+    text = text.replace("{{INITIAL_SPEEDUP}}", speedups(ours, ref, "InitialTime"))
+    text = text.replace("{{ADAPT_SPEEDUP}}", speedups(ours, ref, "AdaptTimePerStep"))
+    figures = copy_figures(results_dir)
     text += "\n## All configurations\n\n" + "\n".join(main_lines) + "\n"
     if edge_lines:
         text += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"
@@ -149,6 +214,11 @@ def main():
              "same optimal answer; this is the comparison the report does not make.\n\n")
     text += "\n".join(rl_vs_bfs(ours, sizes)) + "\n"
     text += "\n## Oracle over the change sequence\n\n" + "\n".join(oracle_table(ours, ref, sizes)) + "\n"
+    if figures:
+        text += ("\n## Figures\n\nDrawn by `dynapath plot` from the study; solid lines and filled markers "
+                 "are ours, dashed lines and hollow markers the report's published values. All "
+                 "figures of the study (per configuration too) are in the study's `figures/`.\n\n")
+        text += "\n".join(figures)
     with open(output, "w") as f:
         f.write(text)
     print(f"wrote {output} ({failures} failing rows of the 20/50 acceptance check)")
