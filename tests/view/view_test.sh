@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The live policy window, once, headless: a logged run's POLICY messages are
+# re-published in a loop inside a private network namespace, dynapath view
+# watches them under Xvfb and saves a screenshot, which is decoded and
+# checked. Then bad options.
+# Usage: view_test.sh DYNAPATH DYNAPATH_VIEW IMAGE_INFO POLICY_REPLAY
+# Exit 77 (skipped) without network namespaces or Xvfb. Set
+# DYNAPATH_VIEW_SCREENSHOT=FILE to keep the screenshot (docs/images/view.png).
+set -uo pipefail
+dynapath=$1
+view=$2
+info=$3
+replay=$4
+"$dynapath" netns -- true 2>/dev/null || { echo "network namespaces forbidden: skipped"; exit 77; }
+command -v xvfb-run >/dev/null || { echo "xvfb-run not installed: skipped"; exit 77; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+
+# A run to watch: hard 30x30, fedAsynQ_EqAvg, logged.
+"$dynapath" netns -- "$dynapath" run --agents 2 --size 30 --difficulty hard --approach fedAsynQ_EqAvg \
+  --steps 12 --log "$work/run.lcm" --out "$work/out" --log-level warn >/dev/null 2>"$work/run.log" ||
+  { cat "$work/run.log"; fail "logged run"; exit 1; }
+
+# Replay its policies and take a screenshot after 5 of them, all in one
+# private network with its own X server.
+"$dynapath" netns -- bash -c '
+  "$1" "$2/run.lcm" >/dev/null 2>&1 &
+  replay=$!
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$3" --screenshot "$2/shot.png" --frames 5 --timeout 30 \
+    --window 900x700 --log-level warn
+  code=$?
+  kill $replay
+  exit $code' _ "$replay" "$work" "$view" 2>"$work/view.log"
+code=$?
+if [ $code -eq 0 ]; then pass "dynapath view took a screenshot"; else cat "$work/view.log"; fail "dynapath view exited $code"; fi
+shot=$("$info" "$work/shot.png" 2>&1)
+[ "$shot" = "png 900 700" ] && pass "the screenshot is a valid 900x700 PNG" || fail "screenshot: $shot"
+if [ -n "${DYNAPATH_VIEW_SCREENSHOT:-}" ] && [ -f "$work/shot.png" ]; then
+  cp "$work/shot.png" "$DYNAPATH_VIEW_SCREENSHOT"
+fi
+
+# Bad options: one line, exit 2 (no display needed).
+for args in "--window 0x0" "--frames -1" "--sideways" "--pid notapid"; do
+  # shellcheck disable=SC2086
+  "$view" $args >/dev/null 2>"$work/err"
+  got=$?
+  lines=$(grep -c . "$work/err")
+  if [ $got -eq 2 ] && [ "$lines" -eq 1 ]; then pass "view $args: exit 2, one line"; else
+    fail "view $args: exit $got, $lines lines: $(cat "$work/err")"; fi
+done
+
+if [ $failures -gt 0 ]; then
+  echo "$failures check(s) failed"
+  exit 1
+fi
+echo "all view checks passed"

@@ -1,0 +1,182 @@
+#include "tools/view/policy_stream.h"
+
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <lcm/lcm-cpp.hpp>
+
+#include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/validate.h"
+
+namespace dynapath::view {
+namespace {
+
+constexpr std::string_view kPrefix = "DYNAPATH/";
+constexpr std::string_view kSuffix = "/POLICY";
+constexpr size_t kMaxPartials = 64;
+// A policy_t of the largest grid the protocol accepts (4096 x 4096 cells,
+// three bytes each) with room for its regions.
+constexpr int32_t kMaxMessageBytes = 3 * 4096 * 4096 + (1 << 20);
+
+int64_t PeekFingerprint(const uint8_t* data, int size) {
+  if (size < 8) return 0;
+  uint64_t value = 0;
+  for (int i = 0; i < 8; ++i) value = (value << 8) | data[i];
+  return static_cast<int64_t>(value);
+}
+
+}  // namespace
+
+std::optional<std::string> PolicyChannelRun(std::string_view channel) {
+  if (channel.size() <= kPrefix.size() + kSuffix.size() || !channel.starts_with(kPrefix) ||
+      !channel.ends_with(kSuffix)) {
+    return std::nullopt;
+  }
+  std::string_view run =
+      channel.substr(kPrefix.size(), channel.size() - kPrefix.size() - kSuffix.size());
+  if (run.find('/') != std::string_view::npos) return std::nullopt;
+  return std::string(run);
+}
+
+PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us)
+    : lifetime_us_(partial_lifetime_us) {}
+
+std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
+  why_ = std::move(why);
+  ++counters_.dropped;
+  return std::nullopt;
+}
+
+std::optional<policy_t> PolicyAssembler::DecodePolicy(const std::string& run,
+                                                      const uint8_t* data, int size) {
+  policy_t policy{};
+  int used = -1;
+  try {
+    used = policy.decode(data, 0, size);
+  } catch (const std::exception&) {  // absurd lengths in a crafted message
+    used = -1;
+  }
+  if (used != size) return Drop("undecodable policy_t");
+  if (policy.run_id != run) return Drop("policy_t of run '" + policy.run_id + "' on run " + run);
+  if (std::string error = protocol::Validate(policy); !error.empty()) {
+    return Drop("policy_t: " + error);
+  }
+  ++counters_.policies;
+  return policy;
+}
+
+std::optional<policy_t> PolicyAssembler::Feed(std::string_view channel, const uint8_t* data,
+                                              int size, int64_t now_us) {
+  why_.clear();
+  const std::optional<std::string> run = PolicyChannelRun(channel);
+  if (!run) return Drop("not a POLICY channel");
+  const int64_t fingerprint = PeekFingerprint(data, size);
+  if (fingerprint == static_cast<int64_t>(fragment_t::getHash())) {
+    return FeedFragment(std::string(channel), *run, data, size, now_us);
+  }
+  if (fingerprint != static_cast<int64_t>(policy_t::getHash())) {
+    return Drop("message of another type");
+  }
+  return DecodePolicy(*run, data, size);
+}
+
+std::optional<policy_t> PolicyAssembler::FeedFragment(const std::string& channel,
+                                                      const std::string& run, const uint8_t* data,
+                                                      int size, int64_t now_us) {
+  fragment_t fragment{};
+  int used = -1;
+  try {
+    used = fragment.decode(data, 0, size);
+  } catch (const std::exception&) {
+    used = -1;
+  }
+  if (used != size) return Drop("undecodable fragment_t");
+  if (fragment.run_id != run) return Drop("fragment of another run");
+  if (std::string error = protocol::Validate(fragment); !error.empty()) {
+    return Drop("fragment_t: " + error);
+  }
+  if (fragment.fingerprint != static_cast<int64_t>(policy_t::getHash())) {
+    return Drop("fragment of a message that is no policy_t");
+  }
+  if (fragment.total_size > kMaxMessageBytes) return Drop("fragmented message too big");
+  ++counters_.fragments;
+  // Forget partial messages whose sender gave up or died.
+  for (auto it = partials_.begin(); it != partials_.end();) {
+    if (now_us - it->second.last_seen_us > lifetime_us_) {
+      ++counters_.expired;
+      it = partials_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  const auto key = std::make_pair(channel, fragment.message_id);
+  auto it = partials_.find(key);
+  if (it == partials_.end()) {
+    if (partials_.size() >= kMaxPartials) return Drop("too many partial messages");
+    Partial partial;
+    partial.fingerprint = fragment.fingerprint;
+    partial.total_size = fragment.total_size;
+    partial.count = fragment.count;
+    partial.bytes.resize(static_cast<size_t>(fragment.total_size));
+    partial.present.assign(static_cast<size_t>(fragment.count), false);
+    it = partials_.emplace(key, std::move(partial)).first;
+  }
+  Partial& partial = it->second;
+  if (partial.fingerprint != fragment.fingerprint || partial.total_size != fragment.total_size ||
+      partial.count != fragment.count ||
+      static_cast<int64_t>(fragment.offset) + fragment.size > partial.total_size) {
+    partials_.erase(it);
+    return Drop("fragment_t inconsistent with its message");
+  }
+  partial.last_seen_us = now_us;
+  if (!partial.present[static_cast<size_t>(fragment.index)]) {
+    std::memcpy(partial.bytes.data() + fragment.offset, fragment.data.data(),
+                static_cast<size_t>(fragment.size));
+    partial.present[static_cast<size_t>(fragment.index)] = true;
+    ++partial.have;
+  }
+  if (partial.have < partial.count) return std::nullopt;
+  const std::vector<uint8_t> bytes = std::move(partial.bytes);
+  partials_.erase(it);
+  if (PeekFingerprint(bytes.data(), static_cast<int>(bytes.size())) !=
+      static_cast<int64_t>(policy_t::getHash())) {
+    return Drop("reassembled message is no policy_t");
+  }
+  return DecodePolicy(run, bytes.data(), static_cast<int>(bytes.size()));
+}
+
+Result<PolicyLogSummary> ReadPolicyLog(const std::string& path, const std::string& run_id,
+                                       const std::function<void(policy_t&)>& visit) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) {
+    return Error{"cannot open log " + path + ": " + std::strerror(errno)};
+  }
+  if (S_ISDIR(info.st_mode)) return Error{path + " is a directory, not an LCM log"};
+  if (FILE* probe = std::fopen(path.c_str(), "rb"); probe == nullptr) {
+    return Error{"cannot open log " + path + ": " + std::strerror(errno)};
+  } else {
+    std::fclose(probe);
+  }
+  lcm::LogFile log(path, "r");
+  if (!log.good()) return Error{"cannot read " + path + " as an LCM log"};
+  PolicyLogSummary summary;
+  // Log time, not wall time: a log reads the same however fast it is read.
+  PolicyAssembler assembler;
+  while (const lcm::LogEvent* event = log.readNextEvent()) {
+    ++summary.events;
+    const std::optional<std::string> run = PolicyChannelRun(event->channel);
+    if (!run || (!run_id.empty() && *run != run_id)) continue;
+    ++summary.policy_events;
+    std::optional<policy_t> policy = assembler.Feed(
+        event->channel, static_cast<const uint8_t*>(event->data), event->datalen, event->timestamp);
+    if (policy) visit(*policy);
+  }
+  if (summary.events == 0) return Error{path + " is empty or not an LCM log"};
+  summary.counters = assembler.counters();
+  summary.incomplete = static_cast<int64_t>(assembler.pending());
+  return summary;
+}
+
+}  // namespace dynapath::view
