@@ -274,8 +274,8 @@ void Agent::ComputeRound() {
   std::vector<LearnerShard> shards(items.size());
   pool_.ParallelFor(static_cast<int>(items.size()), [&](int i) {
     HostedJob& job = *items[i].first;
-    shards[i] = job.learners[items[i].second]->RunRound(
-        combiner_->job(job.index).stats, job.received.job.seed, round, sync_period_);
+    shards[i] = job.learners[items[i].second]->RunRound(combiner_->job(job.index).stats,
+                                                        job.received.job.seed, round, sync_period_);
   });
   round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};

@@ -83,10 +83,10 @@ class Agent {
   std::unique_ptr<protocol::RoundCombiner> combiner_;   // all agents' rounds of them
   int64_t computed_round_ = -1;                         // last round computed here
   std::deque<shards_t> sent_;                           // our last two rounds' shards
-  int64_t waiting_since_ms_ = 0;   // when our shards of the round went out
+  int64_t waiting_since_ms_ = 0;                        // when our shards of the round went out
   int64_t next_nudge_ms_ = 0;
   int64_t nudge_interval_ms_ = 0;
-  int64_t round_compute_ms_ = 0;   // how long computing our last round took
+  int64_t round_compute_ms_ = 0;       // how long computing our last round took
   std::vector<job_result_t> results_;  // whole jobs finished in this batch
 
   // What the heartbeat reports (written by the agent thread).

@@ -27,12 +27,11 @@ Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
       options_(std::move(options)),
       agents_(options_.agent_timeout_seconds),
       trainer_(bus, inbox_, agents_, MakeTrainerOptions(options_)) {
-  bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat,
-                              [this](heartbeat_t& beat) {
-                                // Wake the coordinator thread for a new agent:
-                                // the run starts as soon as enough are there.
-                                if (agents_.OnHeartbeat(beat)) inbox_.Wake();
-                              });
+  bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat, [this](heartbeat_t& beat) {
+    // Wake the coordinator thread for a new agent:
+    // the run starts as soon as enough are there.
+    if (agents_.OnHeartbeat(beat)) inbox_.Wake();
+  });
 }
 
 void Coordinator::PublishStep(const StepView& view, int pass) {

@@ -32,8 +32,8 @@ struct DistributedTrainer::Batch {
   bool split = false;
   LearnerConfig config;
   std::vector<JobState> jobs;
-  std::vector<int> agents;           // of the current epoch
-  job_batch_t message{};  // the current epoch's batch
+  std::vector<int> agents;  // of the current epoch
+  job_batch_t message{};    // the current epoch's batch
   // Split: the shared tables and start statistics, round by round.
   std::unique_ptr<protocol::RoundCombiner> combiner;
   // Who owes what in this epoch: agent -> (job, learner) items (-1: whole).
@@ -326,8 +326,7 @@ void DistributedTrainer::CheckAgents() {
         received += batch.jobs[static_cast<size_t>(job)].result ? 1 : 0;
       }
       resend = resend || info.round > received;  // it sent what did not arrive
-    } else if (static_cast<double>(now - batch.last_progress_ms) >
-               options_.resend_seconds * 1000) {
+    } else if (static_cast<double>(now - batch.last_progress_ms) > options_.resend_seconds * 1000) {
       // Agents keep their shards of their last two rounds only: one further
       // ahead cannot fill our gap, so the batch restarts from our round.
       if (info.round > batch.combiner->round() + 1) {

@@ -1,9 +1,8 @@
 #include "coordinator/envsim_client.h"
 
-#include <algorithm>
-
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "dynapath/heartbeat_t.hpp"

@@ -44,16 +44,15 @@ int main(int argc, char** argv) {
   const double seconds = std::atof(argv[2]);
   lcm::LCM lcm;
   if (!lcm.good()) return 1;
-  const std::vector<std::string> names = {"HEARTBEAT", "ENV_REQUEST", "ENV_GRID",
-                                          "ENV_CHANGES", "JOBS",      "SHARDS",
-                                          "RESULTS",   "REPORT",      "POLICY"};
+  const std::vector<std::string> names = {"HEARTBEAT",   "ENV_REQUEST", "ENV_GRID",
+                                          "ENV_CHANGES", "JOBS",        "SHARDS",
+                                          "RESULTS",     "REPORT",      "POLICY"};
   const std::vector<int64_t> hashes = {
-      dynapath::heartbeat_t::getHash(),   dynapath::step_request_t::getHash(),
-      dynapath::grid_t::getHash(),        dynapath::changes_t::getHash(),
-      dynapath::job_batch_t::getHash(),   dynapath::shards_t::getHash(),
-      dynapath::job_result_t::getHash(),
-      dynapath::step_report_t::getHash(), dynapath::policy_t::getHash(),
-      dynapath::fragment_t::getHash()};
+      dynapath::heartbeat_t::getHash(),  dynapath::step_request_t::getHash(),
+      dynapath::grid_t::getHash(),       dynapath::changes_t::getHash(),
+      dynapath::job_batch_t::getHash(),  dynapath::shards_t::getHash(),
+      dynapath::job_result_t::getHash(), dynapath::step_report_t::getHash(),
+      dynapath::policy_t::getHash(),     dynapath::fragment_t::getHash()};
   std::mt19937_64 random(12345);
   std::vector<uint8_t> bytes;
   // A valid heartbeat of another run: must be ignored by this run.

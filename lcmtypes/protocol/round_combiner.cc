@@ -80,7 +80,8 @@ std::string RoundCombiner::Mismatch(const shards_t& message) const {
     if (shard.start_cell >= 0 && job.stats.SlotOf(shard.start_cell) < 0) {
       return "a shard's start cell is not a start of job " + std::to_string(shard.job);
     }
-    if ((shard.visit_bytes > 0) != (job.averaging == Averaging::kImportance && shard.num_entries > 0)) {
+    if ((shard.visit_bytes > 0) !=
+        (job.averaging == Averaging::kImportance && shard.num_entries > 0)) {
       return "a shard's visit counts do not fit the averaging of job " + std::to_string(shard.job);
     }
   }

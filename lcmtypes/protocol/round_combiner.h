@@ -34,12 +34,12 @@ namespace dynapath::protocol {
 class RoundCombiner {
  public:
   struct Job {
-    int index = 0;           // in the batch (shards' job field)
-    int learners = 0;        // K: learners of the job over all agents
-    int64_t rounds = 0;      // rounds of the job
+    int index = 0;       // in the batch (shards' job field)
+    int learners = 0;    // K: learners of the job over all agents
+    int64_t rounds = 0;  // rounds of the job
     Averaging averaging = Averaging::kEqual;
-    QTable shared;           // the shared table after start_round rounds
-    StartStatistics stats;   // the start statistics after start_round rounds
+    QTable shared;          // the shared table after start_round rounds
+    StartStatistics stats;  // the start statistics after start_round rounds
   };
   // (job index, learner) pairs an agent hosts.
   using Items = std::map<int, std::vector<std::pair<int, int>>>;

@@ -65,8 +65,7 @@ std::vector<uint8_t> EncodeCounts(const std::vector<uint32_t>& counts) {
   return out;
 }
 
-bool DecodeCounts(const std::vector<uint8_t>& bytes, int32_t count,
-                  std::vector<uint32_t>& counts) {
+bool DecodeCounts(const std::vector<uint8_t>& bytes, int32_t count, std::vector<uint32_t>& counts) {
   if (count < 0 || static_cast<size_t>(count) > bytes.size()) return false;
   counts.resize(static_cast<size_t>(count));
   size_t pos = 0;

@@ -20,7 +20,6 @@ bool DecodeAscending(const std::vector<uint8_t>& bytes, int32_t count,
 // Counts >= 1, stored minus one.
 std::vector<uint8_t> EncodeCounts(const std::vector<uint32_t>& counts);
 // Decodes exactly `count` counts (each >= 1, <= INT32_MAX) from all of `bytes`.
-bool DecodeCounts(const std::vector<uint8_t>& bytes, int32_t count,
-                  std::vector<uint32_t>& counts);
+bool DecodeCounts(const std::vector<uint8_t>& bytes, int32_t count, std::vector<uint32_t>& counts);
 
 }  // namespace dynapath::protocol

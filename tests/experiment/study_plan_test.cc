@@ -74,11 +74,10 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   EXPECT_EQ(ScenarioArguments(plan[0]),
             (std::vector<std::string>{"--size", "50", "--difficulty", "hard", "--seed", "7",
                                       "--steps", "10"}));
-  EXPECT_EQ(
-      RunArguments(*options, "out/runs/x"),
-      (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out", "out/runs/x",
-                                "--leaf-limit", "20", "--bootstrap", "in-grid", "--placement",
-                                "auto"}));
+  EXPECT_EQ(RunArguments(*options, "out/runs/x"),
+            (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out",
+                                      "out/runs/x", "--leaf-limit", "20", "--bootstrap", "in-grid",
+                                      "--placement", "auto"}));
 
   options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
   ASSERT_TRUE(options);

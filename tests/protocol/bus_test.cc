@@ -61,14 +61,15 @@ TEST(BusTest, DuplicatedFragmentsDeliverOnce) {
   lcm::LCM lcm("memq://");
   BusOptions options;
   options.fragment_above = 2000;
-  options.fragment_size = 1024;  // the smallest piece the Bus makes
+  options.fragment_size = 1024;         // the smallest piece the Bus makes
   options.duplicate_probability = 1.0;  // every fragment sent twice
   Bus sender(lcm, "run1", options);
   Bus receiver(lcm, "run1");
   int got = 0;
   receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
   sender.Publish(channel::kPolicy, Policy("run1", 40));
-  Pump(lcm, [&] { return false; }, std::chrono::milliseconds(200));
+  Pump(
+      lcm, [&] { return false; }, std::chrono::milliseconds(200));
   EXPECT_EQ(got, 1);
 }
 
@@ -112,7 +113,8 @@ TEST(BusTest, InjectedDropsLoseMessages) {
   int got = 0;
   receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
   sender.Publish(channel::kPolicy, Policy("run1", 5));
-  Pump(lcm, [&] { return false; }, std::chrono::milliseconds(200));
+  Pump(
+      lcm, [&] { return false; }, std::chrono::milliseconds(200));
   EXPECT_EQ(got, 0);
   EXPECT_EQ(sender.counters().injected_drops, 1);
 }

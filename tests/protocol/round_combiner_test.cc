@@ -212,10 +212,10 @@ TEST(RoundCombinerTest, EveryLearnerMustBeHostedOnce) {
     RoundCombiner combiner({CombinerJob(job, model)}, std::move(items), 0);
   };
   EXPECT_NO_THROW(make({{1, {{0, 0}, {0, 1}}}}));
-  EXPECT_THROW(make({{1, {{0, 0}}}}), std::invalid_argument);                // learner 1 missing
+  EXPECT_THROW(make({{1, {{0, 0}}}}), std::invalid_argument);  // learner 1 missing
   EXPECT_THROW(make({{1, {{0, 0}, {0, 1}}}, {2, {{0, 1}}}}), std::invalid_argument);  // twice
-  EXPECT_THROW(make({{1, {{0, 0}, {0, 2}}}}), std::invalid_argument);        // no learner 2
-  EXPECT_THROW(make({{1, {{1, 0}, {0, 1}}}}), std::invalid_argument);        // no job 1
+  EXPECT_THROW(make({{1, {{0, 0}, {0, 2}}}}), std::invalid_argument);  // no learner 2
+  EXPECT_THROW(make({{1, {{1, 0}, {0, 1}}}}), std::invalid_argument);  // no job 1
 }
 
 TEST(RoundCombinerTest, JobsEndAtTheirOwnRound) {

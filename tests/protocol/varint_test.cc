@@ -44,9 +44,9 @@ TEST(VarintTest, RejectsMalformedBytes) {
   std::vector<uint32_t> out;
   const std::vector<uint8_t> good = EncodeAscending({3, 4, 9});
   EXPECT_TRUE(DecodeAscending(good, 3, out));
-  EXPECT_FALSE(DecodeAscending(good, 2, out));   // trailing bytes
-  EXPECT_FALSE(DecodeAscending(good, 4, out));   // truncated
-  EXPECT_FALSE(DecodeAscending(good, -1, out));  // negative count
+  EXPECT_FALSE(DecodeAscending(good, 2, out));    // trailing bytes
+  EXPECT_FALSE(DecodeAscending(good, 4, out));    // truncated
+  EXPECT_FALSE(DecodeAscending(good, -1, out));   // negative count
   EXPECT_FALSE(DecodeAscending({0x80}, 1, out));  // continuation without end
   // Overlong: six continuation bytes.
   EXPECT_FALSE(DecodeAscending({0xff, 0xff, 0xff, 0xff, 0xff, 0x01}, 1, out));

@@ -10,7 +10,8 @@
 namespace dynapath::view {
 namespace {
 
-const std::vector<Rgb> kPalette = {{0, 0, 0}, {255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {250, 250, 250}};
+const std::vector<Rgb> kPalette = {
+    {0, 0, 0}, {255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {250, 250, 250}};
 
 RgbImage Pattern(int width, int height, int seed) {
   RgbImage image(width, height);

@@ -89,10 +89,18 @@ inline DecodedPng DecodePng(const std::vector<uint8_t>& file) {
       const int a = i >= 3 ? out[i - 3] : 0, b = up ? up[i] : 0, c = up && i >= 3 ? up[i - 3] : 0;
       int predictor = 0;
       switch (filter) {
-        case 0: predictor = 0; break;
-        case 1: predictor = a; break;
-        case 2: predictor = b; break;
-        case 3: predictor = (a + b) / 2; break;
+        case 0:
+          predictor = 0;
+          break;
+        case 1:
+          predictor = a;
+          break;
+        case 2:
+          predictor = b;
+          break;
+        case 3:
+          predictor = (a + b) / 2;
+          break;
         case 4: {
           const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
           predictor = pa <= pb && pa <= pc ? a : (pb <= pc ? b : c);
@@ -111,7 +119,7 @@ inline DecodedPng DecodePng(const std::vector<uint8_t>& file) {
 struct DecodedGif {
   std::string error;
   int width = 0, height = 0;
-  int loop_count = -1;  // -1: no NETSCAPE2.0 extension
+  int loop_count = -1;           // -1: no NETSCAPE2.0 extension
   std::vector<uint8_t> palette;  // 3 bytes per entry
   std::vector<int> delays_cs;
   std::vector<std::vector<uint8_t>> frames;  // composited RGB canvases

@@ -72,8 +72,8 @@ TEST(PngWriter, ChunkLayoutAndCrcs) {
 }
 
 TEST(PngWriter, WritesFiles) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("png_writer_test_" + std::to_string(::getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("png_writer_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const RgbImage picture = DrawPolicy(testing::MakePolicy(10, 12));
   const std::string path = (dir / "policy.png").string();

@@ -42,9 +42,7 @@ Rgb Near(const RgbImage& image, const PolicyLayout& layout, int row, int col, in
   return image.At(x, y);
 }
 
-TEST(PolicyDrawing, TheTestPolicyIsValid) {
-  EXPECT_EQ(protocol::Validate(SmallPolicy()), "");
-}
+TEST(PolicyDrawing, TheTestPolicyIsValid) { EXPECT_EQ(protocol::Validate(SmallPolicy()), ""); }
 
 TEST(PolicyDrawing, AutoCellSize) {
   EXPECT_EQ(AutoCellSize(5, 5), 16);
@@ -132,8 +130,8 @@ TEST(PolicyDrawing, RetrainedRegionIsOutlined) {
     EXPECT_EQ(image.At(right, top), colour::kRegion);
     EXPECT_EQ(image.At(left, bottom), colour::kRegion);
     EXPECT_EQ(image.At(right, bottom), colour::kRegion);
-    EXPECT_EQ(image.At(left + cell, top), colour::kRegion);     // along the top edge
-    EXPECT_EQ(image.At(right, top + cell), colour::kRegion);    // along the right edge
+    EXPECT_EQ(image.At(left + cell, top), colour::kRegion);   // along the top edge
+    EXPECT_EQ(image.At(right, top + cell), colour::kRegion);  // along the right edge
     // Inside the region: the cells' own colour.
     EXPECT_EQ(Near(image, layout, 2, 0, 0, 0), colour::kFree);
     EXPECT_EQ(Near(image, layout, 3, 1, 0, 0), colour::kFree);

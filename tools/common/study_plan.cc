@@ -23,22 +23,14 @@ struct KeyKind {
 };
 
 constexpr KeyKind kFileKeys[] = {
-    {"sizes", FileKind::kIntegerList},
-    {"difficulties", FileKind::kStringList},
-    {"approaches", FileKind::kStringList},
-    {"edge-case", FileKind::kBoolean},
-    {"seed", FileKind::kInteger},
-    {"steps", FileKind::kInteger},
-    {"leaf-limit", FileKind::kInteger},
-    {"bootstrap", FileKind::kString},
-    {"local", FileKind::kBoolean},
-    {"agents", FileKind::kInteger},
-    {"embedded", FileKind::kBoolean},
-    {"threads", FileKind::kInteger},
-    {"placement", FileKind::kString},
-    {"log-level", FileKind::kString},
-    {"lcm-url", FileKind::kString},
-    {"out", FileKind::kString},
+    {"sizes", FileKind::kIntegerList},     {"difficulties", FileKind::kStringList},
+    {"approaches", FileKind::kStringList}, {"edge-case", FileKind::kBoolean},
+    {"seed", FileKind::kInteger},          {"steps", FileKind::kInteger},
+    {"leaf-limit", FileKind::kInteger},    {"bootstrap", FileKind::kString},
+    {"local", FileKind::kBoolean},         {"agents", FileKind::kInteger},
+    {"embedded", FileKind::kBoolean},      {"threads", FileKind::kInteger},
+    {"placement", FileKind::kString},      {"log-level", FileKind::kString},
+    {"lcm-url", FileKind::kString},        {"out", FileKind::kString},
 };
 
 std::string ScalarText(const ConfigValue& value) {
@@ -297,8 +289,8 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
   }
   if (const OptionValue* placement = find("placement")) {
     if (placement->text != "auto" && placement->text != "whole" && placement->text != "split") {
-      return Error{placement->origin + ": must be auto, whole or split, got '" +
-                   placement->text + "'"};
+      return Error{placement->origin + ": must be auto, whole or split, got '" + placement->text +
+                   "'"};
     }
     options.placement = placement->text;
   }
@@ -402,9 +394,10 @@ std::vector<std::string> ScenarioArguments(const StudyConfiguration& configurati
 std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir) {
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  return {"--approach",  Join(names, ","), "--out",
-          out_dir,       "--leaf-limit",   std::to_string(options.leaf_limit),
-          "--bootstrap", options.bootstrap, "--placement", options.placement};
+  return {"--approach",     Join(names, ","),  "--out",
+          out_dir,          "--leaf-limit",    std::to_string(options.leaf_limit),
+          "--bootstrap",    options.bootstrap, "--placement",
+          options.placement};
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {

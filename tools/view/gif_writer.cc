@@ -134,8 +134,8 @@ uint8_t GifEncoder::IndexOf(Rgb colour) {
 Status GifEncoder::AddFrame(const RgbImage& frame, int delay_ms) {
   if (frame.width() != width_ || frame.height() != height_) {
     return Error{"frame of " + std::to_string(frame.width()) + "x" +
-                 std::to_string(frame.height()) + " in an animation of " +
-                 std::to_string(width_) + "x" + std::to_string(height_)};
+                 std::to_string(frame.height()) + " in an animation of " + std::to_string(width_) +
+                 "x" + std::to_string(height_)};
   }
   std::vector<uint8_t> indices(static_cast<size_t>(width_) * height_);
   const std::vector<uint8_t>& rgb = frame.bytes();

@@ -27,9 +27,8 @@ std::string SuccessText(const PolicySummary& summary) {
 
 const std::vector<Rgb>& DrawingPalette() {
   static const std::vector<Rgb> palette = {
-      colour::kHeader,   colour::kHeaderText, colour::kFree,   colour::kObstacle,
-      colour::kStation,  colour::kFailing,    colour::kArrow,  colour::kRegion,
-      colour::kGridLine,
+      colour::kHeader,  colour::kHeaderText, colour::kFree,   colour::kObstacle, colour::kStation,
+      colour::kFailing, colour::kArrow,      colour::kRegion, colour::kGridLine,
   };
   return palette;
 }
@@ -103,8 +102,8 @@ RgbImage DrawPolicy(const policy_t& policy, const DrawOptions& options) {
     FillRect(image, 0, 0, layout.width, layout.grid_y, colour::kHeader);
     const int s = layout.text_scale;
     for (size_t i = 0; i < layout.header_lines.size(); ++i) {
-      DrawText(image, 3 * s, 3 * s + static_cast<int>(i) * kLineHeight * s,
-               layout.header_lines[i], s, colour::kHeaderText);
+      DrawText(image, 3 * s, 3 * s + static_cast<int>(i) * kLineHeight * s, layout.header_lines[i],
+               s, colour::kHeaderText);
     }
   }
 

@@ -51,13 +51,13 @@ struct DrawOptions {
 
 // Where things are in a picture.
 struct PolicyLayout {
-  int cell = 0;           // pixels per cell side
-  int width = 0;          // of the whole picture
+  int cell = 0;   // pixels per cell side
+  int width = 0;  // of the whole picture
   int height = 0;
-  int grid_x = 0;         // top-left pixel of cell (0, 0)
-  int grid_y = 0;         // = header height
-  int text_scale = 1;     // font scale of the header
-  bool arrows = false;    // cell >= kMinArrowCell
+  int grid_x = 0;       // top-left pixel of cell (0, 0)
+  int grid_y = 0;       // = header height
+  int text_scale = 1;   // font scale of the header
+  bool arrows = false;  // cell >= kMinArrowCell
   std::vector<std::string> header_lines;
 };
 

@@ -40,8 +40,7 @@ std::optional<std::string> PolicyChannelRun(std::string_view channel) {
   return std::string(run);
 }
 
-PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us)
-    : lifetime_us_(partial_lifetime_us) {}
+PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us) : lifetime_us_(partial_lifetime_us) {}
 
 std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
   why_ = std::move(why);
@@ -49,8 +48,8 @@ std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
   return std::nullopt;
 }
 
-std::optional<policy_t> PolicyAssembler::DecodePolicy(const std::string& run,
-                                                      const uint8_t* data, int size) {
+std::optional<policy_t> PolicyAssembler::DecodePolicy(const std::string& run, const uint8_t* data,
+                                                      int size) {
   policy_t policy{};
   int used = -1;
   try {

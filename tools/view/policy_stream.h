@@ -72,7 +72,7 @@ struct PolicyLogSummary {
   int64_t events = 0;         // all events of the log
   int64_t policy_events = 0;  // events on POLICY channels (fragments included)
   PolicyStreamCounters counters;
-  int64_t incomplete = 0;     // fragmented messages still missing pieces at the end
+  int64_t incomplete = 0;  // fragmented messages still missing pieces at the end
 };
 
 // Calls `visit` with every valid policy of the LCM log at `path`, in log

@@ -30,7 +30,7 @@ class RgbImage {
   // Row-major, three bytes (r, g, b) per pixel.
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
-  Rgb At(int x, int y) const;  // {0, 0, 0} outside the image
+  Rgb At(int x, int y) const;          // {0, 0, 0} outside the image
   void Set(int x, int y, Rgb colour);  // ignored outside the image
 
  private:
@@ -42,8 +42,8 @@ class RgbImage {
 void FillRect(RgbImage& image, int x, int y, int w, int h, Rgb colour);
 // The `thickness` innermost pixel rings of the rectangle [x, x+w) x [y, y+h).
 void OutlineRect(RgbImage& image, int x, int y, int w, int h, int thickness, Rgb colour);
-void FillTriangle(RgbImage& image, double x0, double y0, double x1, double y1, double x2,
-                  double y2, Rgb colour);
+void FillTriangle(RgbImage& image, double x0, double y0, double x1, double y1, double x2, double y2,
+                  Rgb colour);
 // A segment of the given width (a filled rectangle along it).
 void ThickLine(RgbImage& image, double x0, double y0, double x1, double y1, double width,
                Rgb colour);
@@ -51,8 +51,8 @@ void ThickLine(RgbImage& image, double x0, double y0, double x1, double y1, doub
 // The built-in font: 5x7 glyphs (descenders two rows below) on a 6x11 grid,
 // scaled by `scale` (>= 1). Printable ASCII; anything else is drawn as '?'.
 inline constexpr int kGlyphWidth = 5;
-inline constexpr int kGlyphHeight = 7;   // capitals and digits
-inline constexpr int kDescender = 2;     // g, j, p, q, y
+inline constexpr int kGlyphHeight = 7;  // capitals and digits
+inline constexpr int kDescender = 2;    // g, j, p, q, y
 inline constexpr int kGlyphAdvance = 6;
 inline constexpr int kLineHeight = 11;
 int TextWidth(std::string_view text, int scale);

@@ -18,9 +18,9 @@
 #include "tools/common/process_options.h"
 #include "tools/common/scenario_options.h"
 #include "tools/view/gif_writer.h"
+#include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_stream.h"
-#include "tools/view/png_writer.h"
 #include "tools/view/safe_name.h"
 
 namespace {
@@ -68,9 +68,7 @@ SplitArgs Split(const std::vector<std::string>& args, const std::set<std::string
   return split;
 }
 
-std::string Kilobytes(uintmax_t bytes) {
-  return std::to_string((bytes + 1023) / 1024) + " KB";
-}
+std::string Kilobytes(uintmax_t bytes) { return std::to_string((bytes + 1023) / 1024) + " KB"; }
 
 int Run(const std::vector<std::string>& args) {
   cli::ArgParser parser(
@@ -90,8 +88,7 @@ int Run(const std::vector<std::string>& args) {
   parser.AddFlag("no-gif", "write the PNG frames only");
   cli::AddLogLevelOption(parser);
 
-  const SplitArgs split =
-      Split(args, {"out", "approach", "run-id", "cell", "delay", "log-level"});
+  const SplitArgs split = Split(args, {"out", "approach", "run-id", "cell", "delay", "log-level"});
   if (int code = cli::ParseProcessArgs(parser, split.options, kProgram); code >= 0) return code;
   if (split.positional.empty()) {
     return cli::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
@@ -148,7 +145,8 @@ int Run(const std::vector<std::string>& args) {
       if (key.second == approach_filter || view::SafeName(key.second) == approach_filter) {
         kept.push_back(key);
       }
-      if (listed.insert(key.second).second) names += (names.empty() ? "'" : ", '") + key.second + "'";
+      if (listed.insert(key.second).second)
+        names += (names.empty() ? "'" : ", '") + key.second + "'";
     }
     if (kept.empty()) {
       return cli::ProcessError(kProgram,
@@ -229,7 +227,7 @@ int Run(const std::vector<std::string>& args) {
           }
         }
         output.first_step = output.first_step < 0 ? policy.time_step
-                                                   : std::min(output.first_step, policy.time_step);
+                                                  : std::min(output.first_step, policy.time_step);
         output.last_step = std::max(output.last_step, policy.time_step);
         ++frames;
         const auto now = std::chrono::steady_clock::now();
@@ -264,9 +262,10 @@ int Run(const std::vector<std::string>& args) {
   const view::PolicyStreamCounters& counters = pass->counters;
   const int64_t skipped = counters.dropped + inconsistent;
   if (skipped > 0 || pass->incomplete > 0 || counters.expired > 0) {
-    spdlog::warn("render: skipped {} invalid or undecodable POLICY message(s); {} fragmented "
-                 "message(s) incomplete",
-                 skipped, pass->incomplete + counters.expired);
+    spdlog::warn(
+        "render: skipped {} invalid or undecodable POLICY message(s); {} fragmented "
+        "message(s) incomplete",
+        skipped, pass->incomplete + counters.expired);
   }
   if (duplicates > 0) spdlog::info("render: ignored {} repeated time step(s)", duplicates);
   const double seconds =

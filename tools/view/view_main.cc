@@ -32,7 +32,8 @@ constexpr const char* kProgram = "dynapath-view";
 constexpr int kExitFailure = 1;
 
 bool SameNamespace(const std::string& a, const std::string& b) {
-  struct stat first {}, second {};
+  struct stat first {
+  }, second{};
   return stat(a.c_str(), &first) == 0 && stat(b.c_str(), &second) == 0 &&
          first.st_dev == second.st_dev && first.st_ino == second.st_ino;
 }
@@ -53,8 +54,8 @@ Status EnterNetworkOf(const std::string& pid) {
     const int result = setns(fd, type);
     const int error = errno;
     close(fd);
-    if (result != 0) return Error{std::string("cannot join its ") + name + " namespace: " +
-                                  std::strerror(error)};
+    if (result != 0)
+      return Error{std::string("cannot join its ") + name + " namespace: " + std::strerror(error)};
     return Ok{};
   };
   if (!SameNamespace(ns + "user", "/proc/self/ns/user")) {
@@ -75,8 +76,8 @@ Result<std::pair<int, int>> ParseWindowSize(const std::string& text) {
   char rest = 0;
   if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &rest) != 2 || width < 160 ||
       height < 120 || width > 8192 || height > 8192) {
-    return Error{"option --window needs WIDTHxHEIGHT between 160x120 and 8192x8192, got '" +
-                 text + "'"};
+    return Error{"option --window needs WIDTHxHEIGHT between 160x120 and 8192x8192, got '" + text +
+                 "'"};
   }
   return std::pair{width, height};
 }
@@ -146,8 +147,9 @@ int Run(const std::vector<std::string>& args) {
   const char* display = std::getenv("DISPLAY");
   if (display == nullptr || *display == '\0') {
     return cli::ProcessError(
-        kProgram, "no display (DISPLAY is not set): dynapath view opens a window; use "
-                  "`dynapath render LOG --out DIR` for pictures without one (or xvfb-run)",
+        kProgram,
+        "no display (DISPLAY is not set): dynapath view opens a window; use "
+        "`dynapath render LOG --out DIR` for pictures without one (or xvfb-run)",
         kExitFailure);
   }
 

@@ -1,16 +1,16 @@
 #include "tools/view/viewer.h"
 
-#include <SFML/Graphics.hpp>
 #include <spdlog/spdlog.h>
 
+#include <SFML/Graphics.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <vector>
 
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/view/policy_drawing.h"
 #include "tools/view/png_writer.h"
+#include "tools/view/policy_drawing.h"
 #include "tools/view/safe_name.h"
 
 namespace dynapath::view {
@@ -234,9 +234,8 @@ class Viewer {
     shown_ = approach;
     step_ = policy->time_step;
     const RgbImage image = DrawPolicy(*policy, DrawOptions{options_.cell_px, true});
-    const bool resized =
-        texture_.getSize() != sf::Vector2u(static_cast<unsigned>(image.width()),
-                                           static_cast<unsigned>(image.height()));
+    const bool resized = texture_.getSize() != sf::Vector2u(static_cast<unsigned>(image.width()),
+                                                            static_cast<unsigned>(image.height()));
     Upload(image, texture_);
     sprite_.setTexture(texture_, true);
     const bool first = !have_policy_;
@@ -254,11 +253,10 @@ class Viewer {
       if (!follow_) line += ", approach " + wanted_;
     } else {
       line = "run " + feed_.run() + "  |  approach " + std::to_string(ShownIndex() + 1) + "/" +
-             std::to_string(approaches.size()) + ": " + shown_ +
-             (follow_ ? " (following)" : "") + "  |  step " + std::to_string(step_) + "  |  " +
-             std::to_string(feed_.received()) + " policies, " + std::to_string(feed_.dropped()) +
-             " dropped  |  zoom " + std::to_string(static_cast<int>(std::lround(zoom_ * 100))) +
-             "%";
+             std::to_string(approaches.size()) + ": " + shown_ + (follow_ ? " (following)" : "") +
+             "  |  step " + std::to_string(step_) + "  |  " + std::to_string(feed_.received()) +
+             " policies, " + std::to_string(feed_.dropped()) + " dropped  |  zoom " +
+             std::to_string(static_cast<int>(std::lround(zoom_ * 100))) + "%";
     }
     const std::string keys =
         "Tab/1-9: approach  A: follow latest  wheel,+,-: zoom  drag,arrows: pan  F: fit  Q: quit";
@@ -308,8 +306,8 @@ class Viewer {
       spdlog::error("{}", status.error().message);
       return 1;
     }
-    spdlog::info("saved the window ({}x{}, {} of run {} at step {}) to {}", size.x, size.y,
-                 shown_, feed_.run(), step_, options_.screenshot);
+    spdlog::info("saved the window ({}x{}, {} of run {} at step {}) to {}", size.x, size.y, shown_,
+                 feed_.run(), step_, options_.screenshot);
     return 0;
   }
 

@@ -11,9 +11,9 @@ namespace dynapath::view {
 struct ViewerOptions {
   int window_width = 960;
   int window_height = 760;
-  int cell_px = 0;            // 0: AutoCellSize
-  std::string approach;       // shown first ("" follows the latest approach)
-  std::string lcm_url;        // for the status bar
+  int cell_px = 0;       // 0: AutoCellSize
+  std::string approach;  // shown first ("" follows the latest approach)
+  std::string lcm_url;   // for the status bar
   // Screenshot mode: once `screenshot_after` valid policies have arrived,
   // save what the window shows to `screenshot` (PNG) and return; fail after
   // `timeout_seconds` without them.
