@@ -15,7 +15,11 @@ dynapath=${1:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
 garbage=${2:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
 bin_dir=$(cd "$(dirname "$dynapath")/.." && pwd)
 work=$(mktemp -d)
-trap 'pkill -9 -f "dynapath-(agent|envsim|coordinator)" 2>/dev/null; rm -rf "$work"' EXIT
+# Processes this script starts itself carry this run id; runs started through
+# the launcher are stopped by it. Never touch other tests' processes (ctest
+# runs tests in parallel).
+orphans_run="orphans-$$"
+trap 'pkill -9 -f -- "--run-id $orphans_run" 2>/dev/null; rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 pass() { echo "ok ($SECONDS s): $*"; }
@@ -25,23 +29,14 @@ if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
   exit 2
 fi
 
-# Result files without the time columns (InitialTime, AdaptTimePerStep, AdaptTime).
-strip_times() {
-  python3 - "$1" <<'PY'
-import csv, sys
-rows = list(csv.reader(open(sys.argv[1])))
-drop = {i for i, name in enumerate(rows[0]) if 'Time' in name and name != 'TimeStep'}
-for row in rows:
-    print(','.join(v for i, v in enumerate(row) if i not in drop))
-PY
-}
+# strip_times, same_result_files
+source "$(dirname "$0")/result_files.sh"
 same_results() {  # same_results DIR_A DIR_B LABEL
-  local ok=1
-  for file in results.csv results_detailed.csv; do
-    if [ ! -s "$1/$file" ] || [ ! -s "$2/$file" ]; then ok=0; continue; fi
-    diff -q <(strip_times "$1/$file") <(strip_times "$2/$file") >/dev/null || ok=0
-  done
-  if [ $ok -eq 1 ]; then pass "$3: identical results"; else fail "$3: results differ from --local"; fi
+  if same_result_files "$1" "$2" results.csv results_detailed.csv; then
+    pass "$3: identical results"
+  else
+    fail "$3: results differ from --local"
+  fi
 }
 
 # 1. Same answers everywhere, all seven approaches (30x30: four leaves, so
@@ -82,7 +77,8 @@ for case in "auto coordinator: maze" "split initial training"; do
     --log-level info >/dev/null 2>"$work/killed_$placement.log" &
   launcher=$!
   wait_for_line "$work/killed_$placement.log" "$line" || fail "no '$line' line ($placement)"
-  victim=$(pgrep -f "dynapath-agent .*--id 2" | head -1)
+  # Agent 2 of this run: a child of this launcher (other tests run agents too).
+  victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
   if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($placement)"; fi
   wait $launcher || fail "run with a killed agent exited $? ($placement)"
   grep -q "reassigning its work" "$work/killed_$placement.log" ||
@@ -112,11 +108,11 @@ grep -q "dropped a message" "$work/garbage.log" || fail "garbage was not reporte
 same_results "$work/small_local" "$work/garbage" "garbage on every channel"
 
 # 5. Kill the coordinator: agents and envsim must exit within 5 s.
-"$bin_dir/envsim/dynapath-envsim" --run-id orphans "${big[@]:0:4}" --log-level error &
+"$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${big[@]:0:4}" --log-level error &
 envsim=$!
-"$bin_dir/agent/dynapath-agent" --run-id orphans --id 1 --threads 1 --log-level error &
+"$bin_dir/agent/dynapath-agent" --run-id "$orphans_run" --id 1 --threads 1 --log-level error &
 agent=$!
-"$bin_dir/coordinator/dynapath-coordinator" --run-id orphans --approach fedAsynQ_EqAvg \
+"$bin_dir/coordinator/dynapath-coordinator" --run-id "$orphans_run" --approach fedAsynQ_EqAvg \
   --out "$work/orphans" --log-level error &
 coordinator=$!
 sleep 1

@@ -19,14 +19,6 @@ int64_t NowMs() {
       .count();
 }
 
-// Big-endian int64 at the start of an LCM message: its type's fingerprint.
-int64_t PeekFingerprint(const uint8_t* data, int size) {
-  if (size < 8) return 0;
-  uint64_t value = 0;
-  for (int i = 0; i < 8; ++i) value = (value << 8) | data[i];
-  return static_cast<int64_t>(value);
-}
-
 // Partial messages not completed within this time are forgotten.
 constexpr int64_t kPartialLifetimeMs = 30000;
 // At most this many partial messages are kept (a flood of garbage fragments
@@ -40,6 +32,7 @@ Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
     : lcm_(lcm),
       run_id_(std::move(run_id)),
       options_(options),
+      fragments_(kMaxPartials, kMaxMessageBytes, kPartialLifetimeMs),
       // Message ids: distinct per process and bus, so a receiver never mixes
       // the fragments of two senders.
       next_message_id_(static_cast<int64_t>(
@@ -165,48 +158,11 @@ void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) 
   if (std::string error = Validate(fragment); !error.empty()) {
     return Drop(channel, "fragment_t: " + error);
   }
-  if (fragment.total_size > kMaxMessageBytes) return Drop(channel, "fragment_t: message too big");
   ++counters_fragments_;
-  const int64_t now = NowMs();
-  // Forget stale partial messages (their sender gave up or died).
-  for (auto it = partials_.begin(); it != partials_.end();) {
-    it = now - it->second.last_seen_ms > kPartialLifetimeMs ? partials_.erase(it) : std::next(it);
-  }
-  const auto key = std::make_pair(channel, fragment.message_id);
-  auto it = partials_.find(key);
-  if (it == partials_.end()) {
-    if (partials_.size() >= kMaxPartials) return Drop(channel, "too many partial messages");
-    Partial partial;
-    partial.fingerprint = fragment.fingerprint;
-    partial.total_size = fragment.total_size;
-    partial.count = fragment.count;
-    partial.bytes.resize(static_cast<size_t>(fragment.total_size));
-    partial.present.assign(static_cast<size_t>(fragment.count), false);
-    it = partials_.emplace(key, std::move(partial)).first;
-  }
-  Partial& partial = it->second;
-  const int64_t offset = fragment.offset;
-  if (partial.fingerprint != fragment.fingerprint || partial.total_size != fragment.total_size ||
-      partial.count != fragment.count || offset < 0 ||
-      offset + fragment.size > partial.total_size) {
-    partials_.erase(it);
-    return Drop(channel, "fragment_t inconsistent with its message");
-  }
-  partial.last_seen_ms = now;
-  if (!partial.present[static_cast<size_t>(fragment.index)]) {
-    std::memcpy(partial.bytes.data() + offset, fragment.data.data(),
-                static_cast<size_t>(fragment.size));
-    partial.present[static_cast<size_t>(fragment.index)] = true;
-    ++partial.have;
-  }
-  if (partial.have == partial.count) {
-    const std::vector<uint8_t> bytes = std::move(partial.bytes);
-    const int64_t fingerprint = partial.fingerprint;
-    partials_.erase(it);
-    if (PeekFingerprint(bytes.data(), static_cast<int>(bytes.size())) != fingerprint) {
-      return Drop(channel, "reassembled message has the wrong type");
-    }
-    Dispatch(channel, bytes.data(), static_cast<int>(bytes.size()));
+  FragmentAssembler::Outcome outcome = fragments_.Add(channel, fragment, NowMs());
+  if (outcome.kind == FragmentAssembler::Outcome::Kind::kDropped) return Drop(channel, outcome.why);
+  if (outcome.kind == FragmentAssembler::Outcome::Kind::kComplete) {
+    Dispatch(channel, outcome.bytes.data(), static_cast<int>(outcome.bytes.size()));
   }
 }
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::protocol {
@@ -106,15 +107,6 @@ class Bus {
     int64_t fingerprint;
     Deliver deliver;
   };
-  struct Partial {
-    int64_t fingerprint = 0;
-    int32_t total_size = 0;
-    int32_t count = 0;
-    int32_t have = 0;
-    std::vector<uint8_t> bytes;
-    std::vector<bool> present;
-    int64_t last_seen_ms = 0;
-  };
 
   template <class T>
   static std::string TypeName() {
@@ -135,7 +127,7 @@ class Bus {
   BusOptions options_;
   std::map<std::string, std::vector<Route>> routes_;
   std::vector<lcm::Subscription*> subscriptions_;
-  std::map<std::pair<std::string, int64_t>, Partial> partials_;  // dispatch thread only
+  FragmentAssembler fragments_;  // dispatch thread only
   std::atomic<int64_t> next_message_id_;
   std::mutex fault_mutex_;
   Rng fault_rng_;

@@ -35,23 +35,14 @@ approaches=7
 configs=4
 rows_per_config=$((approaches * (10 + 1)))
 
-# Result files without the time columns (InitialTime, AdaptTimePerStep, AdaptTime).
-strip_times() {
-  python3 - "$1" <<'PY'
-import csv, sys
-rows = list(csv.reader(open(sys.argv[1])))
-drop = {i for i, name in enumerate(rows[0]) if 'Time' in name and name != 'TimeStep'}
-for row in rows:
-    print(','.join(v for i, v in enumerate(row) if i not in drop))
-PY
-}
+# strip_times, same_result_files
+source "$(dirname "$0")/../result_files.sh"
 same_results() {  # same_results DIR_A DIR_B LABEL
-  local ok=1
-  for file in results.csv results_detailed.csv edge_results.csv edge_results_detailed.csv; do
-    if [ ! -s "$1/$file" ] || [ ! -s "$2/$file" ]; then ok=0; continue; fi
-    diff -q <(strip_times "$1/$file") <(strip_times "$2/$file") >/dev/null || ok=0
-  done
-  if [ $ok -eq 1 ]; then pass "$3: identical results"; else fail "$3: results differ"; fi
+  if same_result_files "$1" "$2" results.csv results_detailed.csv edge_results.csv edge_results_detailed.csv; then
+    pass "$3: identical results"
+  else
+    fail "$3: results differ"
+  fi
 }
 expect_usage_error() {  # expect exit 2 and exactly one stderr line containing $1
   local needle=$1

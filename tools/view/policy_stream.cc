@@ -8,6 +8,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::view {
@@ -19,13 +20,6 @@ constexpr size_t kMaxPartials = 64;
 // A policy_t of the largest grid the protocol accepts (4096 x 4096 cells,
 // three bytes each) with room for its regions.
 constexpr int32_t kMaxMessageBytes = 3 * 4096 * 4096 + (1 << 20);
-
-int64_t PeekFingerprint(const uint8_t* data, int size) {
-  if (size < 8) return 0;
-  uint64_t value = 0;
-  for (int i = 0; i < 8; ++i) value = (value << 8) | data[i];
-  return static_cast<int64_t>(value);
-}
 
 }  // namespace
 
@@ -40,7 +34,8 @@ std::optional<std::string> PolicyChannelRun(std::string_view channel) {
   return std::string(run);
 }
 
-PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us) : lifetime_us_(partial_lifetime_us) {}
+PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us)
+    : fragments_(kMaxPartials, kMaxMessageBytes, partial_lifetime_us) {}
 
 std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
   why_ = std::move(why);
@@ -71,7 +66,7 @@ std::optional<policy_t> PolicyAssembler::Feed(std::string_view channel, const ui
   why_.clear();
   const std::optional<std::string> run = PolicyChannelRun(channel);
   if (!run) return Drop("not a POLICY channel");
-  const int64_t fingerprint = PeekFingerprint(data, size);
+  const int64_t fingerprint = protocol::PeekFingerprint(data, size);
   if (fingerprint == static_cast<int64_t>(fragment_t::getHash())) {
     return FeedFragment(std::string(channel), *run, data, size, now_us);
   }
@@ -99,51 +94,18 @@ std::optional<policy_t> PolicyAssembler::FeedFragment(const std::string& channel
   if (fragment.fingerprint != static_cast<int64_t>(policy_t::getHash())) {
     return Drop("fragment of a message that is no policy_t");
   }
-  if (fragment.total_size > kMaxMessageBytes) return Drop("fragmented message too big");
   ++counters_.fragments;
-  // Forget partial messages whose sender gave up or died.
-  for (auto it = partials_.begin(); it != partials_.end();) {
-    if (now_us - it->second.last_seen_us > lifetime_us_) {
-      ++counters_.expired;
-      it = partials_.erase(it);
-    } else {
-      ++it;
-    }
+  protocol::FragmentAssembler::Outcome outcome = fragments_.Add(channel, fragment, now_us);
+  counters_.expired = fragments_.expired();
+  switch (outcome.kind) {
+    case protocol::FragmentAssembler::Outcome::Kind::kDropped:
+      return Drop(outcome.why);
+    case protocol::FragmentAssembler::Outcome::Kind::kIncomplete:
+      return std::nullopt;
+    case protocol::FragmentAssembler::Outcome::Kind::kComplete:
+      break;
   }
-  const auto key = std::make_pair(channel, fragment.message_id);
-  auto it = partials_.find(key);
-  if (it == partials_.end()) {
-    if (partials_.size() >= kMaxPartials) return Drop("too many partial messages");
-    Partial partial;
-    partial.fingerprint = fragment.fingerprint;
-    partial.total_size = fragment.total_size;
-    partial.count = fragment.count;
-    partial.bytes.resize(static_cast<size_t>(fragment.total_size));
-    partial.present.assign(static_cast<size_t>(fragment.count), false);
-    it = partials_.emplace(key, std::move(partial)).first;
-  }
-  Partial& partial = it->second;
-  if (partial.fingerprint != fragment.fingerprint || partial.total_size != fragment.total_size ||
-      partial.count != fragment.count ||
-      static_cast<int64_t>(fragment.offset) + fragment.size > partial.total_size) {
-    partials_.erase(it);
-    return Drop("fragment_t inconsistent with its message");
-  }
-  partial.last_seen_us = now_us;
-  if (!partial.present[static_cast<size_t>(fragment.index)]) {
-    std::memcpy(partial.bytes.data() + fragment.offset, fragment.data.data(),
-                static_cast<size_t>(fragment.size));
-    partial.present[static_cast<size_t>(fragment.index)] = true;
-    ++partial.have;
-  }
-  if (partial.have < partial.count) return std::nullopt;
-  const std::vector<uint8_t> bytes = std::move(partial.bytes);
-  partials_.erase(it);
-  if (PeekFingerprint(bytes.data(), static_cast<int>(bytes.size())) !=
-      static_cast<int64_t>(policy_t::getHash())) {
-    return Drop("reassembled message is no policy_t");
-  }
-  return DecodePolicy(run, bytes.data(), static_cast<int>(bytes.size()));
+  return DecodePolicy(run, outcome.bytes.data(), static_cast<int>(outcome.bytes.size()));
 }
 
 Result<PolicyLogSummary> ReadPolicyLog(const std::string& path, const std::string& run_id,

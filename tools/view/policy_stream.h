@@ -16,6 +16,7 @@
 
 #include "core/result.h"
 #include "dynapath/policy_t.hpp"
+#include "lcmtypes/protocol/fragments.h"
 
 namespace dynapath::view {
 
@@ -44,26 +45,15 @@ class PolicyAssembler {
   // Why the last message was dropped ("" when it was not).
   const std::string& why() const { return why_; }
   // Partial messages still waiting for pieces.
-  size_t pending() const { return partials_.size(); }
+  size_t pending() const { return fragments_.pending(); }
 
  private:
-  struct Partial {
-    int64_t fingerprint = 0;
-    int32_t total_size = 0;
-    int32_t count = 0;
-    int32_t have = 0;
-    std::vector<uint8_t> bytes;
-    std::vector<bool> present;
-    int64_t last_seen_us = 0;
-  };
-
   std::optional<policy_t> Drop(std::string why);
   std::optional<policy_t> DecodePolicy(const std::string& run, const uint8_t* data, int size);
   std::optional<policy_t> FeedFragment(const std::string& channel, const std::string& run,
                                        const uint8_t* data, int size, int64_t now_us);
 
-  int64_t lifetime_us_;
-  std::map<std::pair<std::string, int64_t>, Partial> partials_;
+  protocol::FragmentAssembler fragments_;
   PolicyStreamCounters counters_;
   std::string why_;
 };
