@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 
 #include "core/scenario.h"
@@ -357,7 +358,12 @@ std::string StudyConfiguration::ShortLabel() const {
 }
 
 double StudyConfiguration::Work() const {
-  return static_cast<double>(size) * size * (static_cast<double>(steps) + 1.0);
+  // Relative wall time, fitted to the full study's per-configuration times
+  // (docs/EXPERIMENTS.md): a fixed part (process start, the baselines'
+  // set-up: about a second) plus (cells x steps)^0.8. Plain cells x steps
+  // made the first small configurations predict hours for the 300x300 ones.
+  const double cell_steps = static_cast<double>(size) * size * (static_cast<double>(steps) + 1.0);
+  return 15800.0 + std::pow(cell_steps, 0.8);
 }
 
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
