@@ -2,7 +2,7 @@
 # The live policy window, once, headless: a logged run's POLICY messages are
 # re-published in a loop inside a private network namespace, dynapath view
 # watches them under Xvfb and saves a screenshot, which is decoded and
-# checked. Then bad options.
+# checked. Then the viewer joins a live run with --pid, and bad options.
 # Usage: view_test.sh DYNAPATH DYNAPATH_VIEW IMAGE_INFO POLICY_REPLAY
 # Exit 77 (skipped) without network namespaces or Xvfb. Set
 # DYNAPATH_VIEW_SCREENSHOT=FILE to keep the screenshot (docs/images/view.png).
@@ -41,6 +41,41 @@ shot=$("$info" "$work/shot.png" 2>&1)
 if [ -n "${DYNAPATH_VIEW_SCREENSHOT:-}" ] && [ -f "$work/shot.png" ]; then
   cp "$work/shot.png" "$DYNAPATH_VIEW_SCREENSHOT"
 fi
+
+# --pid: a live run in the private network its launcher makes (nested in
+# this test's own private network), joined by the viewer. The run is long
+# (200 steps of 100x100); the launcher is stopped once the screenshot is
+# taken.
+"$dynapath" netns -- bash -c '
+  "$1" run --agents 2 --size 100 --difficulty hard --approach fedAsynQ_EqAvg,singleAgent \
+    --out "$2/live" --log-level info >/dev/null 2>"$2/live.log" &
+  launcher=$!
+  for _ in $(seq 100); do grep -q "in a private network" "$2/live.log" && break; sleep 0.1; done
+  if ! grep -q "in a private network" "$2/live.log"; then
+    kill -TERM $launcher; wait $launcher
+    exit 77
+  fi
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$3" --pid $launcher --screenshot "$2/live.png" \
+    --frames 3 --timeout 60 --window 640x480 --log-level warn
+  code=$?
+  kill -TERM $launcher
+  wait $launcher
+  exit $code' _ "$dynapath" "$work" "$view" 2>"$work/live_view.log"
+code=$?
+if [ $code -eq 77 ]; then
+  echo "the launcher made no private network: --pid not checked"
+elif [ $code -eq 0 ]; then
+  shot=$("$info" "$work/live.png" 2>&1)
+  [ "$shot" = "png 640 480" ] && pass "view --pid joined a live run's network: 640x480 screenshot" ||
+    fail "--pid screenshot: $shot"
+else
+  cat "$work/live_view.log" "$work/live.log"
+  fail "dynapath view --pid exited $code"
+fi
+"$view" --pid 999999999 >/dev/null 2>"$work/err"
+got=$?
+if [ $got -eq 1 ] && grep -q "no process with pid" "$work/err"; then pass "view --pid of no process: exit 1"; else
+  fail "view --pid 999999999: exit $got: $(cat "$work/err")"; fi
 
 # Bad options: one line, exit 2 (no display needed).
 for args in "--window 0x0" "--frames -1" "--sideways" "--pid notapid"; do

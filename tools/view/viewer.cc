@@ -64,8 +64,8 @@ class Viewer {
       if (!window_.isOpen()) break;
       Refresh();
       Draw();
-      if (!options_.screenshot.empty() && have_policy_ &&
-          feed_.received() >= options_.screenshot_after) {
+      // The count the status line shows: the screenshot shows what it says.
+      if (!options_.screenshot.empty() && have_policy_ && received_ >= options_.screenshot_after) {
         return SaveScreenshot();
       }
       window_.display();
@@ -131,6 +131,9 @@ class Viewer {
           window_.setView(sf::View(sf::FloatRect(0, 0, static_cast<float>(event.size.width),
                                                  static_cast<float>(event.size.height))));
           status_text_.clear();
+          if (options_.cell_px == 0) cell_ = 0;  // cells to fit the new size
+          dirty_ = true;
+          refit_ = true;
           break;
         case sf::Event::KeyPressed:
           OnKey(event.key);
@@ -221,6 +224,7 @@ class Viewer {
     const int64_t version = feed_.version();
     if (version == seen_version_ && !dirty_) return;
     seen_version_ = version;
+    received_ = feed_.received();  // before taking the policy: never more than shown
     dirty_ = false;
     std::string approach = follow_ ? feed_.LastApproach() : wanted_;
     if (!follow_) {
@@ -233,14 +237,28 @@ class Viewer {
     if (!policy) return;
     shown_ = approach;
     step_ = policy->time_step;
-    const RgbImage image = DrawPolicy(*policy, DrawOptions{options_.cell_px, true});
+    if (options_.cell_px > 0) {
+      cell_ = options_.cell_px;
+    } else if (cell_ == 0 || policy->rows != rows_ || policy->cols != cols_) {
+      // Cells as large as fit the window (up to 48 px): the picture is drawn
+      // at its size, arrows sharp, rather than scaled. --cell overrides.
+      const sf::Vector2f area = Area();
+      const int header = 2 * (2 * kLineHeight + 4);
+      const int fit = std::min(static_cast<int>(area.x) / std::max(1, policy->cols),
+                               (static_cast<int>(area.y) - header) / std::max(1, policy->rows));
+      cell_ = std::clamp(fit, 1, 48);
+    }
+    rows_ = policy->rows;
+    cols_ = policy->cols;
+    const RgbImage image = DrawPolicy(*policy, DrawOptions{cell_, true});
     const bool resized = texture_.getSize() != sf::Vector2u(static_cast<unsigned>(image.width()),
                                                             static_cast<unsigned>(image.height()));
     Upload(image, texture_);
     sprite_.setTexture(texture_, true);
     const bool first = !have_policy_;
     have_policy_ = true;
-    if (first || resized) Fit();
+    if (first || resized || refit_) Fit();
+    refit_ = false;
   }
 
   void DrawStatus() {
@@ -254,7 +272,7 @@ class Viewer {
     } else {
       line = "run " + feed_.run() + "  |  approach " + std::to_string(ShownIndex() + 1) + "/" +
              std::to_string(approaches.size()) + ": " + shown_ + (follow_ ? " (following)" : "") +
-             "  |  step " + std::to_string(step_) + "  |  " + std::to_string(feed_.received()) +
+             "  |  step " + std::to_string(step_) + "  |  " + std::to_string(received_) +
              " policies, " + std::to_string(feed_.dropped()) + " dropped  |  zoom " +
              std::to_string(static_cast<int>(std::lround(zoom_ * 100))) + "%";
     }
@@ -320,7 +338,11 @@ class Viewer {
   sf::Sprite sprite_, status_sprite_;
   std::string status_text_;
   int64_t seen_version_ = -1;
+  int64_t received_ = 0;  // policies received when the shown one was taken
   bool dirty_ = true;
+  bool refit_ = false;
+  int cell_ = 0;  // pixels per cell of the picture (0: choose)
+  int rows_ = 0, cols_ = 0;
   bool have_policy_ = false;
   int step_ = 0;
   float zoom_ = 1.0f;
