@@ -9,15 +9,10 @@
 
 #include "dynapath/fragment_t.hpp"
 #include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/liveness.h"
 
 namespace dynapath::protocol {
 namespace {
-
-int64_t NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 // Partial messages not completed within this time are forgotten.
 constexpr int64_t kPartialLifetimeMs = 30000;
@@ -147,19 +142,13 @@ void Bus::Dispatch(const std::string& channel, const uint8_t* data, int size) {
 
 void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) {
   fragment_t fragment{};
-  int used = -1;
-  try {
-    used = fragment.decode(data, 0, size);
-  } catch (const std::exception&) {
-    used = -1;
-  }
-  if (used != size) return Drop(channel, "undecodable fragment_t");
+  if (!DecodeExactly(data, size, fragment)) return Drop(channel, "undecodable fragment_t");
   if (fragment.run_id != run_id_) return Drop(channel, "fragment of another run");
   if (std::string error = Validate(fragment); !error.empty()) {
     return Drop(channel, "fragment_t: " + error);
   }
   ++counters_fragments_;
-  FragmentAssembler::Outcome outcome = fragments_.Add(channel, fragment, NowMs());
+  FragmentAssembler::Outcome outcome = fragments_.Add(channel, fragment, SteadyMs());
   if (outcome.kind == FragmentAssembler::Outcome::Kind::kDropped) return Drop(channel, outcome.why);
   if (outcome.kind == FragmentAssembler::Outcome::Kind::kComplete) {
     Dispatch(channel, outcome.bytes.data(), static_cast<int>(outcome.bytes.size()));
@@ -168,7 +157,7 @@ void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) 
 
 void Bus::Drop(const std::string& channel, const std::string& why) {
   const int64_t dropped = ++counters_dropped_;
-  const int64_t now = NowMs();
+  const int64_t now = SteadyMs();
   // At most one warning a second: a flood of garbage must not flood the log.
   if (now - last_warning_ms_ >= 1000) {
     spdlog::warn("dropped a message on {}: {} ({} dropped so far{})", channel, why, dropped,

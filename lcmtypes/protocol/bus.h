@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
 
@@ -83,13 +84,9 @@ class Bus {
              [this, handler = std::move(handler)](const uint8_t* data, int size,
                                                   const std::string& where) {
                T message;
-               int used = -1;
-               try {
-                 used = message.decode(data, 0, size);
-               } catch (const std::exception&) {  // absurd lengths in a crafted message
-                 used = -1;
+               if (!DecodeExactly(data, size, message)) {
+                 return Drop(where, "undecodable " + TypeName<T>());
                }
-               if (used != size) return Drop(where, "undecodable " + TypeName<T>());
                if (message.run_id != run_id_) return Drop(where, "message of another run");
                if (std::string error = Validate(message); !error.empty()) {
                  return Drop(where, TypeName<T>() + ": " + error);

@@ -9,6 +9,7 @@
 #include "dynapath/grid_t.hpp"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::protocol {
@@ -16,12 +17,7 @@ namespace {
 
 template <class T>
 bool Decode(const lcm::LogEvent* event, T& message) {
-  try {
-    return message.decode(event->data, 0, event->datalen) == event->datalen &&
-           Validate(message).empty();
-  } catch (const std::exception&) {
-    return false;
-  }
+  return DecodeExactly(event->data, event->datalen, message) && Validate(message).empty();
 }
 
 bool EndsWith(const std::string& text, const std::string& suffix) {

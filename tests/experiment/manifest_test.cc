@@ -25,15 +25,7 @@ Manifest Example() {
   manifest.status = "interrupted";
   manifest.sessions = 2;
   for (const StudyConfiguration& configuration : MakeStudyPlan(*options)) {
-    ConfigurationRecord record;
-    record.name = configuration.Name();
-    record.directory = configuration.Directory();
-    record.size = configuration.size;
-    record.difficulty = DifficultyName(configuration.difficulty);
-    record.seed = configuration.seed;
-    record.steps = configuration.steps;
-    record.edge_case = configuration.edge_case;
-    manifest.configurations.push_back(record);
+    manifest.configurations.push_back(FreshRecord(configuration));
   }
   manifest.configurations[0].status = "done";
   manifest.configurations[0].mode = "agents";

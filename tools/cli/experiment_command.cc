@@ -150,18 +150,6 @@ Status RemovePreviousStudy(const fs::path& out) {
   return Ok{};
 }
 
-ConfigurationRecord FreshRecord(const StudyConfiguration& configuration) {
-  ConfigurationRecord record;
-  record.name = configuration.Name();
-  record.directory = configuration.Directory();
-  record.size = configuration.size;
-  record.difficulty = DifficultyName(configuration.difficulty);
-  record.seed = configuration.seed;
-  record.steps = configuration.steps;
-  record.edge_case = configuration.edge_case;
-  return record;
-}
-
 bool Complete(const fs::path& out, const StudyConfiguration& configuration,
               const StudyOptions& options) {
   return ConfigurationComplete((out / configuration.Directory()).string(), options.approaches,

@@ -63,6 +63,18 @@ bool GetString(const Json& object, const std::string& key, std::string& out, boo
 
 }  // namespace
 
+ConfigurationRecord FreshRecord(const StudyConfiguration& configuration) {
+  ConfigurationRecord record;
+  record.name = configuration.Name();
+  record.directory = configuration.Directory();
+  record.size = configuration.size;
+  record.difficulty = DifficultyName(configuration.difficulty);
+  record.seed = configuration.seed;
+  record.steps = configuration.steps;
+  record.edge_case = configuration.edge_case;
+  return record;
+}
+
 MachineInfo CollectMachineInfo() {
   MachineInfo machine;
   char host[256] = {};

@@ -9,6 +9,7 @@
 
 #include "core/result.h"
 #include "tools/common/json.h"
+#include "tools/common/study_plan.h"
 
 namespace dynapath::cli {
 
@@ -37,6 +38,8 @@ struct ConfigurationRecord {
   double wall_seconds = -1;  // < 0: not known
   std::string error;
 };
+// The pending record of a configuration of the plan.
+ConfigurationRecord FreshRecord(const StudyConfiguration& configuration);
 
 struct Manifest {
   std::string version;

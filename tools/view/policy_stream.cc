@@ -8,6 +8,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
 
@@ -46,13 +47,7 @@ std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
 std::optional<policy_t> PolicyAssembler::DecodePolicy(const std::string& run, const uint8_t* data,
                                                       int size) {
   policy_t policy{};
-  int used = -1;
-  try {
-    used = policy.decode(data, 0, size);
-  } catch (const std::exception&) {  // absurd lengths in a crafted message
-    used = -1;
-  }
-  if (used != size) return Drop("undecodable policy_t");
+  if (!protocol::DecodeExactly(data, size, policy)) return Drop("undecodable policy_t");
   if (policy.run_id != run) return Drop("policy_t of run '" + policy.run_id + "' on run " + run);
   if (std::string error = protocol::Validate(policy); !error.empty()) {
     return Drop("policy_t: " + error);
@@ -80,13 +75,7 @@ std::optional<policy_t> PolicyAssembler::FeedFragment(const std::string& channel
                                                       const std::string& run, const uint8_t* data,
                                                       int size, int64_t now_us) {
   fragment_t fragment{};
-  int used = -1;
-  try {
-    used = fragment.decode(data, 0, size);
-  } catch (const std::exception&) {
-    used = -1;
-  }
-  if (used != size) return Drop("undecodable fragment_t");
+  if (!protocol::DecodeExactly(data, size, fragment)) return Drop("undecodable fragment_t");
   if (fragment.run_id != run) return Drop("fragment of another run");
   if (std::string error = protocol::Validate(fragment); !error.empty()) {
     return Drop("fragment_t: " + error);
