@@ -15,6 +15,7 @@ packages=(
   libsfml-dev                         # dynapath view (live policy window)
   zlib1g-dev                          # PNG output of dynapath render
   xvfb xauth                          # the viewer's one headless check (tests)
+  clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
