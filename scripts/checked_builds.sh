@@ -42,7 +42,7 @@ for step in "${steps[@]}"; do
       # learners that use it, the Bus and envsim over memq:// (LCM's dispatch
       # thread), the round combiner.
       ctest --test-dir build-tsan --output-on-failure -j"$jobs" \
-        -R 'ThreadPool|LocalTrainer|FedAsynQ|Experiment|Bus|EnvSim|RoundCombiner|Dispatcher' \
+        -R '^(ThreadPoolTest|LocalTrainerTest|FedAsynQTest|FedAsynQLearnerTest|ExperimentTest|BusTest|EnvSimTest|RoundCombiner)' \
         | tee build-tsan/ctest.log
       echo "checked: TSan: $(grep -Eo '[0-9]+% tests passed, [0-9]+ tests failed out of [0-9]+' build-tsan/ctest.log | tail -1)"
       ;;

@@ -40,7 +40,7 @@ expect_usage_error "--cols" run --size 10 --cols 5000
 expect_usage_error "is a directory" run --maze "$work"
 printf '.\n' >"$work/no_station.txt"
 expect_usage_error "no station" run --maze "$work/no_station.txt"
-printf '..#C\n..#.\n' >"$work/walled_station.txt"
+printf '..#C\n..##\n' >"$work/walled_station.txt"
 expect_usage_error "reaches a station" run --maze "$work/walled_station.txt"
 expect_usage_error "reaches a station" run --agents 2 --maze "$work/walled_station.txt"
 "$dynapath" run --local --approach "BFS Oracle" --maze "$work/walled_station.txt" --allow-unreachable \
