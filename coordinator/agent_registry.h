@@ -46,9 +46,14 @@ class AgentRegistry {
     std::lock_guard lock(mutex_);
     const auto known = agents_.find(beat.sender);
     if (known == agents_.end() && agents_.size() >= kMaxAgents) {
+      // Sweep out dead agents at most every 100 ms: a flood of new ids must
+      // not cost a full scan each.
       const int64_t now = NowMs();
-      for (auto it = agents_.begin(); it != agents_.end();) {
-        it = now - it->second.last_seen_ms > timeout_ms_ ? agents_.erase(it) : std::next(it);
+      if (now - last_sweep_ms_ >= 100 || timeout_ms_ < 100) {
+        last_sweep_ms_ = now;
+        for (auto it = agents_.begin(); it != agents_.end();) {
+          it = now - it->second.last_seen_ms > timeout_ms_ ? agents_.erase(it) : std::next(it);
+        }
       }
       if (agents_.size() >= kMaxAgents) {
         ++ignored_;
@@ -103,6 +108,7 @@ class AgentRegistry {
   mutable std::mutex mutex_;
   std::map<int, AgentInfo> agents_;
   int64_t ignored_ = 0;
+  int64_t last_sweep_ms_ = -1000000;
 };
 
 }  // namespace dynapath::coordinator

@@ -28,7 +28,7 @@ while kill -0 "$launcher" 2>/dev/null; do
     name=$(cat "/proc/$pid/comm" 2>/dev/null) || continue
     hwm=$(awk '/VmHWM/ {print $2}' "/proc/$pid/status" 2>/dev/null) || continue
     [ -n "$hwm" ] || continue
-    key="$name"
+    key="$name $pid"
     [ "${peak[$key]:-0}" -lt "$hwm" ] && peak[$key]=$hwm
   done
   sleep 0.2
