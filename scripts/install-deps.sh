@@ -13,7 +13,8 @@ packages=(
   libjchart2d-java                    # charts of lcm-spy's detail view (tools/dynapath-spy)
   python3 python3-matplotlib python3-pandas   # dynapath plot, reproduction report
   libsfml-dev                         # dynapath view (live policy window)
-  zlib1g-dev                          # PNG output of dynapath render
+  libpng-dev                          # PNG output of dynapath render
+  libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   xvfb xauth                          # the viewer's one headless check (tests)
 )
 
