@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   agent::Agent agent(bus, options);
   protocol::Dispatcher dispatcher(**lcm);
   const agent::AgentExit exit = agent.Run(stop);
-  spdlog::info("agent {}: exiting", options.id);
+  spdlog::info("agent {}: exiting; messages {}", options.id, bus.TrafficSummary());
   switch (exit) {
     case agent::AgentExit::kCoordinatorFinished:
     case agent::AgentExit::kStopped:

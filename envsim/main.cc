@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   envsim::EnvSim sim(bus, std::move(info), options);
   protocol::Dispatcher dispatcher(**lcm);
   const envsim::EnvSimExit exit = sim.Run(stop);
+  spdlog::info("envsim: exiting; messages {}", bus.TrafficSummary());
   return exit == envsim::EnvSimExit::kCoordinatorFinished || exit == envsim::EnvSimExit::kStopped
              ? 0
              : 1;

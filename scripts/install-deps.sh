@@ -14,6 +14,7 @@ packages=(
   python3 python3-matplotlib python3-pandas   # dynapath plot, reproduction report
   libsfml-dev                         # dynapath view (live policy window)
   zlib1g-dev                          # PNG output of dynapath render
+  libsodium-dev                       # message authentication of a run (keyed BLAKE2b)
   xvfb xauth                          # the viewer's one headless check (tests)
 )
 

@@ -58,7 +58,8 @@ int RunCommand(const std::vector<std::string>& args) {
   Result<ProcessSetup> process = ResolveProcessOptions(parser, false);
   if (!process) return usage_error(process.error().message);
   if (!distributed) {
-    for (const char* option : {"lcm-url", "log", "run-id", "fault-drop", "fault-dup"}) {
+    for (const char* option :
+         {"lcm-url", "log", "run-id", "fault-drop", "fault-dup", "secret-file", "insecure"}) {
       if (parser.Has(option)) {
         return usage_error(std::string("--") + option + " needs --agents N or --embedded");
       }

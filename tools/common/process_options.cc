@@ -18,6 +18,13 @@ void AddProcessOptions(ArgParser& parser, bool run_id_required) {
                                    : "id of the run (channels DYNAPATH/<ID>/...)",
                    run_id_required ? "required" : "generated");
   parser.AddOption("lcm-url", "URL", "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
+  parser.AddOption("secret-file", "PATH",
+                   run_id_required
+                       ? "the run's secret (mode 600; made by `dynapath secret PATH`)"
+                       : "the run's secret, for processes started by hand elsewhere (mode 600)",
+                   run_id_required ? "required, or --insecure" : "a new one for this run");
+  parser.AddFlag("insecure",
+                 "no secret: a well-known key anyone on the network can forge messages with");
   parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
   parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
                    "0");
@@ -55,10 +62,37 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   if (!drop) return drop.error();
   Result<double> dup = GetProbability(parser, "fault-dup");
   if (!dup) return dup.error();
+  if (parser.Has("secret-file") && parser.Has("insecure")) {
+    return Error{"choose one of --secret-file PATH and --insecure"};
+  }
+  if (parser.Has("secret-file")) {
+    const std::string path = parser.Get("secret-file");
+    Result<std::string> text = protocol::ReadSecretText(path);
+    if (!text) return text.error();
+    Result<protocol::RunKey> key = protocol::KeyFromSecretText(*text);
+    if (!key) return Error{"secret file " + path + ": " + key.error().message};
+    setup.secret = std::move(*text);
+    setup.bus.key = *key;
+  } else if (parser.Has("insecure")) {
+    setup.bus.key = protocol::InsecureKey();
+  } else if (run_id_required) {
+    return Error{
+        "option --secret-file PATH is required: the run's secret, the same file for every "
+        "process of the run (make one with `dynapath secret PATH`), or --insecure to run "
+        "without one"};
+  } else {
+    MakeRunSecret(setup);
+  }
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
   if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
   return setup;
+}
+
+void MakeRunSecret(ProcessSetup& setup) {
+  setup.secret = protocol::NewSecretText();
+  Result<protocol::RunKey> key = protocol::KeyFromSecretText(setup.secret);
+  setup.bus.key = *key;  // a new secret always makes a key
 }
 
 void InitProcessLogging(const std::string& name) {
