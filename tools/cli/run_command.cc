@@ -97,6 +97,13 @@ int RunCommand(const std::vector<std::string>& args) {
       return RunEmbedded(run, *plan, *setup);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
+    if (!process->lcm_url.empty() && !parser.Has("secret-file") && !parser.Has("insecure")) {
+      // The secret the launcher made is known to its children only.
+      spdlog::info(
+          "processes started elsewhere cannot join this run: its secret is the launcher's own "
+          "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
+          "and to them)");
+    }
     return LaunchProcesses(run);
   }
 
