@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Docker end to end (issue 9, item 7): builds the image from this source tree,
 # runs envsim, coordinator and three agent containers with
-# docker/compose.yaml on the compose project's private bridge network
-# (internal: true), with a run secret made by `dynapath secret`, and compares
+# docker/compose.yaml in the compose project's private network (envsim on the
+# project's internal bridge, the others in envsim's network namespace), with
+# a run secret made by `dynapath secret`, and compares
 # the results with `dynapath run --local` in the same image. Exits 77
 # (skipped, with the reason) where no container engine or compose is
 # available. Usage: docker_test.sh SOURCE_DIR
@@ -73,8 +74,19 @@ docker run --rm --network none -v "$work/secret:/secret" "$image" \
 export DYNAPATH_IMAGE="$image" RESULTS_DIR="$work/results" SECRET_FILE="$work/secret/run.key"
 export AGENTS=3 SIZE=20 DIFFICULTY=easy APPROACH=all RUN_ID=e2e LOG_LEVEL=info
 export DYNAPATH_UID=1000 DYNAPATH_GID=1000
-(sleep 5; docker network inspect "${project}_default" --format '{{.Internal}} {{.Driver}}' \
-  >"$work/network.txt" 2>&1) &
+# While it runs: the project's network and where the coordinator lives.
+inspect() {
+  sleep 5
+  docker network inspect "${project}_default" --format '{{.Internal}} {{.Driver}}'
+  local envsim coordinator
+  envsim=$(docker ps -aq --no-trunc --filter "label=com.docker.compose.project=$project" \
+    --filter label=com.docker.compose.service=envsim)
+  coordinator=$(docker ps -aq --filter "label=com.docker.compose.project=$project" \
+    --filter label=com.docker.compose.service=coordinator)
+  [ "$(docker inspect -f '{{.HostConfig.NetworkMode}}' "$coordinator")" = "container:$envsim" ] &&
+    echo "coordinator in envsim's network namespace"
+}
+inspect >"$work/network.txt" 2>&1 &
 inspector=$!
 timeout 900 "${compose[@]}" -p "$project" -f docker/compose.yaml up --no-build --scale agent=3 \
   --abort-on-container-exit --exit-code-from coordinator >"$work/compose.log" 2>&1
@@ -84,15 +96,17 @@ if [ $code -ne 0 ]; then
   tail -40 "$work/compose.log"
   fail "compose run exited $code"
 fi
-[ "$(cat "$work/network.txt")" = "true bridge" ] ||
-  fail "the run's network is not an internal bridge: $(cat "$work/network.txt")"
+grep -qx "true bridge" "$work/network.txt" ||
+  fail "the project's network is not an internal bridge: $(cat "$work/network.txt")"
+grep -q "coordinator in envsim's network namespace" "$work/network.txt" ||
+  fail "the coordinator is not in envsim's network namespace: $(cat "$work/network.txt")"
 grep -Eq "coordinator: agents [0-9]+ [0-9]+ [0-9]+ alive" "$work/compose.log" ||
   fail "the coordinator did not start with three agents"
 grep "coordinator: messages published" "$work/compose.log" | sed 's/.*coordinator: /coordinator: /'
 grep -q "messages published .*(0 unauthenticated" "$work/compose.log" ||
   fail "unauthenticated messages inside the compose network"
 if same_result_files "$work/local" "$work/results" results.csv results_detailed.csv; then
-  pass "compose run (envsim, coordinator, 3 agents, internal bridge): identical to --local"
+  pass "compose run (envsim, coordinator, 3 agents, private network): identical to --local"
 else
   fail "compose results differ from --local"
 fi
