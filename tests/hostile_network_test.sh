@@ -6,7 +6,9 @@
 # `dynapath run --agents 2` in the same private network for the whole run.
 # The run must finish with results identical to --local, every process's peak
 # resident memory (VmHWM) must stay under the bound below, the drops must be
-# counted and shown, and the forged agent 7 must never be given work.
+# counted and shown, the forged agent 7 must never be given work, and the
+# secret must reach each process as --secret-file /dev/fd/N, never in a
+# command line or environment.
 # Runs inside a private network namespace (ctest: `dynapath netns --`).
 # Usage: hostile_network_test.sh DYNAPATH LCM_GARBAGE
 set -uo pipefail
@@ -51,7 +53,7 @@ sleep 0.5
 launcher=$!
 # Peak memory: VmHWM of the launcher and of each of its children, sampled
 # until they exit (VmHWM only grows, so the last sample is the peak).
-declare -A peak
+declare -A peak secret_seen secret_exposed
 while kill -0 $launcher 2>/dev/null; do
   for pid in $launcher $(pgrep -P $launcher); do
     name=$(tr '\0' ' ' 2>/dev/null </proc/$pid/cmdline |
@@ -59,6 +61,13 @@ while kill -0 $launcher 2>/dev/null; do
     hwm=$(awk '/^VmHWM/ { print $2 }' /proc/$pid/status 2>/dev/null)
     [ -n "$hwm" ] && [ -n "$name" ] || continue
     [ "${peak[$name]:-0}" -ge "$hwm" ] || peak[$name]=$hwm
+    # The secret: handed over a pipe, never in the command line or the
+    # environment (a secret is 64 hex digits).
+    secret_fd=$(tr '\0' '\n' 2>/dev/null </proc/$pid/cmdline | grep -A1 -x -- --secret-file | tail -1)
+    [ -n "$secret_fd" ] && secret_seen[$name]=$secret_fd
+    if cat /proc/$pid/cmdline /proc/$pid/environ 2>/dev/null | tr '\0' '\n' | grep -Eq '[0-9a-f]{64}'; then
+      secret_exposed[$name]=1
+    fi
   done
   sleep 0.2
 done
@@ -80,6 +89,14 @@ fi
 for name in "${!peak[@]}"; do
   echo "peak memory (VmHWM) of $name: ${peak[$name]} kB"
   [ "${peak[$name]}" -le "$bound_kb" ] || fail "$name peaked at ${peak[$name]} kB > $bound_kb kB"
+done
+
+for name in "${!peak[@]}"; do
+  [ "$name" = dynapath ] && continue
+  [[ "${secret_seen[$name]:-}" == /dev/fd/* ]] ||
+    fail "$name did not get its secret as --secret-file /dev/fd/N: '${secret_seen[$name]:-}'"
+  [ -z "${secret_exposed[$name]:-}" ] || fail "$name has a secret in its command line or environment"
+  echo "$name: secret from ${secret_seen[$name]:-?}"
 done
 
 # Drops counted and shown: the coordinator's summary and each process's last line.

@@ -2,6 +2,7 @@
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -69,6 +70,14 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
     const std::string path = parser.Get("secret-file");
     Result<std::string> text = protocol::ReadSecretText(path);
     if (!text) return text.error();
+    // The launcher's pipe (/dev/fd/N): read once, now drained; close the
+    // inherited descriptor too, so nothing this process starts inherits it.
+    if (path.rfind("/dev/fd/", 0) == 0) {
+      char* end = nullptr;
+      const long fd = std::strtol(path.c_str() + 8, &end, 10);
+      if (end != path.c_str() + 8 && *end == '\0' && fd > STDERR_FILENO)
+        close(static_cast<int>(fd));
+    }
     Result<protocol::RunKey> key = protocol::KeyFromSecretText(*text);
     if (!key) return Error{"secret file " + path + ": " + key.error().message};
     setup.secret = std::move(*text);
