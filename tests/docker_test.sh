@@ -13,7 +13,7 @@ skip() { echo "SKIPPED: $*"; exit 77; }
 
 command -v docker >/dev/null || skip "no docker command here"
 if ! info=$(docker info --format '{{.ServerVersion}}' 2>&1); then
-  skip "no container engine answers (docker info: $(head -1 <<<"$info"))"
+  skip "no container engine answers (docker info: $(grep -m1 . <<<"$info"))"
 fi
 if docker compose version >/dev/null 2>&1; then
   compose=(docker compose)
