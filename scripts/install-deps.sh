@@ -19,6 +19,7 @@ packages=(
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   libsodium-dev                       # message authentication of a run (keyed BLAKE2b)
   xvfb xauth                          # the viewer's one headless check (tests)
+  clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi

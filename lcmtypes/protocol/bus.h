@@ -30,6 +30,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/limits.h"
 #include "core/rng.h"
 #include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/decode.h"
@@ -56,6 +57,9 @@ struct BusOptions {
   // and one-process (memq://) use; processes take it from --secret-file or
   // the launcher, or --insecure (tools/common/process_options.h).
   RunKey key = InsecureKey();
+  // Cells of the run's grid (at most): the fragment caps derive from it
+  // (protocol/limits.h). Unknown: the protocol's largest grid.
+  int64_t max_grid_cells = int64_t{kMaxGridSide} * kMaxGridSide;
 };
 
 struct BusCounters {

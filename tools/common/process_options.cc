@@ -9,6 +9,7 @@
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "lcmtypes/protocol/limits.h"
 #include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
@@ -26,6 +27,10 @@ void AddProcessOptions(ArgParser& parser, bool run_id_required) {
                    run_id_required ? "required, or --insecure" : "a new one for this run");
   parser.AddFlag("insecure",
                  "no secret: a well-known key anyone on the network can forge messages with");
+  parser.AddOption("grid-cells", "N",
+                   "cells of the run's grid at most: caps what the process buffers of "
+                   "fragmented messages",
+                   std::to_string(protocol::kMaxGridCells));
   parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
   parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
                    "0");
@@ -92,6 +97,10 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   } else {
     MakeRunSecret(setup);
   }
+  Result<long long> cells =
+      parser.GetInt("grid-cells", protocol::kMaxGridCells, 1, protocol::kMaxGridCells);
+  if (!cells) return cells.error();
+  setup.bus.max_grid_cells = *cells;
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
   if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
