@@ -31,7 +31,7 @@ fi
 
 cd "$work" || exit 1
 study=(--sizes 20,50 --difficulties easy,hard --steps 10)
-approaches=7
+approaches=8
 configs=4
 rows_per_config=$((approaches * (10 + 1)))
 
@@ -100,8 +100,8 @@ head -1 "$a/results_detailed.csv" \
 # Study order: sizes, then difficulties; approaches in the order of `all`.
 order=$(tail -n +2 "$a/results.csv" | cut -d, -f2,3 | uniq | tr '\n' ' ')
 [ "$order" = "20,Easy 20,Hard 50,Easy 50,Hard " ] || fail "study order: $order"
-approach_order=$(tail -n +2 "$a/results.csv" | head -7 | cut -d, -f1 | tr '\n' ';')
-[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;" ] \
+approach_order=$(tail -n +2 "$a/results.csv" | head -8 | cut -d, -f1 | tr '\n' ';')
+[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;Incremental Oracle;" ] \
   || fail "approach order: $approach_order"
 [ "$(tail -n +2 "$a/edge_results.csv" | cut -d, -f2,3 | sort -u)" = "50,Hard" ] || fail "edge case labels"
 # Each configuration's own files, merged exactly.

@@ -192,7 +192,7 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   EXPECT_EQ(StudyIdentityJson(*a).Dump(0),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
-            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
+            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\",\"Incremental Oracle\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
   EXPECT_EQ(ExecutionJson(*b).Find("mode")->AsString(), "agents");
   EXPECT_EQ(ExecutionJson(*b).Find("agents")->AsInt(), 2);
