@@ -62,6 +62,18 @@ Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
   return setup;
 }
 
+// "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": the file's
+// name without ".map", with characters that would break a CSV field replaced.
+std::string MapLabel(const std::string& path) {
+  std::string name = path.substr(path.find_last_of('/') + 1);
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".map") == 0)
+    name.resize(name.size() - 4);
+  for (char& ch : name) {
+    if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
+  }
+  return name.empty() ? "Custom" : name;
+}
+
 // Stations and movers of a loaded maze (issue 11), drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
 Status PlaceOnMap(const ArgParser& parser, bool movingai, Grid& grid, CRandom& random,
@@ -129,8 +141,11 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
     setup.scenario.grid = std::move(*grid);
     Status placed = PlaceOnMap(parser, movingai, setup.scenario.grid, random, movers);
     if (!placed) return placed.error();
-    setup.labels.difficulty_label =
-        parser.Has("difficulty") ? DifficultyName(*difficulty) : "Custom";
+    // A map is told apart in result files by its name (maps of one size
+    // differ); a text maze keeps "Custom".
+    setup.labels.difficulty_label = parser.Has("difficulty") ? DifficultyName(*difficulty)
+                                    : movingai               ? MapLabel(parser.Get("maze"))
+                                                             : "Custom";
     setup.source = "maze file " + parser.Get("maze");
   } else {
     for (const char* map_only : {"stations", "stations-file", "movers"}) {
