@@ -16,9 +16,11 @@
 #include "core/difficulty.h"
 #include "core/grid.h"
 #include "core/incremental_oracle.h"
+#include "core/incremental_policy_evaluation.h"
 #include "core/mdp.h"
 #include "core/policy_evaluation.h"
 #include "core/q_table.h"
+#include "core/quadtree.h"
 #include "core/scenario.h"
 
 namespace dynapath {
@@ -127,6 +129,63 @@ void BM_OracleStep(benchmark::State& state) {
 }
 BENCHMARK(BM_OracleStep<BfsOraclePlanner>)->Arg(300)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OracleStep<IncrementalOraclePlanner>)
+    ->Arg(300)
+    ->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
+
+// The policy evaluation of a learning approach's step without retraining
+// (the usual step): the grid changes, then the retraining decision asks the
+// success rates of the changed leaves and the runner scores the whole grid.
+// Before issue 11 this was one full PolicyEvaluator pass per step; now the
+// incremental evaluation repairs around the changed cells.
+void BM_EvaluationStep(benchmark::State& state, bool incremental) {
+  const int size = static_cast<int>(state.range(0));
+  const Scenario scenario =
+      GenerateScenario(size, size, Difficulty::kHard, ReportSeed(Difficulty::kHard));
+  const QTable q = TrainedLikeTable(scenario.grid);
+  const QuadTree tree(size, size);
+  Grid grid = scenario.grid;
+  IncrementalPolicyEvaluation evaluation;
+  PolicyEvaluator evaluator;
+  PolicyDepths depths;
+  auto restart = [&] {
+    grid = scenario.grid;
+    evaluation.Reset(tree);
+    benchmark::DoNotOptimize(evaluation.Score(grid, q, tree.root()));
+  };
+  restart();
+  size_t next = 0;
+  std::vector<int> changed;
+  for (auto _ : state) {
+    if (next == scenario.changes.steps.size()) {
+      state.PauseTiming();
+      restart();
+      next = 0;
+      state.ResumeTiming();
+    }
+    const ChangeStep& step = scenario.changes.steps[next++];
+    ApplyChanges(step, grid);
+    changed.clear();
+    for (const CellChange& change : step.changes) changed.push_back(change.cell);
+    if (incremental) {
+      evaluation.GridChanged(changed);
+      for (int cell : changed)
+        benchmark::DoNotOptimize(evaluation.Score(grid, q, tree.LeafOf(cell)));
+      benchmark::DoNotOptimize(evaluation.Score(grid, q, tree.root()));
+    } else {
+      evaluator.Evaluate(grid, q, depths);
+      for (int cell : changed) {
+        benchmark::DoNotOptimize(ScoreRegion(grid, depths, tree.node(tree.LeafOf(cell)).region));
+      }
+      benchmark::DoNotOptimize(ScoreGrid(grid, depths));
+    }
+  }
+}
+BENCHMARK_CAPTURE(BM_EvaluationStep, full, false)
+    ->Arg(300)
+    ->Arg(1000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluationStep, incremental, true)
     ->Arg(300)
     ->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
