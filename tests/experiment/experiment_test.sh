@@ -122,7 +122,7 @@ json "$m" 'm["dynapath_version"]' | grep -qx "$("$dynapath" --version | cut -d' 
   || fail "manifest configurations: $(json "$m" '[(c["name"], c["status"]) for c in m["configurations"]]')"
 [ "$(json "$m" 'all(c["mode"] == "agents" and c["wall_seconds"] > 0 and c["started"] and c["ended"] for c in m["configurations"])')" = True ] \
   || fail "manifest: per-configuration mode, wall time, times"
-[ "$(json "$m" 'm["options"]["study"]["sizes"] == [20, 50] and m["options"]["study"]["steps"] == 10 and m["options"]["study"]["edge_case"] and len(m["options"]["study"]["approaches"]) == 7')" = True ] \
+[ "$(json "$m" 'm["options"]["study"]["sizes"] == [20, 50] and m["options"]["study"]["steps"] == 10 and m["options"]["study"]["edge_case"] and len(m["options"]["study"]["approaches"]) == 8')" = True ] \
   || fail "manifest study options"
 [ "$(json "$m" 'm["options"]["execution"]["mode"] == "agents" and m["options"]["execution"]["agents"] == 2')" = True ] \
   || fail "manifest execution options"
