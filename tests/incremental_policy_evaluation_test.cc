@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "core/experiment.h"
-#include "core/mdp.h"
 #include "core/learning_planner.h"
 #include "core/local_trainer.h"
+#include "core/mdp.h"
 #include "core/policy_evaluation.h"
 #include "core/quadtree.h"
 #include "core/scenario.h"
