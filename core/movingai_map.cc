@@ -2,12 +2,13 @@
 
 #include <charconv>
 
+#include "core/limits.h"
 #include "core/text_file.h"
 
 namespace dynapath {
 namespace {
 
-constexpr int kMaxSide = 10000;
+constexpr int kMaxSide = kMaxGridSide;
 
 // Lines of the file one at a time, without their "\n" or "\r\n".
 class Lines {
@@ -41,7 +42,8 @@ Result<int> SideLine(Lines& lines, std::string_view key) {
   if (!lines.Next(line)) {
     return Error{"the header ends before '" + std::string(key) + " N'"};
   }
-  const std::string expected = "expected '" + std::string(key) + " N' with 1 <= N <= 10000";
+  const std::string expected =
+      "expected '" + std::string(key) + " N' with 1 <= N <= " + std::to_string(kMaxSide);
   if (line.substr(0, key.size()) != key || line.size() <= key.size() + 1 ||
       line[key.size()] != ' ') {
     return LineError(lines.number(), expected);

@@ -20,8 +20,8 @@
 namespace dynapath {
 
 // Parses a whole file's bytes; one clear error (with the line) when the bytes
-// are not a well-formed map. Sides are limited to 10000 cells, like
-// GridFromText's, so no count from the file can ask for unbounded memory.
+// are not a well-formed map. Sides are limited to kMaxGridSide (limits.h),
+// like GridFromText's, so no count from the file can ask for unbounded memory.
 Result<Grid> ParseMovingAiMap(std::string_view bytes);
 
 // True when the bytes start like a MovingAI map ("type ").

@@ -46,7 +46,7 @@ TEST(MovingAiMapTest, RefusesBadFilesWithOneClearError) {
       {"type octile\nwidth 3\nheight 2\nmap\n...\n...\n", "line 2: expected 'height N'"},
       {"type octile\nheight 0\nwidth 3\nmap\n", "line 2: expected 'height N'"},
       {"type octile\nheight 2x\nwidth 3\nmap\n", "line 2: expected 'height N'"},
-      {"type octile\nheight 10001\nwidth 3\nmap\n", "line 2: expected 'height N'"},
+      {"type octile\nheight 4097\nwidth 3\nmap\n", "line 2: expected 'height N'"},
       {"type octile\nheight 2\nwidth -3\nmap\n", "line 3: expected 'width N'"},
       {"type octile\nheight 2\n", "the header ends before 'width N'"},
       {"type octile\nheight 2\nwidth 3\nmaps\n...\n...\n", "line 4: expected 'map'"},
@@ -56,7 +56,7 @@ TEST(MovingAiMapTest, RefusesBadFilesWithOneClearError) {
       {header + "...\n.X.\n", "line 6: column 2: unknown terrain 'X'"},
       {header + "...\n.\x01.\n", "line 6: column 2: unknown terrain byte 1"},
       {header + "...\n...\n...\n", "line 7: unexpected data after the map's rows"},
-      {"type octile\nheight 10000\nwidth 10000\nmap\n...\n", "too short"},
+      {"type octile\nheight 4096\nwidth 4096\nmap\n...\n", "too short"},
   };
   for (const auto& c : cases) {
     Result<Grid> grid = ParseMovingAiMap(c.text);
