@@ -77,9 +77,9 @@ ls "$work/a" | grep -q tmp && fail "temporary file left behind"
 # results; the Incremental Oracle equals the BFS Oracle at every step.
 map="$(dirname "$0")/data/maps/wide-5-9.map"
 maprun() { "$dynapath" run --local --log-level off --approach "BFS Oracle,Incremental Oracle,fedAsynQ_EqAvg" --steps 8 "$@"; }
-maprun --maze "$map" --stations 2 --movers 20% --seed 4 --out "$work/map" >/dev/null || fail "map run"
+maprun --maze "$map" --stations 2 --movers 20% --seed 5 --out "$work/map" >/dev/null || fail "map run"
 grep -q "^fedAsynQ_EqAvg,5x9,wide-5-9," "$work/map/results.csv" || fail "map run labels: $(cat "$work/map/results.csv")"
-"$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 4 --steps 8 --save "$work/map.txt" \
+"$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --steps 8 --save "$work/map.txt" \
   --save-changes "$work/map.changes" --no-grid >/dev/null || fail "maze --save of a map"
 maprun --maze "$work/map.txt" --changes "$work/map.changes" --out "$work/map2" >/dev/null || fail "saved map run"
 cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # a text maze is "Custom"
