@@ -1,7 +1,7 @@
 // libFuzzer target: the text parsers of files a user hands DynaPath: the
-// maze (--maze), the change sequence (--changes, against the parsed maze or
-// a 20x20 grid) and the study config (dynapath experiment CONFIG). The
-// first byte picks the parser.
+// maze (--maze: DynaPath's text format and MovingAI .map files), the change
+// sequence (--changes, against the parsed maze or a 20x20 grid) and the
+// study config (dynapath experiment CONFIG). The first byte picks the parser.
 
 #include <cstdint>
 #include <string>
@@ -9,13 +9,18 @@
 
 #include "core/change_sequence.h"
 #include "core/grid.h"
+#include "core/movingai_map.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > (1 << 16)) return 0;
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 3) {
+  switch (data[0] % 4) {
+    case 3:
+      (void)dynapath::LooksLikeMovingAiMap(text);
+      (void)dynapath::ParseMovingAiMap(text);
+      break;
     case 0: {
       dynapath::Result<dynapath::Grid> grid = dynapath::GridFromText(text);
       if (grid) (void)dynapath::ChangesFromText("", grid->rows(), grid->cols());
