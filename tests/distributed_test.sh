@@ -144,6 +144,17 @@ same_results "$work/logged" "$work/replayed" "--replay of a --log"
   --log-level warn >/dev/null 2>&1 || fail "--replay with agents"
 same_results "$work/logged" "$work/replayed2" "--replay of a --log with 2 agents"
 
+# A MovingAI map with movers (issue 11): logged with 2 agents, replayed locally.
+map=(--maze "$(dirname "$0")/data/maps/wide-5-9.map" --stations 2 --movers 20% --steps 8)
+"$dynapath" run --agents 2 "${map[@]}" "${replay[@]}" --log "$work/map.lcm" --out "$work/map_logged" \
+  --log-level warn >/dev/null 2>&1 || fail "logged map run"
+"$dynapath" run --local "${map[@]}" "${replay[@]}" --out "$work/map_local" --log-level warn \
+  >/dev/null || fail "local map run"
+same_results "$work/map_logged" "$work/map_local" "a map with movers: --agents 2 as --local"
+"$dynapath" run --local --replay "$work/map.lcm" "${replay[@]}" --out "$work/map_replayed" \
+  --log-level warn >/dev/null || fail "--replay of a map run"
+same_results "$work/map_logged" "$work/map_replayed" "--replay of a map run with movers"
+
 # 7. Bad input.
 expect_usage_error() {
   local needle=$1; shift
