@@ -93,6 +93,8 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
   });
   spdlog::info("coordinator: run {}, waiting for {} agent(s)", bus_.run_id(), options_.min_agents);
 
+  // Every wait of the trainer (agents, outstanding batches) watches `stop`.
+  trainer_.set_stop(&stop);
   int exit_code = 0;
   try {
     const int64_t start = protocol::SteadyMs();
@@ -126,9 +128,9 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     const TrafficStats& t = trainer_.traffic();
     spdlog::info(
         "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
-        "messages / {} bytes; {} resends, {} reassignments",
+        "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress)",
         t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
-        t.epochs);
+        t.epochs, t.stalls);
     spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
                  plan.out_dir);
     state = heartbeat_t::STATE_FINISHED;

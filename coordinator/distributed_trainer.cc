@@ -40,6 +40,10 @@ struct DistributedTrainer::Batch {
   std::map<int, std::vector<std::pair<int, int>>> items;
   int64_t last_send_ms = 0;
   int64_t last_progress_ms = 0;
+  // Since when the batch has been waiting for something its agents sent or
+  // lack (0: not waiting), and how many reassignments that caused in a row.
+  int64_t stuck_since_ms = 0;
+  int stalls = 0;
   int64_t steps = 0;
 };
 
@@ -87,12 +91,27 @@ DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbo
 
 DistributedTrainer::~DistributedTrainer() = default;
 
+void DistributedTrainer::ThrowIfStopped() const {
+  if (options_.stop != nullptr && options_.stop->load()) throw std::runtime_error("interrupted");
+}
+
+std::vector<int> DistributedTrainer::LiveAgents() const {
+  const int64_t now = AgentRegistry::NowMs();
+  std::vector<int> all, preferred;
+  for (const AgentInfo& info : agents_.Live()) {
+    all.push_back(info.id);
+    const auto avoided = avoid_until_ms_.find(info.id);
+    if (avoided == avoid_until_ms_.end() || avoided->second <= now) preferred.push_back(info.id);
+  }
+  return preferred.empty() ? all : preferred;
+}
+
 std::vector<int> DistributedTrainer::WaitForAgents() {
   const int64_t start = AgentRegistry::NowMs();
   bool warned = false;
   while (true) {
-    std::vector<int> ids;
-    for (const AgentInfo& info : agents_.Live()) ids.push_back(info.id);
+    ThrowIfStopped();
+    std::vector<int> ids = LiveAgents();
     if (!ids.empty()) return ids;
     const int64_t waited = AgentRegistry::NowMs() - start;
     if (static_cast<double>(waited) > options_.agent_wait_seconds * 1000) {
@@ -127,6 +146,7 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   batch.split = ShouldSplit(batch, agents.size());
   StartEpoch(std::move(agents));
   while (!Done()) {
+    ThrowIfStopped();
     inbox_.RunFor(Ms(20));
     CheckAgents();
   }
@@ -261,6 +281,8 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.stuck_since_ms = 0;
+  batch.stalls = 0;
   while (batch.combiner->RoundComplete()) {
     for (const protocol::RoundCombiner::JobRound& job_round : batch.combiner->Combine()) {
       batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
@@ -288,6 +310,8 @@ void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.stuck_since_ms = 0;
+  batch.stalls = 0;
 }
 
 void DistributedTrainer::CheckAgents() {
@@ -339,11 +363,22 @@ void DistributedTrainer::CheckAgents() {
     }
   }
   if (restart) {
-    std::vector<int> live;
-    for (const AgentInfo& info : agents_.Live()) live.push_back(info.id);
+    std::vector<int> live = LiveAgents();
     if (live.empty()) live = WaitForAgents();
+    batch.stuck_since_ms = 0;
     StartEpoch(std::move(live));
     return;
+  }
+  // Live agents that owe what keeps being lost: bounded (OnStall).
+  if (resend) {
+    if (batch.stuck_since_ms == 0) {
+      batch.stuck_since_ms = now;
+    } else if (static_cast<double>(now - batch.stuck_since_ms) > options_.stall_seconds * 1000) {
+      OnStall(owing);
+      return;
+    }
+  } else {
+    batch.stuck_since_ms = 0;
   }
   const bool stalled = now - batch.last_progress_ms > 10000 && now - batch.last_send_ms > 10000;
   if ((resend || stalled) &&
@@ -351,6 +386,49 @@ void DistributedTrainer::CheckAgents() {
     ++traffic_.resends;
     PublishBatch();  // agents answer a repeat by re-sending what they sent
   }
+}
+
+void DistributedTrainer::OnStall(const std::vector<int>& owing) {
+  Batch& batch = *batch_;
+  const int64_t now = AgentRegistry::NowMs();
+  ++batch.stalls;
+  ++traffic_.stalls;
+  std::string who;
+  for (int agent : owing) {
+    AgentInfo info;
+    agents_.Get(agent, info);
+    who += (who.empty() ? "agent " : ", agent ") + std::to_string(agent);
+    if (info.batch_id != batch.id || info.epoch != batch.epoch) {
+      who += " has not received the batch";
+    } else if (batch.split) {
+      who += " is at round " + std::to_string(info.round) + ", the coordinator at " +
+             std::to_string(batch.combiner->round());
+    } else {
+      who += " sent results that did not arrive";
+    }
+  }
+  const double waited = static_cast<double>(now - batch.stuck_since_ms) / 1000.0;
+  if (batch.stalls > options_.max_stalls) {
+    throw std::runtime_error("training batch " + std::to_string(batch.id) +
+                             " made no progress in " + std::to_string(batch.stalls) +
+                             " attempts of " + std::to_string(options_.stall_seconds) +
+                             " s although its agents are alive (" + who +
+                             "): their messages are being lost");
+  }
+  for (int agent : owing) {
+    avoid_until_ms_[agent] = now + static_cast<int64_t>(options_.avoid_seconds * 1000);
+  }
+  std::vector<int> live = LiveAgents();
+  if (live.empty()) live = WaitForAgents();
+  std::string to;
+  for (int agent : live) to += (to.empty() ? "" : ",") + std::to_string(agent);
+  spdlog::warn(
+      "batch {} made no progress for {:.1f} s ({}; {} resends so far); reassigning its work to "
+      "agent(s) {} (epoch {}, attempt {} of {})",
+      batch.id, waited, who, traffic_.resends, to, batch.epoch + 1, batch.stalls,
+      options_.max_stalls);
+  batch.stuck_since_ms = 0;
+  StartEpoch(std::move(live));
 }
 
 }  // namespace dynapath::coordinator

@@ -20,9 +20,15 @@
 // whole jobs from their start. Lost messages are re-sent: agents ask each
 // other for missing shards (shards_t.needs_round); the coordinator repeats
 // the batch when an agent's heartbeat shows it lacks the batch, or has sent
-// something that did not arrive; agents answer a repeat by re-sending.
+// something that did not arrive; agents answer a repeat by re-sending. A
+// batch that still makes no progress (repeats lost too: a lossy link) is
+// reassigned away from the agents that owe, and fails after a bound
+// (DistributedTrainerOptions::stall_seconds, max_stalls) instead of waiting
+// forever.
 
+#include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -53,6 +59,19 @@ struct DistributedTrainerOptions {
   // 0.3-0.5 ms on the 2-core development machine (docs/PERFORMANCE.md), so
   // with two agents splitting pays from about twice that.
   double split_min_round_us = 2000.0;
+  // Bounds on a batch that makes no progress although its agents are live (a
+  // lossy link: heartbeats get through, large messages do not). When the
+  // batch has been repeated for stall_seconds without a shard or result
+  // arriving, the stall is logged and the work is reassigned to the other
+  // live agents (the stalled ones get no new work for avoid_seconds, unless
+  // no other agent is live); after max_stalls such reassignments in a row
+  // the batch fails with the reason.
+  double stall_seconds = 5.0;
+  int max_stalls = 4;
+  double avoid_seconds = 30.0;
+  // When set and true, Train gives up at once ("interrupted"): every wait
+  // checks it at least every 50 ms.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // Estimated single-thread time of one federated round of `nodes`' jobs: K
@@ -67,6 +86,7 @@ struct TrafficStats {
   int64_t messages_out = 0, bytes_out = 0;  // batch messages published
   int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
   int64_t resends = 0, epochs = 0;
+  int64_t stalls = 0;  // batches reassigned for lack of progress
 };
 
 class DistributedTrainer : public Trainer {
@@ -84,6 +104,8 @@ class DistributedTrainer : public Trainer {
                       RootQTable& root) override;
 
   const TrafficStats& traffic() const { return traffic_; }
+  // The flag Train watches (see DistributedTrainerOptions::stop).
+  void set_stop(const std::atomic<bool>* stop) { options_.stop = stop; }
 
  private:
   struct JobState;
@@ -96,6 +118,10 @@ class DistributedTrainer : public Trainer {
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
   void CheckAgents();
+  // The batch made no progress for stall_seconds: reassign or fail.
+  void OnStall(const std::vector<int>& owing);
+  std::vector<int> LiveAgents() const;  // live, preferring those not avoided
+  void ThrowIfStopped() const;
   bool Done() const;
 
   protocol::Bus& bus_;
@@ -104,6 +130,7 @@ class DistributedTrainer : public Trainer {
   DistributedTrainerOptions options_;
   int64_t next_batch_id_ = 0;
   std::unique_ptr<Batch> batch_;  // the batch in hand (coordinator thread only)
+  std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   TrafficStats traffic_;
 };
 

@@ -15,6 +15,8 @@ packages=(
   libsfml-dev                         # dynapath view (live policy window)
   zlib1g-dev                          # PNG output of dynapath render
   xvfb xauth                          # the viewer's one headless check (tests)
+  iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
+  libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
