@@ -41,7 +41,7 @@ uint64_t KernelRandom64() {
 }
 
 std::string InstanceText(uint64_t instance) {
-  char text[24];
+  char text[32];
   std::snprintf(text, sizeof text, "instance %016llx", static_cast<unsigned long long>(instance));
   return text;
 }

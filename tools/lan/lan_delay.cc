@@ -13,6 +13,7 @@
 // and the program exits; packets arriving while no program listens pass
 // undelayed (the iptables rule uses --queue-bypass).
 
+#include <arpa/inet.h>
 #include <libnetfilter_queue/libnetfilter_queue.h>
 #include <linux/netfilter.h>
 #include <linux/netlink.h>

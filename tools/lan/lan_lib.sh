@@ -34,6 +34,15 @@ LAN_PIDS=()                # processes started on the hosts (killed by lan_down)
 lan_enter() {
   [ -n "${DYNAPATH_LAN_OUTER:-}" ] && return 0
   local why
+  # Modules cannot be loaded from inside a user namespace: as real root, load
+  # what the LAN may need first (errors ignored: built in, or not available,
+  # which lan_check then reports).
+  if [ "$(id -u)" -eq 0 ] && command -v modprobe >/dev/null; then
+    for module in bridge veth br_netfilter nf_tables nft_numgen nft_dup_netdev nfnetlink_queue \
+      xt_physdev xt_NFQUEUE; do
+      modprobe -q "$module" 2>/dev/null
+    done
+  fi
   if ! why=$(unshare -Urn true 2>&1); then
     echo "SKIP: cannot create a user + network namespace (unshare -Urn): $why"
     exit 77
