@@ -83,9 +83,11 @@ fi
 
 # A lost host: the events fire once the initial training is under way.
 check b_down_2s same 1:down@b 3:up@b
+lan_clear
 check b_down same 1:down@b
 grep -q "is silent; reassigning" "$work/b_down/coordinator.log" \
   || fail "b_down: the coordinator did not reassign b's work"
+lan_clear
 
 # A lossy agent that keeps sending heartbeats (they are small frames).
 nft add chain netdev lan from_b '{ type filter hook ingress device vb priority 0; }'
