@@ -125,9 +125,10 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     // Two agents with one id: the one with the larger instance leaves (its
     // work is reassigned), so exactly one goes on.
     if (const uint64_t other = collided_with_; other != 0 && other < options_.instance) {
-      spdlog::error("agent {}: another agent of run {} uses id {}; exiting (give each agent its own "
-                    "--id, or none for a random one)",
-                    options_.id, bus_.run_id(), options_.id);
+      spdlog::error(
+          "agent {}: another agent of run {} uses id {}; exiting (give each agent its own "
+          "--id, or none for a random one)",
+          options_.id, bus_.run_id(), options_.id);
       return AgentExit::kIdCollision;
     }
     if (!announced && coordinator_.Seen()) {

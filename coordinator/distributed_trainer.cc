@@ -409,11 +409,10 @@ void DistributedTrainer::OnStall(const std::vector<int>& owing) {
   }
   const double waited = static_cast<double>(now - batch.stuck_since_ms) / 1000.0;
   if (batch.stalls > options_.max_stalls) {
-    throw std::runtime_error("training batch " + std::to_string(batch.id) +
-                             " made no progress in " + std::to_string(batch.stalls) +
-                             " attempts of " + std::to_string(options_.stall_seconds) +
-                             " s although its agents are alive (" + who +
-                             "): their messages are being lost");
+    throw std::runtime_error(
+        "training batch " + std::to_string(batch.id) + " made no progress in " +
+        std::to_string(batch.stalls) + " attempts of " + std::to_string(options_.stall_seconds) +
+        " s although its agents are alive (" + who + "): their messages are being lost");
   }
   for (int agent : owing) {
     avoid_until_ms_[agent] = now + static_cast<int64_t>(options_.avoid_seconds * 1000);

@@ -129,7 +129,7 @@ class DistributedTrainer : public Trainer {
   const AgentRegistry& agents_;
   DistributedTrainerOptions options_;
   int64_t next_batch_id_ = 0;
-  std::unique_ptr<Batch> batch_;  // the batch in hand (coordinator thread only)
+  std::unique_ptr<Batch> batch_;           // the batch in hand (coordinator thread only)
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   TrafficStats traffic_;
 };

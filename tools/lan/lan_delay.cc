@@ -142,8 +142,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dynapath-lan-delay: nfq_open: %s\n", std::strerror(errno));
     return 1;
   }
-  state.queue = nfq_create_queue(handle, static_cast<uint16_t>(state.options.queue), &OnPacket,
-                                 &state);
+  state.queue =
+      nfq_create_queue(handle, static_cast<uint16_t>(state.options.queue), &OnPacket, &state);
   if (state.queue == nullptr) {
     std::fprintf(stderr, "dynapath-lan-delay: cannot bind queue %d: %s\n", state.options.queue,
                  std::strerror(errno));
