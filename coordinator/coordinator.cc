@@ -128,9 +128,10 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     const TrafficStats& t = trainer_.traffic();
     spdlog::info(
         "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
-        "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress)",
+        "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress, {} split "
+        "batches run whole)",
         t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
-        t.epochs, t.stalls);
+        t.epochs, t.stalls, t.split_fallbacks);
     spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
                  plan.out_dir);
     state = heartbeat_t::STATE_FINISHED;

@@ -15,6 +15,8 @@ namespace dynapath::coordinator {
 namespace {
 
 using Ms = std::chrono::milliseconds;
+// Restarts of a split batch at one round before it runs its jobs whole.
+constexpr int kMaxRestartsAtRound = 3;
 
 }  // namespace
 
@@ -44,6 +46,9 @@ struct DistributedTrainer::Batch {
   // lack (0: not waiting), and how many reassignments that caused in a row.
   int64_t stuck_since_ms = 0;
   int stalls = 0;
+  // Split: restarts for lost shards in a row at the same combined round.
+  int64_t restart_round = -1;
+  int restarts_at_round = 0;
   int64_t steps = 0;
 };
 
@@ -64,10 +69,11 @@ bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
   switch (options_.placement) {
     case cli::Placement::kWhole:
       return false;
+    case cli::Placement::kAuto:
+      if (split_disabled_) return false;
+      break;
     case cli::Placement::kSplit:
       return true;
-    case cli::Placement::kAuto:
-      break;
   }
   std::vector<Region> regions;
   for (const JobState& state : batch.jobs) regions.push_back(state.job.region);
@@ -356,11 +362,33 @@ void DistributedTrainer::CheckAgents() {
       if (info.round > batch.combiner->round() + 1) {
         spdlog::warn("shards of agent {} for round {} were lost; restarting the round (batch {})",
                      agent, batch.combiner->round(), batch.id);
+        if (batch.combiner->round() == batch.restart_round) {
+          ++batch.restarts_at_round;
+        } else {
+          batch.restart_round = batch.combiner->round();
+          batch.restarts_at_round = 1;
+        }
         restart = true;
         break;
       }
       resend = true;
     }
+  }
+  if (restart && batch.split && batch.restarts_at_round >= kMaxRestartsAtRound) {
+    // The same round lost again and again (measured at 20 ms of delay: the
+    // coordinator keeps missing one round's shards and the agents run past
+    // it): stop splitting. Whole jobs give the same results (a job is a pure
+    // function of its inputs) and need one round trip, not one per round.
+    spdlog::warn(
+        "batch {}: round {} restarted {} times; running its jobs whole on the agents instead of "
+        "splitting their rounds{}",
+        batch.id, batch.restart_round, batch.restarts_at_round,
+        options_.placement == cli::Placement::kAuto ? " (and no more splitting in this run)" : "");
+    if (options_.placement == cli::Placement::kAuto) split_disabled_ = true;
+    ++traffic_.split_fallbacks;
+    batch.split = false;
+    batch.combiner.reset();
+    for (JobState& state : batch.jobs) state.steps = 0;
   }
   if (restart) {
     std::vector<int> live = LiveAgents();

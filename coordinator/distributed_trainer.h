@@ -24,7 +24,8 @@
 // batch that still makes no progress (repeats lost too: a lossy link) is
 // reassigned away from the agents that owe, and fails after a bound
 // (DistributedTrainerOptions::stall_seconds, max_stalls) instead of waiting
-// forever.
+// forever. A split batch that restarts the same round again and again runs
+// its jobs whole instead (auto placement then stops splitting for the run).
 
 #include <atomic>
 #include <functional>
@@ -86,7 +87,8 @@ struct TrafficStats {
   int64_t messages_out = 0, bytes_out = 0;  // batch messages published
   int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
   int64_t resends = 0, epochs = 0;
-  int64_t stalls = 0;  // batches reassigned for lack of progress
+  int64_t stalls = 0;           // batches reassigned for lack of progress
+  int64_t split_fallbacks = 0;  // split batches run whole after repeated restarts
 };
 
 class DistributedTrainer : public Trainer {
@@ -131,6 +133,7 @@ class DistributedTrainer : public Trainer {
   int64_t next_batch_id_ = 0;
   std::unique_ptr<Batch> batch_;           // the batch in hand (coordinator thread only)
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
+  bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
   TrafficStats traffic_;
 };
 

@@ -27,6 +27,7 @@ LAN_DELAY_BIN=$LAN_BUILD/tools/dynapath-lan-delay
 source "$here/../result_files.sh"
 work=$(mktemp -d)
 trap 'lan_down; rm -rf "$work"' EXIT
+trap 'exit 143' TERM INT  # so that the EXIT trap stops what runs on the hosts
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 

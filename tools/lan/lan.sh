@@ -40,6 +40,7 @@ mkdir -p "$out"
 out=$(cd "$out" && pwd)
 LAN_LOG_DIR=$out
 trap 'lan_down' EXIT
+trap 'exit 143' TERM INT  # so that the EXIT trap stops what runs on the hosts
 if ! why=$(lan_check); then echo "lan.sh: $why" >&2; exit 77; fi
 lan_up || { echo "lan.sh: cannot build the LAN" >&2; exit 1; }
 local_options=()

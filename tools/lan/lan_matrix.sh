@@ -45,6 +45,7 @@ source "$here/../../tests/result_files.sh"
 work=${LAN_MATRIX_DIR:-$(mktemp -d)}
 mkdir -p "$work"
 trap 'lan_down' EXIT
+trap 'exit 143' TERM INT  # so that the EXIT trap stops what runs on the hosts
 LAN_LOG_DIR=$work
 if ! why=$(lan_check delay); then echo "lan_matrix.sh: $why" >&2; exit 77; fi
 lan_up || { echo "lan_matrix.sh: cannot build the LAN" >&2; exit 1; }
