@@ -189,13 +189,13 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   ASSERT_TRUE(a && b && c);
   EXPECT_EQ(StudyIdentityJson(*a), StudyIdentityJson(*b));  // mode, threads, out do not count
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*c));
-  EXPECT_EQ(StudyIdentityJson(*a).Dump(0),
+  EXPECT_EQ(DumpJson(StudyIdentityJson(*a), -1),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
             "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
-  EXPECT_EQ(ExecutionJson(*b).Find("mode")->AsString(), "agents");
-  EXPECT_EQ(ExecutionJson(*b).Find("agents")->AsInt(), 2);
+  EXPECT_EQ(ExecutionJson(*b)["mode"].get<std::string>(), "agents");
+  EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);
 }
 
 }  // namespace

@@ -128,11 +128,11 @@ Result<OptionValues> CommandLineValues(const ArgParser& parser) {
 // "sizes: [20, 50] there, [20] here; steps: ...".
 std::string Differences(const Json& there, const Json& here) {
   std::string text;
-  for (const auto& [key, value] : here.members()) {
-    const Json* old = there.Find(key);
+  for (const auto& [key, value] : here.items()) {
+    const Json* old = Member(there, key);
     if (old != nullptr && *old == value) continue;
-    text += (text.empty() ? "" : "; ") + key + ": " + (old ? old->Dump(0) : "missing") +
-            " there, " + value.Dump(0) + " here";
+    text += (text.empty() ? "" : "; ") + key + ": " + (old ? DumpJson(*old, -1) : "missing") +
+            " there, " + DumpJson(value, -1) + " here";
   }
   return text.empty() ? "different options" : text;
 }

@@ -407,15 +407,15 @@ std::vector<std::string> RunArguments(const StudyOptions& options, const std::st
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {
-  Json json = Json::Object();
-  Json& sizes = json["sizes"] = Json::Array();
-  for (const int size : options.sizes) sizes.Push(size);
-  Json& difficulties = json["difficulties"] = Json::Array();
+  Json json = Json::object();
+  Json& sizes = json["sizes"] = Json::array();
+  for (const int size : options.sizes) sizes.push_back(size);
+  Json& difficulties = json["difficulties"] = Json::array();
   for (const Difficulty difficulty : options.difficulties) {
-    difficulties.Push(LowerDifficulty(difficulty));
+    difficulties.push_back(LowerDifficulty(difficulty));
   }
-  Json& approaches = json["approaches"] = Json::Array();
-  for (const Approach approach : options.approaches) approaches.Push(ApproachName(approach));
+  Json& approaches = json["approaches"] = Json::array();
+  for (const Approach approach : options.approaches) approaches.push_back(ApproachName(approach));
   json["edge_case"] = options.edge_case;
   json["seed"] = options.seed ? Json(*options.seed) : Json();
   json["steps"] = options.steps ? Json(*options.steps) : Json();
@@ -425,7 +425,7 @@ Json StudyIdentityJson(const StudyOptions& options) {
 }
 
 Json ExecutionJson(const StudyOptions& options) {
-  Json json = Json::Object();
+  Json json = Json::object();
   json["mode"] = StudyModeName(options.mode);
   json["agents"] = options.mode == StudyMode::kLocal ? Json() : Json(options.agents);
   json["placement"] = options.mode == StudyMode::kLocal ? Json() : Json(options.placement);
