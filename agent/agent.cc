@@ -111,6 +111,11 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
   };
   protocol::HeartbeatSender heartbeat(bus_, base, options_.heartbeat_seconds, fill, watchdog);
+  heartbeat_ = &heartbeat;
+  struct Clear {
+    std::atomic<protocol::HeartbeatSender*>& pointer;
+    ~Clear() { pointer = nullptr; }
+  } clear{heartbeat_};
   spdlog::info("agent {}: {} threads, waiting for the coordinator of run {}", options_.id,
                pool_.threads(), bus_.run_id());
   bool announced = false;
@@ -159,6 +164,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   if (batch.batch_id < batch_id_ || (batch.batch_id == batch_id_ && batch.epoch < epoch_)) return;
   if (batch.batch_id == batch_id_ && batch.epoch == epoch_) {
     Resend();  // the coordinator is missing something we sent
+    Beat();
     return;
   }
   // A new batch, or a new epoch of this one: start over from its contents.
@@ -174,6 +180,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   reported_batch_ = batch_id_;
   reported_epoch_ = epoch_;
   reported_round_ = -1;
+  Beat();  // acknowledges the batch
 
   std::vector<int> whole;
   protocol::RoundCombiner::Items items;  // every agent's split learners
@@ -289,6 +296,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     std::lock_guard lock(mutex);
     results_.push_back(std::move(message));
     reported_round_ = static_cast<int64_t>(results_.size());
+    Beat();  // tells what was sent: a lost result shows at once
   });
 }
 
@@ -386,6 +394,10 @@ void Agent::NudgeIfStalled() {
   PublishShards(sent_.back(), combiner_->round());
   nudge_interval_ms_ = std::min(kNudgeCapMs, nudge_interval_ms_ * 2);
   next_nudge_ms_ = now + nudge_interval_ms_;
+}
+
+void Agent::Beat() {
+  if (protocol::HeartbeatSender* sender = heartbeat_) sender->SendNow();
 }
 
 void Agent::Resend() {

@@ -82,6 +82,9 @@ class Agent {
   // Waiting for others' shards too long: re-send ours (with needs_round).
   void NudgeIfStalled();
   void Resend();
+  // A heartbeat now (any thread): the coordinator times its round trips and
+  // notices missing results by them, so it should not wait for the next tick.
+  void Beat();
 
   protocol::Bus& bus_;
   AgentOptions options_;
@@ -110,6 +113,7 @@ class Agent {
   std::atomic<int64_t> reported_round_{-1};
   // Another agent's heartbeat with our id (dispatch thread): its instance.
   std::atomic<uint64_t> collided_with_{0};
+  std::atomic<protocol::HeartbeatSender*> heartbeat_{nullptr};  // while Run runs
 };
 
 }  // namespace dynapath::agent

@@ -49,6 +49,11 @@ struct DistributedTrainer::Batch {
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
   int restarts_at_round = 0;
+  // Round-trip samples: when this epoch's batch first went out, whether it
+  // was repeated (then acknowledgements are ambiguous), who acknowledged.
+  int64_t epoch_sent_ms = 0;
+  bool repeated = false;
+  std::vector<int> acknowledged;
   int64_t steps = 0;
 };
 
@@ -259,7 +264,10 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   }
   message.num_items = static_cast<int32_t>(message.item_job.size());
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.repeated = false;
+  batch.acknowledged.clear();
   PublishBatch();
+  batch.epoch_sent_ms = batch.last_send_ms;
 }
 
 void DistributedTrainer::PublishBatch() {
@@ -342,6 +350,7 @@ void DistributedTrainer::CheckAgents() {
   bool restart = false;
   for (int agent : owing) {
     AgentInfo info;
+    if (agents_.Get(agent, info)) SampleRoundTrip(info);
     if (!agents_.IsLive(agent) || !agents_.Get(agent, info)) {
       spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent, batch.id,
                    batch.epoch + 1);
@@ -409,11 +418,39 @@ void DistributedTrainer::CheckAgents() {
     batch.stuck_since_ms = 0;
   }
   const bool stalled = now - batch.last_progress_ms > 10000 && now - batch.last_send_ms > 10000;
-  if ((resend || stalled) &&
-      static_cast<double>(now - batch.last_send_ms) > options_.resend_seconds * 1000) {
+  // Whole jobs: repeat once the gap has lasted a few round trips (agents
+  // send a heartbeat right after each result, so a gap seen that long is a
+  // loss, not a result still in flight). Split rounds keep resend_seconds:
+  // their gaps are detected by the lack of progress itself.
+  const int64_t interval =
+      batch.split ? static_cast<int64_t>(options_.resend_seconds * 1000) : ResendIntervalMs();
+  if ((resend && now - batch.stuck_since_ms >= interval && now - batch.last_send_ms > interval) ||
+      (stalled && now - batch.last_send_ms > interval)) {
     ++traffic_.resends;
+    batch.repeated = true;
     PublishBatch();  // agents answer a repeat by re-sending what they sent
   }
+}
+
+void DistributedTrainer::SampleRoundTrip(const AgentInfo& info) {
+  Batch& batch = *batch_;
+  // Karn's rule: only acknowledgements of a batch sent once are timed.
+  if (batch.repeated || info.batch_id != batch.id || info.epoch != batch.epoch) return;
+  if (std::find(batch.acknowledged.begin(), batch.acknowledged.end(), info.id) !=
+      batch.acknowledged.end()) {
+    return;
+  }
+  batch.acknowledged.push_back(info.id);
+  const double sample =
+      static_cast<double>(std::max<int64_t>(0, info.last_seen_ms - batch.epoch_sent_ms));
+  round_trip_ms_ = round_trip_ms_ < 0 ? sample : 0.875 * round_trip_ms_ + 0.125 * sample;
+  traffic_.round_trip_ms = round_trip_ms_;
+}
+
+int64_t DistributedTrainer::ResendIntervalMs() const {
+  const double cap = options_.resend_seconds * 1000;
+  if (round_trip_ms_ < 0) return static_cast<int64_t>(cap);
+  return static_cast<int64_t>(std::clamp(2 * round_trip_ms_ + 20.0, 30.0, cap));
 }
 
 void DistributedTrainer::OnStall(const std::vector<int>& owing) {
@@ -438,9 +475,10 @@ void DistributedTrainer::OnStall(const std::vector<int>& owing) {
   const double waited = static_cast<double>(now - batch.stuck_since_ms) / 1000.0;
   if (batch.stalls > options_.max_stalls) {
     throw std::runtime_error(
-        "training batch " + std::to_string(batch.id) + " made no progress in " +
-        std::to_string(batch.stalls) + " attempts of " + std::to_string(options_.stall_seconds) +
-        " s although its agents are alive (" + who + "): their messages are being lost");
+        "training batch " + std::to_string(batch.id) + " made no progress for " +
+        std::to_string(static_cast<int>(batch.stalls * options_.stall_seconds)) + " s in " +
+        std::to_string(batch.stalls) + " attempts although its agents are alive (" + who +
+        "): their messages are being lost");
   }
   for (int agent : owing) {
     avoid_until_ms_[agent] = now + static_cast<int64_t>(options_.avoid_seconds * 1000);

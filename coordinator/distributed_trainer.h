@@ -50,8 +50,10 @@ namespace dynapath::coordinator {
 struct DistributedTrainerOptions {
   // How long to wait for at least one live agent before a batch fails.
   double agent_wait_seconds = 60.0;
-  // Minimum time between two repeats of the batch message, and how long a
-  // split round may make no progress before the batch is repeated.
+  // How long a split round may make no progress before the batch is
+  // repeated, and the longest wait before a repeat for whole jobs (which
+  // repeat after twice the measured round trip + 20 ms, at least 30 ms:
+  // the time from sending a batch to an agent's heartbeat acknowledging it).
   double resend_seconds = 0.2;
   cli::Placement placement = cli::Placement::kAuto;
   // kAuto splits a batch's learners when one round of all its jobs is
@@ -68,7 +70,7 @@ struct DistributedTrainerOptions {
   // no other agent is live); after max_stalls such reassignments in a row
   // the batch fails with the reason.
   double stall_seconds = 5.0;
-  int max_stalls = 4;
+  int max_stalls = 11;  // the coordinator's --give-up 60 s
   double avoid_seconds = 30.0;
   // When set and true, Train gives up at once ("interrupted"): every wait
   // checks it at least every 50 ms.
@@ -89,6 +91,7 @@ struct TrafficStats {
   int64_t resends = 0, epochs = 0;
   int64_t stalls = 0;           // batches reassigned for lack of progress
   int64_t split_fallbacks = 0;  // split batches run whole after repeated restarts
+  double round_trip_ms = -1;    // smoothed batch-to-acknowledgement time (-1: none yet)
 };
 
 class DistributedTrainer : public Trainer {
@@ -123,6 +126,8 @@ class DistributedTrainer : public Trainer {
   // The batch made no progress for stall_seconds: reassign or fail.
   void OnStall(const std::vector<int>& owing);
   std::vector<int> LiveAgents() const;  // live, preferring those not avoided
+  void SampleRoundTrip(const AgentInfo& info);
+  int64_t ResendIntervalMs() const;
   void ThrowIfStopped() const;
   bool Done() const;
 
@@ -134,6 +139,7 @@ class DistributedTrainer : public Trainer {
   std::unique_ptr<Batch> batch_;           // the batch in hand (coordinator thread only)
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
+  double round_trip_ms_ = -1;              // smoothed, over all agents
   TrafficStats traffic_;
 };
 

@@ -82,7 +82,10 @@ lan_check() {
   return 0
 }
 
-lan_on() {  # lan_on HOST COMMAND...: runs COMMAND in HOST's network namespace
+# lan_on HOST COMMAND...: runs COMMAND in HOST's network namespace. (Started
+# in the background, a function is a subshell whose pid is not COMMAND's:
+# background processes are started with nsenter directly, so $! is theirs.)
+lan_on() {
   local host=$1; shift
   nsenter -t "${LAN_HOLDER[$host]}" -n -- "$@"
 }
@@ -213,16 +216,16 @@ lan_run() {
   [ -n "${LAN_SECRET_FILE:-}" ] && common+=(--secret-file "$LAN_SECRET_FILE")
   local start end pid
   start=$(date +%s.%N)
-  lan_on a "$LAN_BUILD/coordinator/dynapath-coordinator" "${common[@]}" --agents 2 --wait 30 \
+  nsenter -t "${LAN_HOLDER[a]}" -n -- "$LAN_BUILD/coordinator/dynapath-coordinator" "${common[@]}" --agents 2 --wait 30 \
     --out "$out" "${LAN_COORDINATOR_ARGS[@]}" >"$out/coordinator.log" 2>&1 &
   local coordinator=$!
   LAN_PIDS+=("$coordinator")
-  lan_on a "$LAN_BUILD/envsim/dynapath-envsim" "${common[@]}" "${LAN_ENVSIM_ARGS[@]}" \
+  nsenter -t "${LAN_HOLDER[a]}" -n -- "$LAN_BUILD/envsim/dynapath-envsim" "${common[@]}" "${LAN_ENVSIM_ARGS[@]}" \
     >"$out/envsim.log" 2>&1 &
   LAN_PIDS+=($!)
   local started=(${LAN_PIDS[-1]})
   for host in b c; do
-    lan_on "$host" "$LAN_BUILD/agent/dynapath-agent" "${common[@]}" --threads "$threads" --wait 30 \
+    nsenter -t "${LAN_HOLDER[$host]}" -n -- "$LAN_BUILD/agent/dynapath-agent" "${common[@]}" --threads "$threads" --wait 30 \
       >"$out/agent_$host.log" 2>&1 &
     LAN_PIDS+=($!)
     started+=($!)
