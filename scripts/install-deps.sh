@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libspdlog-dev libfmt-dev            # logging
   nlohmann-json3-dev                  # study manifests (dynapath experiment)
+  libtomlplusplus-dev                 # study files (dynapath experiment --config)
   libgtest-dev libgmock-dev           # unit tests
   libbenchmark-dev                    # benchmarks
   liblcm-dev liblcm-bin liblcm-java   # LCM transport, lcm-gen, lcm-logger, lcm-spy classes

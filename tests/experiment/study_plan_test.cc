@@ -165,6 +165,7 @@ TEST(StudyPlanTest, BadFileValuesNameTheLine) {
   const std::pair<const char*, const char*> cases[] = {
       {"sizes = [20]\ncolour = 'red'\n", "s.toml:2: unknown key 'colour'"},
       {"\nsteps = '10'\n", "s.toml:2: steps: expected an integer, got a string"},
+      {"\nsteps = 1.5\n", "s.toml:2: steps: expected an integer, got a float"},
       {"sizes = '20'\n", "s.toml:1: sizes: expected an integer or an array of integers"},
       {"sizes = [20,\n 1]\n", "s.toml:1: sizes: size '1' is not an integer from 2"},
       {"difficulties = [1]\n", "s.toml:1: difficulties: expected an array of strings"},

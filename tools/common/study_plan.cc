@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 
@@ -40,6 +41,11 @@ std::string ScalarText(const ConfigValue& value) {
       return value.string;
     case ConfigValue::Kind::kInteger:
       return std::to_string(value.integer);
+    case ConfigValue::Kind::kFloat: {
+      char text[32];  // shortest round-trip form, whatever the locale
+      const auto end = std::to_chars(text, text + sizeof text, value.number).ptr;
+      return std::string(text, end);
+    }
     case ConfigValue::Kind::kBoolean:
       return value.boolean ? "true" : "false";
     case ConfigValue::Kind::kArray:
