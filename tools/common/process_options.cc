@@ -29,23 +29,6 @@ const std::vector<std::string>& ProcessOptionNames() {
 }
 
 namespace {
-// Payload bytes per fragment on networks that leave the machine: with LCM's
-// header, the channel name (run ids up to 64 characters), fragment_t's
-// fields and room for a message trailer, one datagram stays within a
-// 1500-byte Ethernet frame.
-constexpr int kFrameFragmentBytes = 1100;
-
-// Pause between two such fragments: LCM's receiver drains small datagrams
-// far faster than 60 KB ones (no resend with 20 us on the simulated LAN).
-constexpr int kFramePauseUs = 20;
-
-// udpm with a multicast TTL above 0: the traffic reaches other machines.
-bool LeavesTheMachine(const std::string& url) {
-  if (url.rfind("udpm://", 0) != 0) return false;
-  const size_t ttl = url.find("ttl=");
-  return ttl != std::string::npos && std::atoi(url.c_str() + ttl + 4) > 0;
-}
-
 Result<double> GetProbability(const ArgParser& parser, const std::string& name) {
   const std::string text = parser.Get(name, "0");
   char* end = nullptr;
@@ -74,17 +57,7 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   if (!dup) return dup.error();
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
-  const std::string url = protocol::ResolveLcmUrl(setup.lcm_url);
-  if (protocol::IsMemq(url)) setup.bus.fragment_above = 0;
-  if (LeavesTheMachine(url)) {
-    // On a real network a 60 KB datagram is ~41 IP fragments and is lost
-    // with any one of them (and its survivors fill the kernel's reassembly
-    // memory for 30 s): fragments of one Ethernet frame each instead, so a
-    // lost frame costs one fragment's worth, never an IP-fragmented datagram.
-    setup.bus.fragment_above = kFrameFragmentBytes;
-    setup.bus.fragment_size = kFrameFragmentBytes;
-    setup.bus.fragment_pause_us = kFramePauseUs;
-  }
+  if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
   return setup;
 }
 

@@ -120,7 +120,7 @@ run_once() {
   fi
   if [ "$LAN_STATUS" -ne 0 ]; then
     local reason
-    reason=$(sed -n 's/.*\[error\] coordinator: //p' "$out/coordinator.log" | tail -1 | cut -c1-160)
+    reason=$(sed -n 's/.*\[error\] coordinator: //p' "$out/coordinator.log" | tail -1 | cut -c1-200)
     CELL_TEXT="**failed** after $LAN_SECONDS s: ${reason:-exit $LAN_STATUS}"
     CELL_SECONDS=
     return
