@@ -20,6 +20,7 @@ packages=(
   xvfb xauth                          # the viewer's one headless check (tests)
   iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
   libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN
+  clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
