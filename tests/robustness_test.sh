@@ -48,20 +48,22 @@ exits_within() {
   return 0
 }
 
+"$dynapath" secret "$work/run.key" >/dev/null || fail "dynapath secret"
+
 # 1. SIGTERM to the coordinator in three states.
 scenario=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
 start_run() {  # start_run NAME AGENTS: envsim, coordinator and AGENTS agents of run NAME
   local name=$1 agents=$2
-  "$bin/coordinator/dynapath-coordinator" --run-id "$name" --agents 1 --wait 60 \
+  "$bin/coordinator/dynapath-coordinator" --run-id "$name" --secret-file "$work/run.key" --agents 1 --wait 60 \
     --approach fedAsynQ_EqAvg --out "$work/$name" 2>"$work/$name.coordinator.log" &
   coordinator=$!
   pids+=("$coordinator")
-  "$bin/envsim/dynapath-envsim" --run-id "$name" --size 100 --difficulty hard --steps 100 \
+  "$bin/envsim/dynapath-envsim" --run-id "$name" --secret-file "$work/run.key" --size 100 --difficulty hard --steps 100 \
     2>"$work/$name.envsim.log" &
   pids+=($!)
   agent=
   if [ "$agents" -gt 0 ]; then
-    "$bin/agent/dynapath-agent" --run-id "$name" --threads 1 2>"$work/$name.agent.log" &
+    "$bin/agent/dynapath-agent" --run-id "$name" --secret-file "$work/run.key" --threads 1 2>"$work/$name.agent.log" &
     agent=$!
     pids+=("$agent")
   fi
@@ -111,7 +113,7 @@ for case in plain pidns; do
   prefix=()
   [ $case = pidns ] && prefix=(unshare --pid --fork --kill-child)
   for i in 1 2; do
-    "${prefix[@]}" "$bin/agent/dynapath-agent" --run-id "ids-$case" --wait 1 --threads 1 \
+    "${prefix[@]}" "$bin/agent/dynapath-agent" --run-id "ids-$case" --secret-file "$work/run.key" --wait 1 --threads 1 \
       2>"$work/ids_${case}_$i.log" &
     pids+=($!)
   done
@@ -129,7 +131,7 @@ wait 2>/dev/null
 
 # 3. Two agents given one id: exactly one leaves, saying why.
 for i in 1 2; do
-  "$bin/agent/dynapath-agent" --run-id collide --id 7 --wait 3 --threads 1 2>"$work/collide_$i.log" &
+  "$bin/agent/dynapath-agent" --run-id collide --secret-file "$work/run.key" --id 7 --wait 3 --threads 1 2>"$work/collide_$i.log" &
   pids+=($!)
   collide[$i]=$!
 done

@@ -213,7 +213,11 @@ lan_run() {
   local run_id
   run_id="lan$(date +%s%N | tail -c 9)$RANDOM"
   local common=(--run-id "$run_id" --lcm-url "$LAN_URL" --log-level "${LAN_LOG_LEVEL:-info}")
-  [ -n "${LAN_SECRET_FILE:-}" ] && common+=(--secret-file "$LAN_SECRET_FILE")
+  # Every run its own secret, as on real machines (dynapath secret: mode 600).
+  local secret="$out/run.key"
+  rm -f "$secret"
+  "$LAN_BUILD/tools/dynapath" secret "$secret" >/dev/null || return 1
+  common+=(--secret-file "$secret")
   local start end pid
   start=$(date +%s.%N)
   nsenter -t "${LAN_HOLDER[a]}" -n -- "$LAN_BUILD/coordinator/dynapath-coordinator" "${common[@]}" --agents 2 --wait 30 \
