@@ -1,11 +1,14 @@
 #include "agent/agent.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/random.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <mutex>
+#include <random>
 
 #include "core/single_agent_learner.h"
 #include "lcmtypes/protocol/channels.h"
@@ -28,7 +31,34 @@ using Ms = std::chrono::milliseconds;
 // while it waits on, up to the cap), or twice our own compute time if longer.
 constexpr int64_t kNudgeMs = 10;
 constexpr int64_t kNudgeCapMs = 250;
+
+uint64_t KernelRandom64() {
+  uint64_t value = 0;
+  if (getrandom(&value, sizeof value, 0) == static_cast<ssize_t>(sizeof value)) return value;
+  // No getrandom (very old kernel): std::random_device, still not pid-based.
+  std::random_device device;
+  return (static_cast<uint64_t>(device()) << 32) ^ device();
+}
+
+std::string InstanceText(uint64_t instance) {
+  char text[32];
+  std::snprintf(text, sizeof text, "instance %016llx", static_cast<unsigned long long>(instance));
+  return text;
+}
+
+uint64_t ParseInstance(const std::string& message) {
+  if (message.rfind("instance ", 0) != 0) return 0;
+  return std::strtoull(message.c_str() + 9, nullptr, 16);
+}
 }  // namespace
+
+int RandomAgentId() { return static_cast<int>(KernelRandom64() % 2147483647ULL) + 1; }
+
+uint64_t RandomInstance() {
+  uint64_t value = 0;
+  while (value == 0) value = KernelRandom64();
+  return value;
+}
 
 Agent::Agent(protocol::Bus& bus, AgentOptions options)
     : bus_(bus),
@@ -43,6 +73,15 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
     if (shards.agent == options_.id) return;  // our own, looped back
     inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
   });
+  if (options_.instance == 0) options_.instance = RandomInstance();
+  bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
+    if (beat.role != heartbeat_t::ROLE_AGENT || beat.sender != options_.id) return;
+    const uint64_t other = ParseInstance(beat.message);
+    if (other != options_.instance) {
+      collided_with_ = other == 0 ? 1 : other;  // 0: an agent without an instance
+      inbox_.Wake();
+    }
+  });
 }
 
 Agent::~Agent() = default;
@@ -54,6 +93,7 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
   base.sender = options_.id;
   base.state = heartbeat_t::STATE_RUNNING;
   base.threads = pool_.threads();
+  base.message = InstanceText(options_.instance);
   const auto fill = [this](heartbeat_t& beat) {
     beat.batch_id = reported_batch_;
     beat.epoch = reported_epoch_;
@@ -71,6 +111,11 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
   };
   protocol::HeartbeatSender heartbeat(bus_, base, options_.heartbeat_seconds, fill, watchdog);
+  heartbeat_ = &heartbeat;
+  struct Clear {
+    std::atomic<protocol::HeartbeatSender*>& pointer;
+    ~Clear() { pointer = nullptr; }
+  } clear{heartbeat_};
   spdlog::info("agent {}: {} threads, waiting for the coordinator of run {}", options_.id,
                pool_.threads(), bus_.run_id());
   bool announced = false;
@@ -82,6 +127,15 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
     inbox_.RunFor(Ms(wait_ms));
     NudgeIfStalled();
+    // Two agents with one id: the one with the larger instance leaves (its
+    // work is reassigned), so exactly one goes on.
+    if (const uint64_t other = collided_with_; other != 0 && other < options_.instance) {
+      spdlog::error(
+          "agent {}: another agent of run {} uses id {}; exiting (give each agent its own "
+          "--id, or none for a random one)",
+          options_.id, bus_.run_id(), options_.id);
+      return AgentExit::kIdCollision;
+    }
     if (!announced && coordinator_.Seen()) {
       heartbeat.SendNow();  // join at once, not at the next heartbeat
       announced = true;
@@ -110,6 +164,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   if (batch.batch_id < batch_id_ || (batch.batch_id == batch_id_ && batch.epoch < epoch_)) return;
   if (batch.batch_id == batch_id_ && batch.epoch == epoch_) {
     Resend();  // the coordinator is missing something we sent
+    Beat();
     return;
   }
   // A new batch, or a new epoch of this one: start over from its contents.
@@ -125,6 +180,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   reported_batch_ = batch_id_;
   reported_epoch_ = epoch_;
   reported_round_ = -1;
+  Beat();  // acknowledges the batch
 
   std::vector<int> whole;
   protocol::RoundCombiner::Items items;  // every agent's split learners
@@ -240,6 +296,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     std::lock_guard lock(mutex);
     results_.push_back(std::move(message));
     reported_round_ = static_cast<int64_t>(results_.size());
+    Beat();  // tells what was sent: a lost result shows at once
   });
 }
 
@@ -337,6 +394,10 @@ void Agent::NudgeIfStalled() {
   PublishShards(sent_.back(), combiner_->round());
   nudge_interval_ms_ = std::min(kNudgeCapMs, nudge_interval_ms_ * 2);
   next_nudge_ms_ = now + nudge_interval_ms_;
+}
+
+void Agent::Beat() {
+  if (protocol::HeartbeatSender* sender = heartbeat_) sender->SendNow();
 }
 
 void Agent::Resend() {
