@@ -53,6 +53,12 @@ class Rng {
     return static_cast<uint32_t>(((Next() >> 32) * static_cast<uint64_t>(n)) >> 32);
   }
 
+  // Advances the generator by `n` draws whose values are not needed (the
+  // same state as n calls of Next, without computing their outputs).
+  void Discard(int n) {
+    for (int i = 0; i < n; ++i) Next();
+  }
+
   // Uniform double in [0, 1).
   double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
 
