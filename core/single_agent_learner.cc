@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/rng_skip.h"
 #include "core/settled_updates.h"
 #include "core/start_statistics.h"
 
@@ -57,6 +58,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   };
 
   Rng rng(job.seed);
+  const RngSkip& skip = RngSkip::For(std::max(0, options.replay_batch));
   // Everything the episode loop needs is allocated here, before it.
   const int max_steps = job.region.rows() + job.region.cols();
   // The environment is deterministic, so (s, a) determines r and s': the
@@ -118,7 +120,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
       if (replaying) {
         if (settled.BufferSettled()) {
           // Every draw would pick a settled entry: only the draws remain.
-          step_rng.Discard(options.replay_batch);
+          skip.Apply(step_rng);
         } else {
           const uint32_t size = static_cast<uint32_t>(replay_size);
           for (int i = 0; i < options.replay_batch; ++i) update(replay[step_rng.Below(size)]);
