@@ -168,6 +168,7 @@ TEST(StudyPlanTest, BadFileValuesNameTheLine) {
   const std::pair<const char*, const char*> cases[] = {
       {"sizes = [20]\ncolour = 'red'\n", "s.toml:2: unknown key 'colour'"},
       {"\nsteps = '10'\n", "s.toml:2: steps: expected an integer, got a string"},
+      {"\nsteps = 1.5\n", "s.toml:2: steps: expected an integer, got a float"},
       {"sizes = '20'\n", "s.toml:1: sizes: expected an integer or an array of integers"},
       {"sizes = [20,\n 1]\n", "s.toml:1: sizes: size '1' is not an integer from 2"},
       {"difficulties = [1]\n", "s.toml:1: difficulties: expected an array of strings"},
@@ -192,7 +193,7 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   ASSERT_TRUE(a && b && c);
   EXPECT_EQ(StudyIdentityJson(*a), StudyIdentityJson(*b));  // mode, threads, out do not count
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*c));
-  EXPECT_EQ(StudyIdentityJson(*a).Dump(0),
+  EXPECT_EQ(DumpJson(StudyIdentityJson(*a), -1),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
             "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
@@ -202,9 +203,9 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
       ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}, {"semantics", "report"}}), 2);
   ASSERT_TRUE(d);
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*d));
-  EXPECT_EQ(StudyIdentityJson(*d).Find("semantics")->AsString(), "report");
-  EXPECT_EQ(ExecutionJson(*b).Find("mode")->AsString(), "agents");
-  EXPECT_EQ(ExecutionJson(*b).Find("agents")->AsInt(), 2);
+  EXPECT_EQ(StudyIdentityJson(*d)["semantics"].get<std::string>(), "report");
+  EXPECT_EQ(ExecutionJson(*b)["mode"].get<std::string>(), "agents");
+  EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);
 }
 
 }  // namespace
