@@ -18,6 +18,7 @@ packages=(
   libpng-dev                          # PNG output of dynapath render
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   xvfb xauth                          # the viewer's one headless check (tests)
+  clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi

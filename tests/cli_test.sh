@@ -32,6 +32,20 @@ expect_usage_error "needs a value" run --out
 expect_usage_error "missing.txt" run --maze "$work/missing.txt"
 printf '..x\n...\n' >"$work/bad_maze.txt"
 expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"
+# Issue 9: grid limits are the protocol's (4096) everywhere, checked first;
+# a maze without a reachable station and a directory as --maze are errors.
+expect_usage_error "--size" run --agents 2 --size 5000 --steps 1
+expect_usage_error "--size" run --local --size 4097
+expect_usage_error "--cols" run --size 10 --cols 5000
+expect_usage_error "is a directory" run --maze "$work"
+printf '.\n' >"$work/no_station.txt"
+expect_usage_error "no station" run --maze "$work/no_station.txt"
+printf '..#C\n..##\n' >"$work/walled_station.txt"
+expect_usage_error "reaches a station" run --maze "$work/walled_station.txt"
+expect_usage_error "reaches a station" run --agents 2 --maze "$work/walled_station.txt"
+"$dynapath" run --local --approach "BFS Oracle" --maze "$work/walled_station.txt" --allow-unreachable \
+  --steps 1 --out "$work/unreachable" >/dev/null 2>"$work/unreachable.err" || fail "--allow-unreachable run"
+grep -q "running it anyway" "$work/unreachable.err" || fail "--allow-unreachable gave no warning"
 printf 'dynapath-changes 1 9 9 1\n1 0\n' >"$work/bad.changes"
 expect_usage_error "9x9" run --size 20 --changes "$work/bad.changes"
 

@@ -9,25 +9,16 @@
 
 #include "dynapath/fragment_t.hpp"
 #include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/limits.h"
 #include "lcmtypes/protocol/liveness.h"
 
 namespace dynapath::protocol {
-namespace {
-
-// Partial messages not completed within this time are forgotten.
-constexpr int64_t kPartialLifetimeMs = 30000;
-// At most this many partial messages are kept (a flood of garbage fragments
-// cannot exhaust memory).
-constexpr size_t kMaxPartials = 256;
-constexpr int32_t kMaxMessageBytes = 256 * 1024 * 1024;
-
-}  // namespace
 
 Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
     : lcm_(lcm),
       run_id_(std::move(run_id)),
       options_(options),
-      fragments_(kMaxPartials, kMaxMessageBytes, kPartialLifetimeMs),
+      fragments_(BusFragmentLimits(options.max_grid_cells)),
       // Message ids: distinct per process and bus, so a receiver never mixes
       // the fragments of two senders.
       next_message_id_(static_cast<int64_t>(
@@ -38,6 +29,10 @@ Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
       fault_rng_(options.fault_seed) {}
 
 Bus::~Bus() {
+  if (counters_dropped_ > 0) {
+    spdlog::warn("bus: {} messages dropped (undecodable, invalid, foreign or over a cap), {} taken",
+                 counters_dropped_.load(), counters_received_.load());
+  }
   for (lcm::Subscription* subscription : subscriptions_) lcm_.unsubscribe(subscription);
 }
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/limits.h"
 #include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
@@ -48,6 +49,9 @@ struct BusOptions {
   double drop_probability = 0.0;
   double duplicate_probability = 0.0;
   uint64_t fault_seed = 1;
+  // Cells of the run's grid (at most): the fragment caps derive from it
+  // (protocol/limits.h). Unknown: the protocol's largest grid.
+  int64_t max_grid_cells = int64_t{kMaxGridSide} * kMaxGridSide;
 };
 
 struct BusCounters {

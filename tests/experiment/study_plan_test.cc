@@ -135,7 +135,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
 
 TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
   const std::pair<OptionValues, const char*> cases[] = {
-      {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 10000"},
+      {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 4096"},
       {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
       {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
       {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},

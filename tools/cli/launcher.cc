@@ -162,6 +162,7 @@ int LaunchProcesses(const DistributedRun& run) {
   if (!run.process.lcm_url.empty()) {
     common.insert(common.end(), {"--lcm-url", run.process.lcm_url});
   }
+  common.insert(common.end(), {"--grid-cells", std::to_string(run.process.bus.max_grid_cells)});
   if (run.process.bus.drop_probability > 0) {
     common.insert(common.end(), {"--fault-drop", std::to_string(run.process.bus.drop_probability)});
   }

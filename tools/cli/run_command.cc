@@ -74,6 +74,8 @@ int RunCommand(const std::vector<std::string>& args) {
   if (distributed) {
     DistributedRun run;
     run.process = *process;
+    run.process.bus.max_grid_cells =
+        static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
     run.agents = static_cast<int>(*agents);
     run.threads_per_agent = static_cast<int>(std::max(1LL, *threads / *agents));
     run.envsim_args = parser.Forward(ScenarioOptionNames());

@@ -8,6 +8,7 @@
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "lcmtypes/protocol/limits.h"
 #include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
@@ -18,6 +19,10 @@ void AddProcessOptions(ArgParser& parser, bool run_id_required) {
                                    : "id of the run (channels DYNAPATH/<ID>/...)",
                    run_id_required ? "required" : "generated");
   parser.AddOption("lcm-url", "URL", "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
+  parser.AddOption("grid-cells", "N",
+                   "cells of the run's grid at most: caps what the process buffers of "
+                   "fragmented messages",
+                   std::to_string(protocol::kMaxGridCells));
   parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
   parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
                    "0");
@@ -55,6 +60,10 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   if (!drop) return drop.error();
   Result<double> dup = GetProbability(parser, "fault-dup");
   if (!dup) return dup.error();
+  Result<long long> cells =
+      parser.GetInt("grid-cells", protocol::kMaxGridCells, 1, protocol::kMaxGridCells);
+  if (!cells) return cells.error();
+  setup.bus.max_grid_cells = *cells;
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
   if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;

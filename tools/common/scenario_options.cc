@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/bfs_oracle.h"
 #include "core/c_random.h"
+#include "core/limits.h"
 #include "lcmtypes/protocol/log_scenario.h"
 
 namespace dynapath::cli {
@@ -18,15 +20,39 @@ void AddScenarioOptions(ArgParser& parser) {
   parser.AddOption("changes", "FILE", "load the change sequence from a change file instead");
   parser.AddOption("replay", "LOG",
                    "re-issue the maze and change sequence recorded in an LCM log (--log)");
+  parser.AddFlag("allow-unreachable",
+                 "run a maze where no free cell reaches a station (else an error)");
 }
 
 const std::vector<std::string>& ScenarioOptionNames() {
-  static const std::vector<std::string> names = {"size",  "cols", "difficulty", "seed",
-                                                 "steps", "maze", "changes",    "replay"};
+  static const std::vector<std::string> names = {"size",    "cols",   "difficulty",
+                                                 "seed",    "steps",  "maze",
+                                                 "changes", "replay", "allow-unreachable"};
   return names;
 }
 
 namespace {
+
+// A maze where no free cell reaches a station has nothing to learn: every
+// approach scores 0. Checked at time step 0.
+Status CheckStationReachable(const Grid& grid) {
+  bool station = false;
+  for (int r = 0; r < grid.rows() && !station; ++r) {
+    for (int c = 0; c < grid.cols() && !station; ++c) station = grid.at(r, c) == Cell::kStation;
+  }
+  if (!station) return Error{"the maze has no station ('C')"};
+  std::vector<int32_t> distance, queue;
+  NearestStationDistances(grid, distance, queue);
+  for (int r = 0; r < grid.rows(); ++r) {
+    for (int c = 0; c < grid.cols(); ++c) {
+      if (grid.at(r, c) == Cell::kFree &&
+          distance[static_cast<size_t>(r) * grid.cols() + c] != kUnreachable) {
+        return Ok{};
+      }
+    }
+  }
+  return Error{"no free cell of the maze reaches a station"};
+}
 
 Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
   for (const char* other : {"size", "cols", "difficulty", "seed", "steps", "maze", "changes"}) {
@@ -50,7 +76,7 @@ Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
 
 Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   if (parser.Has("replay")) return ReplayScenario(parser);
-  constexpr long long kMaxSide = 10000;
+  constexpr long long kMaxSide = kMaxGridSide;
   ScenarioSetup setup;
   std::optional<Difficulty> difficulty = Difficulty::kEasy;
   if (parser.Has("difficulty")) {
@@ -87,6 +113,12 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   }
   const Grid& grid = setup.scenario.grid;
   setup.labels.size_label = SizeLabel(grid.rows(), grid.cols());
+  if (Status reachable = CheckStationReachable(grid); !reachable) {
+    if (!parser.Has("allow-unreachable")) {
+      return Error{reachable.error().message + " (--allow-unreachable runs it anyway)"};
+    }
+    spdlog::warn("{}: running it anyway (--allow-unreachable)", reachable.error().message);
+  }
 
   Result<long long> steps = parser.GetInt("steps", ReportTimeSteps(grid.rows()), 0, 1'000'000);
   if (!steps) return steps.error();

@@ -8,13 +8,14 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/limits.h"
 #include "core/scenario.h"
 #include "core/text_util.h"
 
 namespace dynapath::cli {
 namespace {
 
-constexpr int kMaxSize = 10000;
+constexpr int kMaxSize = kMaxGridSide;
 
 // How a config-file key's value must look.
 enum class FileKind { kInteger, kString, kBoolean, kIntegerList, kStringList };
