@@ -6,6 +6,7 @@
 
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/decode.h"
@@ -15,10 +16,12 @@
 namespace dynapath::protocol {
 namespace {
 
+// Recorded messages carry the run's authentication trailer (auth.h): not
+// checked (the reader has no secret), only stripped.
 template <class T>
 bool Decode(const LogEvent& event, T& message) {
-  return DecodeExactly(event.data.data(), static_cast<int>(event.data.size()), message) &&
-         Validate(message).empty();
+  const int size = PayloadSize(event.data.data(), static_cast<int>(event.data.size()));
+  return DecodeExactly(event.data.data(), size, message) && Validate(message).empty();
 }
 
 bool EndsWith(const std::string& text, const std::string& suffix) {

@@ -196,7 +196,8 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   EXPECT_EQ(DumpJson(StudyIdentityJson(*a), -1),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
-            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
+            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\",\"Incremental "
+            "Oracle\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
   // --semantics report changes the results, so it is part of the identity.
   Result<StudyOptions> d =

@@ -2,9 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <optional>
+#include <vector>
+
 #include "core/bfs_oracle.h"
 #include "core/c_random.h"
 #include "core/limits.h"
+#include "core/map_scenario.h"
+#include "core/movingai_map.h"
 #include "lcmtypes/protocol/log_scenario.h"
 
 namespace dynapath::cli {
@@ -16,7 +21,16 @@ void AddScenarioOptions(ArgParser& parser) {
   parser.AddOption("seed", "S", "seed of the maze and change sequence (C-library stream)",
                    "the report's: 50 + difficulty index");
   parser.AddOption("steps", "T", "number of time steps", "2 x rows, the report's");
-  parser.AddOption("maze", "FILE", "load the maze from a text file ('#', '.', 'C') instead");
+  parser.AddOption("maze", "FILE",
+                   "load the maze from a file instead: a MovingAI map (.map, walls never move) "
+                   "or the text format ('#', '.', 'C', every obstacle may move)");
+  parser.AddOption("stations", "N|P%",
+                   "with --maze: place N stations (or P% of the free cells) from the seed");
+  parser.AddOption("stations-file", "FILE",
+                   "with --maze: stations from a file, 'row col' per line");
+  parser.AddOption("movers", "N|P%",
+                   "with --maze: N moving obstacles (or P% of the free cells) from the seed; "
+                   "only they move");
   parser.AddOption("changes", "FILE", "load the change sequence from a change file instead");
   parser.AddOption("replay", "LOG",
                    "re-issue the maze and change sequence recorded in an LCM log (--log)");
@@ -25,9 +39,9 @@ void AddScenarioOptions(ArgParser& parser) {
 }
 
 const std::vector<std::string>& ScenarioOptionNames() {
-  static const std::vector<std::string> names = {"size",    "cols",   "difficulty",
-                                                 "seed",    "steps",  "maze",
-                                                 "changes", "replay", "allow-unreachable"};
+  static const std::vector<std::string> names = {
+      "size",    "cols",   "difficulty",        "seed",     "steps",         "maze",
+      "changes", "replay", "allow-unreachable", "stations", "stations-file", "movers"};
   return names;
 }
 
@@ -55,7 +69,8 @@ Status CheckStationReachable(const Grid& grid) {
 }
 
 Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
-  for (const char* other : {"size", "cols", "difficulty", "seed", "steps", "maze", "changes"}) {
+  for (const char* other : {"size", "cols", "difficulty", "seed", "steps", "maze", "changes",
+                            "stations", "stations-file", "movers"}) {
     if (parser.Has(other)) {
       return Error{std::string("--replay sets the maze and changes: do not combine it with --") +
                    other};
@@ -70,6 +85,55 @@ Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
   setup.seed = logged->seed;
   setup.source = "replayed from " + parser.Get("replay") + " (run " + logged->run_id + ")";
   return setup;
+}
+
+// "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": the file's
+// name without ".map", with characters that would break a CSV field replaced.
+std::string MapLabel(const std::string& path) {
+  std::string name = path.substr(path.find_last_of('/') + 1);
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".map") == 0)
+    name.resize(name.size() - 4);
+  for (char& ch : name) {
+    if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
+  }
+  return name.empty() ? "Custom" : name;
+}
+
+// Stations and movers of a loaded maze (issue 11), drawn from `random`;
+// `movers` gets the movers' cells (empty when --movers is not given).
+Status PlaceOnMap(const ArgParser& parser, bool movingai, Grid& grid, CRandom& random,
+                  std::optional<std::vector<int>>& movers) {
+  if (parser.Has("stations") && parser.Has("stations-file")) {
+    return Error{"give --stations or --stations-file, not both"};
+  }
+  if (parser.Has("stations-file")) {
+    Result<std::vector<int>> stations = LoadStationsFile(parser.Get("stations-file"), grid);
+    if (!stations) return stations.error();
+    for (int cell : *stations) grid.set(cell, Cell::kStation);
+  } else if (parser.Has("stations")) {
+    Result<CellCount> count = ParseCellCount(parser.Get("stations"));
+    if (!count) return Error{"option --stations: " + count.error().message};
+    Result<std::vector<int>> placed =
+        PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kStation, random);
+    if (!placed) return Error{"option --stations: " + placed.error().message};
+  }
+  // A text maze without stations stays allowed (nothing reaches a station),
+  // as before; a map without them is almost surely a forgotten option.
+  if (movingai && grid.Count(Cell::kStation) == 0) {
+    return Error{
+        "a MovingAI map has no stations: give --stations N (or P%) or --stations-file FILE"};
+  }
+  if (parser.Has("movers")) {
+    Result<CellCount> count = ParseCellCount(parser.Get("movers"));
+    if (!count) return Error{"option --movers: " + count.error().message};
+    Result<std::vector<int>> placed =
+        PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kObstacle, random);
+    if (!placed) return Error{"option --movers: " + placed.error().message};
+    movers = std::move(*placed);
+  } else if (movingai) {
+    movers.emplace();  // a map's walls never move
+  }
+  return Ok{};
 }
 
 }  // namespace
@@ -90,18 +154,31 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   if (!seed) return seed.error();
   setup.seed = static_cast<uint64_t>(*seed);
   CRandom random(static_cast<uint32_t>(*seed));
+  std::optional<std::vector<int>> movers;  // set: only these obstacles move
 
   if (parser.Has("maze")) {
     if (parser.Has("size") || parser.Has("cols")) {
       return Error{"--maze sets the maze size: do not combine it with --size or --cols"};
     }
-    Result<Grid> grid = LoadGrid(parser.Get("maze"));
+    bool movingai = false;
+    Result<Grid> grid = LoadMazeFile(parser.Get("maze"), &movingai);
     if (!grid) return grid.error();
     setup.scenario.grid = std::move(*grid);
-    setup.labels.difficulty_label =
-        parser.Has("difficulty") ? DifficultyName(*difficulty) : "Custom";
+    Status placed = PlaceOnMap(parser, movingai, setup.scenario.grid, random, movers);
+    if (!placed) return placed.error();
+    // A map is told apart in result files by its name (maps of one size
+    // differ); a text maze keeps "Custom".
+    setup.labels.difficulty_label = parser.Has("difficulty") ? DifficultyName(*difficulty)
+                                    : movingai               ? MapLabel(parser.Get("maze"))
+                                                             : "Custom";
     setup.source = "maze file " + parser.Get("maze");
   } else {
+    for (const char* map_only : {"stations", "stations-file", "movers"}) {
+      if (parser.Has(map_only)) {
+        return Error{std::string("--") + map_only +
+                     " is for loaded maps (--maze); the report's mazes keep their generator"};
+      }
+    }
     Result<long long> rows = parser.GetInt("size", 20, 1, kMaxSide);
     if (!rows) return rows.error();
     Result<long long> cols = parser.GetInt("cols", *rows, 1, kMaxSide);
@@ -138,7 +215,9 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   } else {
     // Right after the maze, from the same stream, as the report's runs did
     // (a loaded maze starts a fresh stream from the seed).
-    setup.scenario.changes = GenerateChanges(grid, static_cast<int>(*steps), random);
+    setup.scenario.changes =
+        movers ? GenerateMoverChanges(grid, *movers, static_cast<int>(*steps), random)
+               : GenerateChanges(grid, static_cast<int>(*steps), random);
   }
   return setup;
 }

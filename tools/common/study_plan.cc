@@ -109,7 +109,7 @@ const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
        "easy,medium,hard"},
       {"approaches", "LIST",
        "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
-       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg; or all",
+       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
        "all"},
       {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
       {"no-edge-case", "", "leave the edge case out", ""},

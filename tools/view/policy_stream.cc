@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/limits.h"
@@ -70,6 +71,9 @@ std::optional<policy_t> PolicyAssembler::Feed(std::string_view channel, const ui
   why_.clear();
   const std::optional<std::string> run = PolicyChannelRun(channel);
   if (!run) return Drop("not a POLICY channel");
+  // The run's authentication trailer, if any, is not checked here: the
+  // viewer and the log reader only show what was on the network.
+  size = protocol::PayloadSize(data, size);
   const int64_t fingerprint = protocol::PeekFingerprint(data, size);
   if (fingerprint == static_cast<int64_t>(fragment_t::getHash())) {
     return FeedFragment(std::string(channel), *run, data, size, now_us);
