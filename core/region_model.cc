@@ -39,7 +39,7 @@ void RegionModel::Build() {
       const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
       const int grid_r = region_.r0 + r, grid_c = region_.c0 + c;
       const bool in_grid = grid_r >= 0 && grid_r < grid_rows_ && grid_c >= 0 && grid_c < grid_cols_;
-      if (in_grid && bootstrap_ == Bootstrap::kInGrid) {
+      if (bootstrap_ == Bootstrap::kAllStored || (in_grid && bootstrap_ == Bootstrap::kInGrid)) {
         record.bootstrap = static_cast<uint8_t>(record.bootstrap | (1 << a));
       }
       record.target[a] = cell;

@@ -65,7 +65,8 @@ class RegionModel {
 
   // The bootstrap term max_a' Q(s', a') of every update: the maximum of
   // q_row[a] (the cell's 8 values) over the cell's bootstrap actions, i.e.
-  // its in-grid actions (Bootstrap::kInGrid) or its in-region actions.
+  // its in-grid actions (Bootstrap::kInGrid), its in-region actions, or all
+  // 8 (Bootstrap::kAllStored).
   float BootstrapMax(int cell, const float* q_row) const {
     const float* mask = region_model_internal::kActionMasks[record_[cell].bootstrap].data();
     // A balanced tree of maxima, written so the compiler can use SIMD.
