@@ -17,34 +17,41 @@ constexpr double kImportanceEta = 0.4;
 // more and compute the rest (all 0) on demand.
 constexpr size_t kDecayTableSize = 1536;
 
-// Sorts `list`, whose distinct entries are exactly the set bits of `bits`,
-// ascending, and clears `bits`. Scanning the bit words costs about a
-// nanosecond per mostly-empty word, std::sort some 20 ns per entry: scan
-// unless the table has over 32 words per entry (32: measured with
-// learner_bench on 20x20 and 300x300 regions; a leaf's table is 50 words, a
-// learner's round touches ~600 entries).
-void SortMarked(std::vector<uint32_t>& list, std::vector<uint64_t>& bits) {
-  if (bits.size() <= 32 * list.size()) {
-    size_t out = 0;
-    for (size_t word_index = 0; word_index < bits.size(); ++word_index) {
-      uint64_t word = bits[word_index];
-      if (word == 0) continue;
-      bits[word_index] = 0;
-      const uint32_t base = static_cast<uint32_t>(word_index * 64);
+// Hash of a table entry for the learners' visit counts (Fibonacci hashing:
+// the top bits of entry * 2^32 / golden ratio).
+constexpr uint32_t kEntryHashFactor = 0x9E3779B1u;
+
+}  // namespace
+
+SortedMarks::SortedMarks(size_t entries)
+    : bits_((entries + 63) / 64, 0),
+      summary_((bits_.size() + 63) / 64, 0),
+      rank_(bits_.size(), 0) {}
+
+void SortedMarks::List(std::vector<uint32_t>& list) {
+  list.clear();
+  for (size_t s = 0; s < summary_.size(); ++s) {
+    uint64_t words = summary_[s];
+    while (words != 0) {
+      const size_t w = s * 64 + static_cast<size_t>(std::countr_zero(words));
+      words &= words - 1;
+      rank_[w] = static_cast<uint32_t>(list.size());
+      uint64_t word = bits_[w];
+      const uint32_t base = static_cast<uint32_t>(w * 64);
       while (word != 0) {
-        list[out++] = base + static_cast<uint32_t>(std::countr_zero(word));
+        list.push_back(base + static_cast<uint32_t>(std::countr_zero(word)));
         word &= word - 1;
       }
     }
-  } else {
-    std::sort(list.begin(), list.end());
-    for (uint32_t entry : list) bits[entry >> 6] = 0;
   }
 }
 
-size_t BitWords(size_t entries) { return (entries + 63) / 64; }
-
-}  // namespace
+void SortedMarks::Clear(const std::vector<uint32_t>& list) {
+  for (uint32_t entry : list) {
+    bits_[entry >> 6] = 0;
+    summary_[entry >> 12] = 0;
+  }
+}
 
 uint64_t LearnerRoundSeed(uint64_t job_seed, int learner, int64_t round) {
   return DeriveSeed({job_seed, static_cast<uint64_t>(learner), static_cast<uint64_t>(round)});
@@ -54,8 +61,7 @@ FedAsynQLearner::FedAsynQLearner(const RegionModel& model, int learner_index)
     : model_(model),
       learner_index_(learner_index),
       table_(model.cells()),
-      visits_(static_cast<size_t>(model.cells()) * kNumActions, 0),
-      bits_(BitWords(static_cast<size_t>(model.cells()) * kNumActions), 0) {}
+      marks_(static_cast<size_t>(model.cells()) * kNumActions) {}
 
 void FedAsynQLearner::Reset(const QTable& table) {
   if (table.cells() != model_.cells()) {
@@ -84,9 +90,19 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.start_cell = start;
   if (start < 0) return shard;
 
-  const size_t most_touched = static_cast<size_t>(std::min<int64_t>(sync_period, visits_.size()));
+  // The hash table: at least twice as many slots as the round can touch
+  // entries, so probes stay short; all zero between rounds.
+  const size_t table_entries = table_.values().size();
+  const size_t most_touched =
+      static_cast<size_t>(std::min<int64_t>(sync_period, static_cast<int64_t>(table_entries)));
+  const size_t slots = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
+  if (slots_.size() < slots) {
+    slots_.assign(slots, 0);
+    slot_shift_ = 32 - std::countr_zero(slots);
+  }
   touched_.reserve(most_touched);
   originals_.reserve(most_touched);
+  visits_.reserve(most_touched);
   float* q = table_.values().data();
   const RegionModel& model = model_;
   int s = start;
@@ -100,10 +116,7 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
     const int next = model.target(s, a);
     const float reward = model.reward(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    if (visits_[entry]++ == 0) {
-      touched_.push_back(entry);
-      originals_.push_back(q[entry]);
-    }
+    ++visits_[Touch(entry, q[entry])];
     q[entry] += kLearningRate * (reward + kDiscount * best_next - q[entry]);
     // The reward is +100 exactly when the move ends on a station.
     reached |= reward == kStationReward;
@@ -112,23 +125,39 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.reached_station = reached;
   shard.steps = steps;
 
-  shard.entries = touched_;
-  for (uint32_t entry : touched_) bits_[entry >> 6] |= uint64_t{1} << (entry & 63);
-  SortMarked(shard.entries, bits_);
+  for (uint32_t entry : touched_) marks_.Mark(entry);
+  marks_.List(shard.entries);
+  marks_.Clear(shard.entries);
   shard.values.resize(shard.entries.size());
   shard.visits.resize(shard.entries.size());
   for (size_t i = 0; i < shard.entries.size(); ++i) {
     const uint32_t entry = shard.entries[i];
     shard.values[i] = q[entry];
-    shard.visits[i] = visits_[entry];
-    visits_[entry] = 0;
+    shard.visits[i] = visits_[Touch(entry, 0.0f)];  // present: only looked up
   }
   if (revert) {
     for (size_t i = 0; i < touched_.size(); ++i) q[touched_[i]] = originals_[i];
   }
   touched_.clear();
   originals_.clear();
+  visits_.clear();
+  std::fill(slots_.begin(), slots_.end(), 0u);
   return shard;
+}
+
+uint32_t FedAsynQLearner::Touch(uint32_t entry, float value) {
+  const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
+  for (uint32_t slot = (entry * kEntryHashFactor) >> slot_shift_;; slot = (slot + 1) & mask) {
+    const uint32_t held = slots_[slot];
+    if (held == 0) {
+      slots_[slot] = static_cast<uint32_t>(touched_.size() + 1);
+      touched_.push_back(entry);
+      originals_.push_back(value);
+      visits_.push_back(0);
+      return static_cast<uint32_t>(touched_.size() - 1);
+    }
+    if (touched_[held - 1] == entry) return held - 1;
+  }
 }
 
 void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
@@ -140,8 +169,7 @@ void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
 FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
     : averaging_(averaging),
       table_entries_(table_entries),
-      bits_(BitWords(static_cast<size_t>(table_entries)), 0),
-      position_(static_cast<size_t>(table_entries), 0) {
+      marks_(static_cast<size_t>(table_entries)) {
   // Only the differences l_k - max_j l_j = -(N_max - N_k) * (-log(1 - eta))
   // are ever exponentiated (log-sum-exp), so the weights stay finite for any
   // visit count; they depend only on d = N_max - N_k, tabulated here.
@@ -177,18 +205,10 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   }
 
   // The union U of all shards' entries, ascending.
-  entries.clear();
   for (const LearnerShard& shard : shards) {
-    for (uint32_t entry : shard.entries) {
-      uint64_t& word = bits_[entry >> 6];
-      const uint64_t bit = uint64_t{1} << (entry & 63);
-      if ((word & bit) == 0) {
-        word |= bit;
-        entries.push_back(entry);
-      }
-    }
+    for (uint32_t entry : shard.entries) marks_.Mark(entry);
   }
-  SortMarked(entries, bits_);
+  marks_.List(entries);
 
   // Per entry of U and learner k: Q_k(e) and N_k(e); learners that did not
   // touch e hold the shared value with no visits.
@@ -197,7 +217,6 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   learner_values_.resize(entries.size() * learners);
   learner_visits_.resize(entries.size() * learners);
   for (size_t i = 0; i < entries.size(); ++i) {
-    position_[entries[i]] = static_cast<uint32_t>(i);
     std::fill_n(learner_values_.begin() + static_cast<ptrdiff_t>(i * learners), learners,
                 shared_values[entries[i]]);
     std::fill_n(learner_visits_.begin() + static_cast<ptrdiff_t>(i * learners), learners, 0u);
@@ -205,7 +224,7 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   for (size_t k = 0; k < learners; ++k) {
     const LearnerShard& shard = shards[k];
     for (size_t j = 0; j < shard.entries.size(); ++j) {
-      const size_t slot = position_[shard.entries[j]] * learners + k;
+      const size_t slot = marks_.Position(shard.entries[j]) * learners + k;
       learner_values_[slot] = shard.values[j];
       learner_visits_[slot] = shard.visits[j];
     }
@@ -240,6 +259,8 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
     values[i] = static_cast<float>(sum);
     shared.values()[entries[i]] = values[i];
   }
+
+  marks_.Clear(entries);
 
   for (const LearnerShard& shard : shards) {
     if (shard.start_cell >= 0) stats.Record(stats.SlotOf(shard.start_cell), shard.reached_station);

@@ -27,6 +27,20 @@ inline constexpr auto kActionMasks = [] {
   }
   return masks;
 }();
+// kActionLists[bits]: the set bits of `bits` in increasing order.
+struct ActionList {
+  std::array<uint8_t, kNumActions> actions;
+  uint8_t count;
+};
+inline constexpr auto kActionLists = [] {
+  std::array<ActionList, 256> lists{};
+  for (int bits = 0; bits < 256; ++bits) {
+    for (int a = 0; a < kNumActions; ++a) {
+      if ((bits >> a) & 1) lists[bits].actions[lists[bits].count++] = static_cast<uint8_t>(a);
+    }
+  }
+  return lists;
+}();
 }  // namespace region_model_internal
 
 class RegionModel {
@@ -47,13 +61,24 @@ class RegionModel {
   bool is_station(int cell) const { return code(cell) == Cell::kStation; }
 
   // In-region actions of `cell` in increasing order.
-  int action_count(int cell) const { return record_[cell].count; }
-  const uint8_t* actions(int cell) const { return record_[cell].actions; }
+  int action_count(int cell) const {
+    return region_model_internal::kActionLists[record_[cell].in_region].count;
+  }
+  const uint8_t* actions(int cell) const {
+    return region_model_internal::kActionLists[record_[cell].in_region].actions.data();
+  }
 
   // Cell reached by action `a` from `cell` (the cell itself when blocked by an
   // obstacle), and its reward. Only meaningful for in-region actions.
-  int target(int cell, int a) const { return record_[cell].target[a]; }
-  float reward(int cell, int a) const { return record_[cell].reward[a]; }
+  int target(int cell, int a) const {
+    return (record_[cell].moves >> a) & 1 ? cell + offset_[a] : cell;
+  }
+  float reward(int cell, int a) const {
+    const CellRecord& record = record_[cell];
+    if (((record.in_region >> a) & 1) == 0) return 0.0f;
+    if ((record.station >> a) & 1) return kStationReward;
+    return (record.moves >> a) & 1 ? kStepReward : kBumpReward;
+  }
 
   // 8 floats: 0 for the in-region actions of `cell`, -infinity for the
   // others, so that max_a (q[a] + mask[a]) is the in-region maximum without
@@ -85,24 +110,33 @@ class RegionModel {
   // The region's cell codes, region-local row-major.
   const std::vector<uint8_t>& codes() const { return codes_; }
 
+  // Bytes held per cell of the region (codes, records, start cells), for the
+  // memory figures of docs/PERFORMANCE.md.
+  size_t MemoryBytes() const {
+    return codes_.capacity() + record_.capacity() * sizeof(CellRecord) +
+           start_cells_.capacity() * sizeof(int);
+  }
+
  private:
-  // Everything a step reads about a cell, in one cache line: a random walk
-  // over a large region then misses the cache once per new cell, not once
-  // per array.
-  struct alignas(64) CellRecord {
-    int32_t target[kNumActions];
-    uint8_t actions[kNumActions];
-    int8_t reward[kNumActions];  // +100, -10, -1 (mdp.h) are exact in int8
-    uint8_t count;
+  // Everything a step reads about a cell, as 8-bit action masks (4 bytes a
+  // cell): a 1000x1000 region's records take 4 MB and stay in the caches,
+  // where 64-byte records with explicit targets and rewards took 64 MB and
+  // missed them. Targets are cell + offset_[a] for a move, the cell itself
+  // otherwise; rewards follow from the masks (mdp.h).
+  struct CellRecord {
     uint8_t in_region;  // bit a: action a stays in the region
     uint8_t bootstrap;  // bit a: action a counts in the bootstrap max
+    uint8_t moves;      // bit a: in-region action a moves (its target is no obstacle)
+    uint8_t station;    // bit a: in-region action a ends on a station (+100)
   };
+  static_assert(sizeof(CellRecord) == 4);
 
   void Build();
 
   Region region_;
   int grid_rows_, grid_cols_;
   Bootstrap bootstrap_;
+  std::array<int32_t, kNumActions> offset_{};  // region-local index change of each action
   std::vector<uint8_t> codes_;
   std::vector<CellRecord> record_;
   std::vector<int> start_cells_;
