@@ -90,19 +90,25 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.start_cell = start;
   if (start < 0) return shard;
 
-  // The hash table: at least twice as many slots as the round can touch
-  // entries, so probes stay short; all zero between rounds.
+  // The hash table of visits (fedasynq.h); all empty between rounds.
   const size_t table_entries = table_.values().size();
   const size_t most_touched =
       static_cast<size_t>(std::min<int64_t>(sync_period, static_cast<int64_t>(table_entries)));
   const size_t slots = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
   if (slots_.size() < slots) {
-    slots_.assign(slots, 0);
-    slot_shift_ = 32 - std::countr_zero(slots);
+    slots_.assign(slots, Slot{});
+    if (slots >= table_entries) {
+      slot_factor_ = 1;  // slot = entry
+      slot_shift_ = 0;
+    } else {
+      slot_factor_ = kEntryHashFactor;  // the top log2(slots) bits of entry * factor
+      slot_shift_ = 32 - std::countr_zero(slots);
+    }
   }
-  touched_.reserve(most_touched);
-  originals_.reserve(most_touched);
-  visits_.reserve(most_touched);
+  if (touched_.size() < most_touched + 1) {
+    touched_.resize(most_touched + 1);
+    originals_.resize(most_touched + 1);
+  }
   float* q = table_.values().data();
   const RegionModel& model = model_;
   int s = start;
@@ -116,7 +122,7 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
     const int next = model.target(s, a);
     const float reward = model.reward(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    ++visits_[Touch(entry, q[entry])];
+    ++Touch(entry, q[entry]).visits;
     q[entry] += kLearningRate * (reward + kDiscount * best_next - q[entry]);
     // The reward is +100 exactly when the move ends on a station.
     reached |= reward == kStationReward;
@@ -125,7 +131,7 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.reached_station = reached;
   shard.steps = steps;
 
-  for (uint32_t entry : touched_) marks_.Mark(entry);
+  for (size_t i = 0; i < touched_count_; ++i) marks_.Mark(touched_[i]);
   marks_.List(shard.entries);
   marks_.Clear(shard.entries);
   shard.values.resize(shard.entries.size());
@@ -133,31 +139,14 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   for (size_t i = 0; i < shard.entries.size(); ++i) {
     const uint32_t entry = shard.entries[i];
     shard.values[i] = q[entry];
-    shard.visits[i] = visits_[Touch(entry, 0.0f)];  // present: only looked up
+    shard.visits[i] = Touch(entry, 0.0f).visits;  // present: only looked up
   }
   if (revert) {
-    for (size_t i = 0; i < touched_.size(); ++i) q[touched_[i]] = originals_[i];
+    for (size_t i = 0; i < touched_count_; ++i) q[touched_[i]] = originals_[i];
   }
-  touched_.clear();
-  originals_.clear();
-  visits_.clear();
-  std::fill(slots_.begin(), slots_.end(), 0u);
+  touched_count_ = 0;
+  std::fill(slots_.begin(), slots_.end(), Slot{});
   return shard;
-}
-
-uint32_t FedAsynQLearner::Touch(uint32_t entry, float value) {
-  const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
-  for (uint32_t slot = (entry * kEntryHashFactor) >> slot_shift_;; slot = (slot + 1) & mask) {
-    const uint32_t held = slots_[slot];
-    if (held == 0) {
-      slots_[slot] = static_cast<uint32_t>(touched_.size() + 1);
-      touched_.push_back(entry);
-      originals_.push_back(value);
-      visits_.push_back(0);
-      return static_cast<uint32_t>(touched_.size() - 1);
-    }
-    if (touched_[held - 1] == entry) return held - 1;
-  }
 }
 
 void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,

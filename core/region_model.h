@@ -74,10 +74,15 @@ class RegionModel {
     return (record_[cell].moves >> a) & 1 ? cell + offset_[a] : cell;
   }
   float reward(int cell, int a) const {
+    // By (in region, ends on a station, moves): 0 out of the region, else
+    // +100 on a station, -1 for a move, -10 for a bump (no branch: the
+    // learners' hot loop).
+    static constexpr float kRewards[8] = {0.0f, kBumpReward, 0.0f, kStationReward,
+                                          0.0f, kStepReward, 0.0f, kStationReward};
     const CellRecord& record = record_[cell];
-    if (((record.in_region >> a) & 1) == 0) return 0.0f;
-    if ((record.station >> a) & 1) return kStationReward;
-    return (record.moves >> a) & 1 ? kStepReward : kBumpReward;
+    const unsigned index = ((record.in_region >> a) & 1u) | (((record.station >> a) & 1u) << 1) |
+                           (((record.moves >> a) & 1u) << 2);
+    return kRewards[index];
   }
 
   // 8 floats: 0 for the in-region actions of `cell`, -infinity for the
