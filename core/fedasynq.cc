@@ -111,6 +111,15 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   }
   float* q = table_.values().data();
   const RegionModel& model = model_;
+  // The hash table in locals: the stores of the loop (uint32 keys and
+  // entries) could otherwise alias the members, reloaded at every step.
+  Slot* const slot_table = slots_.data();
+  const uint32_t slot_mask = static_cast<uint32_t>(slots_.size() - 1);
+  const uint32_t slot_factor = slot_factor_;
+  const int slot_shift = slot_shift_;
+  uint32_t* const touched = touched_.data();
+  float* const originals = originals_.data();
+  size_t touched_count = 0;
   int s = start;
   bool reached = model.is_station(s);
   int64_t steps = 0;
@@ -122,12 +131,24 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
     const int next = model.target(s, a);
     const float reward = model.reward(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    ++Touch(entry, q[entry]).visits;
+    // Count the visit (Touch, inlined with the locals).
+    const uint32_t key = entry + 1;
+    uint32_t slot = ((entry * slot_factor) >> slot_shift) & slot_mask;
+    while ((slot_table[slot].key != 0) & (slot_table[slot].key != key)) {
+      slot = (slot + 1) & slot_mask;
+    }
+    Slot& held = slot_table[slot];
+    touched[touched_count] = entry;
+    originals[touched_count] = q[entry];
+    touched_count += held.key == 0;
+    held.key = key;
+    ++held.visits;
     q[entry] += kLearningRate * (reward + kDiscount * best_next - q[entry]);
     // The reward is +100 exactly when the move ends on a station.
     reached |= reward == kStationReward;
     s = next;
   }
+  touched_count_ = touched_count;
   shard.reached_station = reached;
   shard.steps = steps;
 
@@ -204,18 +225,20 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   const size_t learners = shards.size();
   const std::vector<float>& shared_values = shared.values();
   learner_values_.resize(entries.size() * learners);
-  learner_visits_.resize(entries.size() * learners);
+  // Equal averaging needs no visit counts.
+  const bool weighted = averaging_ != Averaging::kEqual;
+  learner_visits_.resize(weighted ? entries.size() * learners : 0);
   for (size_t i = 0; i < entries.size(); ++i) {
     std::fill_n(learner_values_.begin() + static_cast<ptrdiff_t>(i * learners), learners,
                 shared_values[entries[i]]);
-    std::fill_n(learner_visits_.begin() + static_cast<ptrdiff_t>(i * learners), learners, 0u);
   }
+  if (weighted) std::fill(learner_visits_.begin(), learner_visits_.end(), 0u);
   for (size_t k = 0; k < learners; ++k) {
     const LearnerShard& shard = shards[k];
     for (size_t j = 0; j < shard.entries.size(); ++j) {
       const size_t slot = marks_.Position(shard.entries[j]) * learners + k;
       learner_values_[slot] = shard.values[j];
-      learner_visits_[slot] = shard.visits[j];
+      if (weighted) learner_visits_[slot] = shard.visits[j];
     }
   }
 
@@ -224,12 +247,12 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   const double log_base = -std::log(1.0 - kImportanceEta);
   for (size_t i = 0; i < entries.size(); ++i) {
     const float* q = &learner_values_[i * learners];
-    const uint32_t* n = &learner_visits_[i * learners];
     double sum = 0.0;
-    if (averaging_ == Averaging::kEqual) {
+    if (!weighted) {
       for (size_t k = 0; k < learners; ++k) sum += q[k];
       sum /= static_cast<double>(learners);
     } else {
+      const uint32_t* n = &learner_visits_[i * learners];
       const uint32_t most = *std::max_element(n, n + learners);
       // exp(l_k - max_j l_j) with l_k = N_k * -log(1 - eta).
       const auto weight = [&](uint32_t visits) {

@@ -65,7 +65,15 @@ class SortedMarks {
   // Index in the last List of a marked entry.
   uint32_t Position(uint32_t entry) const {
     const uint64_t below = (uint64_t{1} << (entry & 63)) - 1;
-    return rank_[entry >> 6] + static_cast<uint32_t>(std::popcount(bits_[entry >> 6] & below));
+    return rank_[entry >> 6] + PopCount(bits_[entry >> 6] & below);
+  }
+  // Bits set in `x`. std::popcount is a library call on the baseline
+  // x86-64 target (no POPCNT instruction); this is a few inline operations.
+  static uint32_t PopCount(uint64_t x) {
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return static_cast<uint32_t>((x * 0x0101010101010101ull) >> 56);
   }
   // Unmarks the entries of the last List (which must be `list`).
   void Clear(const std::vector<uint32_t>& list);
