@@ -14,8 +14,8 @@ namespace dynapath::agent {
 
 // A split job: the learners of it this agent hosts. They are played by at
 // most one worker per thread, each with its own copy of the shared table,
-// playing a contiguous range of them in turn (RunRoundAndRevert): one table
-// per worker, not per learner. The job's shared table and start statistics
+// playing a contiguous range of them (RunRoundsAndRevert): one table (two
+// for paired walks) per worker, not one per learner. The job's shared table and start statistics
 // live in the combiner.
 struct Agent::HostedJob {
   int index = 0;  // in the batch
@@ -297,11 +297,10 @@ void Agent::ComputeRound() {
     const Item& item = items[i];
     HostedJob& job = *item.job;
     FedAsynQLearner& worker = *job.workers[item.worker];
-    for (int p = job.first[item.worker]; p < job.first[item.worker + 1]; ++p) {
-      shards[item.shard + (p - job.first[item.worker])] =
-          worker.RunRoundAndRevert(job.learners[p], combiner_->job(job.index).stats,
-                                   job.received.job.seed, round, sync_period_);
-    }
+    const int first = job.first[item.worker];
+    worker.RunRoundsAndRevert(job.learners.data() + first, job.first[item.worker + 1] - first,
+                              combiner_->job(job.index).stats, job.received.job.seed, round,
+                              sync_period_, shards.data() + item.shard);
   });
   round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};

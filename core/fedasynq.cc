@@ -80,6 +80,75 @@ LearnerShard FedAsynQLearner::RunRoundAndRevert(int learner, const StartStatisti
   return Run(learner, stats, job_seed, round, sync_period, true);
 }
 
+namespace {
+
+using Slot = FedAsynQLearner::Slot;
+
+// Where the visit count of `entry` is: slot = entry when kDirect, else the
+// top bits of entry * golden ratio, then linear probing.
+template <bool kDirect>
+uint32_t HomeSlot(uint32_t entry, int shift) {
+  if constexpr (kDirect) {
+    return entry;
+  } else {
+    return (entry * kEntryHashFactor) >> shift;
+  }
+}
+
+template <bool kDirect>
+uint32_t FindSlot(const Slot* slots, uint32_t mask, int shift, uint32_t entry) {
+  uint32_t slot = HomeSlot<kDirect>(entry, shift);
+  if constexpr (!kDirect) {
+    while (slots[slot].key != entry + 1) slot = (slot + 1) & mask;
+  }
+  return slot;
+}
+
+// The random walk of one learner's round: `steps` Q-learning updates of `q`
+// from `s`, counting visits in `slots` and listing new entries (with their
+// values before the round) in touched/originals. Everything lives in
+// locals: stores through the table and the lists could otherwise alias
+// members, reloaded at every step. Returns the number of entries listed.
+template <bool kDirect>
+size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps, bool& reached,
+            Slot* slots, uint32_t mask, int shift, uint32_t* touched, float* originals) {
+  Rng rng = walk_rng;  // a local copy stays in registers
+  size_t listed = 0;
+  bool station = false;
+  for (int step = 0; step < steps; ++step) {
+    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(model.action_count(s)))];
+    const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
+    const int next = model.target(s, a);
+    const float reward = model.reward(s, a);
+    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
+    // Count the visit, without branches on whether the entry is new (which
+    // a random walk makes unpredictable): the listing is always written and
+    // only counted when the slot was empty.
+    const uint32_t key = entry + 1;
+    uint32_t slot = HomeSlot<kDirect>(entry, shift);
+    if constexpr (!kDirect) {
+      // Another entry's slot (rare: at most half the slots are used).
+      while ((slots[slot].key != 0) & (slots[slot].key != key)) slot = (slot + 1) & mask;
+    }
+    Slot& held = slots[slot];
+    const float value = q[entry];
+    touched[listed] = entry;
+    originals[listed] = value;
+    listed += held.key == 0;
+    held.key = key;
+    ++held.visits;
+    q[entry] = value + kLearningRate * (reward + kDiscount * best_next - value);
+    // The reward is +100 exactly when the move ends on a station.
+    station |= reward == kStationReward;
+    s = next;
+  }
+  reached |= station;
+  walk_rng = rng;
+  return listed;
+}
+
+}  // namespace
+
 LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
                                   int64_t round, int sync_period, bool revert) {
   LearnerShard shard;
@@ -90,84 +159,67 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.start_cell = start;
   if (start < 0) return shard;
 
-  // The hash table of visits (fedasynq.h); all empty between rounds.
+  // Scratch sized for the round; the slots are all empty between rounds.
+  float* q = table_.values().data();
   const size_t table_entries = table_.values().size();
   const size_t most_touched =
-      static_cast<size_t>(std::min<int64_t>(sync_period, static_cast<int64_t>(table_entries)));
-  const size_t slots = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
-  if (slots_.size() < slots) {
-    slots_.assign(slots, Slot{});
-    if (slots >= table_entries) {
-      slot_factor_ = 1;  // slot = entry
-      slot_shift_ = 0;
-    } else {
-      slot_factor_ = kEntryHashFactor;  // the top log2(slots) bits of entry * factor
-      slot_shift_ = 32 - std::countr_zero(slots);
-    }
-  }
+      static_cast<size_t>(std::clamp<int64_t>(sync_period, 0, static_cast<int64_t>(table_entries)));
+  const size_t wanted = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
+  if (slots_.size() < wanted) slots_.assign(wanted, Slot{});
   if (touched_.size() < most_touched + 1) {
     touched_.resize(most_touched + 1);
     originals_.resize(most_touched + 1);
   }
-  float* q = table_.values().data();
-  const RegionModel& model = model_;
-  // The hash table in locals: the stores of the loop (uint32 keys and
-  // entries) could otherwise alias the members, reloaded at every step.
-  Slot* const slot_table = slots_.data();
-  const uint32_t slot_mask = static_cast<uint32_t>(slots_.size() - 1);
-  const uint32_t slot_factor = slot_factor_;
-  const int slot_shift = slot_shift_;
-  uint32_t* const touched = touched_.data();
-  float* const originals = originals_.data();
-  size_t touched_count = 0;
-  int s = start;
-  bool reached = model.is_station(s);
-  int64_t steps = 0;
-  for (; steps < sync_period; ++steps) {
-    const int count = model.action_count(s);
-    if (count == 0) break;  // a 1x1 region: nowhere to go
-    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(count))];
-    const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
-    const int next = model.target(s, a);
-    const float reward = model.reward(s, a);
-    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    // Count the visit (Touch, inlined with the locals).
-    const uint32_t key = entry + 1;
-    uint32_t slot = ((entry * slot_factor) >> slot_shift) & slot_mask;
-    while ((slot_table[slot].key != 0) & (slot_table[slot].key != key)) {
-      slot = (slot + 1) & slot_mask;
-    }
-    Slot& held = slot_table[slot];
-    touched[touched_count] = entry;
-    originals[touched_count] = q[entry];
-    touched_count += held.key == 0;
-    held.key = key;
-    ++held.visits;
-    q[entry] += kLearningRate * (reward + kDiscount * best_next - q[entry]);
-    // The reward is +100 exactly when the move ends on a station.
-    reached |= reward == kStationReward;
-    s = next;
-  }
-  touched_count_ = touched_count;
+  const bool direct = slots_.size() >= table_entries;
+  const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
+  const int shift = 32 - std::countr_zero(slots_.size());
+
+  bool reached = model_.is_station(start);
+  // Every cell of a region has an in-region move except in a 1x1 region,
+  // which takes no step.
+  const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
+  const size_t listed = direct ? Walk<true>(model_, q, rng, start, steps, reached, slots_.data(),
+                                            mask, shift, touched_.data(), originals_.data())
+                               : Walk<false>(model_, q, rng, start, steps, reached, slots_.data(),
+                                             mask, shift, touched_.data(), originals_.data());
   shard.reached_station = reached;
   shard.steps = steps;
 
-  for (size_t i = 0; i < touched_count_; ++i) marks_.Mark(touched_[i]);
+  for (size_t i = 0; i < listed; ++i) marks_.Mark(touched_[i]);
   marks_.List(shard.entries);
   marks_.Clear(shard.entries);
   shard.values.resize(shard.entries.size());
   shard.visits.resize(shard.entries.size());
+  Slot* slots = slots_.data();
   for (size_t i = 0; i < shard.entries.size(); ++i) {
     const uint32_t entry = shard.entries[i];
     shard.values[i] = q[entry];
-    shard.visits[i] = Touch(entry, 0.0f).visits;  // present: only looked up
+    shard.visits[i] = slots[direct ? FindSlot<true>(slots, mask, shift, entry)
+                                   : FindSlot<false>(slots, mask, shift, entry)]
+                          .visits;
   }
-  if (revert) {
-    for (size_t i = 0; i < touched_count_; ++i) q[touched_[i]] = originals_[i];
+  for (size_t i = 0; i < listed; ++i) {
+    if (revert) q[touched_[i]] = originals_[i];
   }
-  touched_count_ = 0;
-  std::fill(slots_.begin(), slots_.end(), Slot{});
+  // Empty the used slots: all of them at once unless few were used.
+  if (listed * 4 < slots_.size()) {
+    for (size_t i = 0; i < listed; ++i) {
+      const uint32_t entry = touched_[i];
+      slots[direct ? FindSlot<true>(slots, mask, shift, entry)
+                   : FindSlot<false>(slots, mask, shift, entry)] = Slot{};
+    }
+  } else {
+    std::fill(slots_.begin(), slots_.end(), Slot{});
+  }
   return shard;
+}
+
+void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
+                                         const StartStatistics& stats, uint64_t job_seed,
+                                         int64_t round, int sync_period, LearnerShard* shards) {
+  for (int i = 0; i < count; ++i) {
+    shards[i] = Run(learners[i], stats, job_seed, round, sync_period, true);
+  }
 }
 
 void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
@@ -293,15 +345,16 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
   StartStatistics stats(model.start_cells());
   FederatedAverager averager(model.cells() * kNumActions, options.averaging);
   std::vector<LearnerShard> shards(static_cast<size_t>(learner_count));
+  std::vector<int> learner_indices(static_cast<size_t>(learner_count));
+  for (int k = 0; k < learner_count; ++k) learner_indices[k] = k;
   std::vector<uint32_t> entries;
   std::vector<float> values;
 
   const int64_t rounds = FederatedRounds(job.region, options);
   for (int64_t round = 0; round < rounds; ++round) {
-    for (int k = 0; k < learner_count; ++k) {
-      shards[k] = worker.RunRoundAndRevert(k, stats, job.seed, round, options.sync_period);
-      result.steps += shards[k].steps;
-    }
+    worker.RunRoundsAndRevert(learner_indices.data(), learner_count, stats, job.seed, round,
+                              options.sync_period, shards.data());
+    for (const LearnerShard& shard : shards) result.steps += shard.steps;
     averager.Combine(shards, result.table, stats, entries, values);
     worker.ApplyAverage(entries, values);
   }

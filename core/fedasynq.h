@@ -115,48 +115,36 @@ class FedAsynQLearner {
   // entry is unchanged since the round started.
   void ApplyAverage(const std::vector<uint32_t>& entries, const std::vector<float>& values);
 
+  // Plays learners learners[0..count) of round `round` in turn, writing
+  // shards[i] = RunRoundAndRevert(learners[i], ...).
+  void RunRoundsAndRevert(const int* learners, int count, const StartStatistics& stats,
+                          uint64_t job_seed, int64_t round, int sync_period, LearnerShard* shards);
+
   const QTable& table() const { return table_; }
+
+  // One slot of the visit counts' hash table (fedasynq.cc).
+  struct Slot {
+    uint32_t key = 0;  // entry + 1, 0 = empty
+    uint32_t visits = 0;
+  };
 
  private:
   const RegionModel& model_;
   int learner_index_;
   QTable table_;
-  // Scratch (no allocation per step), proportional to the round, not to the
-  // region: the entries touched this round in order of first touch and
-  // their values before the round, and an open-addressing hash table of
-  // (entry, visits) with at least twice as many slots as the round can touch
-  // entries (a dense per-entry array would add 4 bytes per table entry per
-  // learner and a cache miss per new entry). When the slots outnumber the
-  // table's entries, slot = entry (no collisions: a leaf's table).
-  struct Slot {
-    uint32_t key = 0;  // entry + 1, 0 = empty
-    uint32_t visits = 0;
-  };
-  std::vector<uint32_t> touched_;  // [0, touched_count_) in use, one spare
+  // Scratch of a round (no allocation per step), proportional to the round,
+  // not to the region: the entries touched in order of first touch (one
+  // spare) and their values before the round, and an open-addressing hash
+  // table of (entry, visits) with at least twice as many slots as the round
+  // can touch entries (a dense per-entry array would add 4 bytes per table
+  // entry per learner and a cache miss per new entry). When the slots
+  // outnumber the table's entries, slot = entry: no hashing, no collisions
+  // (a leaf's table).
+  std::vector<uint32_t> touched_;
   std::vector<float> originals_;
-  size_t touched_count_ = 0;
   std::vector<Slot> slots_;
-  uint32_t slot_factor_ = 1;  // slot = ((entry * slot_factor_) >> slot_shift_) & mask
-  int slot_shift_ = 0;
   SortedMarks marks_;  // sorts the shard's entries
 
-  // The slot of `entry`, claimed (and the entry listed with its value
-  // `value` before the round) if new. Without branches on whether the entry
-  // is new, which a random walk makes unpredictable: the listing is always
-  // written and only counted when the slot was empty.
-  Slot& Touch(uint32_t entry, float value) {
-    const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
-    const uint32_t key = entry + 1;
-    uint32_t slot = ((entry * slot_factor_) >> slot_shift_) & mask;
-    // Another entry's slot (rare: at most half the slots are used).
-    while ((slots_[slot].key != 0) & (slots_[slot].key != key)) slot = (slot + 1) & mask;
-    Slot& held = slots_[slot];
-    touched_[touched_count_] = entry;
-    originals_[touched_count_] = value;
-    touched_count_ += held.key == 0;
-    held.key = key;
-    return held;
-  }
   LearnerShard Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
                    int sync_period, bool revert);
 };

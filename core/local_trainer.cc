@@ -59,7 +59,8 @@ struct FederatedRun {
   const TrainingJob* job = nullptr;
   std::unique_ptr<RegionModel> model;
   std::vector<std::unique_ptr<FedAsynQLearner>> workers;
-  std::vector<int> first_learner;  // worker w plays [first_learner[w], first_learner[w + 1])
+  std::vector<int> first_learner;    // worker w plays [first_learner[w], first_learner[w + 1])
+  std::vector<int> learner_indices;  // 0, 1, ..., K - 1
   std::unique_ptr<FederatedAverager> averager;
   QTable shared;
   StartStatistics stats;
@@ -133,6 +134,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     run.averager = std::make_unique<FederatedAverager>(static_cast<int>(run.shared.values().size()),
                                                        jobs[j].federated.averaging);
     run.shards.resize(static_cast<size_t>(learners));
+    for (int k = 0; k < learners; ++k) run.learner_indices.push_back(k);
     max_rounds = std::max(max_rounds, run.rounds);
   }
 
@@ -153,10 +155,10 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
       FederatedRun& run = runs[items[i].first];
       const int w = items[i].second;
       FedAsynQLearner& worker = *run.workers[w];
-      for (int k = run.first_learner[w]; k < run.first_learner[w + 1]; ++k) {
-        run.shards[k] = worker.RunRoundAndRevert(k, run.stats, run.job->seed, round,
-                                                 run.job->federated.sync_period);
-      }
+      const int first = run.first_learner[w];
+      worker.RunRoundsAndRevert(run.learner_indices.data() + first,
+                                run.first_learner[w + 1] - first, run.stats, run.job->seed, round,
+                                run.job->federated.sync_period, run.shards.data() + first);
     });
     if (active_jobs.size() == 1) {
       CombineRound(runs[active_jobs[0]]);  // not worth waking the pool
