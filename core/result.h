@@ -13,9 +13,10 @@ struct Error {
   std::string message;
 };
 
-// Either a value or an Error. A minimal stand-in for C++23 std::expected.
+// Either a value or an Error. A minimal stand-in for C++23 std::expected;
+// [[nodiscard]]: ignoring a returned Result (an unchecked failure) warns.
 template <class T>
-class Result {
+class [[nodiscard]] Result {
  public:
   Result(T value) : state_(std::move(value)) {}      // NOLINT: implicit by design
   Result(Error error) : state_(std::move(error)) {}  // NOLINT

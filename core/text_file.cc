@@ -19,12 +19,12 @@ Result<std::string> ReadTextFile(const std::string& path) {
   return contents.str();
 }
 
-Status WriteTextFileAtomically(const std::string& path, const std::string& contents) {
+Status WriteFileAtomically(const std::string& path, std::string_view contents) {
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) return Error{path + ": cannot open for writing: " + std::strerror(errno)};
-    out << contents;
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     out.flush();
     if (!out) {
       std::remove(temporary.c_str());

@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libspdlog-dev libfmt-dev            # logging
+  nlohmann-json3-dev                  # study manifests (dynapath experiment)
+  libtomlplusplus-dev                 # study files (dynapath experiment --config)
   libgtest-dev libgmock-dev           # unit tests
   libbenchmark-dev                    # benchmarks
   liblcm-dev liblcm-bin liblcm-java   # LCM transport, lcm-gen, lcm-logger, lcm-spy classes
@@ -13,7 +15,8 @@ packages=(
   libjchart2d-java                    # charts of lcm-spy's detail view (tools/dynapath-spy)
   python3 python3-matplotlib python3-pandas   # dynapath plot, reproduction report
   libsfml-dev                         # dynapath view (live policy window)
-  zlib1g-dev                          # PNG output of dynapath render
+  libpng-dev                          # PNG output of dynapath render
+  libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   xvfb xauth                          # the viewer's one headless check (tests)
 )
 

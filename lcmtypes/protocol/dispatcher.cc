@@ -1,5 +1,7 @@
 #include "lcmtypes/protocol/dispatcher.h"
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdlib>
 
@@ -37,8 +39,31 @@ Dispatcher::~Dispatcher() {
 }
 
 namespace {
+// The process's one SIGINT/SIGTERM handler. Only async-signal-safe work:
+// atomics, write(2), _exit(2).
 std::atomic<bool> g_stop{false};
-extern "C" void OnStopSignal(int) { g_stop = true; }
+std::atomic<int> g_signals{0};
+std::atomic<const char*> g_first_notice{nullptr};
+std::atomic<const char*> g_second_exit_notice{nullptr};
+
+void WriteNotice(const char* text) {
+  if (text == nullptr) return;
+  size_t length = 0;
+  while (text[length] != '\0') ++length;
+  [[maybe_unused]] ssize_t written = write(STDERR_FILENO, text, length);
+}
+
+extern "C" void OnStopSignal(int) {
+  g_stop = true;
+  if (g_signals.fetch_add(1) == 0) {
+    WriteNotice(g_first_notice.load());
+    return;
+  }
+  if (const char* notice = g_second_exit_notice.load(); notice != nullptr) {
+    WriteNotice(notice);
+    _exit(130);
+  }
+}
 }  // namespace
 
 const std::atomic<bool>& StopOnSignals() {
@@ -52,6 +77,12 @@ const std::atomic<bool>& StopOnSignals() {
   }();
   (void)installed;
   return g_stop;
+}
+
+const std::atomic<bool>& StopOnSignals(const char* first_notice, const char* second_exit_notice) {
+  g_first_notice = first_notice;
+  g_second_exit_notice = second_exit_notice;
+  return StopOnSignals();
 }
 
 }  // namespace dynapath::protocol

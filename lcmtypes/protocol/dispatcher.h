@@ -34,7 +34,13 @@ class Dispatcher {
   std::thread thread_;
 };
 
-// SIGINT and SIGTERM set the returned flag (installed once per process).
+// The process's one SIGINT/SIGTERM handler (installed once): every signal
+// sets the returned flag, which the components poll.
 const std::atomic<bool>& StopOnSignals();
+// The same, and: the first signal writes `first_notice` to stderr (nullptr:
+// nothing); when `second_exit_notice` is not nullptr, a second signal writes
+// it and ends the process at once (_exit 130). Both strings must live for
+// the rest of the process (string literals).
+const std::atomic<bool>& StopOnSignals(const char* first_notice, const char* second_exit_notice);
 
 }  // namespace dynapath::protocol

@@ -43,15 +43,15 @@ TEST(ManifestTest, RoundTripsThroughValidJson) {
   // Valid JSON with the documented top-level keys.
   Result<std::string> text = ReadTextFile(path);
   ASSERT_TRUE(text);
-  Result<Json> json = Json::Parse(*text);
+  Result<Json> json = ParseJson(*text);
   ASSERT_TRUE(json) << json.error().message;
   for (const char* key : {"dynapath_version", "git_commit", "status", "created", "started", "ended",
                           "options", "machine", "configurations"}) {
-    EXPECT_NE(json->Find(key), nullptr) << key;
+    EXPECT_NE(Member(*json, key), nullptr) << key;
   }
-  EXPECT_TRUE(json->Find("ended")->IsNull());
-  EXPECT_EQ(json->Find("configurations")->items()[0].Find("wall_seconds")->AsNumber(), 12.346);
-  EXPECT_TRUE(json->Find("configurations")->items()[2].Find("wall_seconds")->IsNull());
+  EXPECT_TRUE((*json)["ended"].is_null());
+  EXPECT_EQ((*json)["configurations"][0]["wall_seconds"].get<double>(), 12.346);
+  EXPECT_TRUE((*json)["configurations"][2]["wall_seconds"].is_null());
 
   Result<Manifest> read = ReadManifest(path);
   ASSERT_TRUE(read) << read.error().message;
@@ -101,7 +101,7 @@ TEST(ManifestTest, RejectsBrokenManifests) {
   read = ManifestFromJson(json);
   ASSERT_FALSE(read);
   EXPECT_NE(read.error().message.find("options"), std::string::npos);
-  EXPECT_FALSE(ManifestFromJson(Json::Array()));
+  EXPECT_FALSE(ManifestFromJson(Json::array()));
 }
 
 TEST(ManifestTest, MachineAndTime) {

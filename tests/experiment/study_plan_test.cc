@@ -165,6 +165,7 @@ TEST(StudyPlanTest, BadFileValuesNameTheLine) {
   const std::pair<const char*, const char*> cases[] = {
       {"sizes = [20]\ncolour = 'red'\n", "s.toml:2: unknown key 'colour'"},
       {"\nsteps = '10'\n", "s.toml:2: steps: expected an integer, got a string"},
+      {"\nsteps = 1.5\n", "s.toml:2: steps: expected an integer, got a float"},
       {"sizes = '20'\n", "s.toml:1: sizes: expected an integer or an array of integers"},
       {"sizes = [20,\n 1]\n", "s.toml:1: sizes: size '1' is not an integer from 2"},
       {"difficulties = [1]\n", "s.toml:1: difficulties: expected an array of strings"},
@@ -189,13 +190,13 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   ASSERT_TRUE(a && b && c);
   EXPECT_EQ(StudyIdentityJson(*a), StudyIdentityJson(*b));  // mode, threads, out do not count
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*c));
-  EXPECT_EQ(StudyIdentityJson(*a).Dump(0),
+  EXPECT_EQ(DumpJson(StudyIdentityJson(*a), -1),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
             "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
-  EXPECT_EQ(ExecutionJson(*b).Find("mode")->AsString(), "agents");
-  EXPECT_EQ(ExecutionJson(*b).Find("agents")->AsInt(), 2);
+  EXPECT_EQ(ExecutionJson(*b)["mode"].get<std::string>(), "agents");
+  EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // image_info FILE: prints "png WIDTH HEIGHT" or "gif WIDTH HEIGHT FRAMES"
-// after decoding the whole file (pixels, CRCs, LZW); exit 1 when it is not
+// after decoding the whole file with libpng or giflib; exit 1 when it is not
 // a valid PNG or GIF. For the view end-to-end tests.
 
 #include <cstdio>

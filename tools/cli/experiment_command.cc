@@ -12,7 +12,6 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -74,35 +73,10 @@ int Failure(const std::string& message) {
 // mode polls (local runs at every time step); a second one ends the process
 // at once (the configuration in progress stays "running" in the manifest and
 // is redone on resume; result files are always written atomically).
-struct sigaction g_previous_int {};
-struct sigaction g_previous_term {};
-std::atomic<int> g_signals{0};
-
-void OnSignal(int signal) {
-  if (g_signals.fetch_add(1) == 0) {
-    const struct sigaction& previous = signal == SIGINT ? g_previous_int : g_previous_term;
-    if (previous.sa_handler != SIG_DFL && previous.sa_handler != SIG_IGN &&
-        previous.sa_handler != nullptr) {
-      previous.sa_handler(signal);
-    }
-    constexpr char kMessage[] =
-        "\ndynapath experiment: stopping the current configuration (Ctrl-C again: at once)\n";
-    [[maybe_unused]] ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
-    return;
-  }
-  constexpr char kMessage[] = "\ndynapath experiment: stopped at once\n";
-  [[maybe_unused]] ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
-  _exit(130);
-}
-
 const std::atomic<bool>& InstallSignalHandlers() {
-  const std::atomic<bool>& stop = protocol::StopOnSignals();
-  struct sigaction action {};
-  action.sa_handler = OnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, &g_previous_int);
-  sigaction(SIGTERM, &action, &g_previous_term);
-  return stop;
+  return protocol::StopOnSignals(
+      "\ndynapath experiment: stopping the current configuration (Ctrl-C again: at once)\n",
+      "\ndynapath experiment: stopped at once\n");
 }
 
 // The option values given on the command line.
@@ -128,11 +102,11 @@ Result<OptionValues> CommandLineValues(const ArgParser& parser) {
 // "sizes: [20, 50] there, [20] here; steps: ...".
 std::string Differences(const Json& there, const Json& here) {
   std::string text;
-  for (const auto& [key, value] : here.members()) {
-    const Json* old = there.Find(key);
+  for (const auto& [key, value] : here.items()) {
+    const Json* old = Member(there, key);
     if (old != nullptr && *old == value) continue;
-    text += (text.empty() ? "" : "; ") + key + ": " + (old ? old->Dump(0) : "missing") +
-            " there, " + value.Dump(0) + " here";
+    text += (text.empty() ? "" : "; ") + key + ": " + (old ? DumpJson(*old, -1) : "missing") +
+            " there, " + DumpJson(value, -1) + " here";
   }
   return text.empty() ? "different options" : text;
 }

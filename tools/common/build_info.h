@@ -10,13 +10,11 @@ inline constexpr const char* kDynapathVersion = "0.1.0";
 
 struct GitCommit {
   std::string commit;  // `git describe --always --dirty`, or "unknown"
-  std::string source;  // "build", "source tree at run time" or "" (unknown)
+  std::string source;  // "build", or "" (unknown)
 };
 
-// The commit embedded by the build when it generated dynapath_git_commit.h
-// (defining DYNAPATH_GIT_COMMIT) on the include path; otherwise
-// `git describe --always --dirty` of the source tree this file was compiled
-// from, asked now (it may have changed since the build); else "unknown".
+// The commit the build was configured from (tools/common/git_commit.cmake),
+// or "unknown" when the source tree was no git checkout.
 GitCommit FindGitCommit();
 
 }  // namespace dynapath::cli

@@ -41,7 +41,7 @@ long long MemoryBytes() {
 }
 
 Json MachineJson(const MachineInfo& machine) {
-  Json json = Json::Object();
+  Json json = Json::object();
   json["hostname"] = machine.hostname;
   json["cpu_model"] = machine.cpu_model;
   json["cores"] = machine.cores;
@@ -54,11 +54,19 @@ Json OptionalString(const std::string& text) { return text.empty() ? Json() : Js
 
 // Reads member `key` of `object`: a string (or null: "") / number / bool.
 bool GetString(const Json& object, const std::string& key, std::string& out, bool required) {
-  const Json* value = object.Find(key);
-  if (value == nullptr || value->IsNull()) return !required;
-  if (!value->IsString()) return false;
-  out = value->AsString();
+  const Json* value = Member(object, key);
+  if (value == nullptr || value->is_null()) return !required;
+  if (!value->is_string()) return false;
+  out = value->get<std::string>();
   return true;
+}
+
+// The number `value` holds, or `fallback` (missing, or not a number).
+long long IntOr(const Json* value, long long fallback) {
+  return value != nullptr && value->is_number() ? value->get<long long>() : fallback;
+}
+double NumberOr(const Json* value, double fallback) {
+  return value != nullptr && value->is_number() ? value->get<double>() : fallback;
 }
 
 }  // namespace
@@ -107,7 +115,7 @@ ConfigurationRecord* Manifest::Find(const std::string& name) {
 }
 
 Json ManifestToJson(const Manifest& manifest) {
-  Json json = Json::Object();
+  Json json = Json::object();
   json["dynapath_version"] = manifest.version;
   json["git_commit"] = manifest.git_commit;
   json["git_commit_source"] = OptionalString(manifest.git_commit_source);
@@ -116,13 +124,13 @@ Json ManifestToJson(const Manifest& manifest) {
   json["started"] = OptionalString(manifest.started);
   json["ended"] = OptionalString(manifest.ended);
   json["sessions"] = manifest.sessions;
-  Json& options = json["options"] = Json::Object();
+  Json& options = json["options"] = Json::object();
   options["study"] = manifest.study;
   options["execution"] = manifest.execution;
   json["machine"] = MachineJson(manifest.machine);
-  Json& configurations = json["configurations"] = Json::Array();
+  Json& configurations = json["configurations"] = Json::array();
   for (const ConfigurationRecord& record : manifest.configurations) {
-    Json entry = Json::Object();
+    Json entry = Json::object();
     entry["name"] = record.name;
     entry["directory"] = record.directory;
     entry["size"] = record.size;
@@ -137,13 +145,13 @@ Json ManifestToJson(const Manifest& manifest) {
     entry["wall_seconds"] =
         record.wall_seconds < 0 ? Json() : Json(std::round(record.wall_seconds * 1000) / 1000);
     entry["error"] = OptionalString(record.error);
-    configurations.Push(std::move(entry));
+    configurations.push_back(std::move(entry));
   }
   return json;
 }
 
 Result<Manifest> ManifestFromJson(const Json& json) {
-  if (!json.IsObject()) return Error{"the manifest is not a JSON object"};
+  if (!json.is_object()) return Error{"the manifest is not a JSON object"};
   Manifest manifest;
   auto bad = [](const std::string& what) { return Error{"manifest: missing or bad " + what}; };
   if (!GetString(json, "dynapath_version", manifest.version, true)) return bad("dynapath_version");
@@ -157,30 +165,24 @@ Result<Manifest> ManifestFromJson(const Json& json) {
         std::pair{"ended", &manifest.ended}}) {
     if (!GetString(json, key, *field, false)) return bad(key);
   }
-  if (const Json* sessions = json.Find("sessions")) {
-    manifest.sessions = static_cast<int>(sessions->AsInt(1));
-  }
-  const Json* options = json.Find("options");
-  if (options == nullptr || !options->IsObject()) return bad("options");
-  const Json* study = options->Find("study");
-  if (study == nullptr || !study->IsObject()) return bad("options.study");
+  manifest.sessions = static_cast<int>(IntOr(Member(json, "sessions"), 1));
+  const Json* options = Member(json, "options");
+  if (options == nullptr || !options->is_object()) return bad("options");
+  const Json* study = Member(*options, "study");
+  if (study == nullptr || !study->is_object()) return bad("options.study");
   manifest.study = *study;
-  if (const Json* execution = options->Find("execution")) manifest.execution = *execution;
-  if (const Json* machine = json.Find("machine"); machine != nullptr && machine->IsObject()) {
+  if (const Json* execution = Member(*options, "execution")) manifest.execution = *execution;
+  if (const Json* machine = Member(json, "machine"); machine != nullptr && machine->is_object()) {
     GetString(*machine, "hostname", manifest.machine.hostname, false);
     GetString(*machine, "cpu_model", manifest.machine.cpu_model, false);
     GetString(*machine, "os", manifest.machine.os, false);
-    if (const Json* cores = machine->Find("cores")) {
-      manifest.machine.cores = static_cast<int>(cores->AsInt());
-    }
-    if (const Json* memory = machine->Find("memory_bytes")) {
-      manifest.machine.memory_bytes = memory->AsInt();
-    }
+    manifest.machine.cores = static_cast<int>(IntOr(Member(*machine, "cores"), 0));
+    manifest.machine.memory_bytes = IntOr(Member(*machine, "memory_bytes"), 0);
   }
-  const Json* configurations = json.Find("configurations");
-  if (configurations == nullptr || !configurations->IsArray()) return bad("configurations");
-  for (const Json& entry : configurations->items()) {
-    if (!entry.IsObject()) return bad("configuration entry");
+  const Json* configurations = Member(json, "configurations");
+  if (configurations == nullptr || !configurations->is_array()) return bad("configurations");
+  for (const Json& entry : *configurations) {
+    if (!entry.is_object()) return bad("configuration entry");
     ConfigurationRecord record;
     if (!GetString(entry, "name", record.name, true)) return bad("configuration name");
     if (!GetString(entry, "status", record.status, true)) return bad("configuration status");
@@ -190,24 +192,25 @@ Result<Manifest> ManifestFromJson(const Json& json) {
     GetString(entry, "started", record.started, false);
     GetString(entry, "ended", record.ended, false);
     GetString(entry, "error", record.error, false);
-    if (const Json* size = entry.Find("size")) record.size = static_cast<int>(size->AsInt());
-    if (const Json* seed = entry.Find("seed")) record.seed = static_cast<unsigned>(seed->AsInt());
-    if (const Json* steps = entry.Find("steps")) record.steps = static_cast<int>(steps->AsInt());
-    if (const Json* edge = entry.Find("edge_case")) record.edge_case = edge->AsBool();
-    if (const Json* wall = entry.Find("wall_seconds")) record.wall_seconds = wall->AsNumber(-1);
+    record.size = static_cast<int>(IntOr(Member(entry, "size"), 0));
+    record.seed = static_cast<unsigned>(IntOr(Member(entry, "seed"), 0));
+    record.steps = static_cast<int>(IntOr(Member(entry, "steps"), 0));
+    const Json* edge = Member(entry, "edge_case");
+    record.edge_case = edge != nullptr && edge->is_boolean() && edge->get<bool>();
+    record.wall_seconds = NumberOr(Member(entry, "wall_seconds"), -1);
     manifest.configurations.push_back(std::move(record));
   }
   return manifest;
 }
 
 Status WriteManifest(const Manifest& manifest, const std::string& path) {
-  return WriteTextFileAtomically(path, ManifestToJson(manifest).Dump(2));
+  return WriteTextFileAtomically(path, DumpJson(ManifestToJson(manifest)));
 }
 
 Result<Manifest> ReadManifest(const std::string& path) {
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
-  Result<Json> json = Json::Parse(*text);
+  Result<Json> json = ParseJson(*text);
   if (!json) return Error{path + ": not valid JSON: " + json.error().message};
   Result<Manifest> manifest = ManifestFromJson(*json);
   if (!manifest) return Error{path + ": " + manifest.error().message};

@@ -44,7 +44,7 @@ ConfigurationRecord FreshRecord(const StudyConfiguration& configuration);
 struct Manifest {
   std::string version;
   std::string git_commit;         // "unknown" when not known
-  std::string git_commit_source;  // "build" or "source tree at run time"
+  std::string git_commit_source;  // "build", or "" when unknown
   Json study;                     // StudyIdentityJson: must match to resume
   Json execution;                 // ExecutionJson of the latest session
   MachineInfo machine;

@@ -1,13 +1,15 @@
 #pragma once
-// The file of `dynapath experiment --config FILE`: a small subset of TOML,
+// The file of `dynapath experiment --config FILE`: TOML (v1.0, parsed by
+// toml++, Debian's libtomlplusplus-dev) with the study's options as
+// top-level keys:
 //
 //   # a comment
 //   sizes = [20, 50]                 # integers, arrays (may span lines)
-//   difficulties = ["easy", "hard"]  # "basic" or 'literal' strings
+//   difficulties = ["easy", "hard"]  # strings
 //   edge-case = false                # booleans
 //
-// one `key = value` per line at the top level. Tables, floats, dates, inline
-// tables and nested arrays are refused with an error naming the line. This
+// Tables, dates and times, nested arrays and arrays that mix kinds are
+// refused with an error naming the line: no study option takes them. This
 // module only parses; which keys exist is the study's business
 // (study_plan.h).
 
@@ -20,15 +22,16 @@
 namespace dynapath::cli {
 
 struct ConfigValue {
-  enum class Kind { kString, kInteger, kBoolean, kArray };
+  enum class Kind { kString, kInteger, kFloat, kBoolean, kArray };
   Kind kind = Kind::kString;
   std::string string;
   long long integer = 0;
+  double number = 0.0;  // kFloat
   bool boolean = false;
   std::vector<ConfigValue> items;  // kArray: strings, integers or booleans
   int line = 0;
 
-  // "string", "integer", "boolean" or "array".
+  // "string", "integer", "float", "boolean" or "array".
   std::string KindName() const;
 };
 

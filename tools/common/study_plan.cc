@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 
@@ -40,6 +41,11 @@ std::string ScalarText(const ConfigValue& value) {
       return value.string;
     case ConfigValue::Kind::kInteger:
       return std::to_string(value.integer);
+    case ConfigValue::Kind::kFloat: {
+      char text[32];  // shortest round-trip form, whatever the locale
+      const auto end = std::to_chars(text, text + sizeof text, value.number).ptr;
+      return std::string(text, end);
+    }
     case ConfigValue::Kind::kBoolean:
       return value.boolean ? "true" : "false";
     case ConfigValue::Kind::kArray:
@@ -407,15 +413,15 @@ std::vector<std::string> RunArguments(const StudyOptions& options, const std::st
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {
-  Json json = Json::Object();
-  Json& sizes = json["sizes"] = Json::Array();
-  for (const int size : options.sizes) sizes.Push(size);
-  Json& difficulties = json["difficulties"] = Json::Array();
+  Json json = Json::object();
+  Json& sizes = json["sizes"] = Json::array();
+  for (const int size : options.sizes) sizes.push_back(size);
+  Json& difficulties = json["difficulties"] = Json::array();
   for (const Difficulty difficulty : options.difficulties) {
-    difficulties.Push(LowerDifficulty(difficulty));
+    difficulties.push_back(LowerDifficulty(difficulty));
   }
-  Json& approaches = json["approaches"] = Json::Array();
-  for (const Approach approach : options.approaches) approaches.Push(ApproachName(approach));
+  Json& approaches = json["approaches"] = Json::array();
+  for (const Approach approach : options.approaches) approaches.push_back(ApproachName(approach));
   json["edge_case"] = options.edge_case;
   json["seed"] = options.seed ? Json(*options.seed) : Json();
   json["steps"] = options.steps ? Json(*options.steps) : Json();
@@ -425,7 +431,7 @@ Json StudyIdentityJson(const StudyOptions& options) {
 }
 
 Json ExecutionJson(const StudyOptions& options) {
-  Json json = Json::Object();
+  Json json = Json::object();
   json["mode"] = StudyModeName(options.mode);
   json["agents"] = options.mode == StudyMode::kLocal ? Json() : Json(options.agents);
   json["placement"] = options.mode == StudyMode::kLocal ? Json() : Json(options.placement);

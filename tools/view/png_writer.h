@@ -1,7 +1,7 @@
 #pragma once
-// PNG output: 8-bit RGB, no interlace, every row with filter type 0 (the
-// pictures are flat colours, which deflate packs well as they are). The
-// chunks and their CRCs are written here; zlib does the deflate.
+// PNG output through libpng (8-bit RGB, no interlace): the image library the
+// whole ecosystem trusts for chunk layout, CRCs and filtering, instead of a
+// writer of our own.
 
 #include <cstdint>
 #include <string>
@@ -12,15 +12,10 @@
 
 namespace dynapath::view {
 
-// CRC-32 (ISO 3309, as PNG and zlib use) of `size` bytes, continuing `crc`
-// (0 to start).
-uint32_t Crc32(const uint8_t* data, size_t size, uint32_t crc = 0);
-
+// The PNG file of `image`; empty on failure (an empty image, or libpng out
+// of memory).
 std::vector<uint8_t> EncodePng(const RgbImage& image);
 // Writes the PNG atomically (a temporary file renamed over `path`).
 Status WritePng(const std::string& path, const RgbImage& image);
-
-// Writes `bytes` to `path` through a temporary file in the same directory.
-Status WriteFileAtomically(const std::string& path, const std::vector<uint8_t>& bytes);
 
 }  // namespace dynapath::view

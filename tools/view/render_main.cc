@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/text_file.h"
 #include "lcmtypes/protocol/channels.h"
 #include "tools/common/arg_parser.h"
 #include "tools/common/process_options.h"
@@ -246,7 +247,7 @@ int Run(const std::vector<std::string>& args) {
     if (output.gif) {
       const fs::path gif_path = output.dir / "policy.gif";
       const std::vector<uint8_t> bytes = output.gif->Finish();
-      if (Status status = view::WriteFileAtomically(gif_path.string(), bytes); !status) {
+      if (Status status = WriteFileAtomically(gif_path.string(), bytes); !status) {
         return cli::ProcessError(kProgram, status.error().message, kExitFailure);
       }
       gif_text = " and policy.gif (" + std::to_string(output.gif->frames()) + " frames, " +
