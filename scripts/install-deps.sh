@@ -18,6 +18,7 @@ packages=(
   libpng-dev                          # PNG output of dynapath render
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   xvfb xauth                          # the viewer's one headless check (tests)
+  time                                # GNU time: peak memory in bench/scale_bench.sh
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
