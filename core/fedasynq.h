@@ -47,9 +47,9 @@ struct LearnerShard {
 // A set of table entries kept as a bitmap with one summary bit per 64-bit
 // word: marking is O(1), and listing the marked entries in ascending order
 // costs one step per 64 x 64 entries of the table plus one per marked word,
-// against 20 ns per entry for std::sort or a scan of every word (which took
-// a third of a 1000x1000 root's training). Memory: 1 bit per entry, and a
-// rank (4 bytes) per word.
+// against some 20 ns per entry for std::sort or a scan of every word (125,000
+// words per round at a 1000x1000 root, where a round marks a few thousand
+// entries). Memory: 1 bit per entry, and a rank (4 bytes) per word.
 class SortedMarks {
  public:
   explicit SortedMarks(size_t entries = 0);

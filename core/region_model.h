@@ -4,7 +4,9 @@
 // each leads and what it pays. Built once per training job from the region's
 // cell codes; immutable afterwards and safe to share between threads.
 
+#if defined(__SSE__)
 #include <xmmintrin.h>
+#endif
 
 #include <array>
 #include <cstdint>
@@ -103,13 +105,24 @@ class RegionModel {
     // A balanced tree of maxima: m[i] = max(x[i], x[i + 4]), then
     // max(max(m0, m2), max(m1, m3)), each max(x, y) = x < y ? y : x, which is
     // what SSE's _mm_max_ps(y, x) computes (the compiler does not vectorise
-    // it by itself: the loop was 30 scalar instructions of a learner's step).
+    // it by itself: it was about 30 scalar instructions of a learner's step).
+#if defined(__SSE__)
     const __m128 low = _mm_add_ps(_mm_loadu_ps(q_row), _mm_loadu_ps(mask));
     const __m128 high = _mm_add_ps(_mm_loadu_ps(q_row + 4), _mm_loadu_ps(mask + 4));
     const __m128 m = _mm_max_ps(high, low);                                     // m0 m1 m2 m3
     const __m128 halves = _mm_max_ps(_mm_movehl_ps(m, m), m);                   // left right . .
     const __m128 best = _mm_max_ss(_mm_shuffle_ps(halves, halves, 1), halves);  // right vs left
     return _mm_cvtss_f32(best);
+#else
+    float m[4];
+    for (int i = 0; i < 4; ++i) {
+      const float x = q_row[i] + mask[i], y = q_row[i + 4] + mask[i + 4];
+      m[i] = x < y ? y : x;
+    }
+    const float left = m[0] < m[2] ? m[2] : m[0];
+    const float right = m[1] < m[3] ? m[3] : m[1];
+    return left < right ? right : left;
+#endif
   }
 
   // Non-obstacle cells in increasing order: the possible start cells.
