@@ -131,19 +131,12 @@ class RegionModel {
   // The region's cell codes, region-local row-major.
   const std::vector<uint8_t>& codes() const { return codes_; }
 
-  // Bytes held per cell of the region (codes, records, start cells), for the
-  // memory figures of docs/PERFORMANCE.md.
-  size_t MemoryBytes() const {
-    return codes_.capacity() + record_.capacity() * sizeof(CellRecord) +
-           start_cells_.capacity() * sizeof(int);
-  }
-
  private:
   // Everything a step reads about a cell, as 8-bit action masks (4 bytes a
-  // cell): a 1000x1000 region's records take 4 MB and stay in the caches,
-  // where 64-byte records with explicit targets and rewards took 64 MB and
-  // missed them. Targets are cell + offset_[a] for a move, the cell itself
-  // otherwise; rewards follow from the masks (mdp.h).
+  // cell): a 1000x1000 region's records take 4 MB, where 64-byte records
+  // with explicit targets and rewards took 64 MB. Targets are cell +
+  // offset_[a] for a move, the cell itself otherwise; rewards follow from
+  // the masks (mdp.h).
   struct CellRecord {
     uint8_t in_region;  // bit a: action a stays in the region
     uint8_t bootstrap;  // bit a: action a counts in the bootstrap max
