@@ -16,7 +16,7 @@
 int main(int argc, char** argv) {
   using namespace dynapath;
   cli::InitProcessLogging("agent");
-  cli::ArgParser parser("dynapath-agent --run-id ID [options]",
+  cli::ArgParser parser("dynapath-agent --run-id ID --secret-file PATH [options]",
                         "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
                         "returns Q-table shards per round (or final tables), sends heartbeats.\n"
                         "Exits when the coordinator finishes, fails or is silent for 4 s.");
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   agent::Agent agent(bus, options);
   protocol::Dispatcher dispatcher(**lcm);
   const agent::AgentExit exit = agent.Run(stop);
-  spdlog::info("agent {}: exiting", options.id);
+  spdlog::info("agent {}: exiting; messages {}", options.id, bus.TrafficSummary());
   switch (exit) {
     case agent::AgentExit::kCoordinatorFinished:
     case agent::AgentExit::kStopped:

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <vector>
@@ -34,11 +35,31 @@ class AgentRegistry {
         .count();
   }
 
+  // Most agents tracked: heartbeats carry any sender id, so without a cap a
+  // flood of made-up ids would grow the registry without end. Dead agents
+  // make room first; beyond that, new ids are ignored (and counted).
+  static constexpr size_t kMaxAgents = 4096;
+
   // Records an agent's heartbeat; true when the agent was not live before.
   bool OnHeartbeat(const heartbeat_t& beat) {
     if (beat.role != heartbeat_t::ROLE_AGENT) return false;
     std::lock_guard lock(mutex_);
     const auto known = agents_.find(beat.sender);
+    if (known == agents_.end() && agents_.size() >= kMaxAgents) {
+      // Sweep out dead agents at most every 100 ms: a flood of new ids must
+      // not cost a full scan each.
+      const int64_t now = NowMs();
+      if (now - last_sweep_ms_ >= 100 || timeout_ms_ < 100) {
+        last_sweep_ms_ = now;
+        for (auto it = agents_.begin(); it != agents_.end();) {
+          it = now - it->second.last_seen_ms > timeout_ms_ ? agents_.erase(it) : std::next(it);
+        }
+      }
+      if (agents_.size() >= kMaxAgents) {
+        ++ignored_;
+        return false;
+      }
+    }
     const bool is_new =
         known == agents_.end() || NowMs() - known->second.last_seen_ms > timeout_ms_;
     AgentInfo& info = agents_[beat.sender];
@@ -68,6 +89,12 @@ class AgentRegistry {
     return it != agents_.end() && NowMs() - it->second.last_seen_ms <= timeout_ms_;
   }
 
+  // Heartbeats of new agents ignored because kMaxAgents were live.
+  int64_t ignored() const {
+    std::lock_guard lock(mutex_);
+    return ignored_;
+  }
+
   bool Get(int id, AgentInfo& info) const {
     std::lock_guard lock(mutex_);
     auto it = agents_.find(id);
@@ -80,6 +107,8 @@ class AgentRegistry {
   int64_t timeout_ms_;
   mutable std::mutex mutex_;
   std::map<int, AgentInfo> agents_;
+  int64_t ignored_ = 0;
+  int64_t last_sweep_ms_ = -1000000;
 };
 
 }  // namespace dynapath::coordinator

@@ -129,11 +129,13 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
         "messages / {} bytes; {} resends, {} reassignments",
         t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
         t.epochs);
+    spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
     spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
                  plan.out_dir);
     state = heartbeat_t::STATE_FINISHED;
   } catch (const std::exception& e) {
     spdlog::error("coordinator: {}", e.what());
+    spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
     state = heartbeat_t::STATE_FAILED;
     exit_code = 1;
   }

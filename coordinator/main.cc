@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   using namespace dynapath;
   cli::InitProcessLogging("coordinator");
   cli::ArgParser parser(
-      "dynapath-coordinator --run-id ID [options]",
+      "dynapath-coordinator --run-id ID --secret-file PATH [options]",
       "Runs the chosen approaches on the maze of the run's environment simulator,\n"
       "training on the run's agent processes, and writes DIR/results.csv and\n"
       "DIR/results_detailed.csv exactly as `dynapath run --local` does.");

@@ -7,10 +7,10 @@
 namespace dynapath {
 
 const std::vector<Approach>& AllApproaches() {
-  static const std::vector<Approach> all = {Approach::kAStarStatic,  Approach::kAStarOracle,
-                                            Approach::kBfsOracle,    Approach::kOnlyTrainLeafNodes,
-                                            Approach::kSingleAgent,  Approach::kFedAsynQEqAvg,
-                                            Approach::kFedAsynQImAvg};
+  static const std::vector<Approach> all = {Approach::kAStarStatic,   Approach::kAStarOracle,
+                                            Approach::kBfsOracle,     Approach::kOnlyTrainLeafNodes,
+                                            Approach::kSingleAgent,   Approach::kFedAsynQEqAvg,
+                                            Approach::kFedAsynQImAvg, Approach::kIncrementalOracle};
   return all;
 }
 
@@ -30,6 +30,8 @@ std::string ApproachName(Approach approach) {
       return "fedAsynQ_EqAvg";
     case Approach::kFedAsynQImAvg:
       return "fedAsynQ_ImAvg";
+    case Approach::kIncrementalOracle:
+      return "Incremental Oracle";
   }
   return "?";
 }

@@ -1,5 +1,6 @@
 #pragma once
-// The seven approaches of SPEC section 9, by their exact result-file names.
+// The seven approaches of SPEC section 9 and the Incremental Oracle (issue
+// 11), by their exact result-file names.
 
 #include <optional>
 #include <string>
@@ -17,13 +18,15 @@ enum class Approach {
   kSingleAgent,
   kFedAsynQEqAvg,
   kFedAsynQImAvg,
+  kIncrementalOracle,  // BFS Oracle's figures, repaired per step (not in the report)
 };
 
-// All approaches in the order of SPEC section 9 (the order of `all`).
+// All approaches in the order of SPEC section 9, then the Incremental Oracle
+// (the order of `all`).
 const std::vector<Approach>& AllApproaches();
 
 // "A* Static", "A* Oracle", "BFS Oracle", "onlyTrainLeafNodes",
-// "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg".
+// "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg", "Incremental Oracle".
 std::string ApproachName(Approach approach);
 
 // Case-insensitive exact name.

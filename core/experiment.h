@@ -52,7 +52,7 @@ struct StepRecord {
 struct ApproachRun {
   Approach approach = Approach::kBfsOracle;
   std::string size_label;        // "50" for square mazes, "40x60" otherwise
-  std::string difficulty_label;  // "Easy", "Medium", "Hard", or "Custom"
+  std::string difficulty_label;  // "Easy", "Medium", "Hard", "Custom", or a map's name
   double initial_seconds = 0.0;
   std::vector<StepRecord> steps;  // time steps 0..T
 

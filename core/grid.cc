@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "core/limits.h"
 #include "core/text_file.h"
 
 namespace dynapath {
@@ -62,9 +63,9 @@ Result<Grid> GridFromText(const std::string& text) {
     lines.push_back(line);
   }
   if (lines.empty()) return Error{"the maze has no rows"};
-  constexpr size_t kMaxSide = 10000;  // keeps rows * cols * 8 table entries addressable
+  constexpr size_t kMaxSide = kMaxGridSide;
   if (lines.size() > kMaxSide || lines.front().size() > kMaxSide) {
-    return Error{"the maze is larger than 10000 cells on a side"};
+    return Error{"the maze is larger than " + std::to_string(kMaxGridSide) + " cells on a side"};
   }
   Grid grid(static_cast<int>(lines.size()), static_cast<int>(lines.front().size()));
   for (int r = 0; r < grid.rows(); ++r) {

@@ -34,7 +34,7 @@ StepDetails LearningPlanner::Initialize(const Grid& grid) {
     strategy_ = std::make_unique<TreeStrategy>(*tree_, options_.thresholds);
   }
   grid_ = &grid;
-  depths_valid_ = false;
+  evaluation_.Reset(*tree_);
   return RunStrategy({});
 }
 
@@ -45,7 +45,7 @@ StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& cha
   changed_leaves.erase(std::unique(changed_leaves.begin(), changed_leaves.end()),
                        changed_leaves.end());
   grid_ = &grid;
-  depths_valid_ = false;  // the grid changed
+  evaluation_.GridChanged(changed_cells);
   if (changed_leaves.empty()) return {};
   return RunStrategy(changed_leaves);
 }
@@ -59,17 +59,17 @@ StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leav
 
 PolicyScore LearningPlanner::Evaluate(const Grid& grid) {
   grid_ = &grid;
-  return ScoreGrid(grid, Depths());
+  return evaluation_.Score(grid, root_->table(), tree_->root());
 }
 
 bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
   grid_ = &grid;
-  const PolicyDepths& depths = Depths();
+  const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
   picture.actions.assign(static_cast<size_t>(grid.size()), -1);
   picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
   for (int cell = 0; cell < grid.size(); ++cell) {
     if (grid.at(cell) == Cell::kObstacle) continue;
-    picture.reaches[cell] = depths.depth[cell] == kNoPath ? 0 : 1;
+    picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
     if (grid.at(cell) == Cell::kStation) continue;
     int best = -1, second = -1;
     TopTwoActions(grid, cell, root_->table().row(cell), best, second);
@@ -78,16 +78,8 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
   return true;
 }
 
-const PolicyDepths& LearningPlanner::Depths() {
-  if (!depths_valid_) {
-    evaluator_.Evaluate(*grid_, root_->table(), depths_);
-    depths_valid_ = true;
-  }
-  return depths_;
-}
-
 double LearningPlanner::SuccessRate(NodeId node) {
-  return ScoreRegion(*grid_, Depths(), tree_->node(node).region).success_rate();
+  return evaluation_.Score(*grid_, root_->table(), node).success_rate();
 }
 
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
@@ -96,7 +88,7 @@ void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
   for (NodeId node : nodes)
     seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
   trainer_.Train(nodes, seeds, learner_, *tree_, *grid_, *root_);
-  depths_valid_ = false;  // the policy changed
+  for (NodeId node : nodes) evaluation_.TableChanged(tree_->node(node).region);
 }
 
 }  // namespace dynapath

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/incremental_policy_evaluation.h"
 #include "core/planner.h"
 
 namespace dynapath {
@@ -27,7 +28,6 @@ class LearningPlanner : public Planner, private TrainingContext {
   void Train(const std::vector<NodeId>& nodes) override;
 
   StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
-  const PolicyDepths& Depths();
 
   Approach approach_;
   PlannerOptions options_;
@@ -38,9 +38,9 @@ class LearningPlanner : public Planner, private TrainingContext {
   std::unique_ptr<RootQTable> root_;
   std::unique_ptr<RetrainingStrategy> strategy_;
   std::vector<int64_t> training_count_;  // per node, for job seeds
-  PolicyEvaluator evaluator_;
-  PolicyDepths depths_;
-  bool depths_valid_ = false;
+  // The evaluation behind the success rates, repaired where cells changed
+  // or regions were retrained (issue 11) instead of redone every query.
+  IncrementalPolicyEvaluation evaluation_;
 };
 
 }  // namespace dynapath

@@ -1,6 +1,7 @@
 #include "core/planner.h"
 
 #include "core/baseline_planners.h"
+#include "core/incremental_oracle.h"
 #include "core/learning_planner.h"
 
 namespace dynapath {
@@ -14,6 +15,8 @@ std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& op
       return std::make_unique<AStarOraclePlanner>();
     case Approach::kBfsOracle:
       return std::make_unique<BfsOraclePlanner>();
+    case Approach::kIncrementalOracle:
+      return std::make_unique<IncrementalOraclePlanner>();
     default:
       return std::make_unique<LearningPlanner>(approach, options, *trainer);
   }

@@ -12,6 +12,8 @@ namespace {
 // u = rand() % 1000 < 900 gives 1 move, < 950 gives 2, ..., else 10.
 constexpr std::array<int, 9> kMoveBounds = {900, 950, 970, 980, 987, 992, 995, 997, 999};
 
+}  // namespace
+
 int DrawMoveCount(CRandom& random) {
   const int u = random.Next() % 1000;
   int moves = 1;
@@ -21,8 +23,6 @@ int DrawMoveCount(CRandom& random) {
   }
   return moves;
 }
-
-}  // namespace
 
 Grid GenerateMaze(int rows, int cols, const CellProbabilities& probabilities, CRandom& random) {
   Grid grid(rows, cols);

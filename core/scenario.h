@@ -21,6 +21,9 @@ struct Scenario {
 // Draws a maze (SPEC section 1) from `random`.
 Grid GenerateMaze(int rows, int cols, const CellProbabilities& probabilities, CRandom& random);
 
+// Moves in one time step, 1 to 10, with the report's skew (90% one move).
+int DrawMoveCount(CRandom& random);
+
 // Draws `steps` time steps of obstacle moves, starting from `grid`, from `random`.
 ChangeSequence GenerateChanges(const Grid& grid, int steps, CRandom& random);
 

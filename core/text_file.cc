@@ -1,5 +1,6 @@
 #include "core/text_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -11,6 +12,10 @@
 namespace dynapath {
 
 Result<std::string> ReadTextFile(const std::string& path) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    return Error{path + ": is a directory, not a file"};
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) return Error{path + ": cannot open for reading: " + std::strerror(errno)};
   std::ostringstream contents;

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   using namespace dynapath;
   cli::InitProcessLogging("envsim");
   cli::ArgParser parser(
-      "dynapath-envsim --run-id ID [maze options] [--hz RATE]",
+      "dynapath-envsim --run-id ID --secret-file PATH [maze options] [--hz RATE]",
       "Holds a run's maze and its change sequence (generated from a seed exactly as\n"
       "the report's runs, loaded from files, or replayed from an LCM log) and hands\n"
       "them to the coordinator one time step at a time: in lock-step with it by\n"
@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   envsim::EnvSim sim(bus, std::move(info), options);
   protocol::Dispatcher dispatcher(**lcm);
   const envsim::EnvSimExit exit = sim.Run(stop);
+  spdlog::info("envsim: exiting; messages {}", bus.TrafficSummary());
   return exit == envsim::EnvSimExit::kCoordinatorFinished || exit == envsim::EnvSimExit::kStopped
              ? 0
              : 1;

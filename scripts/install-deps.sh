@@ -17,7 +17,9 @@ packages=(
   libsfml-dev                         # dynapath view (live policy window)
   libpng-dev                          # PNG output of dynapath render
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
+  libsodium-dev                       # message authentication of a run (keyed BLAKE2b)
   xvfb xauth                          # the viewer's one headless check (tests)
+  clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
   time                                # GNU time: peak memory in bench/scale_bench.sh
 )
 

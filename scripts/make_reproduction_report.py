@@ -30,7 +30,7 @@ FIGURES = [
     ("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"),
 ]
 RL = ["onlyTrainLeafNodes", "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg"]
-ORDER = ["A* Static", "A* Oracle", "BFS Oracle"] + RL
+ORDER = ["A* Static", "A* Oracle", "BFS Oracle"] + RL + ["Incremental Oracle"]
 DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # Acceptance of issue #2 for sizes 20 and 50: success >= report - 0.005 and
 # path length <= report + 0.3.

@@ -12,7 +12,8 @@ TEST(ApproachTest, NamesRoundTripCaseInsensitively) {
   EXPECT_EQ(ParseApproach("fedasynq_eqavg"), Approach::kFedAsynQEqAvg);
   EXPECT_EQ(ParseApproach(" a* oracle "), Approach::kAStarOracle);
   EXPECT_FALSE(ParseApproach("fedAsynQ").has_value());
-  EXPECT_EQ(AllApproaches().size(), 7u);
+  EXPECT_EQ(ParseApproach("incremental oracle"), Approach::kIncrementalOracle);
+  EXPECT_EQ(AllApproaches().size(), 8u);
 }
 
 TEST(ApproachTest, Lists) {

@@ -32,6 +32,20 @@ expect_usage_error "needs a value" run --out
 expect_usage_error "missing.txt" run --maze "$work/missing.txt"
 printf '..x\n...\n' >"$work/bad_maze.txt"
 expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"
+# Issue 9: grid limits are the protocol's (4096) everywhere, checked first;
+# a maze without a reachable station and a directory as --maze are errors.
+expect_usage_error "--size" run --agents 2 --size 5000 --steps 1
+expect_usage_error "--size" run --local --size 4097
+expect_usage_error "--cols" run --size 10 --cols 5000
+expect_usage_error "is a directory" run --maze "$work"
+printf '.\n' >"$work/no_station.txt"
+expect_usage_error "no station" run --maze "$work/no_station.txt"
+printf '..#C\n..##\n' >"$work/walled_station.txt"
+expect_usage_error "reaches a station" run --maze "$work/walled_station.txt"
+expect_usage_error "reaches a station" run --agents 2 --maze "$work/walled_station.txt"
+"$dynapath" run --local --approach "BFS Oracle" --maze "$work/walled_station.txt" --allow-unreachable \
+  --steps 1 --out "$work/unreachable" >/dev/null 2>"$work/unreachable.err" || fail "--allow-unreachable run"
+grep -q "running it anyway" "$work/unreachable.err" || fail "--allow-unreachable gave no warning"
 printf 'dynapath-changes 1 9 9 1\n1 0\n' >"$work/bad.changes"
 expect_usage_error "9x9" run --size 20 --changes "$work/bad.changes"
 
@@ -57,5 +71,37 @@ cut -d, -f1-5,7- "$work/a/results_detailed.csv" >"$work/a.detail"
 cut -d, -f1-5,7- "$work/b/results_detailed.csv" >"$work/b.detail"
 cmp -s "$work/a.detail" "$work/b.detail" || fail "saved maze/changes or thread count changed the results"
 ls "$work/a" | grep -q tmp && fail "temporary file left behind"
+
+# MovingAI maps (issue 11): a non-square map with seeded stations and movers;
+# saving the scenario (text maze + change file) and loading it gives the same
+# results; the Incremental Oracle equals the BFS Oracle at every step.
+map="$(dirname "$0")/data/maps/wide-5-9.map"
+maprun() { "$dynapath" run --local --log-level off --approach "BFS Oracle,Incremental Oracle,fedAsynQ_EqAvg" --steps 8 "$@"; }
+maprun --maze "$map" --stations 2 --movers 20% --seed 5 --out "$work/map" >/dev/null || fail "map run"
+grep -q "^fedAsynQ_EqAvg,5x9,wide-5-9," "$work/map/results.csv" || fail "map run labels: $(cat "$work/map/results.csv")"
+"$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --steps 8 --save "$work/map.txt" \
+  --save-changes "$work/map.changes" --no-grid >/dev/null || fail "maze --save of a map"
+maprun --maze "$work/map.txt" --changes "$work/map.changes" --out "$work/map2" >/dev/null || fail "saved map run"
+cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # a text maze is "Custom"
+cut -d, -f1,2,4,5,7- "$work/map2/results_detailed.csv" >"$work/map2.detail"
+cmp -s "$work/map.detail" "$work/map2.detail" || fail "a saved map scenario changed the results"
+grep -qv "^1 0$" <(tail -n +2 "$work/map.changes") || fail "the movers never moved"
+oracles=$(awk -F, '$1 ~ /Oracle/ { k = $4; v = $7 "," $8; if ($1 == "BFS Oracle") b[k] = v; else i[k] = v }
+  END { for (k in b) if (b[k] != i[k]) bad++; print bad + 0 }' "$work/map/results_detailed.csv")
+[ "$oracles" = 0 ] || fail "Incremental Oracle differs from BFS Oracle on a map"
+"$dynapath" maze --maze "$map" --stations-file "$(dirname "$0")/data/maps/wide-5-9.stations" --no-grid \
+  >"$work/out" || fail "--stations-file"
+map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
+  local needle=$1; shift
+  "$dynapath" run --local --log-level off "$@" >"$work/out" 2>"$work/err"
+  local code=$?
+  [ $code -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q -- "$needle" "$work/err" \
+    || fail "'$*' exited $code: $(cat "$work/err")"
+}
+map_error "has no stations" --maze "$map"
+map_error "for loaded maps" --size 10 --movers 3
+map_error "option --movers" --maze "$map" --stations 2 --movers 1000
+printf 'type octile\nheight 2\nwidth 2\nmap\n..\n.?\n' >"$work/bad.map"
+map_error "line 6: column 2: unknown terrain '?'" --maze "$work/bad.map" --stations 1
 
 if [ $failures -eq 0 ]; then echo "cli_test: all checks passed"; else echo "cli_test: $failures failures"; exit 1; fi

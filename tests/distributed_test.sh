@@ -7,9 +7,10 @@
 # 2. An agent killed with SIGKILL mid-run changes nothing.
 # 3. Dropped and duplicated messages (fault injection) change nothing.
 # 4. Garbage on every channel is dropped and counted; results unchanged.
-# 5. A killed coordinator leaves no orphans after 5 s.
+# 5. A killed coordinator leaves no orphans after 5 s (processes started by
+#    hand with a secret file).
 # 6. A run logged with --log replays with --replay to the same results.
-# 7. Bad options: one error line, exit 2.
+# 7. Bad options and secret files: one error line, exit 2.
 set -uo pipefail
 dynapath=${1:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
 garbage=${2:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
@@ -107,13 +108,19 @@ wait $garbage_pid || fail "lcm_garbage"
 grep -q "dropped a message" "$work/garbage.log" || fail "garbage was not reported as dropped"
 same_results "$work/small_local" "$work/garbage" "garbage on every channel"
 
-# 5. Kill the coordinator: agents and envsim must exit within 5 s.
-"$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${big[@]:0:4}" --log-level error &
+# 5. Kill the coordinator: agents and envsim must exit within 5 s. Started by
+# hand, so they share a secret file made by `dynapath secret`.
+"$dynapath" secret "$work/run.key" || fail "dynapath secret"
+[ "$(stat -c %a "$work/run.key")" = 600 ] || fail "the secret file is not mode 600"
+key=(--secret-file "$work/run.key")
+"$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${key[@]}" "${big[@]:0:4}" \
+  --log-level error &
 envsim=$!
-"$bin_dir/agent/dynapath-agent" --run-id "$orphans_run" --id 1 --threads 1 --log-level error &
+"$bin_dir/agent/dynapath-agent" --run-id "$orphans_run" "${key[@]}" --id 1 --threads 1 \
+  --log-level error &
 agent=$!
-"$bin_dir/coordinator/dynapath-coordinator" --run-id "$orphans_run" --approach fedAsynQ_EqAvg \
-  --out "$work/orphans" --log-level error &
+"$bin_dir/coordinator/dynapath-coordinator" --run-id "$orphans_run" "${key[@]}" \
+  --approach fedAsynQ_EqAvg --out "$work/orphans" --log-level error &
 coordinator=$!
 sleep 1
 kill -9 $coordinator
@@ -137,6 +144,17 @@ same_results "$work/logged" "$work/replayed" "--replay of a --log"
   --log-level warn >/dev/null 2>&1 || fail "--replay with agents"
 same_results "$work/logged" "$work/replayed2" "--replay of a --log with 2 agents"
 
+# A MovingAI map with movers (issue 11): logged with 2 agents, replayed locally.
+map=(--maze "$(dirname "$0")/data/maps/wide-5-9.map" --stations 2 --movers 20% --steps 8)
+"$dynapath" run --agents 2 "${map[@]}" "${replay[@]}" --log "$work/map.lcm" --out "$work/map_logged" \
+  --log-level warn >/dev/null 2>&1 || fail "logged map run"
+"$dynapath" run --local "${map[@]}" "${replay[@]}" --out "$work/map_local" --log-level warn \
+  >/dev/null || fail "local map run"
+same_results "$work/map_logged" "$work/map_local" "a map with movers: --agents 2 as --local"
+"$dynapath" run --local --replay "$work/map.lcm" "${replay[@]}" --out "$work/map_replayed" \
+  --log-level warn >/dev/null || fail "--replay of a map run"
+same_results "$work/map_logged" "$work/map_replayed" "--replay of a map run with movers"
+
 # 7. Bad input.
 expect_usage_error() {
   local needle=$1; shift
@@ -157,9 +175,26 @@ echo "garbage" >"$work/not-a-log.lcm"
 "$dynapath" run --local --replay "$work/not-a-log.lcm" >/dev/null 2>"$work/err"
 [ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] || fail "--replay of a non-log: $(cat "$work/err")"
 expect_usage_error "--run-id" "$bin_dir/agent/dynapath-agent"
-expect_usage_error "--threads" "$bin_dir/agent/dynapath-agent" --run-id x --threads 0
-expect_usage_error "--hz" "$bin_dir/envsim/dynapath-envsim" --run-id x --hz fast
+expect_usage_error "--threads" "$bin_dir/agent/dynapath-agent" --run-id x --insecure --threads 0
+expect_usage_error "--hz" "$bin_dir/envsim/dynapath-envsim" --run-id x --insecure --hz fast
 expect_usage_error "unknown option" "$bin_dir/coordinator/dynapath-coordinator" --run-id x --frob 1
+# The run's secret: required by hand-started processes, checked before use.
+for process in agent/dynapath-agent envsim/dynapath-envsim coordinator/dynapath-coordinator; do
+  expect_usage_error "--secret-file PATH is required" "$bin_dir/$process" --run-id x
+done
+expect_usage_error "choose one of --secret-file" "$bin_dir/agent/dynapath-agent" --run-id x \
+  --insecure --secret-file "$work/run.key"
+expect_usage_error "cannot open secret file" "$bin_dir/agent/dynapath-agent" --run-id x \
+  --secret-file "$work/missing.key"
+cp "$work/run.key" "$work/open.key" && chmod 644 "$work/open.key"
+expect_usage_error "chmod 600" "$bin_dir/agent/dynapath-agent" --run-id x --secret-file "$work/open.key"
+printf 'short\n' >"$work/short.key" && chmod 600 "$work/short.key"
+expect_usage_error "too short" "$bin_dir/envsim/dynapath-envsim" --run-id x --secret-file "$work/short.key"
+expect_usage_error "needs --agents" "$dynapath" run --local --secret-file "$work/run.key"
+before=$(cat "$work/run.key")
+"$dynapath" secret "$work/run.key" 2>"$work/err" && fail "dynapath secret overwrote a file"
+grep -q "exists" "$work/err" && [ "$(cat "$work/run.key")" = "$before" ] ||
+  fail "dynapath secret on an existing file: $(cat "$work/err")"
 
 if [ $failures -gt 0 ]; then
   echo "$failures check(s) failed"

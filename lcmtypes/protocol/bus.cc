@@ -9,25 +9,16 @@
 
 #include "dynapath/fragment_t.hpp"
 #include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/limits.h"
 #include "lcmtypes/protocol/liveness.h"
 
 namespace dynapath::protocol {
-namespace {
-
-// Partial messages not completed within this time are forgotten.
-constexpr int64_t kPartialLifetimeMs = 30000;
-// At most this many partial messages are kept (a flood of garbage fragments
-// cannot exhaust memory).
-constexpr size_t kMaxPartials = 256;
-constexpr int32_t kMaxMessageBytes = 256 * 1024 * 1024;
-
-}  // namespace
 
 Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
     : lcm_(lcm),
       run_id_(std::move(run_id)),
       options_(options),
-      fragments_(kMaxPartials, kMaxMessageBytes, kPartialLifetimeMs),
+      fragments_(BusFragmentLimits(options.max_grid_cells)),
       // Message ids: distinct per process and bus, so a receiver never mixes
       // the fragments of two senders.
       next_message_id_(static_cast<int64_t>(
@@ -35,9 +26,19 @@ Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
           (static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()) &
            0xffffffffffULL) ^
           (reinterpret_cast<uintptr_t>(this) & 0xfffff0))),
-      fault_rng_(options.fault_seed) {}
+      fault_rng_(options.fault_seed),
+      sealer_(options.key),
+      verifier_(options.key) {}
 
 Bus::~Bus() {
+  if (counters_dropped_ > 0) {
+    const BusCounters c = counters();
+    spdlog::warn(
+        "bus: {} messages dropped ({} unauthenticated, {} replayed, {} undecodable, invalid, "
+        "foreign or over a cap), {} taken",
+        c.dropped, c.unauthenticated, c.replayed, c.dropped - c.unauthenticated - c.replayed,
+        c.received);
+  }
   for (lcm::Subscription* subscription : subscriptions_) lcm_.unsubscribe(subscription);
 }
 
@@ -51,7 +52,17 @@ BusCounters Bus::counters() const {
   c.fragments_received = counters_fragments_.load();
   c.injected_drops = counters_injected_drops_.load();
   c.injected_duplicates = counters_injected_duplicates_.load();
+  c.unauthenticated = counters_unauthenticated_.load();
+  c.replayed = counters_replayed_.load();
   return c;
+}
+
+std::string Bus::TrafficSummary() const {
+  const BusCounters c = counters();
+  return "published " + std::to_string(c.published) + ", received " + std::to_string(c.received) +
+         ", dropped " + std::to_string(c.dropped) + " (" + std::to_string(c.unauthenticated) +
+         " unauthenticated, " + std::to_string(c.replayed) + " replayed, " +
+         std::to_string(c.dropped - c.unauthenticated - c.replayed) + " invalid)";
 }
 
 void Bus::PublishRaw(const std::string& channel, const void* data, size_t size) {
@@ -66,8 +77,12 @@ void Bus::PublishRaw(const std::string& channel, const void* data, size_t size) 
       ++counters_injected_duplicates_;
     }
   }
+  std::vector<uint8_t> sealed;
   for (int i = 0; i < copies; ++i) {
-    lcm_.publish(channel, data, static_cast<unsigned>(size));
+    // Each copy gets its own counter: an injected duplicate stands for a
+    // sender's resend (which handlers must tolerate), not for a replay.
+    sealer_.Seal(channel, static_cast<const uint8_t*>(data), size, sealed);
+    lcm_.publish(channel, sealed.data(), static_cast<unsigned>(sealed.size()));
     ++counters_published_;
   }
 }
@@ -118,7 +133,18 @@ void Bus::AddRoute(const std::string& channel, int64_t fingerprint, Deliver deli
 
 void Bus::OnRaw(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
   const auto* data = static_cast<const uint8_t*>(buffer->data);
-  const int size = static_cast<int>(buffer->data_size);
+  int size = 0;
+  // Before anything reads the bytes: only messages of this run's key, once.
+  switch (verifier_.Check(channel, data, static_cast<int>(buffer->data_size), &size)) {
+    case Verifier::Verdict::kOk:
+      break;
+    case Verifier::Verdict::kUnauthenticated:
+      ++counters_unauthenticated_;
+      return Drop(channel, "no valid authentication tag (forged, corrupt, or another secret)");
+    case Verifier::Verdict::kReplayed:
+      ++counters_replayed_;
+      return Drop(channel, "replayed message");
+  }
   if (PeekFingerprint(data, size) == static_cast<int64_t>(fragment_t::getHash())) {
     OnFragment(channel, data, size);
   } else {

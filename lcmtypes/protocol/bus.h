@@ -2,6 +2,9 @@
 // A run's view of LCM: typed publish and subscribe on the run's channels, with
 // what the transport does not give:
 //
+//   * Authentication (auth.h). Every published message carries a trailer
+//     with a tag under the run's key; a received message without a valid
+//     tag, or seen before, is dropped and counted before anything decodes it.
 //   * Validation. Every received message is decoded by hand (never trusting
 //     LCM's typed handlers, which print and continue on garbage), checked for
 //     the run id and by protocol::Validate (sizes, bounds, finite values), and
@@ -27,7 +30,9 @@
 #include <string_view>
 #include <vector>
 
+#include "core/limits.h"
 #include "core/rng.h"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/validate.h"
@@ -48,12 +53,21 @@ struct BusOptions {
   double drop_probability = 0.0;
   double duplicate_probability = 0.0;
   uint64_t fault_seed = 1;
+  // The run's key. The default, the well-known insecure key, suits tests
+  // and one-process (memq://) use; processes take it from --secret-file or
+  // the launcher, or --insecure (tools/common/process_options.h).
+  RunKey key = InsecureKey();
+  // Cells of the run's grid (at most): the fragment caps derive from it
+  // (protocol/limits.h). Unknown: the protocol's largest grid.
+  int64_t max_grid_cells = int64_t{kMaxGridSide} * kMaxGridSide;
 };
 
 struct BusCounters {
   int64_t published = 0;
-  int64_t received = 0;  // messages delivered to handlers
-  int64_t dropped = 0;   // invalid, undecodable or foreign messages
+  int64_t received = 0;         // messages delivered to handlers
+  int64_t dropped = 0;          // all dropped messages, the two below included
+  int64_t unauthenticated = 0;  // no valid tag (forged, another key, corrupt)
+  int64_t replayed = 0;         // a (sender, counter) seen before or too old
   int64_t fragments_received = 0;
   int64_t injected_drops = 0;
   int64_t injected_duplicates = 0;
@@ -97,6 +111,9 @@ class Bus {
   }
 
   BusCounters counters() const;
+  // One line for the end of a run: messages published, received, dropped
+  // and why.
+  std::string TrafficSummary() const;
 
  private:
   using Deliver = std::function<void(const uint8_t*, int, const std::string&)>;
@@ -128,8 +145,11 @@ class Bus {
   std::atomic<int64_t> next_message_id_;
   std::mutex fault_mutex_;
   Rng fault_rng_;
+  Sealer sealer_;
+  Verifier verifier_;  // dispatch thread only
   std::atomic<int64_t> counters_published_{0}, counters_received_{0}, counters_dropped_{0},
-      counters_fragments_{0}, counters_injected_drops_{0}, counters_injected_duplicates_{0};
+      counters_fragments_{0}, counters_injected_drops_{0}, counters_injected_duplicates_{0},
+      counters_unauthenticated_{0}, counters_replayed_{0};
   int64_t last_warning_ms_ = -1000000;
   int64_t warnings_suppressed_ = 0;
 };

@@ -1,23 +1,27 @@
 #include "lcmtypes/protocol/log_scenario.h"
 
 #include <cstdio>
-#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <optional>
 
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/decode.h"
+#include "lcmtypes/protocol/log_reader.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::protocol {
 namespace {
 
+// Recorded messages carry the run's authentication trailer (auth.h): not
+// checked (the reader has no secret), only stripped.
 template <class T>
-bool Decode(const lcm::LogEvent* event, T& message) {
-  return DecodeExactly(event->data, event->datalen, message) && Validate(message).empty();
+bool Decode(const LogEvent& event, T& message) {
+  const int size = PayloadSize(event.data.data(), static_cast<int>(event.data.size()));
+  return DecodeExactly(event.data.data(), size, message) && Validate(message).empty();
 }
 
 bool EndsWith(const std::string& text, const std::string& suffix) {
@@ -28,22 +32,21 @@ bool EndsWith(const std::string& text, const std::string& suffix) {
 }  // namespace
 
 Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::string& run_id) {
-  if (FILE* probe = std::fopen(path.c_str(), "rb"); probe == nullptr) {
-    return Error{"cannot open log " + path};
-  } else {
-    std::fclose(probe);
-  }
-  lcm::LogFile log(path, "r");
-  if (!log.good()) return Error{"cannot read " + path + " as an LCM log"};
+  Result<LogReader> log = LogReader::Open(path);
+  if (!log) return log.error();
   std::optional<grid_t> grid;
   std::map<int, changes_t> steps;
   std::string run = run_id;
   int64_t events = 0;
   const std::string grid_suffix = "/" + std::string(channel::kEnvGrid);
   const std::string changes_suffix = "/" + std::string(channel::kEnvChanges);
-  while (const lcm::LogEvent* event = log.readNextEvent()) {
+  while (true) {
+    Result<std::optional<LogEvent>> next = log->Next();
+    if (!next) return next.error();
+    if (!*next) break;
+    const LogEvent& event = **next;
     ++events;
-    if (EndsWith(event->channel, grid_suffix)) {
+    if (EndsWith(event.channel, grid_suffix)) {
       grid_t message{};
       if (!Decode(event, message)) continue;
       if (run.empty()) run = message.run_id;
@@ -52,7 +55,7 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
         return Error{"log " + path + " holds two different mazes for run " + run};
       }
       grid = message;
-    } else if (EndsWith(event->channel, changes_suffix)) {
+    } else if (EndsWith(event.channel, changes_suffix)) {
       changes_t message{};
       if (!Decode(event, message)) continue;
       if (run.empty()) run = message.run_id;

@@ -30,6 +30,15 @@ bool GridSize(int32_t rows, int32_t cols) {
   return rows >= 1 && cols >= 1 && rows <= kMaxGridSide && cols <= kMaxGridSide;
 }
 
+// Every region and count computed from received fields is computed in 64
+// bits: int32 fields near INT_MAX must not wrap into range.
+int64_t Wide(int32_t value) { return value; }
+
+// [first, first + length) lies inside [0, limit).
+bool Inside(int32_t first, int32_t length, int32_t limit) {
+  return first >= 0 && length >= 1 && Wide(first) + Wide(length) <= Wide(limit);
+}
+
 }  // namespace
 
 std::string Validate(const heartbeat_t& m) {
@@ -50,7 +59,7 @@ std::string Validate(const step_request_t& m) {
 
 std::string Validate(const grid_t& m) {
   if (!GridSize(m.rows, m.cols)) return "bad grid size";
-  if (m.num_cells != m.rows * m.cols || !Count(m.num_cells, m.cells.size())) {
+  if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.cells.size())) {
     return "cell count does not match rows x cols";
   }
   if (!Codes(m.cells)) return "bad cell code";
@@ -65,7 +74,7 @@ std::string Validate(const changes_t& m) {
   }
   if (m.requested_moves < 0 || m.pass < 0) return "negative field";
   for (int32_t cell : m.cells) {
-    if (cell < 0 || cell >= kMaxGridSide * kMaxGridSide) return "cell out of range";
+    if (cell < 0 || Wide(cell) >= Wide(kMaxGridSide) * kMaxGridSide) return "cell out of range";
   }
   if (!Codes(m.codes)) return "bad cell code";
   return {};
@@ -90,18 +99,18 @@ std::string Validate(const job_batch_t& m) {
   }
   if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
   for (const job_t& job : m.jobs) {
-    if (!GridSize(job.grid_rows, job.grid_cols) || job.rows < 1 || job.cols < 1 || job.row0 < 0 ||
-        job.col0 < 0 || job.row0 + job.rows > job.grid_rows ||
-        job.col0 + job.cols > job.grid_cols) {
+    if (!GridSize(job.grid_rows, job.grid_cols) || !Inside(job.row0, job.rows, job.grid_rows) ||
+        !Inside(job.col0, job.cols, job.grid_cols)) {
       return "job region outside its grid";
     }
     if (job.node < 0) return "negative node";
-    if (job.num_cells != job.rows * job.cols || !Count(job.num_cells, job.codes.size())) {
+    if (Wide(job.num_cells) != Wide(job.rows) * Wide(job.cols) ||
+        !Count(job.num_cells, job.codes.size())) {
       return "job cell count mismatch";
     }
     if (!Codes(job.codes)) return "bad cell code";
     if (!Count(job.num_values, job.values.size()) ||
-        (job.num_values != 0 && job.num_values != job.num_cells * kNumActions)) {
+        (job.num_values != 0 && Wide(job.num_values) != Wide(job.num_cells) * kNumActions)) {
       return "job table size mismatch";
     }
     if (!Finite(job.values)) return "job table not finite";
@@ -183,7 +192,7 @@ std::string Validate(const step_report_t& m) {
 
 std::string Validate(const policy_t& m) {
   if (!GridSize(m.rows, m.cols)) return "bad grid size";
-  if (m.num_cells != m.rows * m.cols || !Count(m.num_cells, m.cells.size()) ||
+  if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.cells.size()) ||
       m.actions.size() != m.cells.size() || m.reaches.size() != m.cells.size()) {
     return "cell count mismatch";
   }
@@ -198,9 +207,8 @@ std::string Validate(const policy_t& m) {
     return "region count mismatch";
   }
   for (int32_t i = 0; i < m.num_regions; ++i) {
-    if (m.region_row0[i] < 0 || m.region_col0[i] < 0 || m.region_rows[i] < 1 ||
-        m.region_cols[i] < 1 || m.region_row0[i] + m.region_rows[i] > m.rows ||
-        m.region_col0[i] + m.region_cols[i] > m.cols) {
+    if (!Inside(m.region_row0[i], m.region_rows[i], m.rows) ||
+        !Inside(m.region_col0[i], m.region_cols[i], m.cols)) {
       return "region outside the grid";
     }
   }

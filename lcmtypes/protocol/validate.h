@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "core/limits.h"
 #include "dynapath/changes_t.hpp"
 #include "dynapath/fragment_t.hpp"
 #include "dynapath/grid_t.hpp"
@@ -20,9 +21,8 @@
 
 namespace dynapath::protocol {
 
-// Largest grid side the protocol accepts (tables of bigger grids would not
-// fit the fragment limits).
-inline constexpr int kMaxGridSide = 4096;
+// The largest grid side the protocol accepts is dynapath::kMaxGridSide
+// (core/limits.h), the same limit as the command line's and the configs'.
 
 std::string Validate(const heartbeat_t& message);
 std::string Validate(const step_request_t& message);

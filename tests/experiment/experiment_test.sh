@@ -31,7 +31,7 @@ fi
 
 cd "$work" || exit 1
 study=(--sizes 20,50 --difficulties easy,hard --steps 10)
-approaches=7
+approaches=8
 configs=4
 rows_per_config=$((approaches * (10 + 1)))
 
@@ -100,8 +100,8 @@ head -1 "$a/results_detailed.csv" \
 # Study order: sizes, then difficulties; approaches in the order of `all`.
 order=$(tail -n +2 "$a/results.csv" | cut -d, -f2,3 | uniq | tr '\n' ' ')
 [ "$order" = "20,Easy 20,Hard 50,Easy 50,Hard " ] || fail "study order: $order"
-approach_order=$(tail -n +2 "$a/results.csv" | head -7 | cut -d, -f1 | tr '\n' ';')
-[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;" ] \
+approach_order=$(tail -n +2 "$a/results.csv" | head -8 | cut -d, -f1 | tr '\n' ';')
+[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;Incremental Oracle;" ] \
   || fail "approach order: $approach_order"
 [ "$(tail -n +2 "$a/edge_results.csv" | cut -d, -f2,3 | sort -u)" = "50,Hard" ] || fail "edge case labels"
 # Each configuration's own files, merged exactly.
@@ -122,7 +122,7 @@ json "$m" 'm["dynapath_version"]' | grep -qx "$("$dynapath" --version | cut -d' 
   || fail "manifest configurations: $(json "$m" '[(c["name"], c["status"]) for c in m["configurations"]]')"
 [ "$(json "$m" 'all(c["mode"] == "agents" and c["wall_seconds"] > 0 and c["started"] and c["ended"] for c in m["configurations"])')" = True ] \
   || fail "manifest: per-configuration mode, wall time, times"
-[ "$(json "$m" 'm["options"]["study"]["sizes"] == [20, 50] and m["options"]["study"]["steps"] == 10 and m["options"]["study"]["edge_case"] and len(m["options"]["study"]["approaches"]) == 7')" = True ] \
+[ "$(json "$m" 'm["options"]["study"]["sizes"] == [20, 50] and m["options"]["study"]["steps"] == 10 and m["options"]["study"]["edge_case"] and len(m["options"]["study"]["approaches"]) == 8')" = True ] \
   || fail "manifest study options"
 [ "$(json "$m" 'm["options"]["execution"]["mode"] == "agents" and m["options"]["execution"]["agents"] == 2')" = True ] \
   || fail "manifest execution options"

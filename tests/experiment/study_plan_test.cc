@@ -135,7 +135,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
 
 TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
   const std::pair<OptionValues, const char*> cases[] = {
-      {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 10000"},
+      {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 4096"},
       {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
       {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
       {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},
@@ -193,7 +193,8 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   EXPECT_EQ(DumpJson(StudyIdentityJson(*a), -1),
             "{\"sizes\":[20],\"difficulties\":[\"easy\",\"medium\",\"hard\"],\"approaches\":[\"A* "
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
-            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
+            "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\",\"Incremental "
+            "Oracle\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
   EXPECT_EQ(ExecutionJson(*b)["mode"].get<std::string>(), "agents");
   EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);

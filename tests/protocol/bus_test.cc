@@ -7,6 +7,8 @@
 #include <optional>
 #include <vector>
 
+#include "dynapath/step_report_t.hpp"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/channels.h"
 
 namespace dynapath::protocol {
@@ -73,28 +75,37 @@ TEST(BusTest, DuplicatedFragmentsDeliverOnce) {
   EXPECT_EQ(got, 1);
 }
 
+// Raw bytes sealed under the run's key (here the default, insecure one), as
+// a process of the run with a bug would send them: they pass authentication
+// and must be caught by decoding and validation.
+void PublishSealed(lcm::LCM& lcm, Sealer& sealer, const std::string& channel,
+                   const std::vector<uint8_t>& bytes) {
+  std::vector<uint8_t> sealed;
+  sealer.Seal(channel, bytes.data(), bytes.size(), sealed);
+  lcm.publish(channel, sealed.data(), static_cast<unsigned>(sealed.size()));
+}
+
 TEST(BusTest, DropsAndCountsForeignAndInvalidMessages) {
   lcm::LCM lcm("memq://");
   Bus other_run(lcm, "run2");
   Bus receiver(lcm, "run1");
+  Sealer sealer(InsecureKey());
+  const std::string channel = ChannelName("run1", channel::kPolicy);
   int got = 0;
   receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
   // Another run's message on our channel name.
   policy_t foreign = Policy("run2", 5);
   std::vector<uint8_t> bytes(static_cast<size_t>(foreign.getEncodedSize()));
   foreign.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  lcm.publish(ChannelName("run1", channel::kPolicy), bytes.data(),
-              static_cast<unsigned>(bytes.size()));
+  PublishSealed(lcm, sealer, channel, bytes);
   // A message of our run that fails validation (a bad cell code).
   policy_t invalid = Policy("run1", 5);
   invalid.cells[3] = 9;
   bytes.resize(static_cast<size_t>(invalid.getEncodedSize()));
   invalid.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  lcm.publish(ChannelName("run1", channel::kPolicy), bytes.data(),
-              static_cast<unsigned>(bytes.size()));
-  // Garbage bytes.
-  const uint8_t garbage[5] = {1, 2, 3, 4, 5};
-  lcm.publish(ChannelName("run1", channel::kPolicy), garbage, sizeof garbage);
+  PublishSealed(lcm, sealer, channel, bytes);
+  // Garbage bytes, authenticated.
+  PublishSealed(lcm, sealer, channel, {1, 2, 3, 4, 5});
   // A good one last.
   other_run.Publish(channel::kPolicy, Policy("run2", 5));  // goes to run2's channel: unseen
   Bus sender(lcm, "run1");
@@ -102,6 +113,47 @@ TEST(BusTest, DropsAndCountsForeignAndInvalidMessages) {
   Pump(lcm, [&] { return got > 0 && receiver.counters().dropped >= 3; });
   EXPECT_EQ(got, 1);
   EXPECT_EQ(receiver.counters().dropped, 3);
+  EXPECT_EQ(receiver.counters().unauthenticated, 0);
+}
+
+TEST(BusTest, DropsUnauthenticatedAndReplayedMessagesBeforeDecoding) {
+  lcm::LCM lcm("memq://");
+  BusOptions keyed;
+  keyed.key = *KeyFromSecretText("0123456789abcdef0123456789abcdef-run-a");
+  BusOptions other_key;
+  other_key.key = *KeyFromSecretText("0123456789abcdef0123456789abcdef-run-b");
+  Bus receiver(lcm, "run1", keyed);
+  int got = 0;
+  receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
+  const std::string channel = ChannelName("run1", channel::kPolicy);
+  // A valid message without a tag, and one with another run's key (or
+  // --insecure): both unauthenticated.
+  const policy_t policy = Policy("run1", 5);
+  std::vector<uint8_t> bytes(static_cast<size_t>(policy.getEncodedSize()));
+  policy.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+  Bus stranger(lcm, "run1", other_key);
+  stranger.Publish(channel::kPolicy, policy);
+  Bus insecure(lcm, "run1");
+  insecure.Publish(channel::kPolicy, policy);
+  // A well-tagged message, then the same bytes again (a replay).
+  Sealer sealer(keyed.key);
+  std::vector<uint8_t> sealed;
+  sealer.Seal(channel, bytes.data(), bytes.size(), sealed);
+  lcm.publish(channel, sealed.data(), static_cast<unsigned>(sealed.size()));
+  lcm.publish(channel, sealed.data(), static_cast<unsigned>(sealed.size()));
+  // The same tagged message moved to another channel of the run.
+  const std::string report = ChannelName("run1", channel::kReport);
+  receiver.Subscribe<step_report_t>(channel::kReport, [&](step_report_t&) { ++got; });
+  lcm.publish(report, sealed.data(), static_cast<unsigned>(sealed.size()));
+  Pump(lcm, [&] { return receiver.counters().dropped >= 5; });
+  EXPECT_EQ(got, 1);
+  const BusCounters c = receiver.counters();
+  EXPECT_EQ(c.unauthenticated, 4);
+  EXPECT_EQ(c.replayed, 1);
+  EXPECT_EQ(c.dropped, 5);
+  EXPECT_EQ(receiver.TrafficSummary(),
+            "published 0, received 1, dropped 5 (4 unauthenticated, 1 replayed, 0 invalid)");
 }
 
 TEST(BusTest, InjectedDropsLoseMessages) {

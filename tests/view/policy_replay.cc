@@ -11,22 +11,30 @@
 #include <utility>
 #include <vector>
 
+#include "lcmtypes/protocol/log_reader.h"
+
 int main(int argc, char** argv) {
   if (argc < 2 || argc > 3) {
     std::fprintf(stderr, "usage: policy_replay LOG [LCM_URL]\n");
     return 2;
   }
-  lcm::LogFile log(argv[1], "r");
-  if (!log.good()) {
-    std::fprintf(stderr, "policy_replay: cannot read %s\n", argv[1]);
+  dynapath::Result<dynapath::protocol::LogReader> log =
+      dynapath::protocol::LogReader::Open(argv[1]);
+  if (!log) {
+    std::fprintf(stderr, "policy_replay: %s\n", log.error().message.c_str());
     return 1;
   }
   std::vector<std::pair<std::string, std::vector<unsigned char>>> events;
-  while (const lcm::LogEvent* event = log.readNextEvent()) {
-    const std::string channel = event->channel;
+  while (true) {
+    auto next = log->Next();
+    if (!next) {
+      std::fprintf(stderr, "policy_replay: %s\n", next.error().message.c_str());
+      return 1;
+    }
+    if (!*next) break;
+    const std::string& channel = (*next)->channel;
     if (channel.size() < 7 || channel.compare(channel.size() - 7, 7, "/POLICY") != 0) continue;
-    const auto* data = static_cast<const unsigned char*>(event->data);
-    events.emplace_back(channel, std::vector<unsigned char>(data, data + event->datalen));
+    events.emplace_back(channel, std::move((*next)->data));
   }
   if (events.empty()) {
     std::fprintf(stderr, "policy_replay: no POLICY events in %s\n", argv[1]);

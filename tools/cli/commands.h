@@ -15,6 +15,8 @@ int ExperimentCommand(const std::vector<std::string>& args);
 // Runs a command in a private network namespace (tools/netns). Must be
 // called while the process has a single thread.
 int NetnsCommand(const std::vector<std::string>& args);
+// Writes a new run secret to a file (mode 600) for processes started by hand.
+int SecretCommand(const std::vector<std::string>& args);
 // Replaces this process with the executable `tool` that sits next to the
 // dynapath binary (plot, view, render), passing `args`; when it is missing,
 // prints one error naming `missing_hint` and returns kExitFailure.

@@ -180,6 +180,9 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   std::snprintf(suffix, sizeof suffix, "-c%02d", index + 1);
   run.process.run_id = protocol::NewRunId() + suffix;
   run.process.lcm_url = session.options.lcm_url;
+  MakeRunSecret(run.process);  // a new secret for each run of the study
+  run.process.bus.max_grid_cells =
+      static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
   run.agents = session.options.agents;
   run.threads_per_agent = std::max(1, session.options.threads / session.options.agents);
   run.envsim_args = ScenarioArguments(configuration);

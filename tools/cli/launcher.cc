@@ -1,12 +1,15 @@
 #include "tools/cli/launcher.h"
 
+#include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <thread>
@@ -49,7 +52,27 @@ struct Child {
   int status = 0;
 };
 
-pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd) {
+// A pipe holding `secret`, read end returned (close-on-exec), write end
+// closed: the child reads the secret once through /dev/fd/N. Unlike an
+// argument it is not in /proc/PID/cmdline (world-readable); unlike the
+// environment it is not inherited by whatever the child starts; unlike a
+// file it leaves nothing on disk. -1 on failure.
+int SecretPipe(const std::string& secret) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) return -1;
+  const std::string text = secret + "\n";  // far below PIPE_BUF: never blocks
+  const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  close(fds[1]);
+  if (!written) {
+    close(fds[0]);
+    return -1;
+  }
+  return fds[0];
+}
+
+// Starts `argv`. `secret_fd` >= 0: a SecretPipe the child keeps open across
+// exec (argv names it as /dev/fd/N).
+pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd, int secret_fd = -1) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid != 0) return pid;
@@ -57,6 +80,7 @@ pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd) {
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(1);
   if (stderr_fd >= 0 && dup2(stderr_fd, STDERR_FILENO) < 0) _exit(126);
+  if (secret_fd >= 0 && fcntl(secret_fd, F_SETFD, 0) != 0) _exit(126);
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
@@ -115,12 +139,18 @@ void StopAll(std::vector<Child>& children, std::chrono::milliseconds grace) {
   }
 }
 
+protocol::BusOptions BusOptionsWithKey(const protocol::RunKey& key) {
+  protocol::BusOptions options;
+  options.key = key;
+  return options;
+}
+
 // Passes the coordinator's step reports of a run to a callback.
 class ReportListener {
  public:
-  ReportListener(lcm::LCM& lcm, const std::string& run_id,
+  ReportListener(lcm::LCM& lcm, const std::string& run_id, const protocol::RunKey& key,
                  std::function<void(const StepReport&)> on_step)
-      : bus_(lcm, run_id) {
+      : bus_(lcm, run_id, BusOptionsWithKey(key)) {
     bus_.Subscribe<step_report_t>(
         protocol::channel::kReport, [on_step = std::move(on_step)](step_report_t& report) {
           on_step(StepReport{report.approach, report.pass, report.time_step, report.total_steps});
@@ -152,7 +182,7 @@ int LaunchProcesses(const DistributedRun& run) {
     Result<std::unique_ptr<lcm::LCM>> opened = protocol::OpenLcm(run.process.lcm_url);
     if (opened) {
       report_lcm = std::move(*opened);
-      listener.emplace(*report_lcm, run.process.run_id, run.on_step);
+      listener.emplace(*report_lcm, run.process.run_id, run.process.bus.key, run.on_step);
       report_dispatcher.emplace(*report_lcm);
     } else {
       spdlog::warn("no progress reports: {}", opened.error().message);
@@ -162,6 +192,7 @@ int LaunchProcesses(const DistributedRun& run) {
   if (!run.process.lcm_url.empty()) {
     common.insert(common.end(), {"--lcm-url", run.process.lcm_url});
   }
+  common.insert(common.end(), {"--grid-cells", std::to_string(run.process.bus.max_grid_cells)});
   if (run.process.bus.drop_probability > 0) {
     common.insert(common.end(), {"--fault-drop", std::to_string(run.process.bus.drop_probability)});
   }
@@ -170,8 +201,22 @@ int LaunchProcesses(const DistributedRun& run) {
                   {"--fault-dup", std::to_string(run.process.bus.duplicate_probability)});
   }
   std::vector<Child> children;
-  auto start = [&](const std::string& name, std::vector<std::string> argv) {
-    const pid_t pid = Spawn(argv, run.child_stderr);
+  // `with_secret`: hand the run's secret over a pipe (--secret-file
+  // /dev/fd/N), or pass --insecure when the run has none.
+  auto start = [&](const std::string& name, std::vector<std::string> argv, bool with_secret) {
+    int secret_fd = -1;
+    if (with_secret && run.process.secret.empty()) {
+      argv.push_back("--insecure");
+    } else if (with_secret) {
+      secret_fd = SecretPipe(run.process.secret);
+      if (secret_fd < 0) {
+        spdlog::error("cannot hand the run's secret to {}: {}", name, std::strerror(errno));
+        return false;
+      }
+      argv.insert(argv.end(), {"--secret-file", "/dev/fd/" + std::to_string(secret_fd)});
+    }
+    const pid_t pid = Spawn(argv, run.child_stderr, secret_fd);
+    if (secret_fd >= 0) close(secret_fd);
     if (pid < 0) return false;
     children.push_back(Child{name, pid});
     return true;
@@ -179,24 +224,25 @@ int LaunchProcesses(const DistributedRun& run) {
   if (!run.log_file.empty()) {
     start("lcm-logger",
           {"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
-           "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file});
+           "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
+          false);  // records the bytes as sent, tags included
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
   }
   std::vector<std::string> argv = {FindBinary("coordinator")};
   argv.insert(argv.end(), common.begin(), common.end());
   argv.insert(argv.end(), run.coordinator_args.begin(), run.coordinator_args.end());
   argv.insert(argv.end(), {"--agents", std::to_string(run.agents)});
-  start("coordinator", argv);
+  start("coordinator", argv, true);
   argv = {FindBinary("envsim")};
   argv.insert(argv.end(), common.begin(), common.end());
   argv.insert(argv.end(), run.envsim_args.begin(), run.envsim_args.end());
-  start("envsim", argv);
+  start("envsim", argv, true);
   for (int i = 1; i <= run.agents; ++i) {
     argv = {FindBinary("agent")};
     argv.insert(argv.end(), common.begin(), common.end());
     argv.insert(argv.end(),
                 {"--id", std::to_string(i), "--threads", std::to_string(run.threads_per_agent)});
-    start("agent " + std::to_string(i), argv);
+    start("agent " + std::to_string(i), argv, true);
   }
 
   int exit_code = 0;
@@ -279,7 +325,7 @@ int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSe
   coordinator::Coordinator coordinator(coordinator_bus, options);
 
   std::optional<ReportListener> listener;
-  if (run.on_step) listener.emplace(lcm, run.process.run_id, run.on_step);
+  if (run.on_step) listener.emplace(lcm, run.process.run_id, run.process.bus.key, run.on_step);
 
   protocol::Dispatcher dispatcher(lcm);
   std::atomic<bool> stop_components{false};

@@ -23,6 +23,7 @@ constexpr const char* kUsage =
     "  run         run approaches on a maze and its change sequence, write result CSVs\n"
     "  experiment  run a whole study (sizes x difficulties, edge case), resumable\n"
     "  netns       run a command in a private, loopback-only network (for LCM)\n"
+    "  secret      write a new run secret to a file, for processes started by hand\n"
     "  plot        draw the report's figures from a study's result files (PNG)\n"
     "  view        watch a run's policy live in a window\n"
     "  render      draw a logged run's policy as PNG frames and an animated GIF\n"
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   // Still single-threaded here, as unshare(CLONE_NEWUSER) requires: the
   // synchronous stderr logger starts no thread.
   if (command == "netns") return dynapath::cli::NetnsCommand(args);
+  if (command == "secret") return dynapath::cli::SecretCommand(args);
   if (command == "plot") {
     return dynapath::cli::SiblingCommand("dynapath-plot", args,
                                          "it is installed with the build from tools/plot");

@@ -58,7 +58,8 @@ int RunCommand(const std::vector<std::string>& args) {
   Result<ProcessSetup> process = ResolveProcessOptions(parser, false);
   if (!process) return usage_error(process.error().message);
   if (!distributed) {
-    for (const char* option : {"lcm-url", "log", "run-id", "fault-drop", "fault-dup"}) {
+    for (const char* option :
+         {"lcm-url", "log", "run-id", "fault-drop", "fault-dup", "secret-file", "insecure"}) {
       if (parser.Has(option)) {
         return usage_error(std::string("--") + option + " needs --agents N or --embedded");
       }
@@ -74,6 +75,8 @@ int RunCommand(const std::vector<std::string>& args) {
   if (distributed) {
     DistributedRun run;
     run.process = *process;
+    run.process.bus.max_grid_cells =
+        static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
     run.agents = static_cast<int>(*agents);
     run.threads_per_agent = static_cast<int>(std::max(1LL, *threads / *agents));
     run.envsim_args = parser.Forward(ScenarioOptionNames());
@@ -96,6 +99,13 @@ int RunCommand(const std::vector<std::string>& args) {
       return RunEmbedded(run, *plan, *setup);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
+    if (!process->lcm_url.empty() && !parser.Has("secret-file") && !parser.Has("insecure")) {
+      // The secret the launcher made is known to its children only.
+      spdlog::info(
+          "processes started elsewhere cannot join this run: its secret is the launcher's own "
+          "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
+          "and to them)");
+    }
     return LaunchProcesses(run);
   }
 

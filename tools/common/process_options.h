@@ -1,6 +1,6 @@
 #pragma once
-// Options every process of a distributed run takes: the run id, the LCM URL
-// and (tests only) fault injection.
+// Options every process of a distributed run takes: the run id, the LCM URL,
+// the run's secret and (tests only) fault injection.
 
 #include <string>
 
@@ -11,11 +11,18 @@ namespace dynapath::cli {
 
 struct ProcessSetup {
   std::string run_id;
-  std::string lcm_url;  // as given; "" means $LCM_DEFAULT_URL or LCM's default
-  protocol::BusOptions bus;
+  std::string lcm_url;       // as given; "" means $LCM_DEFAULT_URL or LCM's default
+  protocol::BusOptions bus;  // bus.key: the run's key
+  // The secret's text, for the launcher to hand to its children; "" with
+  // --insecure.
+  std::string secret;
 };
 
-// `run_id_required`: processes need --run-id; the launcher makes one.
+// A new random secret for a run the launcher starts (setup.secret, bus.key).
+void MakeRunSecret(ProcessSetup& setup);
+
+// `run_id_required`: processes need --run-id, and --secret-file or
+// --insecure; the launcher makes a run id and a secret unless given.
 void AddProcessOptions(ArgParser& parser, bool run_id_required);
 const std::vector<std::string>& ProcessOptionNames();  // to forward
 Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_required);

@@ -8,13 +8,14 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/limits.h"
 #include "core/scenario.h"
 #include "core/text_util.h"
 
 namespace dynapath::cli {
 namespace {
 
-constexpr int kMaxSize = 10000;
+constexpr int kMaxSize = kMaxGridSide;
 
 // How a config-file key's value must look.
 enum class FileKind { kInteger, kString, kBoolean, kIntegerList, kStringList };
@@ -99,7 +100,7 @@ const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
        "easy,medium,hard"},
       {"approaches", "LIST",
        "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
-       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg; or all",
+       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
        "all"},
       {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
       {"no-edge-case", "", "leave the edge case out", ""},

@@ -50,6 +50,7 @@ APPROACH_STYLES = {
     "singleAgent": ("#e69f00", "^"),
     "fedAsynQ_EqAvg": ("#0072b2", "o"),
     "fedAsynQ_ImAvg": ("#009e73", "X"),
+    "Incremental Oracle": ("#f0e442", "d"),
 }
 EXTRA_STYLES = [("#56b4e9", "p"), ("#882255", "h"), ("#999933", "<"), ("#332288", ">"),
                 ("#44aa99", "8"), ("#aa4499", "*")]

@@ -1,15 +1,15 @@
 #include "tools/view/policy_stream.h"
 
-#include <sys/stat.h>
-
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <lcm/lcm-cpp.hpp>
 
 #include "dynapath/fragment_t.hpp"
+#include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
+#include "lcmtypes/protocol/limits.h"
+#include "lcmtypes/protocol/log_reader.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::view {
@@ -17,10 +17,20 @@ namespace {
 
 constexpr std::string_view kPrefix = "DYNAPATH/";
 constexpr std::string_view kSuffix = "/POLICY";
-constexpr size_t kMaxPartials = 64;
-// A policy_t of the largest grid the protocol accepts (4096 x 4096 cells,
-// three bytes each) with room for its regions.
-constexpr int32_t kMaxMessageBytes = 3 * 4096 * 4096 + (1 << 20);
+// A policy_t of the largest grid the protocol accepts (three bytes per cell
+// and at most one 16-byte region per cell) with room for its strings.
+constexpr int64_t kMaxMessageBytes = 19 * protocol::kMaxGridCells + (1 << 20);
+
+protocol::FragmentLimits PolicyFragmentLimits(int64_t lifetime_us) {
+  protocol::FragmentLimits limits;
+  limits.max_message_bytes = kMaxMessageBytes;
+  // One policy at a time plus as much again of partial ones: a policy log
+  // or stream interleaves the fragments of one approach's policies only.
+  limits.max_buffered_bytes = 2 * kMaxMessageBytes + (int64_t{1} << 20);
+  limits.max_partials = 64;
+  limits.lifetime = lifetime_us;
+  return limits;
+}
 
 }  // namespace
 
@@ -36,7 +46,7 @@ std::optional<std::string> PolicyChannelRun(std::string_view channel) {
 }
 
 PolicyAssembler::PolicyAssembler(int64_t partial_lifetime_us)
-    : fragments_(kMaxPartials, kMaxMessageBytes, partial_lifetime_us) {}
+    : fragments_(PolicyFragmentLimits(partial_lifetime_us)) {}
 
 std::optional<policy_t> PolicyAssembler::Drop(std::string why) {
   why_ = std::move(why);
@@ -61,6 +71,9 @@ std::optional<policy_t> PolicyAssembler::Feed(std::string_view channel, const ui
   why_.clear();
   const std::optional<std::string> run = PolicyChannelRun(channel);
   if (!run) return Drop("not a POLICY channel");
+  // The run's authentication trailer, if any, is not checked here: the
+  // viewer and the log reader only show what was on the network.
+  size = protocol::PayloadSize(data, size);
   const int64_t fingerprint = protocol::PeekFingerprint(data, size);
   if (fingerprint == static_cast<int64_t>(fragment_t::getHash())) {
     return FeedFragment(std::string(channel), *run, data, size, now_us);
@@ -99,28 +112,22 @@ std::optional<policy_t> PolicyAssembler::FeedFragment(const std::string& channel
 
 Result<PolicyLogSummary> ReadPolicyLog(const std::string& path, const std::string& run_id,
                                        const std::function<void(policy_t&)>& visit) {
-  struct stat info {};
-  if (stat(path.c_str(), &info) != 0) {
-    return Error{"cannot open log " + path + ": " + std::strerror(errno)};
-  }
-  if (S_ISDIR(info.st_mode)) return Error{path + " is a directory, not an LCM log"};
-  if (FILE* probe = std::fopen(path.c_str(), "rb"); probe == nullptr) {
-    return Error{"cannot open log " + path + ": " + std::strerror(errno)};
-  } else {
-    std::fclose(probe);
-  }
-  lcm::LogFile log(path, "r");
-  if (!log.good()) return Error{"cannot read " + path + " as an LCM log"};
+  Result<protocol::LogReader> log = protocol::LogReader::Open(path);
+  if (!log) return log.error();
   PolicyLogSummary summary;
   // Log time, not wall time: a log reads the same however fast it is read.
   PolicyAssembler assembler;
-  while (const lcm::LogEvent* event = log.readNextEvent()) {
+  while (true) {
+    Result<std::optional<protocol::LogEvent>> next = log->Next();
+    if (!next) return next.error();
+    if (!*next) break;
+    const protocol::LogEvent& event = **next;
     ++summary.events;
-    const std::optional<std::string> run = PolicyChannelRun(event->channel);
+    const std::optional<std::string> run = PolicyChannelRun(event.channel);
     if (!run || (!run_id.empty() && *run != run_id)) continue;
     ++summary.policy_events;
     std::optional<policy_t> policy = assembler.Feed(
-        event->channel, static_cast<const uint8_t*>(event->data), event->datalen, event->timestamp);
+        event.channel, event.data.data(), static_cast<int>(event.data.size()), event.timestamp);
     if (policy) visit(*policy);
   }
   if (summary.events == 0) return Error{path + " is empty or not an LCM log"};

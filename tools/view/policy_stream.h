@@ -4,6 +4,8 @@
 // (messages above 128 KB: the policies of grids of about 100x100 and more),
 // decodes and validates policy_t. Anything wrong is dropped and counted,
 // never trusted: sizes, offsets and the message's type are all checked.
+// Authentication trailers (lcmtypes/protocol/auth.h) are stripped, not
+// checked: this reader has no secret and steers nothing.
 
 #include <cstdint>
 #include <functional>

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# The checked builds CI runs after the normal build and tests (.ci/run), each
+# in its own build directory so the normal build is untouched:
+#   build-asan  the whole suite (unit and end-to-end) under ASan + UBSan
+#   build-tsan  the threaded unit tests under TSan
+#   build-fuzz  every libFuzzer target of fuzz/ for FUZZ_SECONDS each, from
+#               its committed seed corpus (a copy: the repo's stays as is)
+# Usage: scripts/checked_builds.sh [asan] [tsan] [fuzz]   (default: all three)
+# Any sanitizer report or fuzzer crash fails the script. Figures go to
+# stdout (copied into docs/RELIABILITY.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+fuzz_seconds=${FUZZ_SECONDS:-30}
+jobs=${JOBS:-2}
+steps=("$@")
+[ ${#steps[@]} -eq 0 ] && steps=(asan tsan fuzz)
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+
+# LCM and glib are not instrumented: their own leaks and races are theirs.
+export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
+export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:detect_stack_use_after_return=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export TSAN_OPTIONS="suppressions=$root/.ci/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
+
+for step in "${steps[@]}"; do
+  start=$(date +%s)
+  case $step in
+    asan)
+      cmake -S . -B build-asan -G Ninja "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DDYNAPATH_SANITIZE=address,undefined -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
+      cmake --build build-asan -j"$jobs"
+      ctest --test-dir build-asan --output-on-failure -j"$jobs" | tee build-asan/ctest.log
+      echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
+      ;;
+    tsan)
+      cmake -S . -B build-tsan -G Ninja "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DDYNAPATH_SANITIZE=thread -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
+      cmake --build build-tsan -j"$jobs" --target dynapath_unit_tests dynapath_protocol_tests
+      # The unit tests that start threads: the thread pool, the trainers and
+      # learners that use it, the Bus and envsim over memq:// (LCM's dispatch
+      # thread), the round combiner.
+      ctest --test-dir build-tsan --output-on-failure -j"$jobs" \
+        -R '^(ThreadPoolTest|LocalTrainerTest|FedAsynQTest|FedAsynQLearnerTest|ExperimentTest|BusTest|EnvSimTest|RoundCombiner)' \
+        | tee build-tsan/ctest.log
+      echo "checked: TSan: $(grep -Eo '[0-9]+% tests passed, [0-9]+ tests failed out of [0-9]+' build-tsan/ctest.log | tail -1)"
+      ;;
+    fuzz)
+      cmake -S . -B build-fuzz -G Ninja "${launcher[@]}" -DCMAKE_CXX_COMPILER=clang++-14 \
+        -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNAPATH_FUZZ=ON -DDYNAPATH_SANITIZE=address,undefined \
+        -DDYNAPATH_BUILD_TESTS=OFF -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
+      cmake --build build-fuzz -j"$jobs" --target fuzz_all
+      for corpus in fuzz/corpus/*/; do
+        target=$(basename "$corpus")
+        work=build-fuzz/corpus/$target
+        rm -rf "$work" && mkdir -p "$work" && cp "$corpus"* "$work"/
+        (cd build-fuzz && "./fuzz/$target" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 \
+          -malloc_limit_mb=1024 -timeout=10 -print_final_stats=1 "corpus/$target" \
+          >"fuzz-$target.log" 2>&1) || {
+          tail -40 "build-fuzz/fuzz-$target.log"
+          echo "checked: fuzz target $target failed (build-fuzz/fuzz-$target.log)" >&2
+          exit 1
+        }
+        echo "checked: fuzz $target: $(grep -Eo 'stat::number_of_executed_units: [0-9]+' "build-fuzz/fuzz-$target.log" | grep -Eo '[0-9]+') executions in ${fuzz_seconds} s, corpus $(ls "$work" | wc -l) inputs"
+      done
+      ;;
+    *)
+      echo "checked_builds: unknown step $step (asan, tsan or fuzz)" >&2
+      exit 2
+      ;;
+  esac
+  echo "checked: $step took $(( $(date +%s) - start )) s"
+done

@@ -1,0 +1,140 @@
+// The fragment assembler's caps (lcmtypes/protocol/fragments.h): memory held
+// follows the pieces that arrived, not what they announce; the budget and
+// the number of partial messages are hard limits (oldest evicted, counted);
+// pieces must tile their message; a forged piece cannot cancel a real one.
+
+#include "lcmtypes/protocol/fragments.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "lcmtypes/protocol/limits.h"
+
+namespace dynapath::protocol {
+namespace {
+
+FragmentLimits SmallLimits() {
+  FragmentLimits limits;
+  limits.max_message_bytes = 1000;
+  limits.max_buffered_bytes = 2000;
+  limits.max_partials = 4;
+  limits.lifetime = 100;
+  return limits;
+}
+
+fragment_t Piece(int64_t id, int32_t total, int32_t count, int32_t index, int32_t offset,
+                 std::vector<uint8_t> data, int64_t fingerprint = 0) {
+  fragment_t f{};
+  f.run_id = "r";
+  f.message_id = id;
+  f.fingerprint = fingerprint;
+  f.total_size = total;
+  f.count = count;
+  f.index = index;
+  f.offset = offset;
+  f.size = static_cast<int32_t>(data.size());
+  f.data = std::move(data);
+  return f;
+}
+
+using Kind = FragmentAssembler::Outcome::Kind;
+
+TEST(FragmentAssembler, ReassemblesPiecesInAnyOrder) {
+  FragmentAssembler assembler(SmallLimits());
+  std::vector<uint8_t> whole(20);
+  for (size_t i = 0; i < whole.size(); ++i) whole[i] = static_cast<uint8_t>(i);
+  // Fingerprint 0: the first 8 bytes of `whole` are 0..7, so use them.
+  const int64_t fingerprint = PeekFingerprint(whole.data(), 20);
+  auto part = [&](int index, int offset, int size) {
+    return Piece(1, 20, 3, index, offset,
+                 std::vector<uint8_t>(whole.begin() + offset, whole.begin() + offset + size),
+                 fingerprint);
+  };
+  EXPECT_EQ(assembler.Add("C", part(2, 15, 5), 0).kind, Kind::kIncomplete);
+  EXPECT_EQ(assembler.Add("C", part(0, 0, 8), 0).kind, Kind::kIncomplete);
+  EXPECT_EQ(assembler.Add("C", part(0, 0, 8), 0).kind, Kind::kIncomplete);  // re-sent
+  const auto outcome = assembler.Add("C", part(1, 8, 7), 0);
+  ASSERT_EQ(outcome.kind, Kind::kComplete);
+  EXPECT_EQ(outcome.bytes, whole);
+  EXPECT_EQ(assembler.pending(), 0u);
+  EXPECT_EQ(assembler.buffered_bytes(), 0);
+}
+
+TEST(FragmentAssembler, HoldsWhatArrivedNotWhatWasAnnounced) {
+  FragmentAssembler assembler(SmallLimits());
+  // Announces 1000 bytes in 1000 pieces; one byte arrived.
+  EXPECT_EQ(assembler.Add("C", Piece(1, 1000, 1000, 5, 5, {1}), 0).kind, Kind::kIncomplete);
+  EXPECT_EQ(assembler.buffered_bytes(), 1 + FragmentAssembler::kPieceOverhead);
+}
+
+TEST(FragmentAssembler, BudgetAndPartialCountAreHardLimitsOldestEvicted) {
+  FragmentAssembler assembler(SmallLimits());
+  // A flood of one-byte pieces of fresh messages: never more than 4 partial
+  // messages or 2000 bytes (bookkeeping included).
+  for (int64_t id = 0; id < 10000; ++id) {
+    const auto outcome = assembler.Add("C", Piece(id, 1000, 1000, 0, 0, {1}), id);
+    EXPECT_NE(outcome.kind, Kind::kComplete);
+    ASSERT_LE(assembler.pending(), 4u);
+    ASSERT_LE(assembler.buffered_bytes(), 2000);
+  }
+  EXPECT_GE(assembler.evicted(), 9990);
+  // Many pieces of one message: the budget stops it, nothing else breaks.
+  FragmentAssembler one(SmallLimits());
+  for (int i = 0; i < 1000; ++i) {
+    one.Add("C", Piece(7, 1000, 1000, i, i, {1}), 0);
+    ASSERT_LE(one.buffered_bytes(), 2000);
+  }
+}
+
+TEST(FragmentAssembler, RecentMessageSurvivesEvictionOfOlderOnes) {
+  FragmentAssembler assembler(SmallLimits());
+  assembler.Add("C", Piece(1, 10, 2, 0, 0, std::vector<uint8_t>(5, 0)), 0);
+  for (int64_t id = 100; id < 103; ++id) assembler.Add("C", Piece(id, 10, 2, 0, 0, {1}), 1);
+  // Message 1 is touched again (newest); the next newcomer evicts id 100.
+  assembler.Add("C", Piece(1, 10, 2, 0, 0, std::vector<uint8_t>(5, 0)), 2);
+  assembler.Add("C", Piece(200, 10, 2, 0, 0, {1}), 3);
+  EXPECT_EQ(assembler.Add("C", Piece(1, 10, 2, 1, 5, std::vector<uint8_t>(5, 0)), 4).kind,
+            Kind::kComplete);
+}
+
+TEST(FragmentAssembler, RejectsOversizedInconsistentAndGappyMessages) {
+  FragmentAssembler assembler(SmallLimits());
+  EXPECT_EQ(assembler.Add("C", Piece(1, 1001, 2, 0, 0, {1}), 0).kind, Kind::kDropped);
+  EXPECT_EQ(assembler.Add("C", Piece(1, 10, 11, 0, 0, {1}), 0).kind,
+            Kind::kDropped);  // count > size
+  EXPECT_EQ(assembler.Add("C", Piece(1, 10, 2, 0, 8, {1, 2, 3}), 0).kind, Kind::kDropped);
+  // A forged piece with another total is dropped; the real message completes.
+  EXPECT_EQ(assembler.Add("C", Piece(2, 10, 2, 0, 0, std::vector<uint8_t>(5, 0)), 0).kind,
+            Kind::kIncomplete);
+  EXPECT_EQ(assembler.Add("C", Piece(2, 999, 2, 1, 5, {1}), 0).kind, Kind::kDropped);
+  EXPECT_EQ(assembler.Add("C", Piece(2, 10, 2, 1, 5, std::vector<uint8_t>(5, 0)), 0).kind,
+            Kind::kComplete);
+  // Two pieces that overlap and leave a gap.
+  EXPECT_EQ(assembler.Add("C", Piece(3, 10, 2, 0, 0, std::vector<uint8_t>(5, 0)), 0).kind,
+            Kind::kIncomplete);
+  EXPECT_EQ(assembler.Add("C", Piece(3, 10, 2, 1, 4, std::vector<uint8_t>(5, 0)), 0).kind,
+            Kind::kDropped);
+  EXPECT_EQ(assembler.pending(), 0u);
+  EXPECT_EQ(assembler.buffered_bytes(), 0);
+}
+
+TEST(FragmentAssembler, ExpiresStalePartialMessages) {
+  FragmentAssembler assembler(SmallLimits());
+  assembler.Add("C", Piece(1, 10, 2, 0, 0, {1}), 0);
+  assembler.Add("C", Piece(2, 10, 2, 0, 0, {1}), 500);
+  EXPECT_EQ(assembler.expired(), 1);
+  EXPECT_EQ(assembler.pending(), 1u);
+}
+
+TEST(ProtocolLimits, CapsFollowTheGrid) {
+  EXPECT_LT(LargestMessageBytes(100 * 100), 2 * 1024 * 1024);
+  EXPECT_GT(LargestMessageBytes(100 * 100), 41 * 100 * 100);
+  const FragmentLimits limits = BusFragmentLimits(1000 * 1000);
+  EXPECT_GE(limits.max_buffered_bytes, 2 * limits.max_message_bytes);
+  EXPECT_EQ(LargestMessageBytes(int64_t{1} << 40), LargestMessageBytes(kMaxGridCells));
+}
+
+}  // namespace
+}  // namespace dynapath::protocol

@@ -1,0 +1,100 @@
+// Writes the seed corpora of fuzz/decode_fuzz and fuzz/round_combiner_fuzz
+// (committed in fuzz/corpus/; rerun after changing a message type):
+//   dynapath_fuzz_seeds fuzz/corpus
+// decode_fuzz: messages of every type from the schema encoder plus real
+// grid, changes and shards messages; round_combiner_fuzz: the length-
+// prefixed shards_t of two agents for the fuzz target's job, two rounds.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/fedasynq.h"
+#include "core/region_model.h"
+#include "fuzz/combiner_job.h"
+#include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/round_combiner.h"
+#include "tests/protocol/message_types.h"
+#include "tests/protocol/schema_encoder.h"
+
+namespace {
+
+using namespace dynapath;
+
+bool Write(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) return false;
+  std::fwrite(bytes.data(), 1, bytes.size(), file);
+  return std::fclose(file) == 0;
+}
+
+template <class T>
+std::vector<uint8_t> Encoded(const T& message) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(message.getEncodedSize()));
+  message.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: dynapath_fuzz_seeds CORPUS_DIR\n");
+    return 2;
+  }
+  const std::string dir = argv[1];
+  bool ok = true;
+  protocol::testing::SchemaEncoder encoder(5);
+  for (const auto& type : protocol::testing::AllMessageTypes()) {
+    const protocol::schema::Type& schema = *protocol::FindSchemaType(type.name);
+    for (int count = 0; count < 3; ++count) {
+      ok = ok && Write(dir + "/decode_fuzz/" + type.name + "_" + std::to_string(count),
+                       encoder.Encode(schema, type.hash, count));
+    }
+  }
+  const Grid grid = *GridFromText(fuzz::kCombinerMap);
+  grid_t grid_message = protocol::GridToMessage(grid);
+  grid_message.run_id = "r1";
+  ok = ok && Write(dir + "/decode_fuzz/grid_valid", Encoded(grid_message));
+  ChangeStep step;
+  step.requested_moves = 1;
+  step.changes.push_back(CellChange{3, Cell::kObstacle});
+  changes_t changes = protocol::ChangesToMessage(step, 1, 5);
+  changes.run_id = "r1";
+  ok = ok && Write(dir + "/decode_fuzz/changes_valid", Encoded(changes));
+
+  // Two rounds of the round combiner target's job (fuzz/round_combiner_fuzz.cc).
+  const TrainingJob job = fuzz::CombinerTrainingJob(Averaging::kEqual);
+  const RegionModel model(job);
+  std::vector<std::unique_ptr<FedAsynQLearner>> learners;
+  for (int k = 0; k < 4; ++k) {
+    learners.push_back(std::make_unique<FedAsynQLearner>(model, k));
+    learners.back()->Reset(StartingTable(job));
+  }
+  const StartStatistics stats(model.start_cells());
+  std::vector<uint8_t> stream = {0};
+  for (int64_t round = 0; round < 2; ++round) {
+    for (int agent = 1; agent <= 2; ++agent) {
+      shards_t message{};
+      message.run_id = "r1";
+      message.round = round;
+      message.agent = agent;
+      message.needs_round = round;
+      for (int k = 2 * (agent - 1); k < 2 * agent; ++k) {
+        const LearnerShard shard = learners[static_cast<size_t>(k)]->RunRound(
+            stats, job.seed, round, job.federated.sync_period);
+        message.shards.push_back(protocol::ShardToMessage(shard, 0, false));
+      }
+      message.num_shards = static_cast<int32_t>(message.shards.size());
+      const std::vector<uint8_t> bytes = Encoded(message);
+      if (round == 0 && agent == 1) ok = ok && Write(dir + "/decode_fuzz/shards_valid", bytes);
+      stream.push_back(static_cast<uint8_t>(bytes.size() >> 8));
+      stream.push_back(static_cast<uint8_t>(bytes.size()));
+      stream.insert(stream.end(), bytes.begin(), bytes.end());
+    }
+  }
+  ok = ok && Write(dir + "/round_combiner_fuzz/two_rounds", stream);
+  if (!ok) std::fprintf(stderr, "dynapath_fuzz_seeds: cannot write into %s\n", dir.c_str());
+  return ok ? 0 : 1;
+}

@@ -1,0 +1,77 @@
+// Validation computes regions and counts from received int32 fields in 64
+// bits: values near INT_MAX must not wrap into range (issue 9, row 6).
+
+#include "lcmtypes/protocol/validate.h"
+
+#include <gtest/gtest.h>
+
+#include <climits>
+
+namespace dynapath::protocol {
+namespace {
+
+job_batch_t BatchWithJob(int32_t row0, int32_t rows, int32_t col0, int32_t cols) {
+  job_batch_t batch{};
+  batch.kind = job_batch_t::KIND_SINGLE_AGENT;
+  batch.max_episodes = batch.replay_capacity = batch.convergence_interval = 1;
+  batch.convergence_checks = batch.learners = batch.sync_period = batch.iterations_per_cell = 1;
+  job_t job{};
+  job.row0 = row0;
+  job.rows = rows;
+  job.col0 = col0;
+  job.cols = cols;
+  job.grid_rows = job.grid_cols = 10;
+  job.num_cells = 2;
+  job.codes = {1, 1};
+  batch.jobs = {job};
+  batch.num_jobs = 1;
+  return batch;
+}
+
+TEST(Validate, JobRegionsDoNotWrap) {
+  EXPECT_EQ(Validate(BatchWithJob(0, 2, 0, 1)), "");
+  EXPECT_EQ(Validate(BatchWithJob(8, 2, 9, 1)), "");
+  EXPECT_NE(Validate(BatchWithJob(INT_MAX, 2, 0, 1)), "");
+  EXPECT_NE(Validate(BatchWithJob(0, 2, INT_MAX, 1)), "");
+  EXPECT_NE(Validate(BatchWithJob(INT_MAX - 1, 2, 0, 1)), "");
+  EXPECT_NE(Validate(BatchWithJob(9, 2, 0, 1)), "");
+  // rows * cols wrapping to the cell count.
+  job_batch_t batch = BatchWithJob(0, 65536, 0, 65536);
+  batch.jobs[0].num_cells = 0;
+  batch.jobs[0].codes.clear();
+  EXPECT_NE(Validate(batch), "");
+}
+
+TEST(Validate, PolicyRegionsDoNotWrap) {
+  policy_t policy{};
+  policy.rows = policy.cols = 2;
+  policy.num_cells = 4;
+  policy.cells = {1, 1, 1, 2};
+  policy.actions = {0, 0, 0, -1};
+  policy.reaches = {1, 1, 1, -1};
+  policy.num_regions = 1;
+  policy.region_row0 = {0};
+  policy.region_col0 = {0};
+  policy.region_rows = {2};
+  policy.region_cols = {1};
+  EXPECT_EQ(Validate(policy), "");
+  policy.region_row0 = {INT_MAX};
+  EXPECT_NE(Validate(policy), "");
+  policy.region_row0 = {0};
+  policy.region_col0 = {INT_MAX};
+  EXPECT_NE(Validate(policy), "");
+}
+
+TEST(Validate, GridCellCountInSixtyFourBits) {
+  grid_t grid{};
+  grid.rows = grid.cols = 65536;  // above the limit anyway
+  grid.num_cells = 0;
+  EXPECT_NE(Validate(grid), "");
+  grid.rows = grid.cols = 2;
+  grid.num_cells = 4;
+  grid.cells = {1, 1, 1, 2};
+  EXPECT_EQ(Validate(grid), "");
+}
+
+}  // namespace
+}  // namespace dynapath::protocol
