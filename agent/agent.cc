@@ -15,13 +15,18 @@
 
 namespace dynapath::agent {
 
-// A split job: the learners of it this agent hosts, each with its own table.
-// The job's shared table and start statistics live in the combiner.
+// A split job: the learners of it this agent hosts. They are played by at
+// most one worker per thread, each with its own copy of the shared table,
+// playing a contiguous range of them (RunRoundsAndRevert): one table (two
+// for paired walks) per worker, not one per learner. The job's shared table and start statistics
+// live in the combiner.
 struct Agent::HostedJob {
   int index = 0;  // in the batch
   protocol::ReceivedJob received;
   std::unique_ptr<RegionModel> model;
-  std::vector<std::unique_ptr<FedAsynQLearner>> learners;
+  std::vector<int> learners;  // hosted here, in batch order
+  std::vector<std::unique_ptr<FedAsynQLearner>> workers;
+  std::vector<int> first;  // worker w plays learners[first[w] .. first[w + 1])
   int64_t rounds = 0;
 };
 
@@ -229,9 +234,14 @@ void Agent::OnBatch(const job_batch_t& batch) {
       c.stats = StartStatistics(hosted->model->start_cells(), hosted->received.attempts,
                                 hosted->received.successes);
     }
-    for (int learner : split_learners[j]) {
-      hosted->learners.push_back(std::make_unique<FedAsynQLearner>(*hosted->model, learner));
-      hosted->learners.back()->Reset(c.shared);
+    hosted->learners = split_learners[j];
+    const int count = static_cast<int>(hosted->learners.size());
+    const int workers = std::min(count, pool_.threads());
+    for (int w = 0; w <= workers; ++w) hosted->first.push_back(w * count / workers);
+    for (int w = 0; w < workers; ++w) {
+      hosted->workers.push_back(
+          std::make_unique<FedAsynQLearner>(*hosted->model, hosted->learners[hosted->first[w]]));
+      hosted->workers.back()->Reset(c.shared);
     }
     start_round = std::max(start_round, hosted->received.start_round);
     combined.push_back(std::move(c));
@@ -310,8 +320,8 @@ void Agent::ContinueSplit() {
     for (const protocol::RoundCombiner::JobRound& job_round : combiner_->Combine()) {
       for (auto& job : split_jobs_) {
         if (job->index != job_round.index) continue;
-        for (auto& learner : job->learners) {
-          learner->ApplyAverage(job_round.entries, job_round.values);
+        for (auto& worker : job->workers) {
+          worker->ApplyAverage(job_round.entries, job_round.values);
         }
       }
     }
@@ -320,19 +330,34 @@ void Agent::ContinueSplit() {
 
 void Agent::ComputeRound() {
   const int64_t round = combiner_->round();
-  // (job, hosted learner) pairs of the jobs still running in this round.
-  std::vector<std::pair<HostedJob*, int>> items;
+  // (job, worker, index of the worker's first shard) of the jobs still
+  // running in this round; shards are kept in job then hosted-learner order.
+  struct Item {
+    HostedJob* job;
+    int worker;
+    size_t shard;
+  };
+  std::vector<Item> items;
+  std::vector<std::pair<HostedJob*, size_t>> active;  // (job, its first shard)
+  size_t shard_count = 0;
   for (auto& job : split_jobs_) {
     if (round >= job->rounds) continue;
-    for (size_t k = 0; k < job->learners.size(); ++k)
-      items.emplace_back(job.get(), static_cast<int>(k));
+    active.emplace_back(job.get(), shard_count);
+    for (size_t w = 0; w < job->workers.size(); ++w) {
+      items.push_back({job.get(), static_cast<int>(w), shard_count + job->first[w]});
+    }
+    shard_count += job->learners.size();
   }
   const int64_t started = protocol::SteadyMs();
-  std::vector<LearnerShard> shards(items.size());
+  std::vector<LearnerShard> shards(shard_count);
   pool_.ParallelFor(static_cast<int>(items.size()), [&](int i) {
-    HostedJob& job = *items[i].first;
-    shards[i] = job.learners[items[i].second]->RunRound(combiner_->job(job.index).stats,
-                                                        job.received.job.seed, round, sync_period_);
+    const Item& item = items[i];
+    HostedJob& job = *item.job;
+    FedAsynQLearner& worker = *job.workers[item.worker];
+    const int first = job.first[item.worker];
+    worker.RunRoundsAndRevert(job.learners.data() + first, job.first[item.worker + 1] - first,
+                              combiner_->job(job.index).stats, job.received.job.seed, round,
+                              sync_period_, shards.data() + item.shard);
   });
   round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};
@@ -341,9 +366,11 @@ void Agent::ComputeRound() {
   message.epoch = epoch_;
   message.round = round;
   message.agent = options_.id;
-  for (size_t i = 0; i < items.size(); ++i) {
-    message.shards.push_back(
-        protocol::ShardToMessage(shards[i], items[i].first->index, importance_));
+  for (const auto& [job, first_shard] : active) {
+    for (size_t p = 0; p < job->learners.size(); ++p) {
+      message.shards.push_back(
+          protocol::ShardToMessage(shards[first_shard + p], job->index, importance_));
+    }
   }
   message.num_shards = static_cast<int32_t>(message.shards.size());
   computed_round_ = round;
