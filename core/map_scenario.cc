@@ -122,23 +122,7 @@ ChangeSequence GenerateMoverChanges(const Grid& initial, std::vector<int> movers
   for (ChangeStep& step : sequence.steps) {
     step.requested_moves = DrawMoveCount(random);
     for (int move = 0; move < step.requested_moves && !movers.empty(); ++move) {
-      const size_t chosen = static_cast<size_t>(random.Next()) % movers.size();
-      const int from = movers[chosen];
-      const int row = grid.RowOf(from), col = grid.ColOf(from);
-      std::array<int, kNumActions> free_neighbours{};
-      int count = 0;
-      for (int a = 0; a < kNumActions; ++a) {
-        const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
-        if (grid.InBounds(r, c) && grid.at(r, c) == Cell::kFree)
-          free_neighbours[count++] = grid.Index(r, c);
-      }
-      if (count == 0) continue;
-      const int to = free_neighbours[static_cast<size_t>(random.Next() % count)];
-      grid.set(from, Cell::kFree);
-      grid.set(to, Cell::kObstacle);
-      movers[chosen] = to;
-      step.changes.push_back({from, Cell::kFree});
-      step.changes.push_back({to, Cell::kObstacle});
+      MoveOneObstacle(grid, movers, random, step);
     }
   }
   return sequence;

@@ -46,6 +46,26 @@ Grid GenerateMaze(int rows, int cols, const CellProbabilities& probabilities, CR
   return grid;
 }
 
+void MoveOneObstacle(Grid& grid, std::vector<int>& candidates, CRandom& random, ChangeStep& step) {
+  const size_t chosen = static_cast<size_t>(random.Next()) % candidates.size();
+  const int from = candidates[chosen];
+  const int row = grid.RowOf(from), col = grid.ColOf(from);
+  std::array<int, kNumActions> free_neighbours{};
+  int count = 0;
+  for (int a = 0; a < kNumActions; ++a) {
+    const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
+    if (grid.InBounds(r, c) && grid.at(r, c) == Cell::kFree)
+      free_neighbours[count++] = grid.Index(r, c);
+  }
+  if (count == 0) return;
+  const int to = free_neighbours[static_cast<size_t>(random.Next() % count)];
+  grid.set(from, Cell::kFree);
+  grid.set(to, Cell::kObstacle);
+  candidates[chosen] = to;
+  step.changes.push_back({from, Cell::kFree});
+  step.changes.push_back({to, Cell::kObstacle});
+}
+
 ChangeSequence GenerateChanges(const Grid& initial, int steps, CRandom& random) {
   Grid grid = initial;
   ChangeSequence sequence;
@@ -59,23 +79,7 @@ ChangeSequence GenerateChanges(const Grid& initial, int steps, CRandom& random) 
       if (grid.at(i) == Cell::kObstacle) obstacles.push_back(i);
     }
     for (int move = 0; move < step.requested_moves && !obstacles.empty(); ++move) {
-      const size_t chosen = static_cast<size_t>(random.Next()) % obstacles.size();
-      const int from = obstacles[chosen];
-      const int row = grid.RowOf(from), col = grid.ColOf(from);
-      std::array<int, kNumActions> free_neighbours{};
-      int count = 0;
-      for (int a = 0; a < kNumActions; ++a) {
-        const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
-        if (grid.InBounds(r, c) && grid.at(r, c) == Cell::kFree)
-          free_neighbours[count++] = grid.Index(r, c);
-      }
-      if (count == 0) continue;
-      const int to = free_neighbours[static_cast<size_t>(random.Next() % count)];
-      grid.set(from, Cell::kFree);
-      grid.set(to, Cell::kObstacle);
-      obstacles[chosen] = to;
-      step.changes.push_back({from, Cell::kFree});
-      step.changes.push_back({to, Cell::kObstacle});
+      MoveOneObstacle(grid, obstacles, random, step);
     }
   }
   return sequence;

@@ -23,6 +23,11 @@ Grid GenerateMaze(int rows, int cols, const CellProbabilities& probabilities, CR
 
 // Moves in one time step, 1 to 10, with the report's skew (90% one move).
 int DrawMoveCount(CRandom& random);
+// One requested move of SPEC 1: picks one of `candidates` (obstacle cells)
+// with rand() % count, then one of its free in-grid neighbours in the order
+// N, NE, ..., NW with rand() % count, if any; moves it in `grid`, in
+// `candidates` (in place) and records both changed cells in `step`.
+void MoveOneObstacle(Grid& grid, std::vector<int>& candidates, CRandom& random, ChangeStep& step);
 
 // Draws `steps` time steps of obstacle moves, starting from `grid`, from `random`.
 ChangeSequence GenerateChanges(const Grid& grid, int steps, CRandom& random);
