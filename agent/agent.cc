@@ -1,24 +1,32 @@
 #include "agent/agent.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/random.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <mutex>
+#include <random>
 
 #include "core/single_agent_learner.h"
 #include "lcmtypes/protocol/channels.h"
 
 namespace dynapath::agent {
 
-// A split job: the learners of it this agent hosts, each with its own table.
-// The job's shared table and start statistics live in the combiner.
+// A split job: the learners of it this agent hosts. They are played by at
+// most one worker per thread, each with its own copy of the shared table,
+// playing a contiguous range of them (RunRoundsAndRevert): one table (two
+// for paired walks) per worker, not one per learner. The job's shared table and start statistics
+// live in the combiner.
 struct Agent::HostedJob {
   int index = 0;  // in the batch
   protocol::ReceivedJob received;
   std::unique_ptr<RegionModel> model;
-  std::vector<std::unique_ptr<FedAsynQLearner>> learners;
+  std::vector<int> learners;  // hosted here, in batch order
+  std::vector<std::unique_ptr<FedAsynQLearner>> workers;
+  std::vector<int> first;  // worker w plays learners[first[w] .. first[w + 1])
   int64_t rounds = 0;
 };
 
@@ -28,7 +36,34 @@ using Ms = std::chrono::milliseconds;
 // while it waits on, up to the cap), or twice our own compute time if longer.
 constexpr int64_t kNudgeMs = 10;
 constexpr int64_t kNudgeCapMs = 250;
+
+uint64_t KernelRandom64() {
+  uint64_t value = 0;
+  if (getrandom(&value, sizeof value, 0) == static_cast<ssize_t>(sizeof value)) return value;
+  // No getrandom (very old kernel): std::random_device, still not pid-based.
+  std::random_device device;
+  return (static_cast<uint64_t>(device()) << 32) ^ device();
+}
+
+std::string InstanceText(uint64_t instance) {
+  char text[32];
+  std::snprintf(text, sizeof text, "instance %016llx", static_cast<unsigned long long>(instance));
+  return text;
+}
+
+uint64_t ParseInstance(const std::string& message) {
+  if (message.rfind("instance ", 0) != 0) return 0;
+  return std::strtoull(message.c_str() + 9, nullptr, 16);
+}
 }  // namespace
+
+int RandomAgentId() { return static_cast<int>(KernelRandom64() % 2147483647ULL) + 1; }
+
+uint64_t RandomInstance() {
+  uint64_t value = 0;
+  while (value == 0) value = KernelRandom64();
+  return value;
+}
 
 Agent::Agent(protocol::Bus& bus, AgentOptions options)
     : bus_(bus),
@@ -43,6 +78,15 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
     if (shards.agent == options_.id) return;  // our own, looped back
     inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
   });
+  if (options_.instance == 0) options_.instance = RandomInstance();
+  bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
+    if (beat.role != heartbeat_t::ROLE_AGENT || beat.sender != options_.id) return;
+    const uint64_t other = ParseInstance(beat.message);
+    if (other != options_.instance) {
+      collided_with_ = other == 0 ? 1 : other;  // 0: an agent without an instance
+      inbox_.Wake();
+    }
+  });
 }
 
 Agent::~Agent() = default;
@@ -54,6 +98,7 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
   base.sender = options_.id;
   base.state = heartbeat_t::STATE_RUNNING;
   base.threads = pool_.threads();
+  base.message = InstanceText(options_.instance);
   const auto fill = [this](heartbeat_t& beat) {
     beat.batch_id = reported_batch_;
     beat.epoch = reported_epoch_;
@@ -71,6 +116,11 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
   };
   protocol::HeartbeatSender heartbeat(bus_, base, options_.heartbeat_seconds, fill, watchdog);
+  heartbeat_ = &heartbeat;
+  struct Clear {
+    std::atomic<protocol::HeartbeatSender*>& pointer;
+    ~Clear() { pointer = nullptr; }
+  } clear{heartbeat_};
   spdlog::info("agent {}: {} threads, waiting for the coordinator of run {}", options_.id,
                pool_.threads(), bus_.run_id());
   bool announced = false;
@@ -82,6 +132,15 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
     inbox_.RunFor(Ms(wait_ms));
     NudgeIfStalled();
+    // Two agents with one id: the one with the larger instance leaves (its
+    // work is reassigned), so exactly one goes on.
+    if (const uint64_t other = collided_with_; other != 0 && other < options_.instance) {
+      spdlog::error(
+          "agent {}: another agent of run {} uses id {}; exiting (give each agent its own "
+          "--id, or none for a random one)",
+          options_.id, bus_.run_id(), options_.id);
+      return AgentExit::kIdCollision;
+    }
     if (!announced && coordinator_.Seen()) {
       heartbeat.SendNow();  // join at once, not at the next heartbeat
       announced = true;
@@ -110,6 +169,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   if (batch.batch_id < batch_id_ || (batch.batch_id == batch_id_ && batch.epoch < epoch_)) return;
   if (batch.batch_id == batch_id_ && batch.epoch == epoch_) {
     Resend();  // the coordinator is missing something we sent
+    Beat();
     return;
   }
   // A new batch, or a new epoch of this one: start over from its contents.
@@ -125,6 +185,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   reported_batch_ = batch_id_;
   reported_epoch_ = epoch_;
   reported_round_ = -1;
+  Beat();  // acknowledges the batch
 
   std::vector<int> whole;
   protocol::RoundCombiner::Items items;  // every agent's split learners
@@ -173,9 +234,14 @@ void Agent::OnBatch(const job_batch_t& batch) {
       c.stats = StartStatistics(hosted->model->start_cells(), hosted->received.attempts,
                                 hosted->received.successes);
     }
-    for (int learner : split_learners[j]) {
-      hosted->learners.push_back(std::make_unique<FedAsynQLearner>(*hosted->model, learner));
-      hosted->learners.back()->Reset(c.shared);
+    hosted->learners = split_learners[j];
+    const int count = static_cast<int>(hosted->learners.size());
+    const int workers = std::min(count, pool_.threads());
+    for (int w = 0; w <= workers; ++w) hosted->first.push_back(w * count / workers);
+    for (int w = 0; w < workers; ++w) {
+      hosted->workers.push_back(
+          std::make_unique<FedAsynQLearner>(*hosted->model, hosted->learners[hosted->first[w]]));
+      hosted->workers.back()->Reset(c.shared);
     }
     start_round = std::max(start_round, hosted->received.start_round);
     combined.push_back(std::move(c));
@@ -240,6 +306,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     std::lock_guard lock(mutex);
     results_.push_back(std::move(message));
     reported_round_ = static_cast<int64_t>(results_.size());
+    Beat();  // tells what was sent: a lost result shows at once
   });
 }
 
@@ -253,8 +320,8 @@ void Agent::ContinueSplit() {
     for (const protocol::RoundCombiner::JobRound& job_round : combiner_->Combine()) {
       for (auto& job : split_jobs_) {
         if (job->index != job_round.index) continue;
-        for (auto& learner : job->learners) {
-          learner->ApplyAverage(job_round.entries, job_round.values);
+        for (auto& worker : job->workers) {
+          worker->ApplyAverage(job_round.entries, job_round.values);
         }
       }
     }
@@ -263,19 +330,34 @@ void Agent::ContinueSplit() {
 
 void Agent::ComputeRound() {
   const int64_t round = combiner_->round();
-  // (job, hosted learner) pairs of the jobs still running in this round.
-  std::vector<std::pair<HostedJob*, int>> items;
+  // (job, worker, index of the worker's first shard) of the jobs still
+  // running in this round; shards are kept in job then hosted-learner order.
+  struct Item {
+    HostedJob* job;
+    int worker;
+    size_t shard;
+  };
+  std::vector<Item> items;
+  std::vector<std::pair<HostedJob*, size_t>> active;  // (job, its first shard)
+  size_t shard_count = 0;
   for (auto& job : split_jobs_) {
     if (round >= job->rounds) continue;
-    for (size_t k = 0; k < job->learners.size(); ++k)
-      items.emplace_back(job.get(), static_cast<int>(k));
+    active.emplace_back(job.get(), shard_count);
+    for (size_t w = 0; w < job->workers.size(); ++w) {
+      items.push_back({job.get(), static_cast<int>(w), shard_count + job->first[w]});
+    }
+    shard_count += job->learners.size();
   }
   const int64_t started = protocol::SteadyMs();
-  std::vector<LearnerShard> shards(items.size());
+  std::vector<LearnerShard> shards(shard_count);
   pool_.ParallelFor(static_cast<int>(items.size()), [&](int i) {
-    HostedJob& job = *items[i].first;
-    shards[i] = job.learners[items[i].second]->RunRound(combiner_->job(job.index).stats,
-                                                        job.received.job.seed, round, sync_period_);
+    const Item& item = items[i];
+    HostedJob& job = *item.job;
+    FedAsynQLearner& worker = *job.workers[item.worker];
+    const int first = job.first[item.worker];
+    worker.RunRoundsAndRevert(job.learners.data() + first, job.first[item.worker + 1] - first,
+                              combiner_->job(job.index).stats, job.received.job.seed, round,
+                              sync_period_, shards.data() + item.shard);
   });
   round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};
@@ -284,9 +366,11 @@ void Agent::ComputeRound() {
   message.epoch = epoch_;
   message.round = round;
   message.agent = options_.id;
-  for (size_t i = 0; i < items.size(); ++i) {
-    message.shards.push_back(
-        protocol::ShardToMessage(shards[i], items[i].first->index, importance_));
+  for (const auto& [job, first_shard] : active) {
+    for (size_t p = 0; p < job->learners.size(); ++p) {
+      message.shards.push_back(
+          protocol::ShardToMessage(shards[first_shard + p], job->index, importance_));
+    }
   }
   message.num_shards = static_cast<int32_t>(message.shards.size());
   computed_round_ = round;
@@ -337,6 +421,10 @@ void Agent::NudgeIfStalled() {
   PublishShards(sent_.back(), combiner_->round());
   nudge_interval_ms_ = std::min(kNudgeCapMs, nudge_interval_ms_ * 2);
   next_nudge_ms_ = now + nudge_interval_ms_;
+}
+
+void Agent::Beat() {
+  if (protocol::HeartbeatSender* sender = heartbeat_) sender->SendNow();
 }
 
 void Agent::Resend() {

@@ -39,9 +39,24 @@ struct AgentOptions {
   // Process mode: when the coordinator is gone while a long job is being
   // computed, end the process at once (nothing in an agent needs saving).
   bool exit_process_when_orphaned = false;
+  // Identifies this process among agents that share an id (sent in the
+  // heartbeat's message field): two agents of a run with one id would take
+  // each other's work, so the one with the larger instance leaves.
+  uint64_t instance = 0;
 };
 
-enum class AgentExit { kCoordinatorFinished, kCoordinatorFailed, kCoordinatorGone, kStopped };
+enum class AgentExit {
+  kCoordinatorFinished,
+  kCoordinatorFailed,
+  kCoordinatorGone,
+  kStopped,
+  kIdCollision
+};
+
+// A random agent id in [1, 2^31 - 1] (the wire's agent fields are int32)
+// from the kernel's random source, and a random 64-bit instance.
+int RandomAgentId();
+uint64_t RandomInstance();
 
 class Agent {
  public:
@@ -67,6 +82,9 @@ class Agent {
   // Waiting for others' shards too long: re-send ours (with needs_round).
   void NudgeIfStalled();
   void Resend();
+  // A heartbeat now (any thread): the coordinator times its round trips and
+  // notices missing results by them, so it should not wait for the next tick.
+  void Beat();
 
   protocol::Bus& bus_;
   AgentOptions options_;
@@ -93,6 +111,9 @@ class Agent {
   std::atomic<int64_t> reported_batch_{-1};
   std::atomic<int32_t> reported_epoch_{0};
   std::atomic<int64_t> reported_round_{-1};
+  // Another agent's heartbeat with our id (dispatch thread): its instance.
+  std::atomic<uint64_t> collided_with_{0};
+  std::atomic<protocol::HeartbeatSender*> heartbeat_{nullptr};  // while Run runs
 };
 
 }  // namespace dynapath::agent

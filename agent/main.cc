@@ -2,7 +2,6 @@
 // on this machine or others (same --run-id and LCM network).
 
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <functional>
 #include <string>
@@ -21,7 +20,7 @@ int main(int argc, char** argv) {
                         "returns Q-table shards per round (or final tables), sends heartbeats.\n"
                         "Exits when the coordinator finishes, fails or is silent for 4 s.");
   cli::AddProcessOptions(parser, true);
-  parser.AddOption("id", "N", "agent id, unique within the run", "derived from host and pid");
+  parser.AddOption("id", "N", "agent id, unique within the run", "random");
   parser.AddOption("threads", "N", "worker threads", "hardware threads");
   parser.AddOption("wait", "SECONDS", "how long to wait for a coordinator to appear", "60");
   cli::AddLogLevelOption(parser);
@@ -32,13 +31,9 @@ int main(int argc, char** argv) {
   };
   Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  const long long derived =
-      static_cast<long long>((std::hash<std::string>{}(host) ^ static_cast<size_t>(getpid())) %
-                             1000000000ULL) +
-      1;
-  Result<long long> id = parser.GetInt("id", derived, 0, 2147483647LL);
+  // Random, not derived from host name and pid: agents in containers of their
+  // own share both. A collision is still detected (Agent::Run).
+  Result<long long> id = parser.GetInt("id", agent::RandomAgentId(), 0, 2147483647LL);
   if (!id) return fail(id.error().message);
   const long long hardware = std::max(1u, std::thread::hardware_concurrency());
   Result<long long> threads = parser.GetInt("threads", hardware, 1, 1024);
@@ -63,6 +58,7 @@ int main(int argc, char** argv) {
     case agent::AgentExit::kCoordinatorFinished:
     case agent::AgentExit::kStopped:
       return 0;
+
     default:
       return 1;
   }

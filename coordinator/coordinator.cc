@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "coordinator/envsim_client.h"
@@ -17,6 +19,8 @@ DistributedTrainerOptions MakeTrainerOptions(const CoordinatorOptions& options) 
   DistributedTrainerOptions trainer;
   trainer.agent_wait_seconds = options.agent_wait_seconds;
   trainer.placement = options.plan.placement;
+  trainer.max_stalls =
+      std::max(1, static_cast<int>(std::ceil(options.give_up_seconds / trainer.stall_seconds)) - 1);
   return trainer;
 }
 
@@ -93,6 +97,8 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
   });
   spdlog::info("coordinator: run {}, waiting for {} agent(s)", bus_.run_id(), options_.min_agents);
 
+  // Every wait of the trainer (agents, outstanding batches) watches `stop`.
+  trainer_.set_stop(&stop);
   int exit_code = 0;
   try {
     const int64_t start = protocol::SteadyMs();
@@ -126,9 +132,10 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     const TrafficStats& t = trainer_.traffic();
     spdlog::info(
         "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
-        "messages / {} bytes; {} resends, {} reassignments",
+        "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress, {} split "
+        "batches run whole); round trip {:.1f} ms",
         t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
-        t.epochs);
+        t.epochs, t.stalls, t.split_fallbacks, t.round_trip_ms);
     spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
     spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
                  plan.out_dir);

@@ -22,6 +22,9 @@ struct CoordinatorOptions {
   double agent_wait_seconds = 60.0;    // ... for at most this long
   double agent_timeout_seconds = 2.0;  // an agent silent this long is dropped
   double envsim_timeout_seconds = 5.0;
+  // A training batch that makes no progress this long although its agents
+  // are alive fails the run (DistributedTrainerOptions::max_stalls).
+  double give_up_seconds = 60.0;
   bool publish_policy = true;
 };
 

@@ -15,6 +15,8 @@ namespace dynapath::coordinator {
 namespace {
 
 using Ms = std::chrono::milliseconds;
+// Restarts of a split batch at one round before it runs its jobs whole.
+constexpr int kMaxRestartsAtRound = 3;
 
 }  // namespace
 
@@ -40,6 +42,18 @@ struct DistributedTrainer::Batch {
   std::map<int, std::vector<std::pair<int, int>>> items;
   int64_t last_send_ms = 0;
   int64_t last_progress_ms = 0;
+  // Since when the batch has been waiting for something its agents sent or
+  // lack (0: not waiting), and how many reassignments that caused in a row.
+  int64_t stuck_since_ms = 0;
+  int stalls = 0;
+  // Split: restarts for lost shards in a row at the same combined round.
+  int64_t restart_round = -1;
+  int restarts_at_round = 0;
+  // Round-trip samples: when this epoch's batch first went out, whether it
+  // was repeated (then acknowledgements are ambiguous), who acknowledged.
+  int64_t epoch_sent_ms = 0;
+  bool repeated = false;
+  std::vector<int> acknowledged;
   int64_t steps = 0;
 };
 
@@ -60,10 +74,11 @@ bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
   switch (options_.placement) {
     case cli::Placement::kWhole:
       return false;
+    case cli::Placement::kAuto:
+      if (split_disabled_) return false;
+      break;
     case cli::Placement::kSplit:
       return true;
-    case cli::Placement::kAuto:
-      break;
   }
   std::vector<Region> regions;
   for (const JobState& state : batch.jobs) regions.push_back(state.job.region);
@@ -87,12 +102,27 @@ DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbo
 
 DistributedTrainer::~DistributedTrainer() = default;
 
+void DistributedTrainer::ThrowIfStopped() const {
+  if (options_.stop != nullptr && options_.stop->load()) throw std::runtime_error("interrupted");
+}
+
+std::vector<int> DistributedTrainer::LiveAgents() const {
+  const int64_t now = AgentRegistry::NowMs();
+  std::vector<int> all, preferred;
+  for (const AgentInfo& info : agents_.Live()) {
+    all.push_back(info.id);
+    const auto avoided = avoid_until_ms_.find(info.id);
+    if (avoided == avoid_until_ms_.end() || avoided->second <= now) preferred.push_back(info.id);
+  }
+  return preferred.empty() ? all : preferred;
+}
+
 std::vector<int> DistributedTrainer::WaitForAgents() {
   const int64_t start = AgentRegistry::NowMs();
   bool warned = false;
   while (true) {
-    std::vector<int> ids;
-    for (const AgentInfo& info : agents_.Live()) ids.push_back(info.id);
+    ThrowIfStopped();
+    std::vector<int> ids = LiveAgents();
     if (!ids.empty()) return ids;
     const int64_t waited = AgentRegistry::NowMs() - start;
     if (static_cast<double>(waited) > options_.agent_wait_seconds * 1000) {
@@ -127,6 +157,7 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   batch.split = ShouldSplit(batch, agents.size());
   StartEpoch(std::move(agents));
   while (!Done()) {
+    ThrowIfStopped();
     inbox_.RunFor(Ms(20));
     CheckAgents();
   }
@@ -233,7 +264,10 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   }
   message.num_items = static_cast<int32_t>(message.item_job.size());
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.repeated = false;
+  batch.acknowledged.clear();
   PublishBatch();
+  batch.epoch_sent_ms = batch.last_send_ms;
 }
 
 void DistributedTrainer::PublishBatch() {
@@ -261,6 +295,8 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.stuck_since_ms = 0;
+  batch.stalls = 0;
   while (batch.combiner->RoundComplete()) {
     for (const protocol::RoundCombiner::JobRound& job_round : batch.combiner->Combine()) {
       batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
@@ -288,6 +324,8 @@ void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.stuck_since_ms = 0;
+  batch.stalls = 0;
 }
 
 void DistributedTrainer::CheckAgents() {
@@ -312,6 +350,7 @@ void DistributedTrainer::CheckAgents() {
   bool restart = false;
   for (int agent : owing) {
     AgentInfo info;
+    if (agents_.Get(agent, info)) SampleRoundTrip(info);
     if (!agents_.IsLive(agent) || !agents_.Get(agent, info)) {
       spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent, batch.id,
                    batch.epoch + 1);
@@ -332,25 +371,129 @@ void DistributedTrainer::CheckAgents() {
       if (info.round > batch.combiner->round() + 1) {
         spdlog::warn("shards of agent {} for round {} were lost; restarting the round (batch {})",
                      agent, batch.combiner->round(), batch.id);
+        if (batch.combiner->round() == batch.restart_round) {
+          ++batch.restarts_at_round;
+        } else {
+          batch.restart_round = batch.combiner->round();
+          batch.restarts_at_round = 1;
+        }
         restart = true;
         break;
       }
       resend = true;
     }
   }
+  if (restart && batch.split && batch.restarts_at_round >= kMaxRestartsAtRound) {
+    // The same round lost again and again (measured at 20 ms of delay: the
+    // coordinator keeps missing one round's shards and the agents run past
+    // it): stop splitting. Whole jobs give the same results (a job is a pure
+    // function of its inputs) and need one round trip, not one per round.
+    spdlog::warn(
+        "batch {}: round {} restarted {} times; running its jobs whole on the agents instead of "
+        "splitting their rounds{}",
+        batch.id, batch.restart_round, batch.restarts_at_round,
+        options_.placement == cli::Placement::kAuto ? " (and no more splitting in this run)" : "");
+    if (options_.placement == cli::Placement::kAuto) split_disabled_ = true;
+    ++traffic_.split_fallbacks;
+    batch.split = false;
+    batch.combiner.reset();
+    for (JobState& state : batch.jobs) state.steps = 0;
+  }
   if (restart) {
-    std::vector<int> live;
-    for (const AgentInfo& info : agents_.Live()) live.push_back(info.id);
+    std::vector<int> live = LiveAgents();
     if (live.empty()) live = WaitForAgents();
+    batch.stuck_since_ms = 0;
     StartEpoch(std::move(live));
     return;
   }
+  // Live agents that owe what keeps being lost: bounded (OnStall).
+  if (resend) {
+    if (batch.stuck_since_ms == 0) {
+      batch.stuck_since_ms = now;
+    } else if (static_cast<double>(now - batch.stuck_since_ms) > options_.stall_seconds * 1000) {
+      OnStall(owing);
+      return;
+    }
+  } else {
+    batch.stuck_since_ms = 0;
+  }
   const bool stalled = now - batch.last_progress_ms > 10000 && now - batch.last_send_ms > 10000;
-  if ((resend || stalled) &&
-      static_cast<double>(now - batch.last_send_ms) > options_.resend_seconds * 1000) {
+  // Whole jobs: repeat once the gap has lasted a few round trips (agents
+  // send a heartbeat right after each result, so a gap seen that long is a
+  // loss, not a result still in flight). Split rounds keep resend_seconds:
+  // their gaps are detected by the lack of progress itself.
+  const int64_t interval =
+      batch.split ? static_cast<int64_t>(options_.resend_seconds * 1000) : ResendIntervalMs();
+  if ((resend && now - batch.stuck_since_ms >= interval && now - batch.last_send_ms > interval) ||
+      (stalled && now - batch.last_send_ms > interval)) {
     ++traffic_.resends;
+    batch.repeated = true;
     PublishBatch();  // agents answer a repeat by re-sending what they sent
   }
+}
+
+void DistributedTrainer::SampleRoundTrip(const AgentInfo& info) {
+  Batch& batch = *batch_;
+  // Karn's rule: only acknowledgements of a batch sent once are timed.
+  if (batch.repeated || info.batch_id != batch.id || info.epoch != batch.epoch) return;
+  if (std::find(batch.acknowledged.begin(), batch.acknowledged.end(), info.id) !=
+      batch.acknowledged.end()) {
+    return;
+  }
+  batch.acknowledged.push_back(info.id);
+  const double sample =
+      static_cast<double>(std::max<int64_t>(0, info.last_seen_ms - batch.epoch_sent_ms));
+  round_trip_ms_ = round_trip_ms_ < 0 ? sample : 0.875 * round_trip_ms_ + 0.125 * sample;
+  traffic_.round_trip_ms = round_trip_ms_;
+}
+
+int64_t DistributedTrainer::ResendIntervalMs() const {
+  const double cap = options_.resend_seconds * 1000;
+  if (round_trip_ms_ < 0) return static_cast<int64_t>(cap);
+  return static_cast<int64_t>(std::clamp(2 * round_trip_ms_ + 20.0, 30.0, cap));
+}
+
+void DistributedTrainer::OnStall(const std::vector<int>& owing) {
+  Batch& batch = *batch_;
+  const int64_t now = AgentRegistry::NowMs();
+  ++batch.stalls;
+  ++traffic_.stalls;
+  std::string who;
+  for (int agent : owing) {
+    AgentInfo info;
+    agents_.Get(agent, info);
+    who += (who.empty() ? "agent " : ", agent ") + std::to_string(agent);
+    if (info.batch_id != batch.id || info.epoch != batch.epoch) {
+      who += " has not received the batch";
+    } else if (batch.split) {
+      who += " is at round " + std::to_string(info.round) + ", the coordinator at " +
+             std::to_string(batch.combiner->round());
+    } else {
+      who += " sent results that did not arrive";
+    }
+  }
+  const double waited = static_cast<double>(now - batch.stuck_since_ms) / 1000.0;
+  if (batch.stalls > options_.max_stalls) {
+    throw std::runtime_error(
+        "training batch " + std::to_string(batch.id) + " made no progress for " +
+        std::to_string(static_cast<int>(batch.stalls * options_.stall_seconds)) + " s in " +
+        std::to_string(batch.stalls) + " attempts although its agents are alive (" + who +
+        "): their messages are being lost");
+  }
+  for (int agent : owing) {
+    avoid_until_ms_[agent] = now + static_cast<int64_t>(options_.avoid_seconds * 1000);
+  }
+  std::vector<int> live = LiveAgents();
+  if (live.empty()) live = WaitForAgents();
+  std::string to;
+  for (int agent : live) to += (to.empty() ? "" : ",") + std::to_string(agent);
+  spdlog::warn(
+      "batch {} made no progress for {:.1f} s ({}; {} resends so far); reassigning its work to "
+      "agent(s) {} (epoch {}, attempt {} of {})",
+      batch.id, waited, who, traffic_.resends, to, batch.epoch + 1, batch.stalls,
+      options_.max_stalls);
+  batch.stuck_since_ms = 0;
+  StartEpoch(std::move(live));
 }
 
 }  // namespace dynapath::coordinator

@@ -20,9 +20,16 @@
 // whole jobs from their start. Lost messages are re-sent: agents ask each
 // other for missing shards (shards_t.needs_round); the coordinator repeats
 // the batch when an agent's heartbeat shows it lacks the batch, or has sent
-// something that did not arrive; agents answer a repeat by re-sending.
+// something that did not arrive; agents answer a repeat by re-sending. A
+// batch that still makes no progress (repeats lost too: a lossy link) is
+// reassigned away from the agents that owe, and fails after a bound
+// (DistributedTrainerOptions::stall_seconds, max_stalls) instead of waiting
+// forever. A split batch that restarts the same round again and again runs
+// its jobs whole instead (auto placement then stops splitting for the run).
 
+#include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -43,8 +50,10 @@ namespace dynapath::coordinator {
 struct DistributedTrainerOptions {
   // How long to wait for at least one live agent before a batch fails.
   double agent_wait_seconds = 60.0;
-  // Minimum time between two repeats of the batch message, and how long a
-  // split round may make no progress before the batch is repeated.
+  // How long a split round may make no progress before the batch is
+  // repeated, and the longest wait before a repeat for whole jobs (which
+  // repeat after twice the measured round trip + 20 ms, at least 30 ms:
+  // the time from sending a batch to an agent's heartbeat acknowledging it).
   double resend_seconds = 0.2;
   cli::Placement placement = cli::Placement::kAuto;
   // kAuto splits a batch's learners when one round of all its jobs is
@@ -53,6 +62,19 @@ struct DistributedTrainerOptions {
   // 0.3-0.5 ms on the 2-core development machine (docs/PERFORMANCE.md), so
   // with two agents splitting pays from about twice that.
   double split_min_round_us = 2000.0;
+  // Bounds on a batch that makes no progress although its agents are live (a
+  // lossy link: heartbeats get through, large messages do not). When the
+  // batch has been repeated for stall_seconds without a shard or result
+  // arriving, the stall is logged and the work is reassigned to the other
+  // live agents (the stalled ones get no new work for avoid_seconds, unless
+  // no other agent is live); after max_stalls such reassignments in a row
+  // the batch fails with the reason.
+  double stall_seconds = 5.0;
+  int max_stalls = 11;  // the coordinator's --give-up 60 s
+  double avoid_seconds = 30.0;
+  // When set and true, Train gives up at once ("interrupted"): every wait
+  // checks it at least every 50 ms.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // Estimated single-thread time of one federated round of `nodes`' jobs: K
@@ -67,6 +89,9 @@ struct TrafficStats {
   int64_t messages_out = 0, bytes_out = 0;  // batch messages published
   int64_t messages_in = 0, bytes_in = 0;    // shards and results accepted
   int64_t resends = 0, epochs = 0;
+  int64_t stalls = 0;           // batches reassigned for lack of progress
+  int64_t split_fallbacks = 0;  // split batches run whole after repeated restarts
+  double round_trip_ms = -1;    // smoothed batch-to-acknowledgement time (-1: none yet)
 };
 
 class DistributedTrainer : public Trainer {
@@ -84,6 +109,8 @@ class DistributedTrainer : public Trainer {
                       RootQTable& root) override;
 
   const TrafficStats& traffic() const { return traffic_; }
+  // The flag Train watches (see DistributedTrainerOptions::stop).
+  void set_stop(const std::atomic<bool>* stop) { options_.stop = stop; }
 
  private:
   struct JobState;
@@ -96,6 +123,12 @@ class DistributedTrainer : public Trainer {
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
   void CheckAgents();
+  // The batch made no progress for stall_seconds: reassign or fail.
+  void OnStall(const std::vector<int>& owing);
+  std::vector<int> LiveAgents() const;  // live, preferring those not avoided
+  void SampleRoundTrip(const AgentInfo& info);
+  int64_t ResendIntervalMs() const;
+  void ThrowIfStopped() const;
   bool Done() const;
 
   protocol::Bus& bus_;
@@ -103,7 +136,10 @@ class DistributedTrainer : public Trainer {
   const AgentRegistry& agents_;
   DistributedTrainerOptions options_;
   int64_t next_batch_id_ = 0;
-  std::unique_ptr<Batch> batch_;  // the batch in hand (coordinator thread only)
+  std::unique_ptr<Batch> batch_;           // the batch in hand (coordinator thread only)
+  std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
+  bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
+  double round_trip_ms_ = -1;              // smoothed, over all agents
   TrafficStats traffic_;
 };
 

@@ -21,6 +21,10 @@ int main(int argc, char** argv) {
   cli::AddRunOptions(parser);
   parser.AddOption("agents", "N", "wait for N live agents before starting", "1");
   parser.AddOption("wait", "SECONDS", "how long to wait for agents and envsim", "60");
+  parser.AddOption("give-up", "SECONDS",
+                   "fail when a training batch makes no progress this long although its agents "
+                   "are alive (its work is reassigned every 5 s before that)",
+                   "60");
   cli::AddLogLevelOption(parser);
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (int code = cli::ParseProcessArgs(parser, args, "dynapath-coordinator"); code >= 0) {
@@ -37,6 +41,8 @@ int main(int argc, char** argv) {
   if (!agents) return fail(agents.error().message);
   Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
   if (!wait) return fail(wait.error().message);
+  Result<long long> give_up = parser.GetInt("give-up", 60, 5, 86400);
+  if (!give_up) return fail(give_up.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
   if (!lcm) return cli::ProcessError("dynapath-coordinator", lcm.error().message, 1);
@@ -46,6 +52,7 @@ int main(int argc, char** argv) {
   options.plan = std::move(*plan);
   options.min_agents = static_cast<int>(*agents);
   options.agent_wait_seconds = static_cast<double>(*wait);
+  options.give_up_seconds = static_cast<double>(*give_up);
   coordinator::Coordinator coordinator(bus, std::move(options));
   protocol::Dispatcher dispatcher(**lcm);
   return coordinator.Run(stop);

@@ -17,34 +17,41 @@ constexpr double kImportanceEta = 0.4;
 // more and compute the rest (all 0) on demand.
 constexpr size_t kDecayTableSize = 1536;
 
-// Sorts `list`, whose distinct entries are exactly the set bits of `bits`,
-// ascending, and clears `bits`. Scanning the bit words costs about a
-// nanosecond per mostly-empty word, std::sort some 20 ns per entry: scan
-// unless the table has over 32 words per entry (32: measured with
-// learner_bench on 20x20 and 300x300 regions; a leaf's table is 50 words, a
-// learner's round touches ~600 entries).
-void SortMarked(std::vector<uint32_t>& list, std::vector<uint64_t>& bits) {
-  if (bits.size() <= 32 * list.size()) {
-    size_t out = 0;
-    for (size_t word_index = 0; word_index < bits.size(); ++word_index) {
-      uint64_t word = bits[word_index];
-      if (word == 0) continue;
-      bits[word_index] = 0;
-      const uint32_t base = static_cast<uint32_t>(word_index * 64);
+// Hash of a table entry for the learners' visit counts (Fibonacci hashing:
+// the top bits of entry * 2^32 / golden ratio).
+constexpr uint32_t kEntryHashFactor = 0x9E3779B1u;
+
+}  // namespace
+
+SortedMarks::SortedMarks(size_t entries)
+    : bits_((entries + 63) / 64, 0),
+      summary_((bits_.size() + 63) / 64, 0),
+      rank_(bits_.size(), 0) {}
+
+void SortedMarks::List(std::vector<uint32_t>& list) {
+  list.clear();
+  for (size_t s = 0; s < summary_.size(); ++s) {
+    uint64_t words = summary_[s];
+    while (words != 0) {
+      const size_t w = s * 64 + static_cast<size_t>(std::countr_zero(words));
+      words &= words - 1;
+      rank_[w] = static_cast<uint32_t>(list.size());
+      uint64_t word = bits_[w];
+      const uint32_t base = static_cast<uint32_t>(w * 64);
       while (word != 0) {
-        list[out++] = base + static_cast<uint32_t>(std::countr_zero(word));
+        list.push_back(base + static_cast<uint32_t>(std::countr_zero(word)));
         word &= word - 1;
       }
     }
-  } else {
-    std::sort(list.begin(), list.end());
-    for (uint32_t entry : list) bits[entry >> 6] = 0;
   }
 }
 
-size_t BitWords(size_t entries) { return (entries + 63) / 64; }
-
-}  // namespace
+void SortedMarks::Clear(const std::vector<uint32_t>& list) {
+  for (uint32_t entry : list) {
+    bits_[entry >> 6] = 0;
+    summary_[entry >> 12] = 0;
+  }
+}
 
 uint64_t LearnerRoundSeed(uint64_t job_seed, int learner, int64_t round) {
   return DeriveSeed({job_seed, static_cast<uint64_t>(learner), static_cast<uint64_t>(round)});
@@ -54,8 +61,7 @@ FedAsynQLearner::FedAsynQLearner(const RegionModel& model, int learner_index)
     : model_(model),
       learner_index_(learner_index),
       table_(model.cells()),
-      visits_(static_cast<size_t>(model.cells()) * kNumActions, 0),
-      bits_(BitWords(static_cast<size_t>(model.cells()) * kNumActions), 0) {}
+      marks_(static_cast<size_t>(model.cells()) * kNumActions) {}
 
 void FedAsynQLearner::Reset(const QTable& table) {
   if (table.cells() != model_.cells()) {
@@ -74,6 +80,75 @@ LearnerShard FedAsynQLearner::RunRoundAndRevert(int learner, const StartStatisti
   return Run(learner, stats, job_seed, round, sync_period, true);
 }
 
+namespace {
+
+using Slot = FedAsynQLearner::Slot;
+
+// Where the visit count of `entry` is: slot = entry when kDirect, else the
+// top bits of entry * golden ratio, then linear probing.
+template <bool kDirect>
+uint32_t HomeSlot(uint32_t entry, int shift) {
+  if constexpr (kDirect) {
+    return entry;
+  } else {
+    return (entry * kEntryHashFactor) >> shift;
+  }
+}
+
+template <bool kDirect>
+uint32_t FindSlot(const Slot* slots, uint32_t mask, int shift, uint32_t entry) {
+  uint32_t slot = HomeSlot<kDirect>(entry, shift);
+  if constexpr (!kDirect) {
+    while (slots[slot].key != entry + 1) slot = (slot + 1) & mask;
+  }
+  return slot;
+}
+
+// The random walk of one learner's round: `steps` Q-learning updates of `q`
+// from `s`, counting visits in `slots` and listing new entries (with their
+// values before the round) in touched/originals. Everything lives in
+// locals: stores through the table and the lists could otherwise alias
+// members, reloaded at every step. Returns the number of entries listed.
+template <bool kDirect>
+size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps, bool& reached,
+            Slot* slots, uint32_t mask, int shift, uint32_t* touched, float* originals) {
+  Rng rng = walk_rng;  // a local copy stays in registers
+  size_t listed = 0;
+  bool station = false;
+  for (int step = 0; step < steps; ++step) {
+    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(model.action_count(s)))];
+    const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
+    const int next = model.target(s, a);
+    const float reward = model.reward(s, a);
+    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
+    // Count the visit, without branches on whether the entry is new (which
+    // a random walk makes unpredictable): the listing is always written and
+    // only counted when the slot was empty.
+    const uint32_t key = entry + 1;
+    uint32_t slot = HomeSlot<kDirect>(entry, shift);
+    if constexpr (!kDirect) {
+      // Another entry's slot (rare: at most half the slots are used).
+      while ((slots[slot].key != 0) & (slots[slot].key != key)) slot = (slot + 1) & mask;
+    }
+    Slot& held = slots[slot];
+    const float value = q[entry];
+    touched[listed] = entry;
+    originals[listed] = value;
+    listed += held.key == 0;
+    held.key = key;
+    ++held.visits;
+    q[entry] = value + kLearningRate * (reward + kDiscount * best_next - value);
+    // The reward is +100 exactly when the move ends on a station.
+    station |= reward == kStationReward;
+    s = next;
+  }
+  reached |= station;
+  walk_rng = rng;
+  return listed;
+}
+
+}  // namespace
+
 LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
                                   int64_t round, int sync_period, bool revert) {
   LearnerShard shard;
@@ -84,51 +159,67 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   shard.start_cell = start;
   if (start < 0) return shard;
 
-  const size_t most_touched = static_cast<size_t>(std::min<int64_t>(sync_period, visits_.size()));
-  touched_.reserve(most_touched);
-  originals_.reserve(most_touched);
+  // Scratch sized for the round; the slots are all empty between rounds.
   float* q = table_.values().data();
-  const RegionModel& model = model_;
-  int s = start;
-  bool reached = model.is_station(s);
-  int64_t steps = 0;
-  for (; steps < sync_period; ++steps) {
-    const int count = model.action_count(s);
-    if (count == 0) break;  // a 1x1 region: nowhere to go
-    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(count))];
-    const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
-    const int next = model.target(s, a);
-    const float reward = model.reward(s, a);
-    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    if (visits_[entry]++ == 0) {
-      touched_.push_back(entry);
-      originals_.push_back(q[entry]);
-    }
-    q[entry] += kLearningRate * (reward + kDiscount * best_next - q[entry]);
-    // The reward is +100 exactly when the move ends on a station.
-    reached |= reward == kStationReward;
-    s = next;
+  const size_t table_entries = table_.values().size();
+  const size_t most_touched =
+      static_cast<size_t>(std::clamp<int64_t>(sync_period, 0, static_cast<int64_t>(table_entries)));
+  const size_t wanted = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
+  if (slots_.size() < wanted) slots_.assign(wanted, Slot{});
+  if (touched_.size() < most_touched + 1) {
+    touched_.resize(most_touched + 1);
+    originals_.resize(most_touched + 1);
   }
+  const bool direct = slots_.size() >= table_entries;
+  const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
+  const int shift = 32 - std::countr_zero(slots_.size());
+
+  bool reached = model_.is_station(start);
+  // Every cell of a region has an in-region move except in a 1x1 region,
+  // which takes no step.
+  const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
+  const size_t listed = direct ? Walk<true>(model_, q, rng, start, steps, reached, slots_.data(),
+                                            mask, shift, touched_.data(), originals_.data())
+                               : Walk<false>(model_, q, rng, start, steps, reached, slots_.data(),
+                                             mask, shift, touched_.data(), originals_.data());
   shard.reached_station = reached;
   shard.steps = steps;
 
-  shard.entries = touched_;
-  for (uint32_t entry : touched_) bits_[entry >> 6] |= uint64_t{1} << (entry & 63);
-  SortMarked(shard.entries, bits_);
+  for (size_t i = 0; i < listed; ++i) marks_.Mark(touched_[i]);
+  marks_.List(shard.entries);
+  marks_.Clear(shard.entries);
   shard.values.resize(shard.entries.size());
   shard.visits.resize(shard.entries.size());
+  Slot* slots = slots_.data();
   for (size_t i = 0; i < shard.entries.size(); ++i) {
     const uint32_t entry = shard.entries[i];
     shard.values[i] = q[entry];
-    shard.visits[i] = visits_[entry];
-    visits_[entry] = 0;
+    shard.visits[i] = slots[direct ? FindSlot<true>(slots, mask, shift, entry)
+                                   : FindSlot<false>(slots, mask, shift, entry)]
+                          .visits;
   }
-  if (revert) {
-    for (size_t i = 0; i < touched_.size(); ++i) q[touched_[i]] = originals_[i];
+  for (size_t i = 0; i < listed; ++i) {
+    if (revert) q[touched_[i]] = originals_[i];
   }
-  touched_.clear();
-  originals_.clear();
+  // Empty the used slots: all of them at once unless few were used.
+  if (listed * 4 < slots_.size()) {
+    for (size_t i = 0; i < listed; ++i) {
+      const uint32_t entry = touched_[i];
+      slots[direct ? FindSlot<true>(slots, mask, shift, entry)
+                   : FindSlot<false>(slots, mask, shift, entry)] = Slot{};
+    }
+  } else {
+    std::fill(slots_.begin(), slots_.end(), Slot{});
+  }
   return shard;
+}
+
+void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
+                                         const StartStatistics& stats, uint64_t job_seed,
+                                         int64_t round, int sync_period, LearnerShard* shards) {
+  for (int i = 0; i < count; ++i) {
+    shards[i] = Run(learners[i], stats, job_seed, round, sync_period, true);
+  }
 }
 
 void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
@@ -140,8 +231,7 @@ void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
 FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
     : averaging_(averaging),
       table_entries_(table_entries),
-      bits_(BitWords(static_cast<size_t>(table_entries)), 0),
-      position_(static_cast<size_t>(table_entries), 0) {
+      marks_(static_cast<size_t>(table_entries)) {
   // Only the differences l_k - max_j l_j = -(N_max - N_k) * (-log(1 - eta))
   // are ever exponentiated (log-sum-exp), so the weights stay finite for any
   // visit count; they depend only on d = N_max - N_k, tabulated here.
@@ -177,37 +267,30 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   }
 
   // The union U of all shards' entries, ascending.
-  entries.clear();
   for (const LearnerShard& shard : shards) {
-    for (uint32_t entry : shard.entries) {
-      uint64_t& word = bits_[entry >> 6];
-      const uint64_t bit = uint64_t{1} << (entry & 63);
-      if ((word & bit) == 0) {
-        word |= bit;
-        entries.push_back(entry);
-      }
-    }
+    for (uint32_t entry : shard.entries) marks_.Mark(entry);
   }
-  SortMarked(entries, bits_);
+  marks_.List(entries);
 
   // Per entry of U and learner k: Q_k(e) and N_k(e); learners that did not
   // touch e hold the shared value with no visits.
   const size_t learners = shards.size();
   const std::vector<float>& shared_values = shared.values();
   learner_values_.resize(entries.size() * learners);
-  learner_visits_.resize(entries.size() * learners);
+  // Equal averaging needs no visit counts.
+  const bool weighted = averaging_ != Averaging::kEqual;
+  learner_visits_.resize(weighted ? entries.size() * learners : 0);
   for (size_t i = 0; i < entries.size(); ++i) {
-    position_[entries[i]] = static_cast<uint32_t>(i);
     std::fill_n(learner_values_.begin() + static_cast<ptrdiff_t>(i * learners), learners,
                 shared_values[entries[i]]);
-    std::fill_n(learner_visits_.begin() + static_cast<ptrdiff_t>(i * learners), learners, 0u);
   }
+  if (weighted) std::fill(learner_visits_.begin(), learner_visits_.end(), 0u);
   for (size_t k = 0; k < learners; ++k) {
     const LearnerShard& shard = shards[k];
     for (size_t j = 0; j < shard.entries.size(); ++j) {
-      const size_t slot = position_[shard.entries[j]] * learners + k;
+      const size_t slot = marks_.Position(shard.entries[j]) * learners + k;
       learner_values_[slot] = shard.values[j];
-      learner_visits_[slot] = shard.visits[j];
+      if (weighted) learner_visits_[slot] = shard.visits[j];
     }
   }
 
@@ -216,12 +299,12 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   const double log_base = -std::log(1.0 - kImportanceEta);
   for (size_t i = 0; i < entries.size(); ++i) {
     const float* q = &learner_values_[i * learners];
-    const uint32_t* n = &learner_visits_[i * learners];
     double sum = 0.0;
-    if (averaging_ == Averaging::kEqual) {
+    if (!weighted) {
       for (size_t k = 0; k < learners; ++k) sum += q[k];
       sum /= static_cast<double>(learners);
     } else {
+      const uint32_t* n = &learner_visits_[i * learners];
       const uint32_t most = *std::max_element(n, n + learners);
       // exp(l_k - max_j l_j) with l_k = N_k * -log(1 - eta).
       const auto weight = [&](uint32_t visits) {
@@ -240,6 +323,8 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
     values[i] = static_cast<float>(sum);
     shared.values()[entries[i]] = values[i];
   }
+
+  marks_.Clear(entries);
 
   for (const LearnerShard& shard : shards) {
     if (shard.start_cell >= 0) stats.Record(stats.SlotOf(shard.start_cell), shard.reached_station);
@@ -260,15 +345,16 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
   StartStatistics stats(model.start_cells());
   FederatedAverager averager(model.cells() * kNumActions, options.averaging);
   std::vector<LearnerShard> shards(static_cast<size_t>(learner_count));
+  std::vector<int> learner_indices(static_cast<size_t>(learner_count));
+  for (int k = 0; k < learner_count; ++k) learner_indices[k] = k;
   std::vector<uint32_t> entries;
   std::vector<float> values;
 
   const int64_t rounds = FederatedRounds(job.region, options);
   for (int64_t round = 0; round < rounds; ++round) {
-    for (int k = 0; k < learner_count; ++k) {
-      shards[k] = worker.RunRoundAndRevert(k, stats, job.seed, round, options.sync_period);
-      result.steps += shards[k].steps;
-    }
+    worker.RunRoundsAndRevert(learner_indices.data(), learner_count, stats, job.seed, round,
+                              options.sync_period, shards.data());
+    for (const LearnerShard& shard : shards) result.steps += shard.steps;
     averager.Combine(shards, result.table, stats, entries, values);
     worker.ApplyAverage(entries, values);
   }

@@ -8,7 +8,8 @@ LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& option
     : approach_(approach), options_(options), trainer_(trainer) {
   learner_.single_agent = options.single_agent;
   learner_.federated = options.federated;
-  learner_.bootstrap = options.bootstrap;
+  learner_.bootstrap =
+      options.semantics == Semantics::kReport ? Bootstrap::kAllStored : options.bootstrap;
   switch (approach) {
     case Approach::kFedAsynQEqAvg:
       learner_.kind = LearnerKind::kFedAsynQ;
@@ -85,8 +86,21 @@ double LearningPlanner::SuccessRate(NodeId node) {
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
   std::vector<uint64_t> seeds;
   seeds.reserve(nodes.size());
-  for (NodeId node : nodes)
+  for (NodeId node : nodes) {
+    // The report's code keeps a table per node and creates it, all zeros, at
+    // the node's first training (only the root has one from the start).
+    // Zeroing the root over the region before the job is built gives the
+    // job exactly that warm start, with any trainer (local or distributed);
+    // the job then commits its whole table over the region, as the report
+    // copies a trained node's table into its ancestors. Nodes of one call are
+    // disjoint, so no other job of the batch reads these values.
+    if (options_.semantics == Semantics::kReport && training_count_[node] == 0 &&
+        node != tree_->root()) {
+      const Region& region = tree_->node(node).region;
+      root_->Commit(region, QTable(region.cells()));
+    }
     seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
+  }
   trainer_.Train(nodes, seeds, learner_, *tree_, *grid_, *root_);
   for (NodeId node : nodes) evaluation_.TableChanged(tree_->node(node).region);
 }

@@ -1,10 +1,13 @@
 #pragma once
 // Trains nodes in this process on a thread pool.
 //
-// Single-agent jobs run one per thread. Federated jobs advance round by round
-// together: in every round all (job, learner) pairs run in parallel, then
-// each job's shards are averaged. This keeps both cores busy even when one
-// small leaf is retrained, and gives exactly TrainFedAsynQ's tables.
+// Single-agent jobs run one per thread. Federated jobs of a batch with at
+// least 4 jobs per thread run whole, one per thread (TrainFedAsynQ). Fewer
+// advance round by round together: in every round each job's learners are
+// played by up to one worker per thread (one table each, RunRoundAndRevert),
+// then each job's shards are averaged. This keeps both cores busy even when
+// one small leaf (or the root alone) is retrained. Either way the tables are
+// exactly TrainFedAsynQ's.
 
 #include "core/thread_pool.h"
 #include "core/trainer.h"

@@ -16,13 +16,21 @@
 
 namespace dynapath {
 
+// Whose learning semantics the learning approaches follow (docs/DECISIONS.md,
+// "Learning"). kReport reproduces the report's public code: the update's
+// bootstrap max over all 8 stored values (Bootstrap::kAllStored), and a
+// node other than the root trained for the first time starts from zeros
+// instead of the root table cut to its region.
+enum class Semantics { kOurs, kReport };
+
 struct PlannerOptions {
   uint64_t run_seed = 0;                         // learners' seeds derive from it
   int leaf_limit = QuadTree::kDefaultLeafLimit;  // largest leaf side
   RetrainingThresholds thresholds;
   SingleAgentOptions single_agent;
   FedAsynQOptions federated;                 // averaging is set by the approach
-  Bootstrap bootstrap = Bootstrap::kInGrid;  // see training_job.h
+  Bootstrap bootstrap = Bootstrap::kInGrid;  // see training_job.h (kOurs only)
+  Semantics semantics = Semantics::kOurs;
 };
 
 // What an initialisation or adaptation did (extra result columns).

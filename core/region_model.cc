@@ -23,41 +23,31 @@ RegionModel::RegionModel(const Grid& grid, const Region& region, Bootstrap boots
     : RegionModel(region, RegionCodes(grid, region), grid.rows(), grid.cols(), bootstrap) {}
 
 void RegionModel::Build() {
-  static_assert(static_cast<int8_t>(kStationReward) == kStationReward &&
-                static_cast<int8_t>(kBumpReward) == kBumpReward &&
-                static_cast<int8_t>(kStepReward) == kStepReward);
   const int rows = region_.rows(), cols = region_.cols();
   const int n = region_.cells();
-  // Out-of-region actions keep the cell itself as target and a zero reward so
-  // that a stray lookup stays inside the table.
+  for (int a = 0; a < kNumActions; ++a)
+    offset_[a] = kActionRowOffset[a] * cols + kActionColOffset[a];
   record_.assign(static_cast<size_t>(n), CellRecord{});
   start_cells_.clear();
   for (int cell = 0; cell < n; ++cell) {
     CellRecord& record = record_[cell];
     const int row = cell / cols, col = cell % cols;
     for (int a = 0; a < kNumActions; ++a) {
+      const uint8_t bit = static_cast<uint8_t>(1 << a);
       const int r = row + kActionRowOffset[a], c = col + kActionColOffset[a];
       const int grid_r = region_.r0 + r, grid_c = region_.c0 + c;
       const bool in_grid = grid_r >= 0 && grid_r < grid_rows_ && grid_c >= 0 && grid_c < grid_cols_;
-      if (in_grid && bootstrap_ == Bootstrap::kInGrid) {
-        record.bootstrap = static_cast<uint8_t>(record.bootstrap | (1 << a));
+      if (bootstrap_ == Bootstrap::kAllStored || (in_grid && bootstrap_ == Bootstrap::kInGrid)) {
+        record.bootstrap |= bit;
       }
-      record.target[a] = cell;
       if (r < 0 || r >= rows || c < 0 || c >= cols) continue;
-      record.actions[record.count++] = static_cast<uint8_t>(a);
-      record.in_region = static_cast<uint8_t>(record.in_region | (1 << a));
-      record.bootstrap = static_cast<uint8_t>(record.bootstrap | (1 << a));
+      record.in_region |= bit;
+      record.bootstrap |= bit;
       const int next = r * cols + c;
       const bool blocked = static_cast<Cell>(codes_[next]) == Cell::kObstacle;
-      const int end = blocked ? cell : next;
-      record.target[a] = end;
-      float reward = kStepReward;
-      if (static_cast<Cell>(codes_[end]) == Cell::kStation) {
-        reward = kStationReward;
-      } else if (blocked) {
-        reward = kBumpReward;
-      }
-      record.reward[a] = static_cast<int8_t>(reward);
+      if (!blocked) record.moves |= bit;
+      // +100 when the cell the agent ends on is a station, even if it stayed.
+      if (static_cast<Cell>(codes_[blocked ? cell : next]) == Cell::kStation) record.station |= bit;
     }
     if (static_cast<Cell>(codes_[cell]) != Cell::kObstacle) start_cells_.push_back(cell);
   }

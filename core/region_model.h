@@ -4,6 +4,10 @@
 // each leads and what it pays. Built once per training job from the region's
 // cell codes; immutable afterwards and safe to share between threads.
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -27,6 +31,20 @@ inline constexpr auto kActionMasks = [] {
   }
   return masks;
 }();
+// kActionLists[bits]: the set bits of `bits` in increasing order.
+struct ActionList {
+  std::array<uint8_t, kNumActions> actions;
+  uint8_t count;
+};
+inline constexpr auto kActionLists = [] {
+  std::array<ActionList, 256> lists{};
+  for (int bits = 0; bits < 256; ++bits) {
+    for (int a = 0; a < kNumActions; ++a) {
+      if ((bits >> a) & 1) lists[bits].actions[lists[bits].count++] = static_cast<uint8_t>(a);
+    }
+  }
+  return lists;
+}();
 }  // namespace region_model_internal
 
 class RegionModel {
@@ -47,13 +65,29 @@ class RegionModel {
   bool is_station(int cell) const { return code(cell) == Cell::kStation; }
 
   // In-region actions of `cell` in increasing order.
-  int action_count(int cell) const { return record_[cell].count; }
-  const uint8_t* actions(int cell) const { return record_[cell].actions; }
+  int action_count(int cell) const {
+    return region_model_internal::kActionLists[record_[cell].in_region].count;
+  }
+  const uint8_t* actions(int cell) const {
+    return region_model_internal::kActionLists[record_[cell].in_region].actions.data();
+  }
 
   // Cell reached by action `a` from `cell` (the cell itself when blocked by an
   // obstacle), and its reward. Only meaningful for in-region actions.
-  int target(int cell, int a) const { return record_[cell].target[a]; }
-  float reward(int cell, int a) const { return record_[cell].reward[a]; }
+  int target(int cell, int a) const {
+    return (record_[cell].moves >> a) & 1 ? cell + offset_[a] : cell;
+  }
+  float reward(int cell, int a) const {
+    // By (in region, ends on a station, moves): 0 out of the region, else
+    // +100 on a station, -1 for a move, -10 for a bump (no branch: the
+    // learners' hot loop).
+    static constexpr float kRewards[8] = {0.0f, kBumpReward, 0.0f, kStationReward,
+                                          0.0f, kStepReward, 0.0f, kStationReward};
+    const CellRecord& record = record_[cell];
+    const unsigned index = ((record.in_region >> a) & 1u) | (((record.station >> a) & 1u) << 1) |
+                           (((record.moves >> a) & 1u) << 2);
+    return kRewards[index];
+  }
 
   // 8 floats: 0 for the in-region actions of `cell`, -infinity for the
   // others, so that max_a (q[a] + mask[a]) is the in-region maximum without
@@ -65,10 +99,22 @@ class RegionModel {
 
   // The bootstrap term max_a' Q(s', a') of every update: the maximum of
   // q_row[a] (the cell's 8 values) over the cell's bootstrap actions, i.e.
-  // its in-grid actions (Bootstrap::kInGrid) or its in-region actions.
+  // its in-grid actions (Bootstrap::kInGrid), its in-region actions, or all
+  // 8 (Bootstrap::kAllStored).
   float BootstrapMax(int cell, const float* q_row) const {
     const float* mask = region_model_internal::kActionMasks[record_[cell].bootstrap].data();
-    // A balanced tree of maxima, written so the compiler can use SIMD.
+    // A balanced tree of maxima: m[i] = max(x[i], x[i + 4]), then
+    // max(max(m0, m2), max(m1, m3)), each max(x, y) = x < y ? y : x, which is
+    // what SSE's _mm_max_ps(y, x) computes (the compiler does not vectorise
+    // it by itself: it was about 30 scalar instructions of a learner's step).
+#if defined(__SSE__)
+    const __m128 low = _mm_add_ps(_mm_loadu_ps(q_row), _mm_loadu_ps(mask));
+    const __m128 high = _mm_add_ps(_mm_loadu_ps(q_row + 4), _mm_loadu_ps(mask + 4));
+    const __m128 m = _mm_max_ps(high, low);                                     // m0 m1 m2 m3
+    const __m128 halves = _mm_max_ps(_mm_movehl_ps(m, m), m);                   // left right . .
+    const __m128 best = _mm_max_ss(_mm_shuffle_ps(halves, halves, 1), halves);  // right vs left
+    return _mm_cvtss_f32(best);
+#else
     float m[4];
     for (int i = 0; i < 4; ++i) {
       const float x = q_row[i] + mask[i], y = q_row[i + 4] + mask[i + 4];
@@ -77,6 +123,7 @@ class RegionModel {
     const float left = m[0] < m[2] ? m[2] : m[0];
     const float right = m[1] < m[3] ? m[3] : m[1];
     return left < right ? right : left;
+#endif
   }
 
   // Non-obstacle cells in increasing order: the possible start cells.
@@ -86,23 +133,25 @@ class RegionModel {
   const std::vector<uint8_t>& codes() const { return codes_; }
 
  private:
-  // Everything a step reads about a cell, in one cache line: a random walk
-  // over a large region then misses the cache once per new cell, not once
-  // per array.
-  struct alignas(64) CellRecord {
-    int32_t target[kNumActions];
-    uint8_t actions[kNumActions];
-    int8_t reward[kNumActions];  // +100, -10, -1 (mdp.h) are exact in int8
-    uint8_t count;
+  // Everything a step reads about a cell, as 8-bit action masks (4 bytes a
+  // cell): a 1000x1000 region's records take 4 MB, where 64-byte records
+  // with explicit targets and rewards took 64 MB. Targets are cell +
+  // offset_[a] for a move, the cell itself otherwise; rewards follow from
+  // the masks (mdp.h).
+  struct CellRecord {
     uint8_t in_region;  // bit a: action a stays in the region
     uint8_t bootstrap;  // bit a: action a counts in the bootstrap max
+    uint8_t moves;      // bit a: in-region action a moves (its target is no obstacle)
+    uint8_t station;    // bit a: in-region action a ends on a station (+100)
   };
+  static_assert(sizeof(CellRecord) == 4);
 
   void Build();
 
   Region region_;
   int grid_rows_, grid_cols_;
   Bootstrap bootstrap_;
+  std::array<int32_t, kNumActions> offset_{};  // region-local index change of each action
   std::vector<uint8_t> codes_;
   std::vector<CellRecord> record_;
   std::vector<int> start_cells_;

@@ -3,6 +3,7 @@
 // from a hash of (run seed, node, training count, learner, round), so no
 // random state is shared and results do not depend on scheduling.
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 
@@ -51,6 +52,12 @@ class Rng {
   // below 2^-32 for the small n used here).
   uint32_t Below(uint32_t n) {
     return static_cast<uint32_t>(((Next() >> 32) * static_cast<uint64_t>(n)) >> 32);
+  }
+
+  // The raw state (for RngSkip).
+  std::array<uint64_t, 4> state() const { return {s_[0], s_[1], s_[2], s_[3]}; }
+  void set_state(const std::array<uint64_t, 4>& state) {
+    for (int i = 0; i < 4; ++i) s_[i] = state[i];
   }
 
   // Uniform double in [0, 1).

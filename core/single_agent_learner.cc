@@ -1,11 +1,14 @@
 #include "core/single_agent_learner.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "core/rng.h"
+#include "core/rng_skip.h"
+#include "core/settled_updates.h"
 #include "core/start_statistics.h"
 
 namespace dynapath {
@@ -34,16 +37,28 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   if (stats.start_cells().empty()) return result;
 
   float* q = result.table.values().data();
-  // One Q-learning update of (s, a); returns s'.
-  const auto update = [&model, q](int s, int a) {
+  // Settled updates (no-ops, see settled_updates.h) are skipped: the table
+  // and the random stream are exactly those of applying every update.
+  SettledUpdates settled(model);
+  // One Q-learning update of table entry s * 8 + a.
+  const auto update = [&model, q, &settled](uint32_t entry) {
+    if (settled.settled(entry)) return;
+    const int s = static_cast<int>(entry / kNumActions), a = static_cast<int>(entry % kNumActions);
     const int next = model.target(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    float& value = q[static_cast<size_t>(s) * kNumActions + a];
-    value += kLearningRate * (model.reward(s, a) + kDiscount * best_next - value);
-    return next;
+    const float value = q[entry];
+    const float updated =
+        value + kLearningRate * (model.reward(s, a) + kDiscount * best_next - value);
+    if (std::bit_cast<uint32_t>(updated) == std::bit_cast<uint32_t>(value)) {
+      settled.MarkSettled(entry);
+    } else {
+      q[entry] = updated;
+      settled.RowChanged(s);
+    }
   };
 
   Rng rng(job.seed);
+  const RngSkip& skip = RngSkip::For(std::max(0, options.replay_batch));
   // Everything the episode loop needs is allocated here, before it.
   const int max_steps = job.region.rows() + job.region.cols();
   // The environment is deterministic, so (s, a) determines r and s': the
@@ -71,6 +86,9 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
     }
 
     const int start = stats.Draw(rng);
+    // The steps use a local copy of the generator (put back after the
+    // episode), which the compiler can keep in registers.
+    Rng step_rng = rng;
     const bool replaying = e >= options.replay_start_episode;
     int s = start;
     // A start on a station is an immediate success with no step.
@@ -80,8 +98,8 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
       if (count == 0) break;  // a 1x1 region: nowhere to go
       const uint8_t* actions = model.actions(s);
       int a;
-      if (rng.Uniform() < epsilon) {
-        a = actions[rng.Below(static_cast<uint32_t>(count))];
+      if (step_rng.Uniform() < epsilon) {
+        a = actions[step_rng.Below(static_cast<uint32_t>(count))];
       } else {
         // Greedy; strict ">" over increasing actions: ties go to the lowest.
         const float* row = q + static_cast<size_t>(s) * kNumActions;
@@ -90,20 +108,28 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
           if (row[actions[i]] > row[a]) a = actions[i];
         }
       }
-      const int next = update(s, a);
+      const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
+      update(entry);
+      const int next = model.target(s, a);
       ++steps;
-      replay[replay_next] = static_cast<uint32_t>(s * kNumActions + a);
+      if (replay_size == replay.size()) settled.Removed(replay[replay_next]);
+      replay[replay_next] = entry;
+      settled.Added(entry);
       replay_next = replay_next + 1 == replay.size() ? 0 : replay_next + 1;
       replay_size = std::min(replay_size + 1, replay.size());
       if (replaying) {
-        for (int i = 0; i < options.replay_batch; ++i) {
-          const uint32_t entry = replay[rng.Below(static_cast<uint32_t>(replay_size))];
-          update(static_cast<int>(entry / kNumActions), static_cast<int>(entry % kNumActions));
+        if (settled.BufferSettled()) {
+          // Every draw would pick a settled entry: only the draws remain.
+          skip.Apply(step_rng);
+        } else {
+          const uint32_t size = static_cast<uint32_t>(replay_size);
+          for (int i = 0; i < options.replay_batch; ++i) update(replay[step_rng.Below(size)]);
         }
       }
       s = next;
       success = model.is_station(s);
     }
+    rng = step_rng;
     stats.Record(stats.SlotOf(start), success);
     epsilon = std::max(epsilon * options.epsilon_decay, options.epsilon_min);
     episodes = e + 1;

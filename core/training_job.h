@@ -20,8 +20,11 @@ enum class Averaging { kEqual, kImportance };
 // SPEC 2's formula) also bootstraps from the values of actions that leave
 // the region, learned when an ancestor was trained: a retrained leaf with no
 // station keeps routing towards the exits its parent found. kInRegion treats
-// the region as if it were the whole world.
-enum class Bootstrap { kInGrid, kInRegion };
+// the region as if it were the whole world. kAllStored is the report code's
+// rule (`--semantics report`, docs/DECISIONS.md): all 8 stored values,
+// including those of actions that leave the grid, which no learner ever
+// updates and so stay 0 (a "phantom exit" at the outer wall).
+enum class Bootstrap { kInGrid, kInRegion, kAllStored };
 
 struct SingleAgentOptions {
   int max_episodes = 10000;             // report: at most 10,000 episodes

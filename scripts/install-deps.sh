@@ -19,7 +19,10 @@ packages=(
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
   libsodium-dev                       # message authentication of a run (keyed BLAKE2b)
   xvfb xauth                          # the viewer's one headless check (tests)
+  iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
+  libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN
   clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
+  time                                # GNU time: peak memory in bench/scale_bench.sh
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi

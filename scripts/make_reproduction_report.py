@@ -2,12 +2,16 @@
 """Writes docs/REPRODUCTION.md: our results beside the report's, row by row.
 
 Usage: scripts/make_reproduction_report.py STUDY_DIR [OUTPUT]
+           [--report-semantics REPORT_STUDY_DIR] [--like-for-like CSV]
 
 STUDY_DIR is a study of `dynapath experiment` (results.csv, edge_results.csv,
 manifest.json) whose figures `dynapath plot STUDY_DIR --overlay-reference`
 drew into STUDY_DIR/figures; the figures the report shows are copied to
-docs/images/reproduction/. The report's figures are read from
-docs/reference/. Standard library only (no pandas needed).
+docs/images/reproduction/. REPORT_STUDY_DIR is a study of hard 50x50 (seed
+52) and the edge case run with `--semantics report`; CSV is the output of
+`bench/like_for_like.sh --csv`. The report's figures, published and run on
+this machine, are read from docs/reference/. Standard library only (no
+pandas needed).
 """
 import csv
 import json
@@ -146,6 +150,65 @@ def speedups(ours_rows, ref_rows, key):
     return f"{min(values):.0f} to {max(values):.0f}"
 
 
+# Spread of the report's code run here (docs/reference/README.md): hard
+# 50x50 seed 52 about +-0.003 success and +-0.05 path around the median; the
+# edge case success 0.966-0.977, path 9.29-10.58.
+HARD50_SPREAD = (0.003, 0.05)
+EDGE_SPREAD = ((0.966, 0.977), (9.29, 10.58))
+
+
+def inside_spread(row, ref, edge):
+    success, path = float(row["AvgSuccessRate"]), float(row["AvgPathLength"])
+    if edge:
+        (s0, s1), (p0, p1) = EDGE_SPREAD
+        return s0 <= success <= s1 and p0 <= path <= p1
+    return (abs(success - float(ref["AvgSuccessRate"])) <= HARD50_SPREAD[0] and
+            abs(path - float(ref["AvgPathLength"])) <= HARD50_SPREAD[1])
+
+
+def code_here_table(ours_rows, report_rows, here_rows, published_rows, seed, edge):
+    """Ours (default), ours --semantics report, the report's code run here and
+    its published row, for one maze (hard 50x50 of `seed`)."""
+    ours = index(ours_rows)
+    report = index(report_rows)
+    published = index(published_rows)
+    here = {r["Approach"]: r for r in here_rows if r["Seed"] == seed}
+    lines = ["| Approach | ours (default) | ours, `--semantics report` | report's code run here "
+             "(median of 3) | report's published row | `report` inside its code's spread |",
+             "|---|---|---|---|---|---|"]
+    pair = lambda row: "–" if row is None else \
+        f"{float(row['AvgSuccessRate']):.4f} / {float(row['AvgPathLength']):.3f}"
+    for approach in ["A* Oracle"] + RL:
+        h = here.get(approach)
+        o = ours.get((approach, "50", "Hard"))
+        r = report.get((approach, "50", "Hard"))
+        if h is None or (o is None and r is None):
+            continue
+        verdict = "–" if r is None or approach not in RL else (
+            "yes" if inside_spread(r, h, edge) else "**no**")
+        lines.append(f"| {approach} | {pair(o)} | {pair(r)} | {pair(h)} | "
+                     f"{pair(published.get((approach, '50', 'Hard')))} | {verdict} |")
+    return lines
+
+
+def like_for_like_table(rows):
+    lines = ["| Approach | initial s, ours (min / median) | initial s, report's code | initial "
+             "speed-up | adapt s/step, ours (min / median) | adapt s/step, report's code | "
+             "adapt speed-up |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['Approach']} | {float(r['InitialMin']):.4f} / "
+                     f"{float(r['InitialMedian']):.4f} | {float(r['InitialReference']):.4f} | "
+                     f"**{float(r['InitialSpeedup']):.0f}x** | {float(r['AdaptMin']):.5f} / "
+                     f"{float(r['AdaptMedian']):.5f} | {float(r['AdaptReference']):.5f} | "
+                     f"**{float(r['AdaptSpeedup']):.0f}x** |")
+    return lines
+
+
+def like_for_like_range(rows, key):
+    values = [float(r[key]) for r in rows if r["Approach"] in RL]
+    return "–" if not values else f"{min(values):.0f} to {max(values):.0f}"
+
+
 def study_facts(results_dir):
     """Commit, mode, machine and wall time from the study's manifest.json."""
     try:
@@ -184,10 +247,22 @@ def copy_figures(results_dir):
 
 
 def main():
-    if len(sys.argv) < 2:
+    args, options = [], {}
+    argv = sys.argv[1:]
+    while argv:
+        arg = argv.pop(0)
+        if arg in ("--report-semantics", "--like-for-like"):
+            if not argv:
+                sys.exit(f"{arg} needs a value\n\n{__doc__}")
+            options[arg] = argv.pop(0)
+        elif arg.startswith("--"):
+            sys.exit(f"unknown option {arg}\n\n{__doc__}")
+        else:
+            args.append(arg)
+    if not args or len(args) > 2:
         sys.exit(__doc__)
-    results_dir = sys.argv[1]
-    output = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, "..", "docs", "REPRODUCTION.md")
+    results_dir = args[0]
+    output = args[1] if len(args) > 1 else os.path.join(HERE, "..", "docs", "REPRODUCTION.md")
     ours = read(os.path.join(results_dir, "results.csv"))
     ref = read(os.path.join(REFERENCE, "paper_results.csv"))
     sizes = sorted({r["Size"] for r in ours}, key=int)
@@ -205,8 +280,34 @@ def main():
     text = text.replace("{{FAILURES}}", str(failures))
     text = text.replace("{{INITIAL_SPEEDUP}}", speedups(ours, ref, "InitialTime"))
     text = text.replace("{{ADAPT_SPEEDUP}}", speedups(ours, ref, "AdaptTimePerStep"))
+    like = read(options["--like-for-like"]) if "--like-for-like" in options else []
+    text = text.replace("{{LFL_INITIAL}}", like_for_like_range(like, "InitialSpeedup"))
+    text = text.replace("{{LFL_ADAPT}}", like_for_like_range(like, "AdaptSpeedup"))
     figures = copy_figures(results_dir)
-    text += "\n## All configurations\n\n" + "\n".join(main_lines) + "\n"
+    if like:
+        text += ("\n## Speed, like for like\n\nThe report's code built `-O3` and run on this machine "
+                 "(`docs/reference/reference_code_run_here.csv`, median of 3 runs) against ours "
+                 "(`bench/like_for_like.sh`, " + like[0]["Runs"] + " runs; `docs/PERFORMANCE.md`), "
+                 "hard 50x50, seed 52. Speed-up = its median / our median.\n\n")
+        text += "\n".join(like_for_like_table(like)) + "\n"
+    if "--report-semantics" in options:
+        report_dir = options["--report-semantics"]
+        here = read(os.path.join(REFERENCE, "reference_code_run_here.csv"))
+        text += ("\n## Against the report's code run here\n\nSuccess rate / average path length. "
+                 "The report's code is not deterministic; its spread over 3 runs is about "
+                 "+-0.003 / +-0.05 on hard 50x50 and 0.966-0.977 / 9.29-10.58 on the edge case "
+                 "(`docs/reference/README.md`). Ours is deterministic: one run each. "
+                 "`--semantics report` is the report code's bootstrap and first-training rule "
+                 "(`docs/DECISIONS.md`).\n\n")
+        text += "### Hard 50x50, seed 52\n\n"
+        text += "\n".join(code_here_table(
+            ours, read(os.path.join(report_dir, "results.csv")), here, ref, "52", False)) + "\n"
+        if os.path.exists(edge_path):
+            text += "\n### Edge case (hard 50x50, seed 102)\n\n"
+            text += "\n".join(code_here_table(
+                read(edge_path), read(os.path.join(report_dir, "edge_results.csv")), here,
+                read(os.path.join(REFERENCE, "paper_edge_results.csv")), "102", True)) + "\n"
+    text += "\n## All configurations (against the report's published rows)\n\n" + "\n".join(main_lines) + "\n"
     if edge_lines:
         text += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"
     text += "\n## RL adaptation time against the BFS Oracle\n\n"

@@ -60,6 +60,26 @@ for case in "1 auto" "2 auto" "3 split"; do
   fi
 done
 
+# 1b. --semantics report (the report code's bootstrap and first training)
+# travels to the agents: same answers as --local under the switch, with
+# learners split and with whole jobs, and not the default's answers.
+report=(--size 30 --difficulty medium --steps 10 --approach singleAgent,fedAsynQ_EqAvg --semantics report)
+"$dynapath" run --local "${report[@]}" --out "$work/report_local" --log-level warn >/dev/null ||
+  fail "--semantics report --local run"
+"$dynapath" run --embedded --agents 2 --placement split "${report[@]}" --out "$work/report_embedded" \
+  --log-level warn >/dev/null || fail "--semantics report --embedded run"
+same_results "$work/report_local" "$work/report_embedded" "--semantics report, --embedded, split"
+"$dynapath" run --agents 2 "${report[@]}" --out "$work/report_agents" --log-level warn \
+  >/dev/null 2>&1 || fail "--semantics report --agents 2 run"
+same_results "$work/report_local" "$work/report_agents" "--semantics report, 2 agent processes"
+"$dynapath" run --local "${report[@]:0:8}" --out "$work/ours_local" --log-level warn >/dev/null ||
+  fail "--semantics ours --local run"
+if same_result_files "$work/report_local" "$work/ours_local" results.csv results_detailed.csv; then
+  fail "--semantics report changed nothing"
+else
+  pass "--semantics report differs from the default"
+fi
+
 # 2. SIGKILL an agent in the middle of a federated run: during the initial
 # training (whole jobs), and while learners are split over the agents.
 big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
@@ -170,6 +190,7 @@ expect_usage_error "--log" "$dynapath" run --local --log x.lcm
 expect_usage_error "run id" "$dynapath" run --agents 1 --run-id "bad/id"
 expect_usage_error "probability" "$dynapath" run --agents 1 --fault-drop 2
 expect_usage_error "placement" "$dynapath" run --agents 1 --placement sideways
+expect_usage_error "semantics" "$dynapath" run --agents 1 --semantics theirs
 expect_usage_error "cannot open log" "$dynapath" run --local --replay "$work/missing.lcm"
 echo "garbage" >"$work/not-a-log.lcm"
 "$dynapath" run --local --replay "$work/not-a-log.lcm" >/dev/null 2>"$work/err"

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -422,6 +423,35 @@ TEST(FedAsynQTest, RegionWithoutStartCellKeepsTheWarmStart) {
   EXPECT_EQ(result.steps, 0);
   EXPECT_EQ(result.episodes_or_rounds, 1);
   EXPECT_TRUE(BytesEqual(result.table, job.warm_start));
+}
+
+// The marks list what was marked, ascending and without repeats, rank each
+// marked entry by its position in that list, and are all clear after Clear,
+// across words, summary words and repeated use.
+TEST(SortedMarksTest, ListsRanksAndClears) {
+  const size_t entries = 3 * 4096 + 100;  // several summary words, a partial one
+  SortedMarks marks(entries);
+  Rng rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<uint32_t> marked;
+    const int count = 1 + static_cast<int>(rng.Below(trial % 2 == 0 ? 30 : 3000));
+    for (int i = 0; i < count; ++i) {
+      const uint32_t entry = rng.Below(static_cast<uint32_t>(entries));
+      marked.push_back(entry);
+      marks.Mark(entry);
+    }
+    marks.Mark(static_cast<uint32_t>(entries - 1));  // the last entry
+    marked.push_back(static_cast<uint32_t>(entries - 1));
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    std::vector<uint32_t> listed = {12345};  // replaced, not appended to
+    marks.List(listed);
+    ASSERT_EQ(listed, marked);
+    for (size_t i = 0; i < listed.size(); ++i) ASSERT_EQ(marks.Position(listed[i]), i);
+    marks.Clear(listed);
+    marks.List(listed);
+    ASSERT_TRUE(listed.empty());
+  }
 }
 
 }  // namespace

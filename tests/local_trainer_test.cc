@@ -9,13 +9,21 @@
 namespace dynapath {
 namespace {
 
-// The round-synchronous parallel trainer gives exactly the tables of the
-// sequential learners, for several nodes at once and any thread count.
-TEST(LocalTrainerTest, EqualsSequentialLearners) {
-  const Scenario scenario = GenerateScenario(40, 40, Difficulty::kHard, 52, 0);
+// The parallel trainer gives exactly the tables of the sequential learners,
+// for several nodes at once and any thread count: batches of few jobs
+// (round by round, one to three workers per job), of many (whole jobs per
+// thread from 4 jobs per thread on), and the root alone.
+class LocalTrainerTest : public ::testing::TestWithParam<std::vector<int>> {};
+
+TEST_P(LocalTrainerTest, EqualsSequentialLearners) {
+  const Scenario scenario = GenerateScenario(60, 60, Difficulty::kHard, 52, 0);  // 16 leaves
   const QuadTree tree(scenario.grid.rows(), scenario.grid.cols());
-  const std::vector<NodeId> nodes = {tree.leaves()[0], tree.leaves()[1], tree.leaves()[3]};
-  const std::vector<uint64_t> seeds = {11, 12, 13};
+  std::vector<NodeId> nodes;
+  std::vector<uint64_t> seeds;
+  for (int leaf : GetParam()) {
+    nodes.push_back(leaf < 0 ? tree.root() : tree.leaves()[leaf]);
+    seeds.push_back(11 + seeds.size());
+  }
   for (LearnerKind kind : {LearnerKind::kFedAsynQ, LearnerKind::kSingleAgent}) {
     for (Averaging averaging : {Averaging::kEqual, Averaging::kImportance}) {
       LearnerConfig config;
@@ -36,13 +44,19 @@ TEST(LocalTrainerTest, EqualsSequentialLearners) {
         LocalTrainer trainer(pool);
         RootQTable root(tree.rows(), tree.cols());
         const TrainingStats stats = trainer.Train(nodes, seeds, config, tree, scenario.grid, root);
-        EXPECT_EQ(stats.jobs, 3);
+        EXPECT_EQ(stats.jobs, static_cast<int64_t>(nodes.size()));
         EXPECT_GT(stats.steps, 0);
         ASSERT_EQ(root.table(), expected.table()) << "threads " << threads;
       }
     }
   }
 }
+
+// Leaf indices; -1 = the root.
+INSTANTIATE_TEST_SUITE_P(Batches, LocalTrainerTest,
+                         ::testing::Values(std::vector<int>{0, 1, 3},
+                                           std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8},
+                                           std::vector<int>{-1}));
 
 }  // namespace
 }  // namespace dynapath

@@ -8,7 +8,11 @@ namespace dynapath::protocol {
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
   batch.kind = config.kind == LearnerKind::kFedAsynQ ? job_batch_t::KIND_FEDASYNQ
                                                      : job_batch_t::KIND_SINGLE_AGENT;
-  batch.bootstrap = config.bootstrap == Bootstrap::kInGrid ? 0 : 1;
+  // 0 in-grid, 1 in-region, 2 all stored (the .lcm comment predates 2; the
+  // field is an int8 either way, so the fingerprint is unchanged).
+  batch.bootstrap = static_cast<int8_t>(config.bootstrap == Bootstrap::kInGrid     ? 0
+                                        : config.bootstrap == Bootstrap::kInRegion ? 1
+                                                                                   : 2);
   batch.averaging = config.federated.averaging == Averaging::kEqual ? 0 : 1;
   const SingleAgentOptions& s = config.single_agent;
   batch.max_episodes = s.max_episodes;
@@ -63,7 +67,9 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.codes.assign(m.codes.begin(), m.codes.end());
   job.grid_rows = m.grid_rows;
   job.grid_cols = m.grid_cols;
-  job.bootstrap = batch.bootstrap == 0 ? Bootstrap::kInGrid : Bootstrap::kInRegion;
+  job.bootstrap = batch.bootstrap == 0   ? Bootstrap::kInGrid
+                  : batch.bootstrap == 1 ? Bootstrap::kInRegion
+                                         : Bootstrap::kAllStored;
   job.warm_start = QTable(m.num_cells);
   if (m.num_values > 0) job.warm_start.values() = m.values;
   job.seed = static_cast<uint64_t>(m.seed);

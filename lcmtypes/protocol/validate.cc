@@ -85,7 +85,7 @@ std::string Validate(const job_batch_t& m) {
   if (m.kind != job_batch_t::KIND_SINGLE_AGENT && m.kind != job_batch_t::KIND_FEDASYNQ) {
     return "unknown learner kind";
   }
-  if (m.bootstrap < 0 || m.bootstrap > 1 || m.averaging < 0 || m.averaging > 1) {
+  if (m.bootstrap < 0 || m.bootstrap > 2 || m.averaging < 0 || m.averaging > 1) {
     return "bad bootstrap or averaging";
   }
   if (m.learners < 1 || m.learners > 4096 || m.sync_period < 1 || m.iterations_per_cell < 1) {

@@ -79,7 +79,7 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   EXPECT_EQ(RunArguments(*options, "out/runs/x"),
             (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out",
                                       "out/runs/x", "--leaf-limit", "20", "--bootstrap", "in-grid",
-                                      "--placement", "auto"}));
+                                      "--semantics", "ours", "--placement", "auto"}));
 
   options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
   ASSERT_TRUE(options);
@@ -151,6 +151,9 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
       {Cli({{"local", "true"}, {"agents", "2"}}), "option --local: choose one of"},
       {Cli({{"lcm-url", "udpm://"}}), "option --lcm-url: an LCM URL needs --agents N"},
       {Cli({{"bootstrap", "both"}}), "option --bootstrap: must be in-grid or in-region"},
+      {Cli({{"semantics", "theirs"}}), "option --semantics: must be ours or report"},
+      {Cli({{"semantics", "report"}, {"bootstrap", "in-region"}}),
+       "option --semantics: report sets the bootstrap itself"},
       {Cli({{"log-level", "loud"}}), "option --log-level: must be trace"},
       {Cli({{"out", ""}}), "option --out: must not be empty"},
   };
@@ -196,6 +199,12 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
             "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\",\"Incremental "
             "Oracle\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
             "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
+  // --semantics report changes the results, so it is part of the identity.
+  Result<StudyOptions> d =
+      ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}, {"semantics", "report"}}), 2);
+  ASSERT_TRUE(d);
+  EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*d));
+  EXPECT_EQ(StudyIdentityJson(*d)["semantics"].get<std::string>(), "report");
   EXPECT_EQ(ExecutionJson(*b)["mode"].get<std::string>(), "agents");
   EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);
 }

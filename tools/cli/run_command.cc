@@ -65,6 +65,11 @@ int RunCommand(const std::vector<std::string>& args) {
       }
     }
   }
+  if (parser.Has("embedded") && parser.Has("lcm-url")) {
+    // Embedded runs are threads over memq://; silently ignoring the URL
+    // would leave agents started elsewhere waiting for a run they never see.
+    return usage_error("--lcm-url needs processes on a network: use --agents N, not --embedded");
+  }
   if (parser.Has("log") && !parser.Has("agents")) {
     return usage_error("--log records a multi-process run: use it with --agents N");
   }

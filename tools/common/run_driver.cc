@@ -55,14 +55,18 @@ void AddRunOptions(ArgParser& parser) {
       "bootstrap", "SCOPE",
       "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
       "in-grid");
+  parser.AddOption("semantics", "WHOSE",
+                   "learning semantics: ours, or report (the report code's bootstrap and first "
+                   "training; docs/DECISIONS.md)",
+                   "ours");
   parser.AddOption("placement", "MODE",
                    "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)",
                    "auto");
 }
 
 const std::vector<std::string>& RunOptionNames() {
-  static const std::vector<std::string> names = {"approach", "out", "leaf-limit", "bootstrap",
-                                                 "placement"};
+  static const std::vector<std::string> names = {"approach",  "out",       "leaf-limit",
+                                                 "bootstrap", "semantics", "placement"};
   return names;
 }
 
@@ -79,6 +83,14 @@ Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
     return Error{"option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'"};
   }
   plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
+  const std::string semantics = parser.Get("semantics", "ours");
+  if (semantics != "ours" && semantics != "report") {
+    return Error{"option --semantics must be ours or report, got '" + semantics + "'"};
+  }
+  plan.options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
+  if (plan.options.semantics == Semantics::kReport && bootstrap != "in-grid") {
+    return Error{"option --semantics report sets the bootstrap itself; leave --bootstrap out"};
+  }
   plan.out_dir = parser.Get("out", "results");
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
   const std::string placement = parser.Get("placement", "auto");

@@ -28,7 +28,8 @@ struct RunPlan {
   Placement placement = Placement::kAuto;
 };
 
-// Declares --approach, --out, --leaf-limit, --bootstrap and --placement.
+// Declares --approach, --out, --leaf-limit, --bootstrap, --semantics and
+// --placement.
 void AddRunOptions(ArgParser& parser);
 // The names of those options (for the launcher to forward them).
 const std::vector<std::string>& RunOptionNames();

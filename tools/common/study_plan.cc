@@ -26,14 +26,23 @@ struct KeyKind {
 };
 
 constexpr KeyKind kFileKeys[] = {
-    {"sizes", FileKind::kIntegerList},     {"difficulties", FileKind::kStringList},
-    {"approaches", FileKind::kStringList}, {"edge-case", FileKind::kBoolean},
-    {"seed", FileKind::kInteger},          {"steps", FileKind::kInteger},
-    {"leaf-limit", FileKind::kInteger},    {"bootstrap", FileKind::kString},
-    {"local", FileKind::kBoolean},         {"agents", FileKind::kInteger},
-    {"embedded", FileKind::kBoolean},      {"threads", FileKind::kInteger},
-    {"placement", FileKind::kString},      {"log-level", FileKind::kString},
-    {"lcm-url", FileKind::kString},        {"out", FileKind::kString},
+    {"sizes", FileKind::kIntegerList},
+    {"difficulties", FileKind::kStringList},
+    {"approaches", FileKind::kStringList},
+    {"edge-case", FileKind::kBoolean},
+    {"seed", FileKind::kInteger},
+    {"steps", FileKind::kInteger},
+    {"leaf-limit", FileKind::kInteger},
+    {"bootstrap", FileKind::kString},
+    {"semantics", FileKind::kString},
+    {"local", FileKind::kBoolean},
+    {"agents", FileKind::kInteger},
+    {"embedded", FileKind::kBoolean},
+    {"threads", FileKind::kInteger},
+    {"placement", FileKind::kString},
+    {"log-level", FileKind::kString},
+    {"lcm-url", FileKind::kString},
+    {"out", FileKind::kString},
 };
 
 std::string ScalarText(const ConfigValue& value) {
@@ -108,6 +117,8 @@ const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
       {"steps", "T", "time steps of every maze", "2 x rows, the report's"},
       {"leaf-limit", "N", "largest quadtree leaf side", "20"},
       {"bootstrap", "SCOPE", "in-grid or in-region (docs/DECISIONS.md)", "in-grid"},
+      {"semantics", "WHOSE", "ours, or report: the report code's learning (docs/DECISIONS.md)",
+       "ours"},
       {"local", "", "run each maze in this process on a thread pool (default)", ""},
       {"agents", "N",
        "run each maze with envsim, coordinator and N agent processes over LCM (one private "
@@ -295,6 +306,15 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     }
     options.bootstrap = bootstrap->text;
   }
+  if (const OptionValue* semantics = find("semantics")) {
+    if (semantics->text != "ours" && semantics->text != "report") {
+      return Error{semantics->origin + ": must be ours or report, got '" + semantics->text + "'"};
+    }
+    if (semantics->text == "report" && options.bootstrap != "in-grid") {
+      return Error{semantics->origin + ": report sets the bootstrap itself; leave bootstrap out"};
+    }
+    options.semantics = semantics->text;
+  }
   if (const OptionValue* placement = find("placement")) {
     if (placement->text != "auto" && placement->text != "whole" && placement->text != "split") {
       return Error{placement->origin + ": must be auto, whole or split, got '" + placement->text +
@@ -407,10 +427,10 @@ std::vector<std::string> ScenarioArguments(const StudyConfiguration& configurati
 std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir) {
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  return {"--approach",     Join(names, ","),  "--out",
-          out_dir,          "--leaf-limit",    std::to_string(options.leaf_limit),
-          "--bootstrap",    options.bootstrap, "--placement",
-          options.placement};
+  return {"--approach",      Join(names, ","),  "--out",
+          out_dir,           "--leaf-limit",    std::to_string(options.leaf_limit),
+          "--bootstrap",     options.bootstrap, "--semantics",
+          options.semantics, "--placement",     options.placement};
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {
@@ -428,6 +448,9 @@ Json StudyIdentityJson(const StudyOptions& options) {
   json["steps"] = options.steps ? Json(*options.steps) : Json();
   json["leaf_limit"] = options.leaf_limit;
   json["bootstrap"] = options.bootstrap;
+  // Only when not the default, so the identity of earlier studies (which had
+  // no such option) stays the same and they can still be resumed.
+  if (options.semantics != "ours") json["semantics"] = options.semantics;
   return json;
 }
 

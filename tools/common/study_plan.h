@@ -30,6 +30,7 @@ struct StudyOptions {
   std::optional<int> steps;      // none: the report's 2 x rows
   int leaf_limit = 20;
   std::string bootstrap = "in-grid";
+  std::string semantics = "ours";  // or "report"
   // How it runs; may change from one session of a study to the next.
   StudyMode mode = StudyMode::kLocal;
   int agents = 1;
@@ -98,7 +99,7 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 
 // The `dynapath run` maze options of a configuration (--size, --difficulty,
 // --seed, --steps), and its run options (--approach, --out, --leaf-limit,
-// --bootstrap), as arguments.
+// --bootstrap, --semantics), as arguments.
 std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration);
 std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir);
 
