@@ -90,7 +90,10 @@ class DynamicDistances {
       if (value_[v] != kNone) heap_.push({value_[v], v});
     }
     while (!heap_.empty()) {
-      const auto [level, v] = heap_.top();
+      // Not a structured binding: clang 14 (the fuzz build) cannot capture
+      // one in the lambda below.
+      const int level = heap_.top().first;
+      const int v = heap_.top().second;
       heap_.pop();
       if (value_[v] != level || Supported(graph, v, level)) continue;
       Set(v, kNone);
