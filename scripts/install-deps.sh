@@ -22,6 +22,7 @@ packages=(
   iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
   libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN
   clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
+  libclang-rt-14-dev                  # clang's sanitizer and libFuzzer runtimes (only recommended by clang-14)
   time                                # GNU time: peak memory in bench/scale_bench.sh
 )
 
