@@ -20,6 +20,8 @@ inline constexpr std::string_view kShards = "SHARDS";
 inline constexpr std::string_view kResults = "RESULTS";
 inline constexpr std::string_view kReport = "REPORT";
 inline constexpr std::string_view kPolicy = "POLICY";
+// Selective repair of fragmented messages (any channel's): fragment_nack_t.
+inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel
 
 // "DYNAPATH/<run>/<name>".
