@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -31,6 +32,9 @@ void AddProcessOptions(ArgParser& parser, bool run_id_required) {
                    "cells of the run's grid at most: caps what the process buffers of "
                    "fragmented messages",
                    std::to_string(protocol::kMaxGridCells));
+  parser.AddOption("fragment-size", "BYTES",
+                   "payload bytes per fragment of large messages (1024-60000)",
+                   "one Ethernet frame when the URL's ttl > 0, else 60000");
   parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
   parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
                    "0");
@@ -103,7 +107,18 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   setup.bus.max_grid_cells = *cells;
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
-  if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
+  const std::string url = protocol::ResolveLcmUrl(setup.lcm_url);
+  if (protocol::IsMemq(url)) setup.bus.fragment_above = 0;
+  Result<long long> fragment_size =
+      parser.GetInt("fragment-size", protocol::DefaultFragmentSize(url), 1024, 60000);
+  if (!fragment_size) return fragment_size.error();
+  setup.bus.fragment_size = static_cast<int>(*fragment_size);
+  // Messages above one piece are fragmented (a datagram above the MTU
+  // would be split by IP, and a lost frame would lose all of it).
+  if (setup.bus.fragment_above > 0 &&
+      (parser.Has("fragment-size") || *fragment_size == protocol::kFrameFragmentSize)) {
+    setup.bus.fragment_above = std::min(setup.bus.fragment_above, setup.bus.fragment_size);
+  }
   return setup;
 }
 
