@@ -155,9 +155,7 @@ std::vector<Nack> FragmentAssembler::DueNacks(int64_t now, int64_t quiet, int64_
                                               int max_nacks) {
   std::vector<Nack> due;
   for (auto& [key, partial] : partials_) {
-    // The Bus's pieces hold at least 1024 bytes but the last: a partial
-    // announcing more pieces is no Bus message, and its bitmap stays small.
-    if (partial.count > partial.total_size / 1024 + 1) continue;
+    if (partial.count > partial.total_size / std::max(1, limits_.min_piece_bytes) + 1) continue;
     if (partial.after_complete || partial.nacks >= max_nacks || now - partial.last_seen < quiet ||
         (partial.nacks > 0 && now - partial.last_nack < retry)) {
       continue;

@@ -45,6 +45,10 @@ struct FragmentLimits {
   // Partial messages of an id completed lately: forgotten sooner.
   int64_t completed_lifetime = 2000;
   size_t max_completed = 1024;  // completed ids remembered
+  // Senders' pieces hold at least this many bytes but the last (the Bus's
+  // smallest): a partial announcing more pieces is not NACKed, which keeps
+  // NACK bitmaps small.
+  int32_t min_piece_bytes = 1024;
 };
 
 // A receiver's request for the pieces it lacks (fragment_nack_t's content).
