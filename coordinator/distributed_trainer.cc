@@ -80,9 +80,17 @@ bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
     case cli::Placement::kSplit:
       return true;
   }
+  // Every split round costs a network round trip: split only when a round's
+  // work is longer than both the fixed cost of its messages and the measured
+  // round trip (none yet: this batch runs whole and measures it).
+  if (round_trip_ms_ < 0) return false;
+  return RoundUs(batch) >= std::max(options_.split_min_round_us, round_trip_ms_ * 1000);
+}
+
+double DistributedTrainer::RoundUs(const Batch& batch) {
   std::vector<Region> regions;
   for (const JobState& state : batch.jobs) regions.push_back(state.job.region);
-  return EstimatedRoundUs(regions, batch.jobs.front().job.federated) >= options_.split_min_round_us;
+  return EstimatedRoundUs(regions, batch.jobs.front().job.federated);
 }
 
 DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbox,
@@ -365,7 +373,9 @@ void DistributedTrainer::CheckAgents() {
         received += batch.jobs[static_cast<size_t>(job)].result ? 1 : 0;
       }
       resend = resend || info.round > received;  // it sent what did not arrive
-    } else if (static_cast<double>(now - batch.last_progress_ms) > options_.resend_seconds * 1000) {
+    } else if (now - batch.last_progress_ms >
+               std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
+                        ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))) {
       // Agents keep their shards of their last two rounds only: one further
       // ahead cannot fill our gap, so the batch restarts from our round.
       if (info.round > batch.combiner->round() + 1) {
@@ -422,8 +432,12 @@ void DistributedTrainer::CheckAgents() {
   // send a heartbeat right after each result, so a gap seen that long is a
   // loss, not a result still in flight). Split rounds keep resend_seconds:
   // their gaps are detected by the lack of progress itself.
+  // Split rounds: a gap is a round without progress beyond a round's work
+  // plus the repeat interval of whole jobs (reordering is not loss).
   const int64_t interval =
-      batch.split ? static_cast<int64_t>(options_.resend_seconds * 1000) : ResendIntervalMs();
+      batch.split ? std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
+                             ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))
+                  : ResendIntervalMs();
   if ((resend && now - batch.stuck_since_ms >= interval && now - batch.last_send_ms > interval) ||
       (stalled && now - batch.last_send_ms > interval)) {
     ++traffic_.resends;

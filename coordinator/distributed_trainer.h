@@ -8,7 +8,9 @@
 // learners and returns final tables: no per-round traffic. When a batch has
 // fewer jobs than agents and its federated rounds are long enough that
 // parallel learners save more than a round's messages cost (EstimatedRoundUs
-// against split_min_round_us), or when placement is kSplit, every job's
+// against split_min_round_us and against the measured round trip to the
+// agents: auto placement runs whole jobs until it has measured one, and never
+// splits rounds shorter than a round trip), or when placement is kSplit, every job's
 // learners are split over the agents instead, which publish
 // their shards each round; the agents and the coordinator all combine them in
 // learner order (protocol::RoundCombiner: FederatedAverager, exactly as
@@ -120,6 +122,8 @@ class DistributedTrainer : public Trainer {
   void OnResult(const job_result_t& message, int64_t bytes);
   std::vector<int> WaitForAgents();
   bool ShouldSplit(const Batch& batch, size_t agents) const;
+  // One federated round of the batch's jobs on one thread (estimated).
+  static double RoundUs(const Batch& batch);
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
   void CheckAgents();

@@ -31,8 +31,12 @@ bool FragmentAssembler::EvictOldest(const Key& keep) {
     }
   }
   if (oldest == partials_.end()) return false;
+  if (oldest->second.after_complete) {
+    ++strays_;
+  } else {
+    ++evicted_;
+  }
   Erase(oldest);
-  ++evicted_;
   return true;
 }
 
@@ -60,7 +64,7 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
                                  ? std::min(limits_.lifetime, limits_.completed_lifetime)
                                  : limits_.lifetime;
     if (now - it->second.last_seen > lifetime) {
-      ++expired_;
+      ++(it->second.after_complete ? strays_ : expired_);
       buffered_ -= it->second.held;
       it = partials_.erase(it);
     } else {

@@ -99,6 +99,8 @@ class FragmentAssembler {
   int64_t expired() const { return expired_; }  // forgotten after `lifetime`
   int64_t evicted() const { return evicted_; }  // pushed out by newer partial messages
   int64_t completed() const { return completed_count_; }
+  // Partial messages of completed ids forgotten (stray repairs, duplicates).
+  int64_t strays() const { return strays_; }
 
  private:
   struct Partial {
@@ -129,6 +131,7 @@ class FragmentAssembler {
   int64_t expired_ = 0;
   int64_t evicted_ = 0;
   int64_t completed_count_ = 0;
+  int64_t strays_ = 0;
   std::map<Key, Partial> partials_;
   std::set<Key> completed_;
   std::deque<Key> completed_order_;
