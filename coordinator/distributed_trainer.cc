@@ -48,6 +48,9 @@ struct DistributedTrainer::Batch {
   int stalls = 0;
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
+  // Split: the round last asked of the agents (RequestRound) and when.
+  int64_t requested_round = -1;
+  int64_t requested_ms = 0;
   int restarts_at_round = 0;
   // Round-trip samples: when this epoch's batch first went out, whether it
   // was repeated (then acknowledgements are ambiguous), who acknowledged.
@@ -290,8 +293,16 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   if (!batch_ || !batch_->split) return;
   Batch& batch = *batch_;
   if (message.batch_id != batch.id || message.epoch != batch.epoch) return;  // stale
+  if (message.num_shards == 0) return;  // our own request (RequestRound)
   std::string why;
-  switch (batch.combiner->Add(message, &why)) {
+  const protocol::RoundCombiner::Added added = batch.combiner->Add(message, &why);
+  // An agent is past the round we collect: all agents had that round's
+  // shards, so the ones we lack were lost on their way to us. Ask at once,
+  // while the agents still keep them.
+  if (message.round > batch.combiner->round() && !batch.combiner->RoundComplete()) {
+    RequestRound();
+  }
+  switch (added) {
     case protocol::RoundCombiner::Added::kInvalid:
       spdlog::warn("dropped shards of agent {}: {}", message.agent, why);
       return;
@@ -311,6 +322,25 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
     }
     ++traffic_.rounds;
   }
+}
+
+void DistributedTrainer::RequestRound() {
+  Batch& batch = *batch_;
+  const int64_t now = AgentRegistry::NowMs();
+  const int64_t round = batch.combiner->round();
+  // Once per round, and again after a repeat interval.
+  if (round == batch.requested_round && now - batch.requested_ms < ResendIntervalMs()) return;
+  batch.requested_round = round;
+  batch.requested_ms = now;
+  shards_t request{};
+  request.run_id = bus_.run_id();
+  request.batch_id = batch.id;
+  request.epoch = batch.epoch;
+  request.round = round;
+  request.needs_round = round;
+  request.num_shards = 0;  // a request: agents re-send their shards of needs_round
+  bus_.Publish(protocol::channel::kShards, request);
+  ++traffic_.round_requests;
 }
 
 void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
@@ -378,7 +408,7 @@ void DistributedTrainer::CheckAgents() {
                         ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))) {
       // Agents keep their shards of their last two rounds only: one further
       // ahead cannot fill our gap, so the batch restarts from our round.
-      if (info.round > batch.combiner->round() + 1) {
+      if (info.round > batch.combiner->round() + protocol::kAgentKeptRounds - 1) {
         spdlog::warn("shards of agent {} for round {} were lost; restarting the round (batch {})",
                      agent, batch.combiner->round(), batch.id);
         if (batch.combiner->round() == batch.restart_round) {
@@ -390,6 +420,7 @@ void DistributedTrainer::CheckAgents() {
         restart = true;
         break;
       }
+      RequestRound();
       resend = true;
     }
   }

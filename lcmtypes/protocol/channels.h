@@ -24,6 +24,10 @@ inline constexpr std::string_view kPolicy = "POLICY";
 inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel
 
+// Rounds of its own shards an agent keeps to re-send (SHARDS, needs_round):
+// a coordinator lagging further behind restarts the round.
+inline constexpr int kAgentKeptRounds = 8;
+
 // "DYNAPATH/<run>/<name>".
 std::string ChannelName(std::string_view run_id, std::string_view name);
 
