@@ -414,7 +414,12 @@ void Agent::OnShards(const shards_t& shards) {
   // The sender still lacks shards of an earlier round: ours of it got lost.
   if (shards.needs_round < combiner_->round()) {
     for (const shards_t& sent : sent_) {
-      if (sent.round == shards.needs_round) PublishShards(sent, combiner_->round());
+      // The coordinator's request (no shards): every kept round from it on,
+      // in order, so that it catches up in one round trip.
+      if (sent.round == shards.needs_round ||
+          (shards.num_shards == 0 && sent.round > shards.needs_round)) {
+        PublishShards(sent, combiner_->round());
+      }
     }
   }
   if (shards.num_shards == 0) return;  // the coordinator's request: nothing to combine

@@ -328,8 +328,11 @@ void DistributedTrainer::RequestRound() {
   Batch& batch = *batch_;
   const int64_t now = AgentRegistry::NowMs();
   const int64_t round = batch.combiner->round();
-  // Once per round, and again after a repeat interval.
-  if (round == batch.requested_round && now - batch.requested_ms < ResendIntervalMs()) return;
+  // Once per round, and again after two round trips (the request or its
+  // answer was lost: agents run on meanwhile, past what they keep).
+  const int64_t retry = static_cast<int64_t>(
+      round_trip_ms_ < 0 ? 20.0 : std::clamp(2 * round_trip_ms_ + 5, 5.0, 200.0));
+  if (round == batch.requested_round && now - batch.requested_ms < retry) return;
   batch.requested_round = round;
   batch.requested_ms = now;
   shards_t request{};

@@ -26,7 +26,7 @@ inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 
 // Rounds of its own shards an agent keeps to re-send (SHARDS, needs_round):
 // a coordinator lagging further behind restarts the round.
-inline constexpr int kAgentKeptRounds = 8;
+inline constexpr int kAgentKeptRounds = 32;
 
 // "DYNAPATH/<run>/<name>".
 std::string ChannelName(std::string_view run_id, std::string_view name);
