@@ -395,7 +395,12 @@ void Agent::ComputeRound() {
   }
   reported_round_ = round;
   waiting_since_ms_ = protocol::SteadyMs();
-  nudge_interval_ms_ = std::max(kNudgeMs, 2 * round_compute_ms_);
+  // The first nudge after a round trip or two (measured by the Bus's
+  // repairs; kNudgeMs until then), or twice our own compute time.
+  const double rtt = bus_.RepairRoundTripMs();
+  const int64_t nudge =
+      rtt < 0 ? kNudgeMs : std::clamp<int64_t>(static_cast<int64_t>(2 * rtt) + 2, 3, kNudgeMs);
+  nudge_interval_ms_ = std::max(nudge, 2 * round_compute_ms_);
   next_nudge_ms_ = waiting_since_ms_ + nudge_interval_ms_;
 }
 

@@ -77,6 +77,11 @@ Bus::~Bus() {
 
 std::string Bus::Channel(std::string_view name) const { return ChannelName(run_id_, name); }
 
+double Bus::RepairRoundTripMs() const {
+  std::lock_guard lock(const_cast<std::mutex&>(fragments_mutex_));
+  return repair_rtt_measured_ ? repair_rtt_ms_ : -1.0;
+}
+
 BusCounters Bus::counters() const {
   BusCounters c;
   c.published = counters_published_.load();
@@ -236,7 +241,9 @@ void Bus::RepairLoop() {
       // Quiet long enough that reordering is not taken for loss; retry
       // after two round trips of a repair.
       const auto quiet = static_cast<int64_t>(
-          std::clamp(repair_rtt_ms_ / 2, static_cast<double>(options_.nack_quiet_ms), 200.0));
+          repair_rtt_measured_ ? std::clamp(1.5 * repair_rtt_ms_ + 1,
+                                            static_cast<double>(options_.nack_quiet_ms), 200.0)
+                               : 15.0);
       const auto retry = static_cast<int64_t>(std::clamp(2 * repair_rtt_ms_ + 10, 20.0, 1000.0));
       due = fragments_.DueNacks(SteadyMs(), quiet, retry, options_.max_nacks);
     }

@@ -59,10 +59,12 @@ struct BusOptions {
   // of several 60 KB fragments overruns it and loses the message (measured:
   // one in two 250 KB job batches on loopback without pausing).
   int fragment_pause_us = 300;
-  // Selective repair (NACKs) of fragmented messages; the shortest quiet
-  // period before a receiver NACKs (reordering within it is not loss).
+  // Selective repair (NACKs) of fragmented messages. A receiver NACKs a
+  // partial message quiet for 1.5 repair round trips + 1 ms (reordering
+  // within it is not loss), at least nack_quiet_ms; 15 ms until a round trip
+  // is measured.
   bool repair = true;
-  int nack_quiet_ms = 15;
+  int nack_quiet_ms = 3;
   int max_nacks = 30;  // NACKs of a message without progress
   // What the sender keeps for repairs and id reuse.
   int64_t sent_store_bytes = int64_t{64} << 20;
@@ -140,6 +142,9 @@ class Bus {
   }
 
   BusCounters counters() const;
+  // The smoothed time from a NACK to its first repaired piece (-1: none
+  // measured yet): a round trip to the senders of this run.
+  double RepairRoundTripMs() const;
   // One line for the end of a run: messages published, received, dropped
   // and why.
   std::string TrafficSummary() const;
