@@ -13,9 +13,11 @@
 // DETAIL_CSV, if given, receives every stream's per-step rows.
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,15 @@ int Usage() {
   return 2;
 }
 
+// A whole decimal number in [low, high], or nothing.
+std::optional<long> Number(const char* text, long low, long high) {
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || errno != 0 || value < low || value > high) return {};
+  return value;
+}
+
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const size_t n = values.size();
@@ -45,11 +56,11 @@ double Median(std::vector<double> values) {
 int main(int argc, char** argv) {
   using namespace dynapath;
   if (argc < 6 || argc > 8) return Usage();
-  const int size = std::atoi(argv[1]);
+  const std::optional<long> size = Number(argv[1], 2, 4096);
   const std::string difficulty_name = argv[2];
-  const long seed = std::atol(argv[3]);
+  const std::optional<long> seed = Number(argv[3], 0, 0xFFFFFFFFL);
   const std::optional<Approach> approach = ParseApproach(argv[4]);
-  const int streams = std::atoi(argv[5]);
+  const std::optional<long> streams = Number(argv[5], 1, 1000);
   const std::string semantics = argc >= 7 ? argv[6] : "report";
   Difficulty difficulty;
   if (difficulty_name == "easy") {
@@ -61,8 +72,7 @@ int main(int argc, char** argv) {
   } else {
     return Usage();
   }
-  if (size < 2 || seed < 0 || !approach || streams < 1 ||
-      (semantics != "ours" && semantics != "report")) {
+  if (!size || !seed || !approach || !streams || (semantics != "ours" && semantics != "report")) {
     return Usage();
   }
   std::ofstream detail;
@@ -75,16 +85,17 @@ int main(int argc, char** argv) {
     detail << "Stream,TimeStep,NumChanges,SuccessRate,AvgPathLength,NodesRetrained,HighestLevel\n";
   }
 
-  const Scenario scenario = GenerateScenario(size, size, difficulty, static_cast<unsigned>(seed));
+  const int rows = static_cast<int>(*size);
+  const Scenario scenario = GenerateScenario(rows, rows, difficulty, static_cast<unsigned>(*seed));
   ThreadPool pool(1);
   LocalTrainer trainer(pool);
   const char* difficulty_label[] = {"Easy", "Medium", "Hard"};
-  const RunLabels labels{std::to_string(size), difficulty_label[static_cast<int>(difficulty)]};
+  const RunLabels labels{std::to_string(rows), difficulty_label[static_cast<int>(difficulty)]};
   std::vector<double> success, length;
   std::printf("Stream,RunSeed,AvgSuccessRate,AvgPathLength,NodesTrained\n");
-  for (int k = 0; k < streams; ++k) {
+  for (long k = 0; k < *streams; ++k) {
     PlannerOptions options;
-    options.run_seed = static_cast<uint64_t>(seed) + static_cast<uint64_t>(k) * 1000003u;
+    options.run_seed = static_cast<uint64_t>(*seed) + static_cast<uint64_t>(k) * 1000003u;
     options.semantics = semantics == "report" ? Semantics::kReport : Semantics::kOurs;
     const ApproachRun run = RunApproach(scenario, *approach, options, &trainer, labels);
     int trained = 0;
@@ -98,7 +109,7 @@ int main(int argc, char** argv) {
     }
     success.push_back(run.AverageSuccessRate());
     length.push_back(run.AveragePathLength());
-    std::printf("%d,%llu,%.4f,%.3f,%d\n", k, static_cast<unsigned long long>(options.run_seed),
+    std::printf("%ld,%llu,%.4f,%.3f,%d\n", k, static_cast<unsigned long long>(options.run_seed),
                 success.back(), length.back(), trained);
     std::fflush(stdout);
   }
