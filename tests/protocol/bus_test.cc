@@ -11,6 +11,7 @@
 #include "dynapath/step_report_t.hpp"
 #include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/dispatcher.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -246,6 +247,18 @@ TEST(BusTest, ResendOfTheSameMessageFillsGaps) {
   // Other bytes are another message.
   sender.Publish(channel::kPolicy, Policy("run1", 41));
   EXPECT_EQ(sender.counters().ids_reused, 1);
+}
+
+// Pieces of one Ethernet frame only when datagrams leave the host.
+TEST(BusTest, FragmentSizeFollowsTheUrlsTtl) {
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=1"), kFrameFragmentSize);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?recv_buf_size=2000000&ttl=3"),
+            kFrameFragmentSize);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=0"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=x"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("memq://"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("file:///tmp/log?mode=w&ttl=1"), 60000);
 }
 
 }  // namespace
