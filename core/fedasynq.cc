@@ -120,9 +120,10 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
   size_t listed = 0;
   bool station = false;
   for (int step = 0; step < steps; ++step) {
-    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(model.action_count(s)))];
+    const uint32_t index = rng.Below(static_cast<uint32_t>(model.in_region_count(s)));
+    const int a = model.actions(s)[index];
     const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
-    const int next = model.target(s, a);
+    const int next = model.step_target(s, static_cast<int>(index));
     const float reward = model.reward(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
     if constexpr (!kCount) {

@@ -72,6 +72,16 @@ class RegionModel {
     return region_model_internal::kActionLists[record_[cell].in_region].actions.data();
   }
 
+  // The learners' random walk, one dependent load shorter: the number of
+  // in-region actions of `cell`, and the cell reached by its `index`-th
+  // in-region action (index < in_region_count(cell)). The walk's next cell
+  // then waits for two loads (count, then move) instead of four (record,
+  // action list, action, offset).
+  int in_region_count(int cell) const { return in_region_count_[cell]; }
+  int step_target(int cell, int index) const {
+    return cell + step_delta_[static_cast<size_t>(cell) * kNumActions + index];
+  }
+
   // Cell reached by action `a` from `cell` (the cell itself when blocked by an
   // obstacle), and its reward. Only meaningful for in-region actions.
   int target(int cell, int a) const {
@@ -157,6 +167,11 @@ class RegionModel {
   std::array<int32_t, kNumActions> offset_{};  // region-local index change of each action
   std::vector<uint8_t> codes_;
   std::vector<CellRecord> record_;
+  // Per cell: its in-region action count, and target - cell of each of its
+  // in-region actions in increasing order (|delta| <= cols + 1 <= 4097 fits
+  // 16 bits): 17 bytes a cell, 17 MB at a million cells.
+  std::vector<uint8_t> in_region_count_;
+  std::vector<int16_t> step_delta_;
   std::vector<int> start_cells_;
 };
 
