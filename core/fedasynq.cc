@@ -72,12 +72,16 @@ void FedAsynQLearner::Reset(const QTable& table) {
 
 LearnerShard FedAsynQLearner::RunRound(const StartStatistics& stats, uint64_t job_seed,
                                        int64_t round, int sync_period) {
-  return Run(learner_index_, stats, job_seed, round, sync_period, false);
+  LearnerShard shard;
+  Run(learner_index_, stats, job_seed, round, sync_period, false, shard);
+  return shard;
 }
 
 LearnerShard FedAsynQLearner::RunRoundAndRevert(int learner, const StartStatistics& stats,
                                                 uint64_t job_seed, int64_t round, int sync_period) {
-  return Run(learner, stats, job_seed, round, sync_period, true);
+  LearnerShard shard;
+  Run(learner, stats, job_seed, round, sync_period, true, shard);
+  return shard;
 }
 
 namespace {
@@ -163,15 +167,20 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
 
 }  // namespace
 
-LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
-                                  int64_t round, int sync_period, bool revert) {
-  LearnerShard shard;
+void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
+                          int64_t round, int sync_period, bool revert, LearnerShard& shard) {
+  // Refilled in place: a round's vectors keep their capacity for the next.
+  shard.entries.clear();
+  shard.values.clear();
+  shard.visits.clear();
+  shard.reached_station = false;
+  shard.steps = 0;
   shard.learner = learner;
   shard.round = round;
   Rng rng(LearnerRoundSeed(job_seed, learner, round));
   const int start = stats.Draw(rng);
   shard.start_cell = start;
-  if (start < 0) return shard;
+  if (start < 0) return;
 
   float* q = table_.values().data();
   const size_t table_entries = table_.values().size();
@@ -199,7 +208,7 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
     if (revert) {
       for (size_t i = listed; i-- > 0;) q[touched_[i]] = originals_[i];
     }
-    return shard;
+    return;
   }
 
   // Scratch sized for the round; the slots are all empty between rounds.
@@ -249,14 +258,14 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   } else {
     std::fill(slots_.begin(), slots_.end(), Slot{});
   }
-  return shard;
+  return;
 }
 
 void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
                                          const StartStatistics& stats, uint64_t job_seed,
                                          int64_t round, int sync_period, LearnerShard* shards) {
   for (int i = 0; i < count; ++i) {
-    shards[i] = Run(learners[i], stats, job_seed, round, sync_period, true);
+    Run(learners[i], stats, job_seed, round, sync_period, true, shards[i]);
   }
 }
 

@@ -151,8 +151,8 @@ class FedAsynQLearner {
   std::vector<Slot> slots_;
   SortedMarks marks_;  // sorts the shard's entries
 
-  LearnerShard Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
-                   int sync_period, bool revert);
+  void Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
+           int sync_period, bool revert, LearnerShard& shard);
 };
 
 // Combines one round's shards into the shared table.
