@@ -10,6 +10,7 @@
 #include <mutex>
 #include <random>
 
+#include "core/learners.h"
 #include "core/single_agent_learner.h"
 #include "lcmtypes/protocol/channels.h"
 
@@ -286,7 +287,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     const TrainingJob& job = received[i].job;
     TrainingResult result;
     try {
-      result = job.kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job) : TrainSingleAgent(job);
+      result = TrainJob(job);
     } catch (const std::exception& e) {
       spdlog::error("agent {}: job {} of batch {} failed: {}", options_.id, jobs[i], batch.batch_id,
                     e.what());

@@ -34,7 +34,12 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
   for (size_t i = 0; i < nodes.size(); ++i) {
     jobs.push_back(MakeTrainingJob(nodes[i], seeds[i], config, tree, grid, root));
   }
-  if (config.kind == LearnerKind::kFedAsynQ) return TrainFederated(jobs, root);
+  switch (config.kind) {
+    case LearnerKind::kFedAsynQ:
+      return TrainFederated(jobs, root);
+    case LearnerKind::kSingleAgent:
+      break;  // one job per thread, below
+  }
 
   std::vector<TrainingResult> results(jobs.size());
   pool_.ParallelFor(static_cast<int>(jobs.size()),

@@ -1,13 +1,32 @@
 #include "lcmtypes/protocol/convert.h"
 
+#include <cstdlib>
+
+#include "core/learners.h"
 #include "core/region_model.h"
 #include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
 
+int8_t LearnerKindToWire(LearnerKind kind) {
+  switch (kind) {
+    case LearnerKind::kSingleAgent:
+      return job_batch_t::KIND_SINGLE_AGENT;
+    case LearnerKind::kFedAsynQ:
+      return job_batch_t::KIND_FEDASYNQ;
+  }
+  std::abort();  // not an enumerator: a broken invariant, not input
+}
+
+std::optional<LearnerKind> LearnerKindFromWire(int8_t wire) {
+  for (LearnerKind kind : kAllLearnerKinds) {
+    if (LearnerKindToWire(kind) == wire) return kind;
+  }
+  return std::nullopt;
+}
+
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
-  batch.kind = config.kind == LearnerKind::kFedAsynQ ? job_batch_t::KIND_FEDASYNQ
-                                                     : job_batch_t::KIND_SINGLE_AGENT;
+  batch.kind = LearnerKindToWire(config.kind);
   // 0 in-grid, 1 in-region, 2 all stored (the .lcm comment predates 2; the
   // field is an int8 either way, so the fingerprint is unchanged).
   batch.bootstrap = static_cast<int8_t>(config.bootstrap == Bootstrap::kInGrid     ? 0
@@ -73,8 +92,8 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.warm_start = QTable(m.num_cells);
   if (m.num_values > 0) job.warm_start.values() = m.values;
   job.seed = static_cast<uint64_t>(m.seed);
-  job.kind =
-      batch.kind == job_batch_t::KIND_FEDASYNQ ? LearnerKind::kFedAsynQ : LearnerKind::kSingleAgent;
+  // Validated: the kind is one of ours.
+  job.kind = LearnerKindFromWire(batch.kind).value_or(LearnerKind::kSingleAgent);
   SingleAgentOptions& s = job.single_agent;
   s.max_episodes = batch.max_episodes;
   s.epsilon_start = batch.epsilon_start;
@@ -101,7 +120,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
                    ": start statistics do not match the region's start cells"};
     }
   }
-  if (job.kind == LearnerKind::kFedAsynQ &&
+  if (TrainsInRounds(job.kind) &&
       received.start_round > FederatedRounds(job.region, job.federated)) {
     return Error{"job " + std::to_string(index) + ": start round beyond the job's rounds"};
   }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/mdp.h"
+#include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -82,9 +83,7 @@ std::string Validate(const changes_t& m) {
 
 std::string Validate(const job_batch_t& m) {
   if (m.batch_id < 0 || m.epoch < 0) return "negative batch or epoch";
-  if (m.kind != job_batch_t::KIND_SINGLE_AGENT && m.kind != job_batch_t::KIND_FEDASYNQ) {
-    return "unknown learner kind";
-  }
+  if (!LearnerKindFromWire(m.kind)) return "unknown learner kind";
   if (m.bootstrap < 0 || m.bootstrap > 2 || m.averaging < 0 || m.averaging > 1) {
     return "bad bootstrap or averaging";
   }

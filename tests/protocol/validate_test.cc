@@ -7,6 +7,9 @@
 
 #include <climits>
 
+#include "core/learners.h"
+#include "lcmtypes/protocol/convert.h"
+
 namespace dynapath::protocol {
 namespace {
 
@@ -71,6 +74,19 @@ TEST(Validate, GridCellCountInSixtyFourBits) {
   grid.num_cells = 4;
   grid.cells = {1, 1, 1, 2};
   EXPECT_EQ(Validate(grid), "");
+}
+
+TEST(Validate, EveryLearnerKindTravelsAndNoOtherIsAccepted) {
+  job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+  for (LearnerKind kind : kAllLearnerKinds) {
+    batch.kind = LearnerKindToWire(kind);
+    EXPECT_EQ(LearnerKindFromWire(batch.kind), kind);
+    EXPECT_EQ(Validate(batch), "");
+  }
+  batch.kind = 2;
+  EXPECT_EQ(Validate(batch), "unknown learner kind");
+  batch.kind = -1;
+  EXPECT_EQ(Validate(batch), "unknown learner kind");
 }
 
 }  // namespace
