@@ -258,14 +258,14 @@ void Agent::OnBatch(const job_batch_t& batch) {
     });
   }
   std::erase_if(items, [](const auto& entry) { return entry.second.empty(); });
-  try {
-    combiner_ = std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items),
-                                                          start_round);
-  } catch (const std::exception& e) {
-    spdlog::error("agent {}: dropped batch {}: {}", options_.id, batch.batch_id, e.what());
+  if (Status checked = protocol::RoundCombiner::CheckItems(combined, items); !checked) {
+    spdlog::error("agent {}: dropped batch {}: {}", options_.id, batch.batch_id,
+                  checked.error().message);
     split_jobs_.clear();
     return;
   }
+  combiner_ = std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items),
+                                                        start_round);
   computed_round_ = start_round - 1;
   ContinueSplit();
 }

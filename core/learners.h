@@ -13,7 +13,7 @@ inline constexpr LearnerKind kAllLearnerKinds[] = {LearnerKind::kSingleAgent,
                                                    LearnerKind::kFedAsynQ};
 
 // Trains `job` whole with the learner of `job.kind`, in this thread.
-// Throws std::invalid_argument on a malformed job (see StartingTable).
+// `job` must pass CheckJob (core/training_job.h).
 TrainingResult TrainJob(const TrainingJob& job);
 
 // True for learners that train in synchronised rounds of K learners whose

@@ -9,6 +9,7 @@
 #include "core/q_table.h"
 #include "core/quadtree.h"
 #include "core/region.h"
+#include "core/result.h"
 
 namespace dynapath {
 
@@ -68,9 +69,13 @@ struct TrainingResult {
   int64_t steps = 0;               // Q-learning steps taken by all learners
 };
 
+// Error when the codes or the warm start do not match the region (a
+// malformed job). Jobs from outside (the wire) are checked with it on
+// arrival; the learners take checked jobs only.
+Status CheckJob(const TrainingJob& job);
+
 // The table a job's training starts from: its warm start, or zeros when the
-// warm start is empty (never trained). Throws std::invalid_argument when the
-// codes or the warm start do not match the region (a malformed job).
+// warm start is empty (never trained). `job` must pass CheckJob.
 QTable StartingTable(const TrainingJob& job);
 
 // Number of federated rounds: floor(T / tau), at least 1.

@@ -110,6 +110,9 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.federated.sync_period = batch.sync_period;
   job.federated.iterations_per_cell = batch.iterations_per_cell;
   job.federated.averaging = batch.averaging == 0 ? Averaging::kEqual : Averaging::kImportance;
+  if (Status checked = CheckJob(job); !checked) {
+    return Error{"job " + std::to_string(index) + ": " + checked.error().message};
+  }
   received.start_round = m.start_round;
   received.attempts.assign(m.attempts.begin(), m.attempts.end());
   received.successes.assign(m.successes.begin(), m.successes.end());
