@@ -33,21 +33,13 @@ void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
                                         : config.bootstrap == Bootstrap::kInRegion ? 1
                                                                                    : 2);
   batch.averaging = config.federated.averaging == Averaging::kEqual ? 0 : 1;
-  const SingleAgentOptions& s = config.single_agent;
-  batch.max_episodes = s.max_episodes;
-  batch.epsilon_start = s.epsilon_start;
-  batch.epsilon_decay = s.epsilon_decay;
-  batch.epsilon_min = s.epsilon_min;
-  batch.replay_capacity = s.replay_capacity;
-  batch.replay_start_episode = s.replay_start_episode;
-  batch.replay_batch = s.replay_batch;
-  batch.convergence_start_episode = s.convergence_start_episode;
-  batch.convergence_interval = s.convergence_interval;
-  batch.convergence_threshold = s.convergence_threshold;
-  batch.convergence_checks = s.convergence_checks;
-  batch.learners = config.federated.learners;
-  batch.sync_period = config.federated.sync_period;
-  batch.iterations_per_cell = config.federated.iterations_per_cell;
+  // Every option of core/learner_options.h to its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_TO_WIRE(member, ...) batch.member = config.single_agent.member;
+#define DYNAPATH_FEDASYNQ_TO_WIRE(member, ...) batch.member = config.federated.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_TO_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_TO_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_TO_WIRE
+#undef DYNAPATH_FEDASYNQ_TO_WIRE
 }
 
 void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& batch) {
@@ -94,21 +86,13 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.seed = static_cast<uint64_t>(m.seed);
   // Validated: the kind is one of ours.
   job.kind = LearnerKindFromWire(batch.kind).value_or(LearnerKind::kSingleAgent);
-  SingleAgentOptions& s = job.single_agent;
-  s.max_episodes = batch.max_episodes;
-  s.epsilon_start = batch.epsilon_start;
-  s.epsilon_decay = batch.epsilon_decay;
-  s.epsilon_min = batch.epsilon_min;
-  s.replay_capacity = batch.replay_capacity;
-  s.replay_start_episode = batch.replay_start_episode;
-  s.replay_batch = batch.replay_batch;
-  s.convergence_start_episode = batch.convergence_start_episode;
-  s.convergence_interval = batch.convergence_interval;
-  s.convergence_threshold = batch.convergence_threshold;
-  s.convergence_checks = batch.convergence_checks;
-  job.federated.learners = batch.learners;
-  job.federated.sync_period = batch.sync_period;
-  job.federated.iterations_per_cell = batch.iterations_per_cell;
+  // Every option of core/learner_options.h from its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_FROM_WIRE(member, ...) job.single_agent.member = batch.member;
+#define DYNAPATH_FEDASYNQ_FROM_WIRE(member, ...) job.federated.member = batch.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_FROM_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_FROM_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_FROM_WIRE
+#undef DYNAPATH_FEDASYNQ_FROM_WIRE
   job.federated.averaging = batch.averaging == 0 ? Averaging::kEqual : Averaging::kImportance;
   if (Status checked = CheckJob(job); !checked) {
     return Error{"job " + std::to_string(index) + ": " + checked.error().message};
