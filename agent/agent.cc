@@ -264,8 +264,8 @@ void Agent::OnBatch(const job_batch_t& batch) {
     split_jobs_.clear();
     return;
   }
-  combiner_ = std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items),
-                                                        start_round);
+  combiner_ =
+      std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items), start_round);
   computed_round_ = start_round - 1;
   ContinueSplit();
 }

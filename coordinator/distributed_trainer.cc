@@ -68,8 +68,7 @@ double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOption
 }
 
 bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
-  if (!TrainsInRounds(batch.config.kind) || batch.jobs.empty() ||
-      batch.jobs.size() >= agents) {
+  if (!TrainsInRounds(batch.config.kind) || batch.jobs.empty() || batch.jobs.size() >= agents) {
     return false;
   }
   switch (options_.placement) {
