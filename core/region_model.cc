@@ -29,6 +29,8 @@ void RegionModel::Build() {
     offset_[a] = kActionRowOffset[a] * cols + kActionColOffset[a];
   record_.assign(static_cast<size_t>(n), CellRecord{});
   start_cells_.clear();
+  in_region_count_.assign(static_cast<size_t>(n), 0);
+  step_delta_.assign(static_cast<size_t>(n) * kNumActions, 0);
   for (int cell = 0; cell < n; ++cell) {
     CellRecord& record = record_[cell];
     const int row = cell / cols, col = cell % cols;
@@ -50,14 +52,20 @@ void RegionModel::Build() {
       if (static_cast<Cell>(codes_[blocked ? cell : next]) == Cell::kStation) record.station |= bit;
     }
     if (static_cast<Cell>(codes_[cell]) != Cell::kObstacle) start_cells_.push_back(cell);
+    const auto& list = region_model_internal::kActionLists[record.in_region];
+    in_region_count_[cell] = list.count;
+    for (int i = 0; i < list.count; ++i) {
+      step_delta_[static_cast<size_t>(cell) * kNumActions + i] =
+          static_cast<int16_t>(target(cell, list.actions[i]) - cell);
+    }
   }
 }
 
 std::vector<uint8_t> RegionCodes(const Grid& grid, const Region& region) {
   if (region.empty()) return {};
-  if (!grid.InBounds(region.r0, region.c0) || !grid.InBounds(region.r1, region.c1)) {
-    throw std::out_of_range("RegionCodes: region outside the grid");
-  }
+  // Regions are quadtree nodes of this grid (MakeTrainingJob) or were
+  // validated against their grid on arrival (protocol/validate.cc).
+  assert(grid.InBounds(region.r0, region.c0) && grid.InBounds(region.r1, region.c1));
   std::vector<uint8_t> codes;
   codes.reserve(static_cast<size_t>(region.cells()));
   const std::vector<uint8_t>& all = grid.codes();

@@ -86,7 +86,7 @@ class FederatedAveragerTest : public ::testing::Test {
                                               MakeShard(1, {3}, {9}, {3}, 1, false),
                                               MakeShard(2, {}, {}, {}, 0, false)};
     FederatedAverager averager(16, averaging);
-    averager.Combine(shards, shared_, stats_, entries_, values_);
+    ASSERT_TRUE(averager.Combine(shards, shared_, stats_, entries_, values_).ok());
   }
 
   QTable shared_{2};
@@ -144,7 +144,7 @@ TEST(FederatedAveragerLargeVisitsTest, ImportanceWeightsStayFinite) {
   std::vector<uint32_t> entries;
   std::vector<float> values;
   FederatedAverager averager(8, Averaging::kImportance);
-  averager.Combine(shards, shared, stats, entries, values);
+  ASSERT_TRUE(averager.Combine(shards, shared, stats, entries, values).ok());
   EXPECT_EQ(entries, (std::vector<uint32_t>{2, 4}));
   for (float v : shared.values()) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(shared.values()[4], 42.5f);
@@ -160,15 +160,13 @@ TEST(FederatedAveragerLargeVisitsTest, RejectsMalformedShards) {
   std::vector<float> values;
   FederatedAverager averager(8, Averaging::kEqual);
   const std::vector<LearnerShard> out_of_range = {MakeShard(0, {8}, {1.0f}, {1}, -1, false)};
-  EXPECT_THROW(averager.Combine(out_of_range, shared, stats, entries, values),
-               std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(out_of_range, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> wrong_order = {MakeShard(1, {}, {}, {}, -1, false)};
-  EXPECT_THROW(averager.Combine(wrong_order, shared, stats, entries, values),
-               std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(wrong_order, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> bad_start = {MakeShard(0, {}, {}, {}, 3, false)};
-  EXPECT_THROW(averager.Combine(bad_start, shared, stats, entries, values), std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(bad_start, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> not_finite = {MakeShard(0, {1}, {std::nanf("")}, {1}, -1, false)};
-  EXPECT_THROW(averager.Combine(not_finite, shared, stats, entries, values), std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(not_finite, shared, stats, entries, values).ok());
   EXPECT_EQ(shared.values(), QTable(1).values());
 }
 
@@ -275,6 +273,42 @@ TEST(FedAsynQLearnerTest, RunRoundAndRevertPlaysAnyLearnerAndKeepsTheTable) {
   EXPECT_FALSE(own.table() == start);
 }
 
+// Equal averaging's rounds skip the visit counts: the same entries, values,
+// start and table afterwards (reverted or not) as a counting round, with
+// every visit count 1. Both table sizes: a 20x20 region's 3,200 entries
+// outnumber the 2,048 count slots (hashed counts), a 12x12's do not (direct).
+TEST(FedAsynQLearnerTest, RoundsWithoutVisitCountsMatchCountingRounds) {
+  const Grid grid = GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid;
+  for (const Region& region : {Region{0, 19, 0, 19}, Region{4, 15, 2, 13}}) {
+    const RegionModel model(grid, region);
+    QTable start(model.cells());
+    for (size_t i = 0; i < start.values().size(); ++i) {
+      start.values()[i] = static_cast<float>(i % 5) * 0.25f - 0.5f;
+    }
+    StartStatistics stats(model.start_cells());
+    for (int round = 0; round < 6; ++round) {
+      FedAsynQLearner counting(model, 3), plain(model, 3);
+      plain.set_count_visits(false);
+      counting.Reset(start);
+      plain.Reset(start);
+      const bool revert = round % 2 == 0;
+      const LearnerShard expected = revert ? counting.RunRoundAndRevert(3, stats, 9, round, 1000)
+                                           : counting.RunRound(stats, 9, round, 1000);
+      const LearnerShard shard = revert ? plain.RunRoundAndRevert(3, stats, 9, round, 1000)
+                                        : plain.RunRound(stats, 9, round, 1000);
+      ASSERT_FALSE(shard.entries.empty());
+      EXPECT_EQ(shard.entries, expected.entries);
+      EXPECT_EQ(shard.values, expected.values);
+      EXPECT_EQ(shard.visits, std::vector<uint32_t>(shard.entries.size(), 1u));
+      EXPECT_EQ(shard.start_cell, expected.start_cell);
+      EXPECT_EQ(shard.reached_station, expected.reached_station);
+      EXPECT_EQ(shard.steps, expected.steps);
+      EXPECT_TRUE(plain.table() == counting.table());
+      EXPECT_EQ(plain.table() == start, revert);
+    }
+  }
+}
+
 TEST(FedAsynQLearnerTest, RegionsWithoutStartsOrMovesGiveTrivialShards) {
   const Grid walls = MapFromText("##\n##\n");
   const RegionModel empty(walls, Region{0, 1, 0, 1});
@@ -377,7 +411,7 @@ QTable RunByHand(const TrainingJob& job, bool threaded) {
         run(round % 2 == 0 ? learner_count - 1 - i : static_cast<int>((i + round) % learner_count));
       }
     }
-    averager.Combine(shards, shared, stats, entries, values);
+    EXPECT_TRUE(averager.Combine(shards, shared, stats, entries, values).ok());
     for (FedAsynQLearner& learner : learners) learner.ApplyAverage(entries, values);
   }
   return shared;

@@ -43,12 +43,8 @@ class ProgressLog {
 }  // namespace
 
 void AddRunOptions(ArgParser& parser) {
-  parser.AddOption(
-      "approach", "LIST",
-      "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
-      "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; "
-      "or all",
-      "all");
+  parser.AddOption("approach", "LIST",
+                   "comma-separated approaches: " + ApproachNamesText() + "; or all", "all");
   parser.AddOption("out", "DIR", "output directory", "results");
   parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
   parser.AddOption(

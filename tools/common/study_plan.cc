@@ -107,9 +107,7 @@ const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
        "20,50,100,200,300"},
       {"difficulties", "LIST", "comma-separated difficulties: easy, medium, hard",
        "easy,medium,hard"},
-      {"approaches", "LIST",
-       "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
-       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
+      {"approaches", "LIST", "comma-separated approaches: " + ApproachNamesText() + "; or all",
        "all"},
       {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
       {"no-edge-case", "", "leave the edge case out", ""},
