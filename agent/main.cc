@@ -9,27 +9,28 @@
 
 #include "agent/agent.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  cli::InitProcessLogging("agent");
-  cli::ArgParser parser("dynapath-agent --run-id ID --secret-file PATH [options]",
-                        "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
-                        "returns Q-table shards per round (or final tables), sends heartbeats.\n"
-                        "Exits when the coordinator finishes, fails or is silent for 4 s.");
-  cli::AddProcessOptions(parser, true);
+  runtime::InitProcessLogging("agent");
+  runtime::ArgParser parser(
+      "dynapath-agent --run-id ID --secret-file PATH [options]",
+      "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
+      "returns Q-table shards per round (or final tables), sends heartbeats.\n"
+      "Exits when the coordinator finishes, fails or is silent for 4 s.");
+  runtime::AddProcessOptions(parser, true);
   parser.AddOption("id", "N", "agent id, unique within the run", "random");
   parser.AddOption("threads", "N", "worker threads", "hardware threads");
   parser.AddOption("wait", "SECONDS", "how long to wait for a coordinator to appear", "60");
-  cli::AddLogLevelOption(parser);
+  runtime::AddLogLevelOption(parser);
   const std::vector<std::string> args(argv + 1, argv + argc);
-  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-agent"); code >= 0) return code;
+  if (int code = runtime::ParseProcessArgs(parser, args, "dynapath-agent"); code >= 0) return code;
   auto fail = [](const std::string& message) {
-    return cli::ProcessError("dynapath-agent", message);
+    return runtime::ProcessError("dynapath-agent", message);
   };
-  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  Result<runtime::ProcessSetup> setup = runtime::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
   // Random, not derived from host name and pid: agents in containers of their
   // own share both. A collision is still detected (Agent::Run).
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
   if (!wait) return fail(wait.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return cli::ProcessError("dynapath-agent", lcm.error().message, 1);
+  if (!lcm) return runtime::ProcessError("dynapath-agent", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   agent::AgentOptions options;

@@ -6,36 +6,36 @@
 
 #include "coordinator/coordinator.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  cli::InitProcessLogging("coordinator");
-  cli::ArgParser parser(
+  runtime::InitProcessLogging("coordinator");
+  runtime::ArgParser parser(
       "dynapath-coordinator --run-id ID --secret-file PATH [options]",
       "Runs the chosen approaches on the maze of the run's environment simulator,\n"
       "training on the run's agent processes, and writes DIR/results.csv and\n"
       "DIR/results_detailed.csv exactly as `dynapath run --local` does.");
-  cli::AddProcessOptions(parser, true);
-  cli::AddRunOptions(parser);
+  runtime::AddProcessOptions(parser, true);
+  runtime::AddRunOptions(parser);
   parser.AddOption("agents", "N", "wait for N live agents before starting", "1");
   parser.AddOption("wait", "SECONDS", "how long to wait for agents and envsim", "60");
   parser.AddOption("give-up", "SECONDS",
                    "fail when a training batch makes no progress this long although its agents "
                    "are alive (its work is reassigned every 5 s before that)",
                    "60");
-  cli::AddLogLevelOption(parser);
+  runtime::AddLogLevelOption(parser);
   const std::vector<std::string> args(argv + 1, argv + argc);
-  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-coordinator"); code >= 0) {
+  if (int code = runtime::ParseProcessArgs(parser, args, "dynapath-coordinator"); code >= 0) {
     return code;
   }
   auto fail = [](const std::string& message) {
-    return cli::ProcessError("dynapath-coordinator", message);
+    return runtime::ProcessError("dynapath-coordinator", message);
   };
-  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  Result<runtime::ProcessSetup> setup = runtime::ResolveProcessOptions(parser, true);
   if (!setup) return fail(setup.error().message);
-  Result<cli::RunPlan> plan = cli::ResolveRunOptions(parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(parser);
   if (!plan) return fail(plan.error().message);
   Result<long long> agents = parser.GetInt("agents", 1, 1, 4096);
   if (!agents) return fail(agents.error().message);
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   if (!give_up) return fail(give_up.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return cli::ProcessError("dynapath-coordinator", lcm.error().message, 1);
+  if (!lcm) return runtime::ProcessError("dynapath-coordinator", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   coordinator::CoordinatorOptions options;

@@ -22,15 +22,15 @@
 #include <variant>
 
 #include "core/experiment.h"
+#include "launch/launcher.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/cli/launcher.h"
 #include "tools/common/build_info.h"
 #include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
-#include "tools/common/run_driver.h"
-#include "tools/common/scenario_options.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
@@ -80,7 +80,7 @@ const std::atomic<bool>& InstallSignalHandlers() {
 }
 
 // The option values given on the command line.
-Result<OptionValues> CommandLineValues(const ArgParser& parser) {
+Result<OptionValues> CommandLineValues(const runtime::ArgParser& parser) {
   OptionValues values;
   for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
     if (!parser.Has(spec.name)) continue;
@@ -148,17 +148,17 @@ struct Session {
 // `dynapath run` would take. Ok when it ran to its end.
 Status RunConfiguration(const Session& session, const StudyConfiguration& configuration,
                         int index) {
-  ArgParser run_parser("dynapath run", "");
-  AddScenarioOptions(run_parser);
-  AddRunOptions(run_parser);
+  runtime::ArgParser run_parser("dynapath run", "");
+  runtime::AddScenarioOptions(run_parser);
+  runtime::AddRunOptions(run_parser);
   const std::string directory = (session.out / configuration.Directory()).string();
   std::vector<std::string> args = ScenarioArguments(configuration);
   const std::vector<std::string> run_args = RunArguments(session.options, directory);
   args.insert(args.end(), run_args.begin(), run_args.end());
   if (Status status = run_parser.Parse(args); !status) return status;
-  Result<ScenarioSetup> setup = ResolveScenario(run_parser);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(run_parser);
   if (!setup) return setup.error();
-  Result<RunPlan> plan = ResolveRunOptions(run_parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_parser);
   if (!plan) return plan.error();
   const int approaches = static_cast<int>(plan->approaches.size());
   ProgressDisplay& display = session.display;
@@ -166,7 +166,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   if (session.mode == StudyMode::kLocal) {
     const std::atomic<bool>& stop = session.stop;
     Result<std::vector<ApproachRun>> runs =
-        RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
+        runtime::RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
           if (stop) throw std::runtime_error("interrupted");
           display.Step(ApproachName(view.run.approach), view.pass, approaches,
                        view.run.steps.back().time_step, view.total_steps);
@@ -175,12 +175,12 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
     return Ok{};
   }
 
-  DistributedRun run;
+  launch::DistributedRun run;
   char suffix[16];
   std::snprintf(suffix, sizeof suffix, "-c%02d", index + 1);
   run.process.run_id = protocol::NewRunId() + suffix;
   run.process.lcm_url = session.options.lcm_url;
-  MakeRunSecret(run.process);  // a new secret for each run of the study
+  runtime::MakeRunSecret(run.process);  // a new secret for each run of the study
   run.process.bus.max_grid_cells =
       static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
   run.agents = session.options.agents;
@@ -189,18 +189,18 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   run.coordinator_args = run_args;
   run.log_level = session.options.log_level;
   run.child_stderr = session.log_fd;
-  run.on_step = [&display, approaches](const StepReport& report) {
+  run.on_step = [&display, approaches](const launch::StepReport& report) {
     display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
   };
   int code = 0;
   if (session.mode == StudyMode::kEmbedded) {
     spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                  run.process.run_id, run.agents);
-    code = RunEmbedded(run, *plan, *setup);
+    code = launch::RunEmbedded(run, *plan, *setup);
   } else {
     spdlog::info("run {}: envsim, coordinator and {} agent processes", run.process.run_id,
                  run.agents);
-    code = LaunchProcesses(run);
+    code = launch::LaunchProcesses(run);
   }
   if (code == 0) return Ok{};
   if (code == 130) return Error{"interrupted"};
@@ -208,7 +208,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
 }
 
 // Declares the options: the study's, --config and --force.
-void DeclareOptions(ArgParser& parser) {
+void DeclareOptions(runtime::ArgParser& parser) {
   for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
     if (spec.value_name.empty()) {
       parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
@@ -225,7 +225,7 @@ void DeclareOptions(ArgParser& parser) {
 }
 
 // The options of the config file (if any) overridden by the command line's.
-Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
+Result<StudyOptions> ResolveOptions(const runtime::ArgParser& parser) {
   Result<OptionValues> command_line = CommandLineValues(parser);
   if (!command_line) return command_line.error();
   OptionValues file_values;
@@ -470,7 +470,7 @@ class StudyRunner {
 }  // namespace
 
 int ExperimentCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
+  runtime::ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
   DeclareOptions(parser);
   if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
   if (parser.WantsHelp()) {
@@ -510,9 +510,9 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   // the manifest, which runs git, comes after: children are fine).
   StudyMode mode = options.mode;
   if (mode == StudyMode::kAgents) {
-    const ProcessNetwork network = EnterProcessNetwork(options.lcm_url);
-    if (network == ProcessNetwork::kNone) mode = StudyMode::kEmbedded;
-    if (network == ProcessNetwork::kPrivate) {
+    const launch::ProcessNetwork network = launch::EnterProcessNetwork(options.lcm_url);
+    if (network == launch::ProcessNetwork::kNone) mode = StudyMode::kEmbedded;
+    if (network == launch::ProcessNetwork::kPrivate) {
       spdlog::info("study in a private network; watch a run with: dynapath-spy --pid {}", getpid());
     }
   }

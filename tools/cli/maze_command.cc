@@ -5,22 +5,23 @@
 #include "core/astar_paths.h"
 #include "core/bfs_oracle.h"
 #include "core/quadtree.h"
+#include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
 
 int MazeCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath maze [options]",
-                   "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
-                   "quadtree leaves and levels, and the optimal success rate and average path\n"
-                   "length at time step 0.");
-  AddScenarioOptions(parser);
+  runtime::ArgParser parser(
+      "dynapath maze [options]",
+      "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
+      "quadtree leaves and levels, and the optimal success rate and average path\n"
+      "length at time step 0.");
+  runtime::AddScenarioOptions(parser);
   parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
   parser.AddOption("save", "FILE", "write the maze to FILE in the text format");
   parser.AddOption("save-changes", "FILE", "write the change sequence to FILE");
   parser.AddFlag("no-grid", "do not print the grid itself");
-  AddLogLevelOption(parser);
+  runtime::AddLogLevelOption(parser);
   if (Status status = parser.Parse(args); !status) {
     std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
     return kExitUsage;
@@ -29,11 +30,11 @@ int MazeCommand(const std::vector<std::string>& args) {
     std::fputs(parser.Help().c_str(), stdout);
     return 0;
   }
-  if (Status status = ApplyLogLevel(parser); !status) {
+  if (Status status = runtime::ApplyLogLevel(parser); !status) {
     std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
     return kExitUsage;
   }
-  Result<ScenarioSetup> setup = ResolveScenario(parser);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(parser);
   if (!setup) {
     std::fprintf(stderr, "dynapath maze: %s\n", setup.error().message.c_str());
     return kExitUsage;

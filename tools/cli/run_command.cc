@@ -4,17 +4,17 @@
 #include <cstdio>
 #include <thread>
 
+#include "launch/launcher.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "runtime/process_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/cli/launcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/run_driver.h"
-#include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
 
 int RunCommand(const std::vector<std::string>& args) {
-  ArgParser parser(
+  runtime::ArgParser parser(
       "dynapath run [--local | --agents N | --embedded] [options]",
       "Runs the chosen approaches on one shared maze and change sequence and writes\n"
       "DIR/results.csv and DIR/results_detailed.csv (the report's columns).\n"
@@ -26,13 +26,13 @@ int RunCommand(const std::vector<std::string>& args) {
   parser.AddFlag("local", "run in this process (default)");
   parser.AddOption("agents", "N", "run distributed with N agent processes");
   parser.AddFlag("embedded", "run envsim, coordinator and agents as threads over memq://");
-  AddScenarioOptions(parser);
-  AddRunOptions(parser);
-  AddProcessOptions(parser, false);
+  runtime::AddScenarioOptions(parser);
+  runtime::AddRunOptions(parser);
+  runtime::AddProcessOptions(parser, false);
   parser.AddOption("threads", "N", "worker threads (--local), in all (distributed)",
                    "hardware threads");
   parser.AddOption("log", "FILE", "record the run's LCM messages with lcm-logger (--agents)");
-  AddLogLevelOption(parser);
+  runtime::AddLogLevelOption(parser);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
     return kExitUsage;
@@ -42,7 +42,8 @@ int RunCommand(const std::vector<std::string>& args) {
     std::fputs(parser.Help().c_str(), stdout);
     return 0;
   }
-  if (Status status = ApplyLogLevel(parser); !status) return usage_error(status.error().message);
+  if (Status status = runtime::ApplyLogLevel(parser); !status)
+    return usage_error(status.error().message);
   const int modes = parser.Has("local") + parser.Has("agents") + parser.Has("embedded");
   if (modes > 1 && !(parser.Has("embedded") && parser.Has("agents") && !parser.Has("local"))) {
     return usage_error("choose one of --local, --agents N and --embedded");
@@ -53,9 +54,9 @@ int RunCommand(const std::vector<std::string>& args) {
   const long long hardware = std::max(1u, std::thread::hardware_concurrency());
   Result<long long> threads = parser.GetInt("threads", hardware, 1, 1024);
   if (!threads) return usage_error(threads.error().message);
-  Result<RunPlan> plan = ResolveRunOptions(parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(parser);
   if (!plan) return usage_error(plan.error().message);
-  Result<ProcessSetup> process = ResolveProcessOptions(parser, false);
+  Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(parser, false);
   if (!process) return usage_error(process.error().message);
   if (!distributed) {
     for (const char* option :
@@ -74,25 +75,25 @@ int RunCommand(const std::vector<std::string>& args) {
     return usage_error("--log records a multi-process run: use it with --agents N");
   }
   // Check the maze options here, so a bad one is one error line, not one per process.
-  Result<ScenarioSetup> setup = ResolveScenario(parser);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(parser);
   if (!setup) return usage_error(setup.error().message);
 
   if (distributed) {
-    DistributedRun run;
+    launch::DistributedRun run;
     run.process = *process;
     run.process.bus.max_grid_cells =
         static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
     run.agents = static_cast<int>(*agents);
     run.threads_per_agent = static_cast<int>(std::max(1LL, *threads / *agents));
-    run.envsim_args = parser.Forward(ScenarioOptionNames());
-    run.coordinator_args = parser.Forward(RunOptionNames());
+    run.envsim_args = parser.Forward(runtime::ScenarioOptionNames());
+    run.coordinator_args = parser.Forward(runtime::RunOptionNames());
     run.log_level = parser.Get("log-level", "info");
     run.log_file = parser.Get("log", "");
     bool embedded = parser.Has("embedded");
     if (!embedded) {
-      const ProcessNetwork network = EnterProcessNetwork(process->lcm_url);
-      if (network == ProcessNetwork::kNone) embedded = true;
-      if (network == ProcessNetwork::kPrivate) {
+      const launch::ProcessNetwork network = launch::EnterProcessNetwork(process->lcm_url);
+      if (network == launch::ProcessNetwork::kNone) embedded = true;
+      if (network == launch::ProcessNetwork::kPrivate) {
         spdlog::info("run {} in a private network; watch it with: dynapath-spy --pid {}",
                      process->run_id, getpid());
       }
@@ -101,7 +102,7 @@ int RunCommand(const std::vector<std::string>& args) {
       if (!run.log_file.empty()) return usage_error("--log needs a network; not with --embedded");
       spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                    process->run_id, run.agents);
-      return RunEmbedded(run, *plan, *setup);
+      return launch::RunEmbedded(run, *plan, *setup);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
     if (!process->lcm_url.empty() && !parser.Has("secret-file") && !parser.Has("insecure")) {
@@ -111,13 +112,14 @@ int RunCommand(const std::vector<std::string>& args) {
           "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
           "and to them)");
     }
-    return LaunchProcesses(run);
+    return launch::LaunchProcesses(run);
   }
 
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
                setup->labels.size_label, setup->labels.difficulty_label, setup->source,
                setup->scenario.changes.steps.size(), plan->approaches.size(), *threads);
-  Result<std::vector<ApproachRun>> runs = RunLocal(*plan, *setup, static_cast<int>(*threads));
+  Result<std::vector<ApproachRun>> runs =
+      runtime::RunLocal(*plan, *setup, static_cast<int>(*threads));
   if (!runs) {
     spdlog::error("{}", runs.error().message);
     return kExitFailure;

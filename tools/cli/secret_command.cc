@@ -6,18 +6,19 @@
 #include <vector>
 
 #include "lcmtypes/protocol/auth.h"
+#include "runtime/arg_parser.h"
 #include "tools/cli/commands.h"
-#include "tools/common/arg_parser.h"
 
 namespace dynapath::cli {
 
 int SecretCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath secret FILE",
-                   "Writes a new random secret (256 bits, as hex) to FILE, created with mode\n"
-                   "600; an existing FILE is left alone. Give the same file with\n"
-                   "--secret-file to every process of a run started by hand (envsim,\n"
-                   "coordinator, agents, `dynapath run --agents N`). `dynapath run` makes a\n"
-                   "secret of its own for the processes it starts.");
+  runtime::ArgParser parser(
+      "dynapath secret FILE",
+      "Writes a new random secret (256 bits, as hex) to FILE, created with mode\n"
+      "600; an existing FILE is left alone. Give the same file with\n"
+      "--secret-file to every process of a run started by hand (envsim,\n"
+      "coordinator, agents, `dynapath run --agents N`). `dynapath run` makes a\n"
+      "secret of its own for the processes it starts.");
   // The parser takes options only: FILE is the one argument.
   if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
     std::fputs(parser.Help().c_str(), stdout);

@@ -15,9 +15,9 @@
 
 #include "core/text_file.h"
 #include "lcmtypes/protocol/channels.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/arg_parser.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 #include "tools/view/gif_writer.h"
 #include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
@@ -72,7 +72,7 @@ SplitArgs Split(const std::vector<std::string>& args, const std::set<std::string
 std::string Kilobytes(uintmax_t bytes) { return std::to_string((bytes + 1023) / 1024) + " KB"; }
 
 int Run(const std::vector<std::string>& args) {
-  cli::ArgParser parser(
+  runtime::ArgParser parser(
       "dynapath render LOG --out DIR [options]",
       "Draws the policy of every time step of a logged run (dynapath run --log LOG) as PNG\n"
       "frames, OUT/<approach>/step_0000.png ..., and an animated OUT/<approach>/policy.gif.\n"
@@ -87,30 +87,30 @@ int Run(const std::vector<std::string>& args) {
                    "16 up to 50x50 cells, smaller beyond");
   parser.AddOption("delay", "MS", "GIF frame delay in milliseconds (20-60000)", "250");
   parser.AddFlag("no-gif", "write the PNG frames only");
-  cli::AddLogLevelOption(parser);
+  runtime::AddLogLevelOption(parser);
 
   const SplitArgs split = Split(args, {"out", "approach", "run-id", "cell", "delay", "log-level"});
-  if (int code = cli::ParseProcessArgs(parser, split.options, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseProcessArgs(parser, split.options, kProgram); code >= 0) return code;
   if (split.positional.empty()) {
-    return cli::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
+    return runtime::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
   }
   if (split.positional.size() > 1) {
-    return cli::ProcessError(kProgram,
-                             "unexpected argument '" + split.positional[1] + "' (see --help)");
+    return runtime::ProcessError(kProgram,
+                                 "unexpected argument '" + split.positional[1] + "' (see --help)");
   }
   const std::string log_path = split.positional[0];
   if (!parser.Has("out") || parser.Get("out").empty()) {
-    return cli::ProcessError(kProgram, "option --out DIR is required");
+    return runtime::ProcessError(kProgram, "option --out DIR is required");
   }
   const fs::path out_dir = parser.Get("out");
   Result<long long> cell = parser.GetInt("cell", 0, 1, view::kMaxCellPx);
-  if (!cell) return cli::ProcessError(kProgram, cell.error().message);
+  if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
   Result<long long> delay = parser.GetInt("delay", 250, 20, 60000);
-  if (!delay) return cli::ProcessError(kProgram, delay.error().message);
+  if (!delay) return runtime::ProcessError(kProgram, delay.error().message);
   const std::string run_filter = parser.Get("run-id");
   if (parser.Has("run-id")) {
     if (Status status = protocol::CheckRunId(run_filter); !status) {
-      return cli::ProcessError(kProgram, status.error().message);
+      return runtime::ProcessError(kProgram, status.error().message);
     }
   }
   const std::string approach_filter = parser.Get("approach");
@@ -127,7 +127,7 @@ int Run(const std::vector<std::string>& args) {
           keys.emplace_back(policy.run_id, policy.approach);
         }
       });
-  if (!scan) return cli::ProcessError(kProgram, scan.error().message, kExitFailure);
+  if (!scan) return runtime::ProcessError(kProgram, scan.error().message, kExitFailure);
   if (keys.empty()) {
     std::string message = "log " + log_path + " holds no POLICY messages";
     if (!run_filter.empty()) message += " of run " + run_filter;
@@ -136,7 +136,7 @@ int Run(const std::vector<std::string>& args) {
     } else {
       message += " (record a distributed run: dynapath run --agents N --log FILE)";
     }
-    return cli::ProcessError(kProgram, message, kExitFailure);
+    return runtime::ProcessError(kProgram, message, kExitFailure);
   }
   if (!approach_filter.empty()) {
     std::vector<std::pair<std::string, std::string>> kept;
@@ -150,10 +150,10 @@ int Run(const std::vector<std::string>& args) {
         names += (names.empty() ? "'" : ", '") + key.second + "'";
     }
     if (kept.empty()) {
-      return cli::ProcessError(kProgram,
-                               "log " + log_path + " holds no policy of approach '" +
-                                   approach_filter + "' (it holds " + names + ")",
-                               kExitFailure);
+      return runtime::ProcessError(kProgram,
+                                   "log " + log_path + " holds no policy of approach '" +
+                                       approach_filter + "' (it holds " + names + ")",
+                                   kExitFailure);
     }
     keys = std::move(kept);
   }
@@ -176,8 +176,8 @@ int Run(const std::vector<std::string>& args) {
     std::error_code error;
     fs::create_directories(dir, error);
     if (error) {
-      return cli::ProcessError(kProgram, "cannot create " + dir.string() + ": " + error.message(),
-                               kExitFailure);
+      return runtime::ProcessError(
+          kProgram, "cannot create " + dir.string() + ": " + error.message(), kExitFailure);
     }
     output.dir = dir;
     outputs.emplace(key, std::move(output));
@@ -238,8 +238,8 @@ int Run(const std::vector<std::string>& args) {
           last_progress = now;
         }
       });
-  if (!pass) return cli::ProcessError(kProgram, pass.error().message, kExitFailure);
-  if (!failure.empty()) return cli::ProcessError(kProgram, failure, kExitFailure);
+  if (!pass) return runtime::ProcessError(kProgram, pass.error().message, kExitFailure);
+  if (!failure.empty()) return runtime::ProcessError(kProgram, failure, kExitFailure);
 
   for (const auto& key : keys) {
     Output& output = outputs.at(key);
@@ -248,7 +248,7 @@ int Run(const std::vector<std::string>& args) {
       const fs::path gif_path = output.dir / "policy.gif";
       const std::vector<uint8_t> bytes = output.gif->Finish();
       if (Status status = WriteFileAtomically(gif_path.string(), bytes); !status) {
-        return cli::ProcessError(kProgram, status.error().message, kExitFailure);
+        return runtime::ProcessError(kProgram, status.error().message, kExitFailure);
       }
       gif_text = " and policy.gif (" + std::to_string(output.gif->frames()) + " frames, " +
                  Kilobytes(bytes.size()) + ")";
@@ -278,10 +278,10 @@ int Run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  dynapath::cli::InitProcessLogging(kProgram);
+  dynapath::runtime::InitProcessLogging(kProgram);
   try {
     return Run(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& error) {
-    return dynapath::cli::ProcessError(kProgram, error.what(), kExitFailure);
+    return dynapath::runtime::ProcessError(kProgram, error.what(), kExitFailure);
   }
 }

@@ -17,9 +17,9 @@
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/arg_parser.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_feed.h"
 #include "tools/view/viewer.h"
@@ -83,7 +83,7 @@ Result<std::pair<int, int>> ParseWindowSize(const std::string& text) {
 }
 
 int Run(const std::vector<std::string>& args) {
-  cli::ArgParser parser(
+  runtime::ArgParser parser(
       "dynapath view [options]",
       "A live window on a run's policy: the latest POLICY message of an approach, drawn\n"
       "like `dynapath render` draws them. Keys: Tab/PageUp/PageDown or 1-9 pick the\n"
@@ -102,43 +102,43 @@ int Run(const std::vector<std::string>& args) {
                    "save what the window shows as a PNG once --frames policies arrived, and exit");
   parser.AddOption("frames", "N", "policies to receive before the screenshot", "1");
   parser.AddOption("timeout", "SEC", "screenshot mode: give up after SEC seconds (exit 1)", "60");
-  cli::AddLogLevelOption(parser);
-  if (int code = cli::ParseProcessArgs(parser, args, kProgram); code >= 0) return code;
+  runtime::AddLogLevelOption(parser);
+  if (int code = runtime::ParseProcessArgs(parser, args, kProgram); code >= 0) return code;
 
   view::ViewerOptions options;
   const std::string run_id = parser.Get("run-id");
   if (parser.Has("run-id")) {
     if (Status status = protocol::CheckRunId(run_id); !status) {
-      return cli::ProcessError(kProgram, status.error().message);
+      return runtime::ProcessError(kProgram, status.error().message);
     }
   }
   Result<long long> cell = parser.GetInt("cell", 0, 1, view::kMaxCellPx);
-  if (!cell) return cli::ProcessError(kProgram, cell.error().message);
+  if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
   options.cell_px = static_cast<int>(*cell);
   Result<std::pair<int, int>> window = ParseWindowSize(parser.Get("window", "960x760"));
-  if (!window) return cli::ProcessError(kProgram, window.error().message);
+  if (!window) return runtime::ProcessError(kProgram, window.error().message);
   options.window_width = window->first;
   options.window_height = window->second;
   options.approach = parser.Get("approach");
   options.screenshot = parser.Get("screenshot");
   Result<long long> frames = parser.GetInt("frames", 1, 1, 1000000);
-  if (!frames) return cli::ProcessError(kProgram, frames.error().message);
+  if (!frames) return runtime::ProcessError(kProgram, frames.error().message);
   options.screenshot_after = static_cast<int>(*frames);
   Result<long long> timeout = parser.GetInt("timeout", 60, 1, 86400);
-  if (!timeout) return cli::ProcessError(kProgram, timeout.error().message);
+  if (!timeout) return runtime::ProcessError(kProgram, timeout.error().message);
   options.timeout_seconds = static_cast<double>(*timeout);
   if (parser.Has("screenshot") && options.screenshot.empty()) {
-    return cli::ProcessError(kProgram, "option --screenshot needs a file name");
+    return runtime::ProcessError(kProgram, "option --screenshot needs a file name");
   }
 
   if (parser.Has("pid")) {
     const std::string pid = parser.Get("pid");
     if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) {
-      return cli::ProcessError(kProgram, "option --pid needs a process id, got '" + pid + "'");
+      return runtime::ProcessError(kProgram, "option --pid needs a process id, got '" + pid + "'");
     }
     // Still one thread: setns into a user namespace requires it.
     if (Status status = EnterNetworkOf(pid); !status) {
-      return cli::ProcessError(kProgram, status.error().message, kExitFailure);
+      return runtime::ProcessError(kProgram, status.error().message, kExitFailure);
     }
     spdlog::info("joined the network of process {}", pid);
   }
@@ -146,7 +146,7 @@ int Run(const std::vector<std::string>& args) {
   // SFML aborts the process when it cannot open a display: say so first.
   const char* display = std::getenv("DISPLAY");
   if (display == nullptr || *display == '\0') {
-    return cli::ProcessError(
+    return runtime::ProcessError(
         kProgram,
         "no display (DISPLAY is not set): dynapath view opens a window; use "
         "`dynapath render LOG --out DIR` for pictures without one (or xvfb-run)",
@@ -155,7 +155,7 @@ int Run(const std::vector<std::string>& args) {
 
   options.lcm_url = protocol::ResolveLcmUrl(parser.Get("lcm-url"));
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(options.lcm_url);
-  if (!lcm) return cli::ProcessError(kProgram, lcm.error().message, kExitFailure);
+  if (!lcm) return runtime::ProcessError(kProgram, lcm.error().message, kExitFailure);
   view::PolicyFeed feed(**lcm, run_id);
   protocol::Dispatcher dispatcher(**lcm);
   spdlog::info("listening for DYNAPATH/{}/POLICY on {}", run_id.empty() ? "*" : run_id,
@@ -170,10 +170,10 @@ int Run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  dynapath::cli::InitProcessLogging(kProgram);
+  dynapath::runtime::InitProcessLogging(kProgram);
   try {
     return Run(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& error) {
-    return dynapath::cli::ProcessError(kProgram, error.what(), kExitFailure);
+    return dynapath::runtime::ProcessError(kProgram, error.what(), kExitFailure);
   }
 }

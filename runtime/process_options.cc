@@ -1,4 +1,4 @@
-#include "tools/common/process_options.h"
+#include "runtime/process_options.h"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -10,9 +10,9 @@
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
 #include "lcmtypes/protocol/limits.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/scenario_options.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 void AddProcessOptions(ArgParser& parser, bool run_id_required) {
   parser.AddOption("run-id", "ID",
@@ -136,4 +136,4 @@ int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args, co
   return -1;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

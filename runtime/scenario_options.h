@@ -7,9 +7,9 @@
 
 #include "core/experiment.h"
 #include "core/scenario.h"
-#include "tools/common/arg_parser.h"
+#include "runtime/arg_parser.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 struct ScenarioSetup {
   Scenario scenario;
@@ -27,4 +27,4 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser);
 void AddLogLevelOption(ArgParser& parser);
 Status ApplyLogLevel(const ArgParser& parser);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

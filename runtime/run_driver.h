@@ -8,10 +8,10 @@
 
 #include "core/experiment.h"
 #include "core/results_csv.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/arg_parser.h"
+#include "runtime/scenario_options.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 // How a distributed run spreads a training batch over the agent processes
 // (coordinator/distributed_trainer.h); --local ignores it.
@@ -52,4 +52,4 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
                                           int threads, const StepCallback& extra = {});
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

@@ -5,9 +5,9 @@
 #include <string>
 
 #include "lcmtypes/protocol/bus.h"
-#include "tools/common/arg_parser.h"
+#include "runtime/arg_parser.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 struct ProcessSetup {
   std::string run_id;
@@ -37,4 +37,4 @@ int ProcessError(const char* program, const std::string& message, int exit_code 
 // continue, else the exit code to return.
 int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args, const char* program);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

@@ -1,4 +1,4 @@
-#include "tools/common/scenario_options.h"
+#include "runtime/scenario_options.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,7 +12,7 @@
 #include "core/movingai_map.h"
 #include "lcmtypes/protocol/log_scenario.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 void AddScenarioOptions(ArgParser& parser) {
   parser.AddOption("size", "N", "maze rows (and columns unless --cols)", "20");
@@ -237,4 +237,4 @@ Status ApplyLogLevel(const ArgParser& parser) {
   return Ok{};
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

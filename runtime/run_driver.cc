@@ -1,4 +1,4 @@
-#include "tools/common/run_driver.h"
+#include "runtime/run_driver.h"
 
 #include <spdlog/spdlog.h>
 
@@ -7,7 +7,7 @@
 #include "core/local_trainer.h"
 #include "core/thread_pool.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 namespace {
 
 // Logs one line per approach every few seconds, and at its start and end.
@@ -143,4 +143,4 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
   }
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

@@ -1,4 +1,4 @@
-#include "tools/cli/launcher.h"
+#include "launch/launcher.h"
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
@@ -18,11 +18,11 @@
 #include "coordinator/coordinator.h"
 #include "dynapath/step_report_t.hpp"
 #include "envsim/envsim.h"
+#include "launch/private_network.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/netns/private_network.h"
 
-namespace dynapath::cli {
+namespace dynapath::launch {
 namespace {
 
 namespace fs = std::filesystem;
@@ -294,7 +294,8 @@ int LaunchProcesses(const DistributedRun& run) {
   return exit_code;
 }
 
-int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSetup& scenario) {
+int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                const runtime::ScenarioSetup& scenario) {
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   // One memq:// instance: a second one in this process would hear nothing.
   lcm::LCM lcm("memq://");
@@ -342,4 +343,4 @@ int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSe
   return stop ? 130 : code;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::launch
