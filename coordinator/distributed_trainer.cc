@@ -392,7 +392,8 @@ void DistributedTrainer::CheckAgents() {
         "batch {}: round {} restarted {} times; running its jobs whole on the agents instead of "
         "splitting their rounds{}",
         batch.id, batch.restart_round, batch.restarts_at_round,
-        options_.placement == runtime::Placement::kAuto ? " (and no more splitting in this run)" : "");
+        options_.placement == runtime::Placement::kAuto ? " (and no more splitting in this run)"
+                                                        : "");
     if (options_.placement == runtime::Placement::kAuto) split_disabled_ = true;
     ++traffic_.split_fallbacks;
     batch.split = false;

@@ -26,8 +26,8 @@ struct DistributedRun {
   runtime::ProcessSetup process;  // run id, LCM URL, fault injection
   int agents = 1;
   int threads_per_agent = 1;
-  std::vector<std::string> envsim_args;       // scenario options to forward
-  std::vector<std::string> coordinator_args;  // run options to forward
+  runtime::ScenarioOptions scenario;  // envsim's
+  runtime::RunOptions run;            // the coordinator's
   std::string log_level = "info";
   std::string log_file;  // --log: record with lcm-logger
   bool private_network = true;

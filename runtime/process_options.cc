@@ -1,11 +1,14 @@
 #include "runtime/process_options.h"
 
+#include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
@@ -14,80 +17,72 @@
 
 namespace dynapath::runtime {
 
-void AddProcessOptions(ArgParser& parser, bool run_id_required) {
-  parser.AddOption("run-id", "ID",
-                   run_id_required ? "the run to join (printed by the coordinator/launcher)"
-                                   : "id of the run (channels DYNAPATH/<ID>/...)",
-                   run_id_required ? "required" : "generated");
-  parser.AddOption("lcm-url", "URL", "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
-  parser.AddOption("secret-file", "PATH",
-                   run_id_required
-                       ? "the run's secret (mode 600; made by `dynapath secret PATH`)"
-                       : "the run's secret, for processes started by hand elsewhere (mode 600)",
-                   run_id_required ? "required, or --insecure" : "a new one for this run");
-  parser.AddFlag("insecure",
-                 "no secret: a well-known key anyone on the network can forge messages with");
-  parser.AddOption("grid-cells", "N",
-                   "cells of the run's grid at most: caps what the process buffers of "
-                   "fragmented messages",
-                   std::to_string(protocol::kMaxGridCells));
-  parser.AddOption("fault-drop", "P", "testing: drop published messages with probability P", "0");
-  parser.AddOption("fault-dup", "P", "testing: send published messages twice with probability P",
-                   "0");
+void DeclareLcmUrlOption(OptionGroup& group, std::string& lcm_url) {
+  group.Option("--lcm-url", lcm_url, "URL",
+               "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
 }
 
-const std::vector<std::string>& ProcessOptionNames() {
-  static const std::vector<std::string> names = {"fault-drop", "fault-dup"};
-  return names;
+void DeclareProcessOptions(OptionGroup& group, ProcessOptions& o, bool run_id_required) {
+  group.Option("--run-id", o.run_id, "ID",
+               run_id_required ? "the run to join (printed by the coordinator/launcher)"
+                               : "id of the run (channels DYNAPATH/<ID>/...)",
+               run_id_required ? "required" : "generated");
+  DeclareLcmUrlOption(group, o.lcm_url);
+  group.Option("--secret-file", o.secret_file, "PATH",
+               run_id_required
+                   ? "the run's secret (mode 600; made by `dynapath secret PATH`)"
+                   : "the run's secret, for processes started by hand elsewhere (mode 600)",
+               run_id_required ? "required, or --insecure" : "a new one for this run");
+  group.Flag("--insecure", o.insecure,
+             "no secret: a well-known key anyone on the network can forge messages with");
+  group.Option("--grid-cells", o.grid_cells, "N",
+               "cells of the run's grid at most: caps what the process buffers of "
+               "fragmented messages");
+  group.Option("--fault-drop", o.fault_drop, "P",
+               "testing: drop published messages with probability P");
+  group.Option("--fault-dup", o.fault_dup, "P",
+               "testing: send published messages twice with probability P");
 }
 
 namespace {
-Result<double> GetProbability(const ArgParser& parser, const std::string& name) {
-  const std::string text = parser.Get(name, "0");
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value >= 0.0 && value < 1.0)) {
-    return Error{"option --" + name + " must be a probability in [0, 1), got '" + text + "'"};
+Result<double> CheckProbability(const std::string& name, double value) {
+  if (!(value >= 0.0 && value < 1.0)) {
+    return Error{"option --" + name + " must be a probability in [0, 1), got " +
+                 fmt::format("{}", value)};
   }
   return value;
 }
 }  // namespace
 
-Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_required) {
+Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& o, bool run_id_required) {
   ProcessSetup setup;
-  if (parser.Has("run-id")) {
-    setup.run_id = parser.Get("run-id");
+  if (o.run_id) {
+    setup.run_id = *o.run_id;
   } else if (run_id_required) {
     return Error{"option --run-id is required"};
   } else {
     setup.run_id = protocol::NewRunId();
   }
   if (Status status = protocol::CheckRunId(setup.run_id); !status) return status.error();
-  setup.lcm_url = parser.Get("lcm-url", "");
-  Result<double> drop = GetProbability(parser, "fault-drop");
+  setup.lcm_url = o.lcm_url;
+  Result<double> drop = CheckProbability("fault-drop", o.fault_drop);
   if (!drop) return drop.error();
-  Result<double> dup = GetProbability(parser, "fault-dup");
+  Result<double> dup = CheckProbability("fault-dup", o.fault_dup);
   if (!dup) return dup.error();
-  if (parser.Has("secret-file") && parser.Has("insecure")) {
+  if (o.secret_file && o.insecure) {
     return Error{"choose one of --secret-file PATH and --insecure"};
   }
-  if (parser.Has("secret-file")) {
-    const std::string path = parser.Get("secret-file");
+  if (o.secret_file) {
+    const std::string& path = *o.secret_file;
     Result<std::string> text = protocol::ReadSecretText(path);
     if (!text) return text.error();
-    // The launcher's pipe (/dev/fd/N): read once, now drained; close the
-    // inherited descriptor too, so nothing this process starts inherits it.
-    if (path.rfind("/dev/fd/", 0) == 0) {
-      char* end = nullptr;
-      const long fd = std::strtol(path.c_str() + 8, &end, 10);
-      if (end != path.c_str() + 8 && *end == '\0' && fd > STDERR_FILENO)
-        close(static_cast<int>(fd));
-    }
+    // The launcher's pipe (/dev/fd/N): read once, now drained.
+    CloseInheritedFd(path);
     Result<protocol::RunKey> key = protocol::KeyFromSecretText(*text);
     if (!key) return Error{"secret file " + path + ": " + key.error().message};
     setup.secret = std::move(*text);
     setup.bus.key = *key;
-  } else if (parser.Has("insecure")) {
+  } else if (o.insecure) {
     setup.bus.key = protocol::InsecureKey();
   } else if (run_id_required) {
     return Error{
@@ -97,14 +92,69 @@ Result<ProcessSetup> ResolveProcessOptions(const ArgParser& parser, bool run_id_
   } else {
     MakeRunSecret(setup);
   }
-  Result<long long> cells =
-      parser.GetInt("grid-cells", protocol::kMaxGridCells, 1, protocol::kMaxGridCells);
+  Result<long long> cells = InRange("grid-cells", o.grid_cells, 0, 1, protocol::kMaxGridCells);
   if (!cells) return cells.error();
   setup.bus.max_grid_cells = *cells;
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
   if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
   return setup;
+}
+
+ProcessOptions ChildProcessOptions(const ProcessSetup& setup) {
+  ProcessOptions options;
+  options.run_id = setup.run_id;
+  options.lcm_url = setup.lcm_url;
+  options.grid_cells = setup.bus.max_grid_cells;
+  options.fault_drop = setup.bus.drop_probability;
+  options.fault_dup = setup.bus.duplicate_probability;
+  return options;
+}
+
+void DeclareThreadOptions(OptionGroup& group, ThreadOptions& options) {
+  group.Option("--threads", options.threads, "N",
+               "worker threads (of this process; with --agents or --embedded, in all)",
+               "hardware threads");
+}
+
+Result<int> ResolveThreads(const ThreadOptions& options) {
+  const long long hardware = std::max(1u, std::thread::hardware_concurrency());
+  Result<long long> threads = InRange("threads", options.threads, hardware, 1, 1024);
+  if (!threads) return threads.error();
+  return static_cast<int>(*threads);
+}
+
+void DeclareModeOptions(OptionGroup& group, ModeOptions& o) {
+  group.Flag("--local", o.local, "run in this process on a thread pool (default)");
+  group.Option("--agents", o.agents, "N",
+               "run distributed: envsim, coordinator and N agent processes over LCM (in a "
+               "private network namespace, or on --lcm-url's network)");
+  group.Flag("--embedded", o.embedded,
+             "run envsim, coordinator and agents as threads of this process over memq://");
+}
+
+Result<RunMode> ResolveMode(const ModeOptions& o, long long max_agents) {
+  if (o.local && (o.agents || o.embedded)) {
+    return Error{"choose one of --local, --agents N and --embedded"};
+  }
+  RunMode mode;
+  Result<long long> agents = InRange("agents", o.agents, 1, 1, max_agents);
+  if (!agents) return agents.error();
+  mode.agents = static_cast<int>(*agents);
+  mode.kind = o.embedded ? RunMode::kEmbedded : o.agents ? RunMode::kAgents : RunMode::kLocal;
+  return mode;
+}
+
+void DeclareWaitOptions(OptionGroup& group, WaitOptions& options) {
+  group.Option("--wait", options.wait, "SECONDS",
+               "how long to wait for the other processes of the run to appear (the "
+               "coordinator: its agents and envsim; the others: the coordinator)");
+}
+
+Result<double> ResolveWaitSeconds(const WaitOptions& options) {
+  Result<long long> wait = InRange("wait", options.wait, 0, 1, 86400);
+  if (!wait) return wait.error();
+  return static_cast<double>(*wait);
 }
 
 void MakeRunSecret(ProcessSetup& setup) {
@@ -123,14 +173,16 @@ int ProcessError(const char* program, const std::string& message, int exit_code)
   return exit_code;
 }
 
-int ParseProcessArgs(ArgParser& parser, const std::vector<std::string>& args, const char* program) {
-  if (Status status = parser.Parse(args); !status)
-    return ProcessError(program, status.error().message);
-  if (parser.WantsHelp()) {
-    std::fputs(parser.Help().c_str(), stdout);
-    return 0;
+int ParseProcessArgs(CLI::App& app, const LogOptions& log, int argc, char** argv,
+                     const char* program) {
+  AddConfigOption(app);
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (int code = ParseCommandLine(app, std::move(args), program); code >= 0) return code;
+  // The launcher's pipe (/dev/fd/N): read once, now drained.
+  if (const CLI::Option* config = app.get_config_ptr(); config != nullptr && config->count() > 0) {
+    CloseInheritedFd(config->as<std::string>());
   }
-  if (Status status = ApplyLogLevel(parser); !status) {
+  if (Status status = ApplyLogLevel(log); !status) {
     return ProcessError(program, status.error().message);
   }
   return -1;

@@ -42,48 +42,46 @@ class ProgressLog {
 
 }  // namespace
 
-void AddRunOptions(ArgParser& parser) {
-  parser.AddOption(
-      "approach", "LIST",
-      "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
-      "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; "
-      "or all",
-      "all");
-  parser.AddOption("out", "DIR", "output directory", "results");
-  parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
-  parser.AddOption(
-      "bootstrap", "SCOPE",
-      "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
-      "in-grid");
-  parser.AddOption("semantics", "WHOSE",
-                   "learning semantics: ours, or report (the report code's bootstrap and first "
-                   "training; docs/DECISIONS.md)",
-                   "ours");
-  parser.AddOption("placement", "MODE",
-                   "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)",
-                   "auto");
+void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
+  group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
 }
 
-const std::vector<std::string>& RunOptionNames() {
-  static const std::vector<std::string> names = {"approach",  "out",       "leaf-limit",
-                                                 "bootstrap", "semantics", "placement"};
-  return names;
+Result<int> ResolveLeafLimit(long long leaf_limit) {
+  Result<long long> checked = InRange("leaf-limit", leaf_limit, 0, 1, 10000);
+  if (!checked) return checked.error();
+  return static_cast<int>(*checked);
 }
 
-Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
+void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
+  group.Option("--approach", o.approach, "LIST",
+               "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
+               "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental "
+               "Oracle; or all");
+  group.Option("--out", o.out, "DIR", "output directory");
+  DeclareLeafLimitOption(group, o.leaf_limit);
+  group.Option("--bootstrap", o.bootstrap, "SCOPE",
+               "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)");
+  group.Option("--semantics", o.semantics, "WHOSE",
+               "learning semantics: ours, or report (the report code's bootstrap and first "
+               "training; docs/DECISIONS.md)");
+  group.Option("--placement", o.placement, "MODE",
+               "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)");
+}
+
+Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   RunPlan plan;
-  Result<std::vector<Approach>> approaches = ParseApproachList(parser.Get("approach", "all"));
+  Result<std::vector<Approach>> approaches = ParseApproachList(o.approach);
   if (!approaches) return approaches.error();
   plan.approaches = *approaches;
-  Result<long long> leaf_limit = parser.GetInt("leaf-limit", QuadTree::kDefaultLeafLimit, 1, 10000);
+  Result<int> leaf_limit = ResolveLeafLimit(o.leaf_limit);
   if (!leaf_limit) return leaf_limit.error();
-  plan.options.leaf_limit = static_cast<int>(*leaf_limit);
-  const std::string bootstrap = parser.Get("bootstrap", "in-grid");
+  plan.options.leaf_limit = *leaf_limit;
+  const std::string& bootstrap = o.bootstrap;
   if (bootstrap != "in-grid" && bootstrap != "in-region") {
     return Error{"option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'"};
   }
   plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
-  const std::string semantics = parser.Get("semantics", "ours");
+  const std::string& semantics = o.semantics;
   if (semantics != "ours" && semantics != "report") {
     return Error{"option --semantics must be ours or report, got '" + semantics + "'"};
   }
@@ -91,9 +89,9 @@ Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
   if (plan.options.semantics == Semantics::kReport && bootstrap != "in-grid") {
     return Error{"option --semantics report sets the bootstrap itself; leave --bootstrap out"};
   }
-  plan.out_dir = parser.Get("out", "results");
+  plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
-  const std::string placement = parser.Get("placement", "auto");
+  const std::string& placement = o.placement;
   if (placement == "auto") {
     plan.placement = Placement::kAuto;
   } else if (placement == "whole") {

@@ -7,8 +7,9 @@
 #include <vector>
 
 #include "core/experiment.h"
+#include "core/quadtree.h"
 #include "core/results_csv.h"
-#include "runtime/arg_parser.h"
+#include "runtime/option_group.h"
 #include "runtime/scenario_options.h"
 
 namespace dynapath::runtime {
@@ -28,12 +29,22 @@ struct RunPlan {
   Placement placement = Placement::kAuto;
 };
 
+// The options of a run plan as given; ResolveRunOptions checks them.
+struct RunOptions {
+  std::string approach = "all";
+  std::string out = "results";
+  long long leaf_limit = QuadTree::kDefaultLeafLimit;
+  std::string bootstrap = "in-grid";
+  std::string semantics = "ours";
+  std::string placement = "auto";
+};
+// --leaf-limit alone (dynapath maze), checked.
+void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit);
+Result<int> ResolveLeafLimit(long long leaf_limit);
 // Declares --approach, --out, --leaf-limit, --bootstrap, --semantics and
 // --placement.
-void AddRunOptions(ArgParser& parser);
-// The names of those options (for the launcher to forward them).
-const std::vector<std::string>& RunOptionNames();
-Result<RunPlan> ResolveRunOptions(const ArgParser& parser);
+void DeclareRunOptions(OptionGroup& group, RunOptions& options);
+Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
 // approach), logging progress, and (re)writes DIR/results.csv and

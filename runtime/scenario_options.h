@@ -3,11 +3,12 @@
 // `dynapath maze` and `dynapath run`.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "core/experiment.h"
 #include "core/scenario.h"
-#include "runtime/arg_parser.h"
+#include "runtime/option_group.h"
 
 namespace dynapath::runtime {
 
@@ -18,13 +19,21 @@ struct ScenarioSetup {
   std::string source;  // how the scenario was obtained, for the log
 };
 
-void AddScenarioOptions(ArgParser& parser);
-// Their names (for the launcher to forward them to envsim).
-const std::vector<std::string>& ScenarioOptionNames();
-Result<ScenarioSetup> ResolveScenario(const ArgParser& parser);
+// The scenario options as given: unset ones take the default their help
+// names (ResolveScenario), and some exclude others (--replay, --maze).
+struct ScenarioOptions {
+  std::optional<long long> size, cols, seed, steps;
+  std::optional<std::string> difficulty, maze, stations, stations_file, movers, changes, replay;
+  bool allow_unreachable = false;
+};
+void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
+Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& options);
 
-// Sets spdlog's level from --log-level (and adds that option).
-void AddLogLevelOption(ArgParser& parser);
-Status ApplyLogLevel(const ArgParser& parser);
+// --log-level, which sets spdlog's level.
+struct LogOptions {
+  std::string log_level = "info";
+};
+void DeclareLogOptions(OptionGroup& group, LogOptions& options);
+Status ApplyLogLevel(const LogOptions& options);
 
 }  // namespace dynapath::runtime

@@ -28,6 +28,7 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/arg_parser.h"
 #include "tools/common/build_info.h"
 #include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
@@ -80,7 +81,7 @@ const std::atomic<bool>& InstallSignalHandlers() {
 }
 
 // The option values given on the command line.
-Result<OptionValues> CommandLineValues(const runtime::ArgParser& parser) {
+Result<OptionValues> CommandLineValues(const ArgParser& parser) {
   OptionValues values;
   for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
     if (!parser.Has(spec.name)) continue;
@@ -148,17 +149,12 @@ struct Session {
 // `dynapath run` would take. Ok when it ran to its end.
 Status RunConfiguration(const Session& session, const StudyConfiguration& configuration,
                         int index) {
-  runtime::ArgParser run_parser("dynapath run", "");
-  runtime::AddScenarioOptions(run_parser);
-  runtime::AddRunOptions(run_parser);
   const std::string directory = (session.out / configuration.Directory()).string();
-  std::vector<std::string> args = ScenarioArguments(configuration);
-  const std::vector<std::string> run_args = RunArguments(session.options, directory);
-  args.insert(args.end(), run_args.begin(), run_args.end());
-  if (Status status = run_parser.Parse(args); !status) return status;
-  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(run_parser);
+  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
+  const runtime::RunOptions run_options = RunOptionsOf(session.options, directory);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
-  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
   if (!plan) return plan.error();
   const int approaches = static_cast<int>(plan->approaches.size());
   ProgressDisplay& display = session.display;
@@ -185,8 +181,8 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
       static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
   run.agents = session.options.agents;
   run.threads_per_agent = std::max(1, session.options.threads / session.options.agents);
-  run.envsim_args = ScenarioArguments(configuration);
-  run.coordinator_args = run_args;
+  run.scenario = scenario;
+  run.run = run_options;
   run.log_level = session.options.log_level;
   run.child_stderr = session.log_fd;
   run.on_step = [&display, approaches](const launch::StepReport& report) {
@@ -208,7 +204,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
 }
 
 // Declares the options: the study's, --config and --force.
-void DeclareOptions(runtime::ArgParser& parser) {
+void DeclareOptions(ArgParser& parser) {
   for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
     if (spec.value_name.empty()) {
       parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
@@ -225,7 +221,7 @@ void DeclareOptions(runtime::ArgParser& parser) {
 }
 
 // The options of the config file (if any) overridden by the command line's.
-Result<StudyOptions> ResolveOptions(const runtime::ArgParser& parser) {
+Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
   Result<OptionValues> command_line = CommandLineValues(parser);
   if (!command_line) return command_line.error();
   OptionValues file_values;
@@ -470,7 +466,7 @@ class StudyRunner {
 }  // namespace
 
 int ExperimentCommand(const std::vector<std::string>& args) {
-  runtime::ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
+  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
   DeclareOptions(parser);
   if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
   if (parser.WantsHelp()) {

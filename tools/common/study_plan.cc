@@ -417,20 +417,26 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
   return plan;
 }
 
-std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration) {
-  return {"--size",       std::to_string(configuration.size),
-          "--difficulty", LowerDifficulty(configuration.difficulty),
-          "--seed",       std::to_string(configuration.seed),
-          "--steps",      std::to_string(configuration.steps)};
+runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration) {
+  runtime::ScenarioOptions options;
+  options.size = configuration.size;
+  options.difficulty = LowerDifficulty(configuration.difficulty);
+  options.seed = configuration.seed;
+  options.steps = configuration.steps;
+  return options;
 }
 
-std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir) {
+runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir) {
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  return {"--approach",      Join(names, ","),  "--out",
-          out_dir,           "--leaf-limit",    std::to_string(options.leaf_limit),
-          "--bootstrap",     options.bootstrap, "--semantics",
-          options.semantics, "--placement",     options.placement};
+  runtime::RunOptions run;
+  run.approach = Join(names, ",");
+  run.out = out_dir;
+  run.leaf_limit = options.leaf_limit;
+  run.bootstrap = options.bootstrap;
+  run.semantics = options.semantics;
+  run.placement = options.placement;
+  return run;
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {

@@ -11,6 +11,8 @@
 #include "core/approach.h"
 #include "core/difficulty.h"
 #include "core/result.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/common/json.h"
 #include "tools/common/study_config.h"
 
@@ -97,11 +99,12 @@ struct StudyConfiguration {
 // (hard 50x50 of seed 102, with --steps when given) when enabled.
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 
-// The `dynapath run` maze options of a configuration (--size, --difficulty,
-// --seed, --steps), and its run options (--approach, --out, --leaf-limit,
-// --bootstrap, --semantics), as arguments.
-std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration);
-std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir);
+// The `dynapath run` maze options of a configuration (size, difficulty,
+// seed, steps), and its run options (approaches, out, leaf limit,
+// bootstrap, semantics, placement): copied into the structs `run` parses
+// into, not spelled out as arguments.
+runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
+runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir);
 
 // The options that determine the results (compared to resume a study), and
 // the others, as manifest objects.

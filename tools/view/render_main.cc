@@ -9,15 +9,17 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/text_file.h"
 #include "lcmtypes/protocol/channels.h"
-#include "runtime/arg_parser.h"
+#include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
+#include "tools/view/cell_option.h"
 #include "tools/view/gif_writer.h"
 #include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
@@ -42,79 +44,57 @@ struct Output {
   int first_step = -1, last_step = -1;
 };
 
-// Splits the log file (the one argument that is not an option or an
-// option's value) from the options.
-struct SplitArgs {
-  std::vector<std::string> positional, options;
-};
-SplitArgs Split(const std::vector<std::string>& args, const std::set<std::string>& with_value) {
-  SplitArgs split;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    if (arg.size() > 2 && arg.rfind("--", 0) == 0) {
-      split.options.push_back(arg);
-      const std::string name = arg.substr(2);
-      if (name.find('=') == std::string::npos && with_value.count(name) && i + 1 < args.size()) {
-        split.options.push_back(args[++i]);
-      }
-    } else if (arg == "--") {
-      split.positional.insert(split.positional.end(), args.begin() + i + 1, args.end());
-      break;
-    } else if (arg == "-h") {
-      split.options.push_back(arg);
-    } else {
-      split.positional.push_back(arg);
-    }
-  }
-  return split;
-}
-
 std::string Kilobytes(uintmax_t bytes) { return std::to_string((bytes + 1023) / 1024) + " KB"; }
 
 int Run(const std::vector<std::string>& args) {
-  runtime::ArgParser parser(
-      "dynapath render LOG --out DIR [options]",
+  CLI::App app(
       "Draws the policy of every time step of a logged run (dynapath run --log LOG) as PNG\n"
       "frames, OUT/<approach>/step_0000.png ..., and an animated OUT/<approach>/policy.gif.\n"
       "With several runs in the log (and no --run-id): OUT/<run>/<approach>/...\n"
       "Free cells light, obstacles dark, stations green, cells whose policy fails red,\n"
-      "arrows for the greedy actions, retrained regions outlined in orange.");
-  parser.AddOption("out", "DIR", "directory for the pictures", "required");
-  parser.AddOption("approach", "NAME", "only this approach ('A* Oracle' or its directory A_Oracle)",
-                   "all");
-  parser.AddOption("run-id", "ID", "only this run of the log", "all runs");
-  parser.AddOption("cell", "PX", "pixels per cell side (1-64; arrows from 6 px)",
-                   "16 up to 50x50 cells, smaller beyond");
-  parser.AddOption("delay", "MS", "GIF frame delay in milliseconds (20-60000)", "250");
-  parser.AddFlag("no-gif", "write the PNG frames only");
-  runtime::AddLogLevelOption(parser);
+      "arrows for the greedy actions, retrained regions outlined in orange.",
+      "dynapath render");
+  std::string log_path;
+  app.add_option("LOG", log_path, "the LCM log of a run (dynapath run --log LOG)");
+  runtime::OptionGroup group(app);
+  std::optional<std::string> out;
+  group.Option("--out", out, "DIR", "directory for the pictures", "required");
+  std::optional<std::string> approach_given, run_given;
+  group.Option("--approach", approach_given, "NAME",
+               "only this approach ('A* Oracle' or its directory A_Oracle)", "all");
+  group.Option("--run-id", run_given, "ID", "only this run of the log", "all runs");
+  std::optional<long long> cell_given;
+  view::DeclareCellOption(group, cell_given);
+  long long delay_given = 250;
+  group.Option("--delay", delay_given, "MS", "GIF frame delay in milliseconds (20-60000)");
+  bool no_gif = false;
+  group.Flag("--no-gif", no_gif, "write the PNG frames only");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
 
-  const SplitArgs split = Split(args, {"out", "approach", "run-id", "cell", "delay", "log-level"});
-  if (int code = runtime::ParseProcessArgs(parser, split.options, kProgram); code >= 0) return code;
-  if (split.positional.empty()) {
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
+  if (log_path.empty()) {
     return runtime::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
   }
-  if (split.positional.size() > 1) {
-    return runtime::ProcessError(kProgram,
-                                 "unexpected argument '" + split.positional[1] + "' (see --help)");
-  }
-  const std::string log_path = split.positional[0];
-  if (!parser.Has("out") || parser.Get("out").empty()) {
+  if (!out || out->empty()) {
     return runtime::ProcessError(kProgram, "option --out DIR is required");
   }
-  const fs::path out_dir = parser.Get("out");
-  Result<long long> cell = parser.GetInt("cell", 0, 1, view::kMaxCellPx);
+  const fs::path out_dir = *out;
+  Result<int> cell = view::ResolveCellOption(cell_given);
   if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
-  Result<long long> delay = parser.GetInt("delay", 250, 20, 60000);
+  Result<long long> delay = runtime::InRange("delay", delay_given, 0, 20, 60000);
   if (!delay) return runtime::ProcessError(kProgram, delay.error().message);
-  const std::string run_filter = parser.Get("run-id");
-  if (parser.Has("run-id")) {
+  const std::string run_filter = run_given.value_or("");
+  const std::string approach_filter = approach_given.value_or("");
+  if (run_given) {
     if (Status status = protocol::CheckRunId(run_filter); !status) {
       return runtime::ProcessError(kProgram, status.error().message);
     }
   }
-  const std::string approach_filter = parser.Get("approach");
-  const bool want_gif = !parser.Has("no-gif");
+  const bool want_gif = !no_gif;
   view::DrawOptions draw;
   draw.cell_px = static_cast<int>(*cell);
 

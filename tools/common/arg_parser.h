@@ -10,7 +10,7 @@
 
 #include "core/result.h"
 
-namespace dynapath::runtime {
+namespace dynapath::cli {
 
 class ArgParser {
  public:
@@ -49,4 +49,4 @@ class ArgParser {
   std::map<std::string, std::string> values_;
 };
 
-}  // namespace dynapath::runtime
+}  // namespace dynapath::cli

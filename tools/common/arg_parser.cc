@@ -1,9 +1,9 @@
-#include "runtime/arg_parser.h"
+#include "tools/common/arg_parser.h"
 
 #include <cerrno>
 #include <cstdlib>
 
-namespace dynapath::runtime {
+namespace dynapath::cli {
 
 ArgParser::ArgParser(std::string usage, std::string summary)
     : usage_(std::move(usage)), summary_(std::move(summary)) {
@@ -108,4 +108,4 @@ std::vector<std::string> ArgParser::Forward(const std::vector<std::string>& name
   return args;
 }
 
-}  // namespace dynapath::runtime
+}  // namespace dynapath::cli
