@@ -204,7 +204,7 @@ int LaunchProcesses(const DistributedRun& run) {
   // command-line struct, written by the same declaration its main parses
   // with. With `secret`, the run's secret goes over a pipe of its own
   // (--secret-file /dev/fd/N), or --insecure when the run has none.
-  // `visible`: arguments besides --config.
+  // `visible`: more arguments besides --config.
   auto start = [&](const std::string& name, const std::string& binary, auto& options, auto declare,
                    std::vector<std::string> visible = {}) {
     std::vector<int> fds;
@@ -240,6 +240,16 @@ int LaunchProcesses(const DistributedRun& run) {
     }
     fds.push_back(config_fd);
     std::vector<std::string> argv = {binary, "--config", "/dev/fd/" + std::to_string(config_fd)};
+    // The config is complete; the run id, how the secret arrives and an
+    // agent's id are repeated as arguments so that ps and pgrep tell a run's
+    // processes apart and show that the secret came over a pipe (the tests
+    // find processes this way).
+    argv.insert(argv.end(), {"--run-id", run.process.run_id});
+    if (options.process.secret_file) {
+      argv.insert(argv.end(), {"--secret-file", *options.process.secret_file});
+    } else {
+      argv.push_back("--insecure");
+    }
     argv.insert(argv.end(), visible.begin(), visible.end());
     const pid_t pid = Spawn(argv, run.child_stderr, fds);
     close_fds();
@@ -266,8 +276,6 @@ int LaunchProcesses(const DistributedRun& run) {
   for (int i = 1; i <= run.agents; ++i) {
     agent::AgentCommandLine agent_options;
     agent_options.threads.threads = run.threads_per_agent;
-    // The id stays on the command line, so ps and pgrep tell the agents
-    // apart (tests/distributed_test.sh kills agent 2 by it).
     start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
           agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
   }
