@@ -43,9 +43,14 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
   Put(key, *quoted);
 }
 
+void OptionGroup::Record(const std::string& name, ValueKind kind) {
+  if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
+}
+
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
   if (writer_ != nullptr) return writer_->PutText(Key(name), value);
+  Record(name, ValueKind::kString);
   app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
 }
 
@@ -56,6 +61,7 @@ void OptionGroup::Option(const std::string& name, std::optional<std::string>& va
     if (value) writer_->PutText(Key(name), *value);
     return;
   }
+  Record(name, ValueKind::kString);
   CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
   if (!default_text.empty()) option->default_str(default_text);
 }
@@ -67,6 +73,7 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
     if (value) writer_->Put(Key(name), std::to_string(*value));
     return;
   }
+  Record(name, ValueKind::kInteger);
   CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
   if (!default_text.empty()) option->default_str(default_text);
 }
@@ -74,6 +81,7 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
 void OptionGroup::Option(const std::string& name, long long& value, const std::string& value_name,
                          const std::string& help) {
   if (writer_ != nullptr) return writer_->Put(Key(name), std::to_string(value));
+  Record(name, ValueKind::kInteger);
   app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
 }
 
@@ -81,6 +89,7 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
                          const std::string& help) {
   // {} is the shortest text that reads back as the same double.
   if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
+  Record(name, ValueKind::kFloat);
   app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
 }
 
@@ -89,7 +98,20 @@ void OptionGroup::Flag(const std::string& name, bool& value, const std::string& 
     if (value) writer_->Put(Key(name), "true");
     return;
   }
+  Record(name, ValueKind::kBoolean);
   app_->add_flag(name, value, help);
+}
+
+void OptionGroup::List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
+                       const std::string& value_name, const std::string& help,
+                       const std::string& default_text) {
+  if (writer_ != nullptr) {
+    if (text) writer_->PutText(Key(name), *text);
+    return;
+  }
+  Record(name, kind);
+  CLI::Option* option = app_->add_option(name, text, help)->type_name(value_name);
+  if (!default_text.empty()) option->default_str(default_text);
 }
 
 Result<long long> InRange(const std::string& name, std::optional<long long> value,

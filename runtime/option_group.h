@@ -14,6 +14,7 @@
 // std::optional, with the rule in `default_text`.
 
 #include <CLI/CLI.hpp>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,9 +39,16 @@ class ConfigWriter {
   std::string unwritable_;  // the first key whose value could not be written
 };
 
+// What an option's value is, by its config-file key ("leaf-limit"): for a
+// config reader that checks values before they reach the parser (the study
+// files of `dynapath experiment`).
+enum class ValueKind { kString, kInteger, kFloat, kBoolean, kIntegerList, kStringList };
+using OptionKinds = std::map<std::string, ValueKind>;
+
 class OptionGroup {
  public:
-  explicit OptionGroup(CLI::App& app) : app_(&app) {}
+  // `kinds`, when given, gets the kind of every option declared.
+  explicit OptionGroup(CLI::App& app, OptionKinds* kinds = nullptr) : app_(&app), kinds_(kinds) {}
   explicit OptionGroup(ConfigWriter& writer) : writer_(&writer) {}
 
   // An option taking a value, "--name VALUE_NAME". `default_text` is shown
@@ -57,11 +65,19 @@ class OptionGroup {
               const std::string& help);
   void Option(const std::string& name, double& value, const std::string& value_name,
               const std::string& help);
+  // A comma-separated list, kept as its text; `kind` is kIntegerList or
+  // kStringList.
+  void List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
+            const std::string& value_name, const std::string& help,
+            const std::string& default_text);
   // A flag without a value.
   void Flag(const std::string& name, bool& value, const std::string& help);
 
  private:
+  void Record(const std::string& name, ValueKind kind);
+
   CLI::App* app_ = nullptr;
+  OptionKinds* kinds_ = nullptr;
   ConfigWriter* writer_ = nullptr;
 };
 

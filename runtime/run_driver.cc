@@ -52,20 +52,29 @@ Result<int> ResolveLeafLimit(long long leaf_limit) {
   return static_cast<int>(*checked);
 }
 
-void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
-  group.Option("--approach", o.approach, "LIST",
-               "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
-               "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental "
-               "Oracle; or all");
-  group.Option("--out", o.out, "DIR", "output directory");
+void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   DeclareLeafLimitOption(group, o.leaf_limit);
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)");
   group.Option("--semantics", o.semantics, "WHOSE",
                "learning semantics: ours, or report (the report code's bootstrap and first "
                "training; docs/DECISIONS.md)");
+}
+
+void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
   group.Option("--placement", o.placement, "MODE",
-               "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)");
+               "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement; results "
+               "are the same)");
+}
+
+void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
+  group.Option("--approach", o.approach, "LIST",
+               "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
+               "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental "
+               "Oracle; or all");
+  group.Option("--out", o.out, "DIR", "output directory");
+  DeclareLearnerOptions(group, o);
+  DeclarePlacementOption(group, o);
 }
 
 Result<RunPlan> ResolveRunOptions(const RunOptions& o) {

@@ -41,6 +41,10 @@ struct RunOptions {
 // --leaf-limit alone (dynapath maze), checked.
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit);
 Result<int> ResolveLeafLimit(long long leaf_limit);
+// --leaf-limit, --bootstrap and --semantics (also `dynapath experiment`'s).
+void DeclareLearnerOptions(OptionGroup& group, RunOptions& options);
+// --placement (also `dynapath experiment`'s).
+void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
 // Declares --approach, --out, --leaf-limit, --bootstrap, --semantics and
 // --placement.
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);

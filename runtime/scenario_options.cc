@@ -18,14 +18,19 @@ namespace {
 constexpr long long kDefaultSize = 20;
 }  // namespace
 
+void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& seed,
+                                std::optional<long long>& steps) {
+  group.Option("--seed", seed, "S", "seed of the maze and change sequence (C-library stream)",
+               "the report's: 50 + difficulty index");
+  group.Option("--steps", steps, "T", "number of time steps", "2 x rows, the report's");
+}
+
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
   group.Option("--size", o.size, "N", "maze rows (and columns unless --cols)",
                std::to_string(kDefaultSize));
   group.Option("--cols", o.cols, "M", "maze columns, for rectangular mazes", "--size");
   group.Option("--difficulty", o.difficulty, "D", "easy, medium or hard", "easy");
-  group.Option("--seed", o.seed, "S", "seed of the maze and change sequence (C-library stream)",
-               "the report's: 50 + difficulty index");
-  group.Option("--steps", o.steps, "T", "number of time steps", "2 x rows, the report's");
+  DeclareSeedAndStepsOptions(group, o.seed, o.steps);
   group.Option("--maze", o.maze, "FILE",
                "load the maze from a file instead: a MovingAI map (.map, walls never move) "
                "or the text format ('#', '.', 'C', every obstacle may move)");

@@ -27,6 +27,9 @@ struct ScenarioOptions {
   bool allow_unreachable = false;
 };
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
+// --seed and --steps alone (`dynapath experiment`: for every maze).
+void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& seed,
+                                std::optional<long long>& steps);
 Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& options);
 
 // --log-level, which sets spdlog's level.

@@ -25,10 +25,10 @@
 #include "launch/launcher.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "runtime/option_group.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/common/arg_parser.h"
 #include "tools/common/build_info.h"
 #include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
@@ -81,20 +81,16 @@ const std::atomic<bool>& InstallSignalHandlers() {
 }
 
 // The option values given on the command line.
-Result<OptionValues> CommandLineValues(const ArgParser& parser) {
+Result<OptionValues> CommandLineValues(const CLI::App& app, const StudyCommandLine& given) {
+  if (given.edge_case && given.no_edge_case) {
+    return Error{"choose one of --edge-case and --no-edge-case"};
+  }
   OptionValues values;
-  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
-    if (!parser.Has(spec.name)) continue;
-    const std::string origin = "option --" + spec.name;
-    if (spec.name == "edge-case" || spec.name == "no-edge-case") {
-      if (parser.Has("edge-case") && parser.Has("no-edge-case")) {
-        return Error{"choose one of --edge-case and --no-edge-case"};
-      }
-      values["edge-case"] = OptionValue{spec.name == "edge-case" ? "true" : "false", origin};
-    } else if (spec.value_name.empty()) {
-      values[spec.name] = OptionValue{"true", origin};
-    } else {
-      values[spec.name] = OptionValue{parser.Get(spec.name), origin};
+  for (auto& [name, value] : GivenOptionValues(app)) {
+    if (name == "no-edge-case") {
+      values["edge-case"] = OptionValue{"false", value.origin};
+    } else if (StudyOptionKinds().count(name) > 0) {
+      values[name] = value;
     }
   }
   return values;
@@ -203,30 +199,15 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   return Error{"the run failed (exit status " + std::to_string(code) + "); see study.log"};
 }
 
-// Declares the options: the study's, --config and --force.
-void DeclareOptions(ArgParser& parser) {
-  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
-    if (spec.value_name.empty()) {
-      parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
-                                                 ? std::string()
-                                                 : " (default: " + spec.default_text + ")"));
-    } else {
-      parser.AddOption(spec.name, spec.value_name, spec.help, spec.default_text);
-    }
-  }
-  parser.AddOption("config", "FILE",
-                   "read options from a TOML file (key = value, same names); the command line "
-                   "overrides it");
-  parser.AddFlag("force", "start over: delete the results of the study already in DIR");
-}
-
-// The options of the config file (if any) overridden by the command line's.
-Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
-  Result<OptionValues> command_line = CommandLineValues(parser);
+// The options of the config file `config_path` (if any) overridden by the
+// command line's.
+Result<StudyOptions> ResolveOptions(const CLI::App& app, const StudyCommandLine& given,
+                                    const std::optional<std::string>& config_path) {
+  Result<OptionValues> command_line = CommandLineValues(app, given);
   if (!command_line) return command_line.error();
   OptionValues file_values;
-  if (parser.Has("config")) {
-    Result<ConfigFile> file = ReadConfigFile(parser.Get("config"));
+  if (config_path) {
+    Result<ConfigFile> file = ReadConfigFile(*config_path);
     if (!file) return file.error();
     Result<OptionValues> values = ConfigOptionValues(*file);
     if (!values) return values.error();
@@ -466,20 +447,28 @@ class StudyRunner {
 }  // namespace
 
 int ExperimentCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
-  DeclareOptions(parser);
-  if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
-  if (parser.WantsHelp()) {
-    std::fputs(parser.Help().c_str(), stdout);
-    return 0;
+  CLI::App app(kSummary, "dynapath experiment");
+  runtime::OptionGroup group(app);
+  StudyCommandLine given;
+  DeclareStudyCommandLine(group, given);
+  // The study file is TOML read by toml++ (study_config.h), so that its
+  // errors name the line; CLI11's own --config would not.
+  std::optional<std::string> config_path;
+  group.Option("--config", config_path, "FILE",
+               "read options from a TOML file (key = value, same names); the command line "
+               "overrides it");
+  bool force = false;
+  group.Flag("--force", force, "start over: delete the results of the study already in DIR");
+  if (int code = runtime::ParseCommandLine(app, args, "dynapath experiment"); code >= 0) {
+    return code;
   }
-  Result<StudyOptions> resolved = ResolveOptions(parser);
+  Result<StudyOptions> resolved = ResolveOptions(app, given, config_path);
   if (!resolved) return UsageError(resolved.error().message);
   const StudyOptions& options = *resolved;
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
   const fs::path out = options.out;
 
-  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), parser.Has("force"));
+  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), force);
   if (const CommandError* error = std::get_if<CommandError>(&opened)) {
     std::fprintf(stderr, "dynapath experiment: %s\n", error->message.c_str());
     return error->code;

@@ -17,34 +17,6 @@ namespace {
 
 constexpr int kMaxSize = kMaxGridSide;
 
-// How a config-file key's value must look.
-enum class FileKind { kInteger, kString, kBoolean, kIntegerList, kStringList };
-
-struct KeyKind {
-  const char* name;
-  FileKind kind;
-};
-
-constexpr KeyKind kFileKeys[] = {
-    {"sizes", FileKind::kIntegerList},
-    {"difficulties", FileKind::kStringList},
-    {"approaches", FileKind::kStringList},
-    {"edge-case", FileKind::kBoolean},
-    {"seed", FileKind::kInteger},
-    {"steps", FileKind::kInteger},
-    {"leaf-limit", FileKind::kInteger},
-    {"bootstrap", FileKind::kString},
-    {"semantics", FileKind::kString},
-    {"local", FileKind::kBoolean},
-    {"agents", FileKind::kInteger},
-    {"embedded", FileKind::kBoolean},
-    {"threads", FileKind::kInteger},
-    {"placement", FileKind::kString},
-    {"log-level", FileKind::kString},
-    {"lcm-url", FileKind::kString},
-    {"out", FileKind::kString},
-};
-
 std::string ScalarText(const ConfigValue& value) {
   switch (value.kind) {
     case ConfigValue::Kind::kString:
@@ -101,39 +73,52 @@ std::string StudyModeName(StudyMode mode) {
   return "local";
 }
 
-const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
-  static const std::vector<StudyOptionSpec> specs = {
-      {"sizes", "LIST", "comma-separated maze sizes (rows = columns, at least 2)",
-       "20,50,100,200,300"},
-      {"difficulties", "LIST", "comma-separated difficulties: easy, medium, hard",
-       "easy,medium,hard"},
-      {"approaches", "LIST",
-       "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
-       "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
-       "all"},
-      {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
-      {"no-edge-case", "", "leave the edge case out", ""},
-      {"seed", "S", "one seed for every maze", "the report's: 50 + difficulty index"},
-      {"steps", "T", "time steps of every maze", "2 x rows, the report's"},
-      {"leaf-limit", "N", "largest quadtree leaf side", "20"},
-      {"bootstrap", "SCOPE", "in-grid or in-region (docs/DECISIONS.md)", "in-grid"},
-      {"semantics", "WHOSE", "ours, or report: the report code's learning (docs/DECISIONS.md)",
-       "ours"},
-      {"local", "", "run each maze in this process on a thread pool (default)", ""},
-      {"agents", "N",
-       "run each maze with envsim, coordinator and N agent processes over LCM (one private "
-       "network for the whole study, or --lcm-url's)",
-       ""},
-      {"embedded", "", "run each maze's components as threads over memq://", ""},
-      {"placement", "MODE",
-       "distributed modes: auto, whole or split (docs/DISTRIBUTED.md; results are the same)",
-       "auto"},
-      {"threads", "N", "worker threads (--local), in all (distributed)", "hardware threads"},
-      {"lcm-url", "URL", "with --agents: use this LCM network instead of a private one", ""},
-      {"log-level", "LEVEL", "trace, debug, info, warn, error or off (of OUT/study.log)", "info"},
-      {"out", "DIR", "study directory", "study"},
-  };
-  return specs;
+void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
+  using runtime::ValueKind;
+  group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
+             "comma-separated maze sizes (rows = columns, at least 2)", "20,50,100,200,300");
+  group.List("--difficulties", o.difficulties, ValueKind::kStringList, "LIST",
+             "comma-separated difficulties: easy, medium, hard", "easy,medium,hard");
+  group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
+             "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
+             "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
+             "all");
+  group.Flag("--edge-case", o.edge_case,
+             "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
+  group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");
+  runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
+  runtime::DeclareLearnerOptions(group, o.learner);
+  runtime::DeclareModeOptions(group, o.mode);
+  runtime::DeclarePlacementOption(group, o.learner);
+  runtime::DeclareThreadOptions(group, o.threads);
+  runtime::DeclareLcmUrlOption(group, o.lcm_url);
+  runtime::DeclareLogOptions(group, o.log);
+  group.Option("--out", o.out, "DIR", "study directory", "study");
+}
+
+const runtime::OptionKinds& StudyOptionKinds() {
+  static const runtime::OptionKinds kinds = [] {
+    runtime::OptionKinds declared;
+    CLI::App app;
+    StudyCommandLine options;
+    runtime::OptionGroup group(app, &declared);
+    DeclareStudyCommandLine(group, options);
+    declared.erase("no-edge-case");  // a file says edge-case = false
+    return declared;
+  }();
+  return kinds;
+}
+
+OptionValues GivenOptionValues(const CLI::App& app) {
+  OptionValues values;
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->count() == 0 || option->get_lnames().empty()) continue;
+    const std::string name = option->get_lnames().front();
+    std::string text = "true";  // a flag
+    if (option->get_expected_min() > 0) text = Join(option->results(), ",");
+    values[name] = OptionValue{text, "option --" + name};
+  }
+  return values;
 }
 
 Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
@@ -141,16 +126,12 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
   for (const ConfigEntry& entry : file.entries) {
     std::string key = entry.key;
     std::replace(key.begin(), key.end(), '_', '-');
-    const KeyKind* spec = nullptr;
-    for (const KeyKind& candidate : kFileKeys) {
-      if (key == candidate.name) spec = &candidate;
-    }
+    const runtime::OptionKinds& kinds = StudyOptionKinds();
+    const auto spec = kinds.find(key);
     const std::string where = file.name + ":" + std::to_string(entry.line);
-    if (spec == nullptr) {
+    if (spec == kinds.end()) {
       std::string names;
-      for (const KeyKind& candidate : kFileKeys) {
-        names += (names.empty() ? "" : ", ") + std::string(candidate.name);
-      }
+      for (const auto& [name, kind] : kinds) names += (names.empty() ? "" : ", ") + name;
       return Error{where + ": unknown key '" + entry.key + "' (expected one of: " + names + ")"};
     }
     const ConfigValue& value = entry.value;
@@ -161,17 +142,20 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
     };
     using Kind = ConfigValue::Kind;
-    switch (spec->kind) {
-      case FileKind::kInteger:
+    switch (spec->second) {
+      case runtime::ValueKind::kInteger:
         if (value.kind != Kind::kInteger) return wrong("an integer");
         break;
-      case FileKind::kString:
+      case runtime::ValueKind::kFloat:
+        if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) return wrong("a number");
+        break;
+      case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
         break;
-      case FileKind::kBoolean:
+      case runtime::ValueKind::kBoolean:
         if (value.kind != Kind::kBoolean) return wrong("true or false");
         break;
-      case FileKind::kIntegerList:
+      case runtime::ValueKind::kIntegerList:
         if (value.kind == Kind::kArray) {
           if (!value.items.empty() && value.items.front().kind != Kind::kInteger) {
             return wrong("an array of integers");
@@ -180,7 +164,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           return wrong("an integer or an array of integers");
         }
         break;
-      case FileKind::kStringList:
+      case runtime::ValueKind::kStringList:
         if (value.kind == Kind::kArray) {
           if (!value.items.empty() && value.items.front().kind != Kind::kString) {
             return wrong("an array of strings");

@@ -11,6 +11,8 @@
 #include "core/approach.h"
 #include "core/difficulty.h"
 #include "core/result.h"
+#include "runtime/option_group.h"
+#include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/common/json.h"
@@ -53,15 +55,28 @@ struct OptionValue {
 // text, as on the command line; booleans are "true" or "false".
 using OptionValues = std::map<std::string, OptionValue>;
 
-// The study's options: name, value name for --help ("" for a flag), help
-// text and default. The config file takes the same names (with '-' or '_').
-struct StudyOptionSpec {
-  std::string name;
-  std::string value_name;
-  std::string help;
-  std::string default_text;
+// The study's options as given, declared once on CLI11
+// (DeclareStudyCommandLine): the study's own (lists kept as their text) and
+// the groups it shares with `dynapath run` (learner options, placement,
+// mode, threads, LCM URL, log level, seed and steps). The config file takes
+// the same names (with '-' or '_'), checked by the kinds the declaration
+// records.
+struct StudyCommandLine {
+  std::optional<std::string> sizes, difficulties, approaches, out;
+  bool edge_case = false, no_edge_case = false;
+  std::optional<long long> seed, steps;
+  runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
+  runtime::ModeOptions mode;
+  runtime::ThreadOptions threads;
+  std::string lcm_url;
+  runtime::LogOptions log;
 };
-const std::vector<StudyOptionSpec>& StudyOptionSpecs();
+void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& options);
+// The keys a study file may hold, with their kinds (from the declaration).
+const runtime::OptionKinds& StudyOptionKinds();
+// The options given on a parsed command line, as text values ("option
+// --NAME"); flags are "true".
+OptionValues GivenOptionValues(const CLI::App& app);
 
 // The entries of a config file as option values; unknown keys and values of
 // the wrong type are errors naming the line. `local = false`,
