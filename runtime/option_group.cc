@@ -154,6 +154,16 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
       return usage_error("option " + what.substr(0, colon) + " needs a value");
     }
     return usage_error(what);
+  } catch (const CLI::ConversionError& error) {
+    // CLI11: "Could not convert: --size = abc".
+    const std::string what = error.what();
+    const size_t name = what.find("--");
+    const size_t equals = what.find(" = ", name == std::string::npos ? 0 : name);
+    if (name != std::string::npos && equals != std::string::npos) {
+      return usage_error("option " + what.substr(name, equals - name) + " needs a number, got '" +
+                         what.substr(equals + 3) + "'");
+    }
+    return usage_error(what);
   } catch (const CLI::ParseError& error) {
     return usage_error(error.what());
   }

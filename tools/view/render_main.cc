@@ -19,12 +19,12 @@
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
-#include "tools/view/cell_option.h"
 #include "tools/view/gif_writer.h"
 #include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_stream.h"
 #include "tools/view/safe_name.h"
+#include "tools/view/view_options.h"
 
 namespace {
 
@@ -59,12 +59,8 @@ int Run(const std::vector<std::string>& args) {
   runtime::OptionGroup group(app);
   std::optional<std::string> out;
   group.Option("--out", out, "DIR", "directory for the pictures", "required");
-  std::optional<std::string> approach_given, run_given;
-  group.Option("--approach", approach_given, "NAME",
-               "only this approach ('A* Oracle' or its directory A_Oracle)", "all");
-  group.Option("--run-id", run_given, "ID", "only this run of the log", "all runs");
-  std::optional<long long> cell_given;
-  view::DeclareCellOption(group, cell_given);
+  view::ShowOptions show;
+  view::DeclareShowOptions(group, show);
   long long delay_given = 250;
   group.Option("--delay", delay_given, "MS", "GIF frame delay in milliseconds (20-60000)");
   bool no_gif = false;
@@ -83,17 +79,15 @@ int Run(const std::vector<std::string>& args) {
     return runtime::ProcessError(kProgram, "option --out DIR is required");
   }
   const fs::path out_dir = *out;
-  Result<int> cell = view::ResolveCellOption(cell_given);
+  if (Status status = view::CheckShowOptions(show); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
+  Result<int> cell = view::ResolveCellOption(show.cell_px);
   if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
   Result<long long> delay = runtime::InRange("delay", delay_given, 0, 20, 60000);
   if (!delay) return runtime::ProcessError(kProgram, delay.error().message);
-  const std::string run_filter = run_given.value_or("");
-  const std::string approach_filter = approach_given.value_or("");
-  if (run_given) {
-    if (Status status = protocol::CheckRunId(run_filter); !status) {
-      return runtime::ProcessError(kProgram, status.error().message);
-    }
-  }
+  const std::string run_filter = show.run_id.value_or("");
+  const std::string approach_filter = show.approach.value_or("");
   const bool want_gif = !no_gif;
   view::DrawOptions draw;
   draw.cell_px = static_cast<int>(*cell);

@@ -21,9 +21,9 @@
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
-#include "tools/view/cell_option.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_feed.h"
+#include "tools/view/view_options.h"
 #include "tools/view/viewer.h"
 
 namespace {
@@ -93,18 +93,13 @@ int Run(const std::vector<std::string>& args) {
       "--agents N): give the pid its launcher logs, --pid PID.",
       "dynapath view");
   runtime::OptionGroup group(app);
-  std::optional<std::string> run_given;
-  group.Option("--run-id", run_given, "ID", "the run to watch", "the most recent run heard");
+  view::ShowOptions show;
+  view::DeclareShowOptions(group, show);
   std::string lcm_url;
   runtime::DeclareLcmUrlOption(group, lcm_url);
   std::optional<std::string> pid_given;
   group.Option("--pid", pid_given, "PID",
                "join the private network of this process (a running `dynapath run`)");
-  std::optional<std::string> approach;
-  group.Option("--approach", approach, "NAME", "approach shown first ('A* Oracle' or A_Oracle)",
-               "follow the latest");
-  std::optional<long long> cell_given;
-  view::DeclareCellOption(group, cell_given);
   std::string window_given = "960x760";
   group.Option("--window", window_given, "WxH", "window size");
   std::optional<std::string> screenshot;
@@ -123,20 +118,18 @@ int Run(const std::vector<std::string>& args) {
   }
 
   view::ViewerOptions options;
-  const std::string run_id = run_given.value_or("");
-  if (run_given) {
-    if (Status status = protocol::CheckRunId(run_id); !status) {
-      return runtime::ProcessError(kProgram, status.error().message);
-    }
+  if (Status status = view::CheckShowOptions(show); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
   }
-  Result<int> cell = view::ResolveCellOption(cell_given);
+  const std::string run_id = show.run_id.value_or("");
+  Result<int> cell = view::ResolveCellOption(show.cell_px);
   if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
   options.cell_px = *cell;
   Result<std::pair<int, int>> window = ParseWindowSize(window_given);
   if (!window) return runtime::ProcessError(kProgram, window.error().message);
   options.window_width = window->first;
   options.window_height = window->second;
-  options.approach = approach.value_or("");
+  options.approach = show.approach.value_or("");
   options.screenshot = screenshot.value_or("");
   Result<long long> frames = runtime::InRange("frames", frames_given, 0, 1, 1000000);
   if (!frames) return runtime::ProcessError(kProgram, frames.error().message);
