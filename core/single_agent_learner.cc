@@ -70,6 +70,11 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   int quiet_checks = 0;
   double epsilon = options.epsilon_start;
   int64_t episodes = 0, steps = 0;
+  // The report's replay buffer is "cleared and filled with more recent
+  // experiences" once full (report, "Experience Replay Buffer"), not a FIFO:
+  // under --semantics report, the only source of Bootstrap::kAllStored, a
+  // full buffer is emptied before the next transition is stored.
+  const bool clear_when_full = job.bootstrap == Bootstrap::kAllStored;
 
   for (int e = 0; e < options.max_episodes; ++e) {
     if (e >= options.convergence_start_episode &&
@@ -112,6 +117,11 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
       update(entry);
       const int next = model.target(s, a);
       ++steps;
+      if (clear_when_full && replay_size == replay.size()) {
+        for (size_t i = 0; i < replay_size; ++i) settled.Removed(replay[i]);
+        replay_size = 0;
+        replay_next = 0;
+      }
       if (replay_size == replay.size()) settled.Removed(replay[replay_next]);
       replay[replay_next] = entry;
       settled.Added(entry);

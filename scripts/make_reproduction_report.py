@@ -3,13 +3,17 @@
 
 Usage: scripts/make_reproduction_report.py STUDY_DIR [OUTPUT]
            [--report-semantics REPORT_STUDY_DIR] [--like-for-like CSV]
+           [--spread SPREAD_DIR]
 
 STUDY_DIR is a study of `dynapath experiment` (results.csv, edge_results.csv,
 manifest.json) whose figures `dynapath plot STUDY_DIR --overlay-reference`
 drew into STUDY_DIR/figures; the figures the report shows are copied to
 docs/images/reproduction/. REPORT_STUDY_DIR is a study of hard 50x50 (seed
 52) and the edge case run with `--semantics report`; CSV is the output of
-`bench/like_for_like.sh --csv`. The report's figures, published and run on
+`bench/like_for_like.sh --csv`. SPREAD_DIR holds the outputs of
+`bench/semantics_spread` (VARIANT = float) and of
+`bench/double_tables_experiment.sh` (VARIANT = double), named
+VARIANT_APPROACH_SEED.txt, for seeds 52 and 102. The report's figures, published and run on
 this machine, are read from docs/reference/. Standard library only (no
 pandas needed).
 """
@@ -191,6 +195,54 @@ def code_here_table(ours_rows, report_rows, here_rows, published_rows, seed, edg
     return lines
 
 
+def read_spread(path):
+    """Per-stream (success, path) pairs of one semantics_spread output."""
+    pairs = []
+    with open(path) as f:
+        for line in f:
+            fields = line.strip().split(",")
+            if len(fields) == 5 and fields[0].isdigit():
+                pairs.append((float(fields[2]), float(fields[3])))
+    return pairs
+
+
+def median(values):
+    values = sorted(values)
+    n = len(values)
+    return values[n // 2] if n % 2 else 0.5 * (values[n // 2 - 1] + values[n // 2])
+
+
+def spread_table(spread_dir, here_rows, seed):
+    """Ours under --semantics report over learner seed streams (float tables,
+    and double tables), against the report's code run here, for one maze."""
+    here = {r["Approach"]: r for r in here_rows if r["Seed"] == seed}
+    lines = ["| Approach | report's code run here (median of 3) | ours: streams | success "
+             "min / median / max | path min / median / max | its median inside ours |",
+             "|---|---|---|---|---|---|"]
+    for approach in RL:
+        h = here.get(approach)
+        if h is None:
+            continue
+        ref_s, ref_p = float(h["AvgSuccessRate"]), float(h["AvgPathLength"])
+        for variant, label in (("float", "`--semantics report`"),
+                               ("double", "same, double tables")):
+            path = os.path.join(spread_dir, f"{variant}_{approach}_{seed}.txt")
+            if not os.path.exists(path):
+                continue
+            pairs = read_spread(path)
+            success = [p[0] for p in pairs]
+            length = [p[1] for p in pairs]
+            inside_s = min(success) <= ref_s <= max(success)
+            inside_p = min(length) <= ref_p <= max(length)
+            verdict = ("yes" if inside_s and inside_p else
+                       "success only" if inside_s else "path only" if inside_p else "**no**")
+            lines.append(
+                f"| {approach} | {ref_s:.4f} / {ref_p:.3f} | {label}: {len(pairs)} | "
+                f"{min(success):.4f} / {median(success):.4f} / {max(success):.4f} | "
+                f"{min(length):.3f} / {median(length):.3f} / {max(length):.3f} | {verdict} |")
+    return lines
+
+
 def like_for_like_table(rows):
     lines = ["| Approach | initial s, ours (min / median) | initial s, report's code | initial "
              "speed-up | adapt s/step, ours (min / median) | adapt s/step, report's code | "
@@ -251,7 +303,7 @@ def main():
     argv = sys.argv[1:]
     while argv:
         arg = argv.pop(0)
-        if arg in ("--report-semantics", "--like-for-like"):
+        if arg in ("--report-semantics", "--like-for-like", "--spread"):
             if not argv:
                 sys.exit(f"{arg} needs a value\n\n{__doc__}")
             options[arg] = argv.pop(0)
@@ -296,9 +348,9 @@ def main():
         text += ("\n## Against the report's code run here\n\nSuccess rate / average path length. "
                  "The report's code is not deterministic; its spread over 3 runs is about "
                  "+-0.003 / +-0.05 on hard 50x50 and 0.966-0.977 / 9.29-10.58 on the edge case "
-                 "(`docs/reference/README.md`). Ours is deterministic: one run each. "
-                 "`--semantics report` is the report code's bootstrap and first-training rule "
-                 "(`docs/DECISIONS.md`).\n\n")
+                 "(`docs/reference/README.md`). Ours is deterministic for a given run seed: one "
+                 "run each here, its spread below. `--semantics report` is the report code's "
+                 "bootstrap, first-training rule and replay buffer (`docs/DECISIONS.md`).\n\n")
         text += "### Hard 50x50, seed 52\n\n"
         text += "\n".join(code_here_table(
             ours, read(os.path.join(report_dir, "results.csv")), here, ref, "52", False)) + "\n"
@@ -307,6 +359,22 @@ def main():
             text += "\n".join(code_here_table(
                 read(edge_path), read(os.path.join(report_dir, "edge_results.csv")), here,
                 read(os.path.join(REFERENCE, "paper_edge_results.csv")), "102", True)) + "\n"
+        if "--spread" in options:
+            text += ("\n### Our spread over learner seed streams\n\n"
+                     "The report's code gives a different result at every run, so one run of "
+                     "ours against the median of three of its runs compares two draws. "
+                     "`bench/semantics_spread` runs one approach on one maze with N learner "
+                     "seed streams (stream 0 is `dynapath run`'s; stream k uses run seed = maze "
+                     "seed + k * 1000003: every learner's random numbers change, the maze and "
+                     "changes do not). `bench/double_tables_experiment.sh` does the same with "
+                     "our Q-tables in `double`, as the report's code stores them (a scratch "
+                     "build; not a run option). The reference CSV has only the median of the "
+                     "report code's 3 runs per approach, so *inside* tests that median against "
+                     "our min-max range.\n")
+            for seed, name in (("52", "Hard 50x50, seed 52"),
+                               ("102", "Edge case (hard 50x50, seed 102)")):
+                text += f"\n{name}:\n\n"
+                text += "\n".join(spread_table(options["--spread"], here, seed)) + "\n"
     text += "\n## All configurations (against the report's published rows)\n\n" + "\n".join(main_lines) + "\n"
     if edge_lines:
         text += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"

@@ -44,7 +44,12 @@ using test_maps::Quality;
 // The learner as SPEC 6 states it, applying every replayed update (the
 // implementation before settled updates were skipped): the reference the
 // fast learner must match bit for bit.
-TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job) {
+// `clear_when_full`: the report's buffer (emptied once full) instead of a
+// FIFO; by default what the job's semantics select (Bootstrap::kAllStored is
+// --semantics report).
+TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_full = -1) {
+  const bool clear =
+      clear_when_full < 0 ? job.bootstrap == Bootstrap::kAllStored : clear_when_full == 1;
   TrainingResult result;
   result.node = job.node;
   result.table = StartingTable(job);
@@ -102,6 +107,7 @@ TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job) {
       }
       const int next = update(s, a);
       ++steps;
+      if (clear && replay_size == replay.size()) replay_size = replay_next = 0;
       replay[replay_next] = static_cast<uint32_t>(s * kNumActions + a);
       replay_next = replay_next + 1 == replay.size() ? 0 : replay_next + 1;
       replay_size = std::min(replay_size + 1, replay.size());
@@ -162,6 +168,31 @@ TEST(SingleAgentTest, SkippingSettledUpdatesChangesNothing) {
       for (NodeId leaf : changed) train(leaf, static_cast<int64_t>(step) + 1);
     }
     EXPECT_GT(jobs, 4);
+  }
+}
+
+// --semantics report (Bootstrap::kAllStored): the replay buffer is emptied
+// once full (the report's "cleared and filled with more recent
+// experiences"); otherwise it is a FIFO of the last transitions (SPEC 6).
+// Hand-made map, a 7-transition buffer replayed from the first episode, so
+// the buffer fills and empties many times: each rule equals its reference
+// bit for bit, and the two rules give different tables.
+TEST(SingleAgentTest, ReportReplayBufferIsEmptiedOnceFullOnlyUnderTheSwitch) {
+  const Grid grid = MapFromText(kMap10);
+  for (const Bootstrap bootstrap : {Bootstrap::kInGrid, Bootstrap::kAllStored}) {
+    TrainingJob job = WholeGridJob(grid, 17);
+    job.bootstrap = bootstrap;
+    job.single_agent.replay_capacity = 7;
+    job.single_agent.replay_start_episode = 0;
+    job.single_agent.max_episodes = 300;
+    const bool report = bootstrap == Bootstrap::kAllStored;
+    const TrainingResult fast = TrainSingleAgent(job);
+    const TrainingResult emptied = ReferenceTrainSingleAgent(job, 1);
+    const TrainingResult fifo = ReferenceTrainSingleAgent(job, 0);
+    EXPECT_GT(fast.steps, 7 * 10);  // the buffer filled many times
+    EXPECT_TRUE(BytesEqual(fast.table, report ? emptied.table : fifo.table));
+    EXPECT_FALSE(BytesEqual(fast.table, report ? fifo.table : emptied.table));
+    EXPECT_EQ(fast.steps, (report ? emptied : fifo).steps);
   }
 }
 
