@@ -10,6 +10,7 @@
 #include <mutex>
 #include <random>
 
+#include "core/learners.h"
 #include "core/single_agent_learner.h"
 #include "lcmtypes/protocol/channels.h"
 
@@ -257,14 +258,14 @@ void Agent::OnBatch(const job_batch_t& batch) {
     });
   }
   std::erase_if(items, [](const auto& entry) { return entry.second.empty(); });
-  try {
-    combiner_ = std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items),
-                                                          start_round);
-  } catch (const std::exception& e) {
-    spdlog::error("agent {}: dropped batch {}: {}", options_.id, batch.batch_id, e.what());
+  if (Status checked = protocol::RoundCombiner::CheckItems(combined, items); !checked) {
+    spdlog::error("agent {}: dropped batch {}: {}", options_.id, batch.batch_id,
+                  checked.error().message);
     split_jobs_.clear();
     return;
   }
+  combiner_ =
+      std::make_unique<protocol::RoundCombiner>(std::move(combined), std::move(items), start_round);
   computed_round_ = start_round - 1;
   ContinueSplit();
 }
@@ -286,7 +287,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     const TrainingJob& job = received[i].job;
     TrainingResult result;
     try {
-      result = job.kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job) : TrainSingleAgent(job);
+      result = TrainJob(job);
     } catch (const std::exception& e) {
       spdlog::error("agent {}: job {} of batch {} failed: {}", options_.id, jobs[i], batch.batch_id,
                     e.what());

@@ -4,6 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <vector>
 
 #include "core/fedasynq.h"
@@ -62,7 +63,7 @@ void BM_FedAsynQRound(benchmark::State& state) {
                                                            job.federated.sync_period);
       steps += shards[k].steps;
     }
-    averager.Combine(shards, shared, stats, entries, values);
+    if (!averager.Combine(shards, shared, stats, entries, values).ok()) std::abort();
     for (FedAsynQLearner& learner : learners) learner.ApplyAverage(entries, values);
     ++round;
   }

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "core/learners.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/round_combiner.h"
@@ -67,8 +68,7 @@ double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOption
 }
 
 bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
-  if (batch.config.kind != LearnerKind::kFedAsynQ || batch.jobs.empty() ||
-      batch.jobs.size() >= agents) {
+  if (!TrainsInRounds(batch.config.kind) || batch.jobs.empty() || batch.jobs.size() >= agents) {
     return false;
   }
   switch (options_.placement) {

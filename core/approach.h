@@ -1,32 +1,28 @@
 #pragma once
-// The seven approaches of SPEC section 9 and the Incremental Oracle (issue
-// 11), by their exact result-file names.
+// The approaches by their exact result-file names. The list itself is
+// core/approach_list.h; what each approach is made of, core/approach_registry.h.
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/approach_list.h"
 #include "core/result.h"
 
 namespace dynapath {
 
+// One enumerator per line of core/approach_list.h.
 enum class Approach {
-  kAStarStatic,
-  kAStarOracle,
-  kBfsOracle,
-  kOnlyTrainLeafNodes,
-  kSingleAgent,
-  kFedAsynQEqAvg,
-  kFedAsynQImAvg,
-  kIncrementalOracle,  // BFS Oracle's figures, repaired per step (not in the report)
+#define DYNAPATH_APPROACH_ENUMERATOR(id, ...) id,
+  DYNAPATH_APPROACHES(DYNAPATH_APPROACH_ENUMERATOR)
+#undef DYNAPATH_APPROACH_ENUMERATOR
 };
 
-// All approaches in the order of SPEC section 9, then the Incremental Oracle
-// (the order of `all`).
+// All approaches in the order of core/approach_list.h (the order of `all`:
+// SPEC section 9's, then ours).
 const std::vector<Approach>& AllApproaches();
 
-// "A* Static", "A* Oracle", "BFS Oracle", "onlyTrainLeafNodes",
-// "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg", "Incremental Oracle".
+// The result-file name ("A* Static", "fedAsynQ_EqAvg", ...).
 std::string ApproachName(Approach approach);
 
 // Case-insensitive exact name.
@@ -35,7 +31,11 @@ std::optional<Approach> ParseApproach(const std::string& name);
 // Comma-separated names, or "all". Duplicates are dropped, order is kept.
 Result<std::vector<Approach>> ParseApproachList(const std::string& list);
 
-// True for the four Q-learning approaches.
+// True for the approaches that train a learner (Q-learning).
 bool IsLearningApproach(Approach approach);
+
+// "A* Static, A* Oracle, ..., Incremental Oracle": every name in the order of
+// `all`, for help texts.
+std::string ApproachNamesText();
 
 }  // namespace dynapath

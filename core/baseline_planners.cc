@@ -1,5 +1,8 @@
 #include "core/baseline_planners.h"
 
+#include <memory>
+
+#include "core/approach_registry.h"
 #include "core/bfs_oracle.h"
 
 namespace dynapath {
@@ -28,5 +31,21 @@ StepDetails BfsOraclePlanner::Initialize(const Grid& grid) {
 }
 
 PolicyScore BfsOraclePlanner::Evaluate(const Grid& grid) { return ScoreDistances(grid, distance_); }
+
+// Factories of core/approach_list.h.
+std::unique_ptr<Planner> MakeAStarStaticPlanner(const ApproachSpec&, const PlannerOptions&,
+                                                Trainer*) {
+  return std::make_unique<AStarStaticPlanner>();
+}
+
+std::unique_ptr<Planner> MakeAStarOraclePlanner(const ApproachSpec&, const PlannerOptions&,
+                                                Trainer*) {
+  return std::make_unique<AStarOraclePlanner>();
+}
+
+std::unique_ptr<Planner> MakeBfsOraclePlanner(const ApproachSpec&, const PlannerOptions&,
+                                              Trainer*) {
+  return std::make_unique<BfsOraclePlanner>();
+}
 
 }  // namespace dynapath

@@ -11,6 +11,7 @@ class AStarStaticPlanner : public Planner {
  public:
   StepDetails Initialize(const Grid& grid) override;
   StepDetails Adapt(const Grid&, const std::vector<int>&) override { return {}; }
+  bool Adapts() const override { return false; }
   PolicyScore Evaluate(const Grid& grid) override;
 
  private:

@@ -79,8 +79,7 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
     ApplyChanges(step, grid);
     changed_cells.clear();
     for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
-    // A* Static never adapts: its adaptation time is 0 by definition.
-    const bool timed = approach != Approach::kAStarStatic;
+    const bool timed = planner->Adapts();
     start = clock();
     details = planner->Adapt(grid, changed_cells);
     const double seconds = timed ? clock() - start : 0.0;

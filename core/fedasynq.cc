@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
-#include <stdexcept>
 #include <utility>
 
 namespace dynapath {
@@ -64,9 +64,9 @@ FedAsynQLearner::FedAsynQLearner(const RegionModel& model, int learner_index)
       marks_(static_cast<size_t>(model.cells()) * kNumActions) {}
 
 void FedAsynQLearner::Reset(const QTable& table) {
-  if (table.cells() != model_.cells()) {
-    throw std::invalid_argument("FedAsynQLearner::Reset: table does not match the region");
-  }
+  // Tables come from StartingTable of the same checked job, or from a
+  // combiner's shared table sized from that job's region.
+  assert(table.cells() == model_.cells());
   table_ = table;
 }
 
@@ -242,27 +242,27 @@ FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
   }
 }
 
-void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable& shared,
-                                StartStatistics& stats, std::vector<uint32_t>& entries,
-                                std::vector<float>& values) {
+Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable& shared,
+                                  StartStatistics& stats, std::vector<uint32_t>& entries,
+                                  std::vector<float>& values) {
   // Validate everything before changing anything.
   if (static_cast<int64_t>(shared.values().size()) != table_entries_) {
-    throw std::invalid_argument("FederatedAverager: table size mismatch");
+    return Error{"FederatedAverager: table size mismatch"};
   }
   for (size_t k = 0; k < shards.size(); ++k) {
     const LearnerShard& shard = shards[k];
     if (shard.learner != static_cast<int>(k) || shard.values.size() != shard.entries.size() ||
         shard.visits.size() != shard.entries.size()) {
-      throw std::invalid_argument("FederatedAverager: malformed shard");
+      return Error{"FederatedAverager: malformed shard"};
     }
     for (size_t j = 0; j < shard.entries.size(); ++j) {
       if (shard.entries[j] >= static_cast<uint32_t>(table_entries_) ||
           !std::isfinite(shard.values[j])) {
-        throw std::invalid_argument("FederatedAverager: shard entry out of range or not finite");
+        return Error{"FederatedAverager: shard entry out of range or not finite"};
       }
     }
     if (shard.start_cell >= 0 && stats.SlotOf(shard.start_cell) < 0) {
-      throw std::invalid_argument("FederatedAverager: shard start is not a start cell");
+      return Error{"FederatedAverager: shard start is not a start cell"};
     }
   }
 
@@ -329,6 +329,7 @@ void FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable&
   for (const LearnerShard& shard : shards) {
     if (shard.start_cell >= 0) stats.Record(stats.SlotOf(shard.start_cell), shard.reached_station);
   }
+  return Ok{};
 }
 
 TrainingResult TrainFedAsynQ(const TrainingJob& job) {
@@ -355,7 +356,10 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
     worker.RunRoundsAndRevert(learner_indices.data(), learner_count, stats, job.seed, round,
                               options.sync_period, shards.data());
     for (const LearnerShard& shard : shards) result.steps += shard.steps;
-    averager.Combine(shards, result.table, stats, entries, values);
+    // The shards of our own learners on this job's model are well formed.
+    [[maybe_unused]] const Status combined =
+        averager.Combine(shards, result.table, stats, entries, values);
+    assert(combined.ok());
     worker.ApplyAverage(entries, values);
   }
   result.episodes_or_rounds = rounds;

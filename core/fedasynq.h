@@ -157,9 +157,11 @@ class FederatedAverager {
   // `shared`: the round's starting table, updated in place to the average.
   // `shards`: exactly one per learner, in learner order (shards[k].learner == k).
   // Writes the averaged entries (ascending) to `entries`/`values` and records
-  // every shard's start outcome in `stats` in learner order.
-  void Combine(const std::vector<LearnerShard>& shards, QTable& shared, StartStatistics& stats,
-               std::vector<uint32_t>& entries, std::vector<float>& values);
+  // every shard's start outcome in `stats` in learner order. Error, with
+  // nothing changed, when a shard is malformed (wrong learner order or sizes,
+  // an entry outside the table or not finite, a start that is no start cell).
+  Status Combine(const std::vector<LearnerShard>& shards, QTable& shared, StartStatistics& stats,
+                 std::vector<uint32_t>& entries, std::vector<float>& values);
 
  private:
   Averaging averaging_;

@@ -1,5 +1,8 @@
 #include "core/incremental_oracle.h"
 
+#include <memory>
+
+#include "core/approach_registry.h"
 #include "core/astar_paths.h"
 
 namespace dynapath {
@@ -49,5 +52,11 @@ StepDetails IncrementalOraclePlanner::Adapt(const Grid& grid,
 }
 
 PolicyScore IncrementalOraclePlanner::Evaluate(const Grid& /*grid*/) { return score_; }
+
+// Factory of core/approach_list.h.
+std::unique_ptr<Planner> MakeIncrementalOraclePlanner(const ApproachSpec&, const PlannerOptions&,
+                                                      Trainer*) {
+  return std::make_unique<IncrementalOraclePlanner>();
+}
 
 }  // namespace dynapath

@@ -1,39 +1,33 @@
 #include "core/learning_planner.h"
 
 #include <algorithm>
+#include <cassert>
 
 namespace dynapath {
 
 LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer)
-    : approach_(approach), options_(options), trainer_(trainer) {
+    : spec_(GetApproachSpec(approach)), options_(options), trainer_(trainer) {
+  // Only approaches registered with a learner and a strategy get here.
+  assert(spec_.learner.has_value() && spec_.make_strategy != nullptr);
+  learner_.kind = *spec_.learner;
   learner_.single_agent = options.single_agent;
   learner_.federated = options.federated;
+  learner_.federated.averaging = spec_.averaging;
   learner_.bootstrap =
       options.semantics == Semantics::kReport ? Bootstrap::kAllStored : options.bootstrap;
-  switch (approach) {
-    case Approach::kFedAsynQEqAvg:
-      learner_.kind = LearnerKind::kFedAsynQ;
-      learner_.federated.averaging = Averaging::kEqual;
-      break;
-    case Approach::kFedAsynQImAvg:
-      learner_.kind = LearnerKind::kFedAsynQ;
-      learner_.federated.averaging = Averaging::kImportance;
-      break;
-    default:
-      learner_.kind = LearnerKind::kSingleAgent;
-      break;
-  }
+}
+
+std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
+                                             const PlannerOptions& options, Trainer* trainer) {
+  assert(trainer != nullptr);  // the runners always pass one
+  return std::make_unique<LearningPlanner>(spec.approach, options, *trainer);
 }
 
 StepDetails LearningPlanner::Initialize(const Grid& grid) {
   tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
   root_ = std::make_unique<RootQTable>(grid.rows(), grid.cols());
   training_count_.assign(static_cast<size_t>(tree_->node_count()), 0);
-  if (approach_ == Approach::kOnlyTrainLeafNodes) {
-    strategy_ = std::make_unique<LeavesOnlyStrategy>(*tree_);
-  } else {
-    strategy_ = std::make_unique<TreeStrategy>(*tree_, options_.thresholds);
-  }
+  strategy_ = spec_.make_strategy(*tree_, options_.thresholds);
   grid_ = &grid;
   evaluation_.Reset(*tree_);
   return RunStrategy({});

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/approach_registry.h"
 #include "core/incremental_policy_evaluation.h"
 #include "core/planner.h"
 
@@ -12,6 +13,7 @@ namespace dynapath {
 
 class LearningPlanner : public Planner, private TrainingContext {
  public:
+  // `approach` must be registered with a learner (IsLearningApproach).
   LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer);
 
   StepDetails Initialize(const Grid& grid) override;
@@ -29,7 +31,7 @@ class LearningPlanner : public Planner, private TrainingContext {
 
   StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
 
-  Approach approach_;
+  const ApproachSpec& spec_;  // its learner and strategy
   PlannerOptions options_;
   LearnerConfig learner_;
   Trainer& trainer_;

@@ -1,6 +1,7 @@
 #include "core/local_trainer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <memory>
 
 #include "core/fedasynq.h"
@@ -34,7 +35,12 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
   for (size_t i = 0; i < nodes.size(); ++i) {
     jobs.push_back(MakeTrainingJob(nodes[i], seeds[i], config, tree, grid, root));
   }
-  if (config.kind == LearnerKind::kFedAsynQ) return TrainFederated(jobs, root);
+  switch (config.kind) {
+    case LearnerKind::kFedAsynQ:
+      return TrainFederated(jobs, root);
+    case LearnerKind::kSingleAgent:
+      break;  // one job per thread, below
+  }
 
   std::vector<TrainingResult> results(jobs.size());
   pool_.ParallelFor(static_cast<int>(jobs.size()),
@@ -87,8 +93,10 @@ int WorkersPerJob(size_t jobs, int threads, int learners) {
 
 // Averages one round of `run` into its shared table and every worker's copy.
 void CombineRound(FederatedRun& run) {
-  run.averager->Combine(run.shards, run.shared, run.stats, run.averaged_entries,
-                        run.averaged_values);
+  // The shards of our own learners on this job's model are well formed.
+  [[maybe_unused]] const Status combined = run.averager->Combine(
+      run.shards, run.shared, run.stats, run.averaged_entries, run.averaged_values);
+  assert(combined.ok());
   for (auto& worker : run.workers) worker->ApplyAverage(run.averaged_entries, run.averaged_values);
 }
 

@@ -58,8 +58,12 @@ class Planner {
   // Fills `picture` for the current policy on `grid` (after Evaluate);
   // false for approaches without a table (the baselines).
   virtual bool Picture(const Grid& /*grid*/, PolicyPicture& /*picture*/) { return false; }
+  // False for a plan that never adapts (A* Static): its adaptation time is 0
+  // by definition, not the time of a call that does nothing.
+  virtual bool Adapts() const { return true; }
 };
 
+// The approach's planner (its factory in core/approach_registry.h).
 // `trainer` is used by the learning approaches and must outlive the planner
 // (ignored, may be null, for the baselines).
 std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& options,

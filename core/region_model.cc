@@ -55,9 +55,9 @@ void RegionModel::Build() {
 
 std::vector<uint8_t> RegionCodes(const Grid& grid, const Region& region) {
   if (region.empty()) return {};
-  if (!grid.InBounds(region.r0, region.c0) || !grid.InBounds(region.r1, region.c1)) {
-    throw std::out_of_range("RegionCodes: region outside the grid");
-  }
+  // Regions are quadtree nodes of this grid (MakeTrainingJob) or were
+  // validated against their grid on arrival (protocol/validate.cc).
+  assert(grid.InBounds(region.r0, region.c0) && grid.InBounds(region.r1, region.c1));
   std::vector<uint8_t> codes;
   codes.reserve(static_cast<size_t>(region.cells()));
   const std::vector<uint8_t>& all = grid.codes();

@@ -90,4 +90,14 @@ AdaptationReport LeavesOnlyStrategy::Adapt(const std::vector<NodeId>& changed_le
   return report;
 }
 
+std::unique_ptr<RetrainingStrategy> MakeTreeStrategy(const QuadTree& tree,
+                                                     const RetrainingThresholds& thresholds) {
+  return std::make_unique<TreeStrategy>(tree, thresholds);
+}
+
+std::unique_ptr<RetrainingStrategy> MakeLeavesOnlyStrategy(const QuadTree& tree,
+                                                           const RetrainingThresholds&) {
+  return std::make_unique<LeavesOnlyStrategy>(tree);
+}
+
 }  // namespace dynapath

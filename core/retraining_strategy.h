@@ -4,6 +4,7 @@
 // scripted success rates and a fake trainer, and run unchanged over a local
 // or a distributed trainer.
 
+#include <memory>
 #include <vector>
 
 #include "core/quadtree.h"
@@ -79,5 +80,11 @@ class LeavesOnlyStrategy : public RetrainingStrategy {
  private:
   const QuadTree& tree_;
 };
+
+// The strategy factories named in core/approach_list.h.
+std::unique_ptr<RetrainingStrategy> MakeTreeStrategy(const QuadTree& tree,
+                                                     const RetrainingThresholds& thresholds);
+std::unique_ptr<RetrainingStrategy> MakeLeavesOnlyStrategy(const QuadTree& tree,
+                                                           const RetrainingThresholds& thresholds);
 
 }  // namespace dynapath

@@ -1,20 +1,27 @@
 #include "core/training_job.h"
 
 #include <algorithm>
-#include <stdexcept>
+#include <cassert>
 
 #include "core/rng.h"
 
 namespace dynapath {
 
-QTable StartingTable(const TrainingJob& job) {
+Status CheckJob(const TrainingJob& job) {
   if (static_cast<int>(job.codes.size()) != job.region.cells()) {
-    throw std::invalid_argument("training job: cell codes do not match the region");
+    return Error{"training job: cell codes do not match the region"};
   }
+  if (job.warm_start.cells() != 0 && job.warm_start.cells() != job.region.cells()) {
+    return Error{"training job: warm start does not match the region"};
+  }
+  return Ok{};
+}
+
+QTable StartingTable(const TrainingJob& job) {
+  // Jobs are consistent by construction (MakeTrainingJob) or were checked
+  // where they arrived (JobFromBatch calls CheckJob).
+  assert(CheckJob(job).ok());
   if (job.warm_start.cells() == 0) return QTable(job.region.cells());
-  if (job.warm_start.cells() != job.region.cells()) {
-    throw std::invalid_argument("training job: warm start does not match the region");
-  }
   return job.warm_start;
 }
 

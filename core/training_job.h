@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/learner_options.h"
 #include "core/q_table.h"
 #include "core/quadtree.h"
 #include "core/region.h"
+#include "core/result.h"
 
 namespace dynapath {
 
@@ -26,25 +28,14 @@ enum class Averaging { kEqual, kImportance };
 // updates and so stay 0 (a "phantom exit" at the outer wall).
 enum class Bootstrap { kInGrid, kInRegion, kAllStored };
 
+// The members, their defaults and meaning: core/learner_options.h.
 struct SingleAgentOptions {
-  int max_episodes = 10000;             // report: at most 10,000 episodes
-  double epsilon_start = 1.0;           // epsilon-greedy exploration at episode 0
-  double epsilon_decay = 0.999;         // multiplied in after every episode
-  double epsilon_min = 0.01;            // floor
-  int replay_capacity = 1000;           // FIFO buffer of the last transitions
-  int replay_start_episode = 500;       // replay from this episode on
-  int replay_batch = 64;                // replayed updates after each real step
-  int convergence_start_episode = 500;  // first convergence check
-  int convergence_interval = 50;        // episodes between checks
-  double convergence_threshold = 5e-4;  // largest absolute change
-  int convergence_checks = 21;          // consecutive checks below threshold
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_DECLARE_LEARNER_OPTION)
 };
 
 struct FedAsynQOptions {
-  int learners = 12;              // K
-  int sync_period = 1000;         // tau: steps per learner per round
-  int iterations_per_cell = 200;  // T = region cells x this
-  Averaging averaging = Averaging::kEqual;
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_DECLARE_LEARNER_OPTION)
+  Averaging averaging = Averaging::kEqual;  // set by the approach (its own wire field)
 };
 
 struct TrainingJob {
@@ -68,9 +59,13 @@ struct TrainingResult {
   int64_t steps = 0;               // Q-learning steps taken by all learners
 };
 
+// Error when the codes or the warm start do not match the region (a
+// malformed job). Jobs from outside (the wire) are checked with it on
+// arrival; the learners take checked jobs only.
+Status CheckJob(const TrainingJob& job);
+
 // The table a job's training starts from: its warm start, or zeros when the
-// warm start is empty (never trained). Throws std::invalid_argument when the
-// codes or the warm start do not match the region (a malformed job).
+// warm start is empty (never trained). `job` must pass CheckJob.
 QTable StartingTable(const TrainingJob& job);
 
 // Number of federated rounds: floor(T / tau), at least 1.

@@ -69,9 +69,7 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
 
 void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--approach", o.approach, "LIST",
-               "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, "
-               "onlyTrainLeafNodes, singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental "
-               "Oracle; or all");
+               "comma-separated approaches: " + ApproachNamesText() + "; or all");
   group.Option("--out", o.out, "DIR", "output directory");
   DeclareLearnerOptions(group, o);
   DeclarePlacementOption(group, o);

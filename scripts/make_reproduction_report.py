@@ -20,6 +20,7 @@ pandas needed).
 import csv
 import json
 import os
+import re
 import shutil
 import sys
 
@@ -37,8 +38,23 @@ FIGURES = [
     ("success_over_time_300_Hard.png", "Success rate over the time steps, hard 300x300"),
     ("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"),
 ]
-RL = ["onlyTrainLeafNodes", "singleAgent", "fedAsynQ_EqAvg", "fedAsynQ_ImAvg"]
-ORDER = ["A* Static", "A* Oracle", "BFS Oracle"] + RL + ["Incremental Oracle"]
+APPROACH_LIST = os.path.join(HERE, "..", "core", "approach_list.h")
+
+
+def read_approach_list(path=APPROACH_LIST):
+    """(name, learns) of every approach, in the order of the registry's list
+    (core/approach_list.h: one `X(kId, "name", factory, learner, ...)` line
+    each; learner kNoLearner means the approach does not learn)."""
+    with open(path) as f:
+        lines = re.findall(r'^\s*X\(\s*k\w+,\s*"([^"]+)",\s*\w+,\s*(\w+),', f.read(), re.M)
+    if not lines:
+        raise SystemExit(f"no approaches found in {path}")
+    return [(name, learner != "kNoLearner") for name, learner in lines]
+
+
+APPROACHES = read_approach_list()
+ORDER = [name for name, _ in APPROACHES]
+RL = [name for name, learns in APPROACHES if learns]  # the learning approaches
 DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # Acceptance of issue #2 for sizes 20 and 50: success >= report - 0.005 and
 # path length <= report + 0.3.

@@ -86,7 +86,7 @@ class FederatedAveragerTest : public ::testing::Test {
                                               MakeShard(1, {3}, {9}, {3}, 1, false),
                                               MakeShard(2, {}, {}, {}, 0, false)};
     FederatedAverager averager(16, averaging);
-    averager.Combine(shards, shared_, stats_, entries_, values_);
+    ASSERT_TRUE(averager.Combine(shards, shared_, stats_, entries_, values_).ok());
   }
 
   QTable shared_{2};
@@ -144,7 +144,7 @@ TEST(FederatedAveragerLargeVisitsTest, ImportanceWeightsStayFinite) {
   std::vector<uint32_t> entries;
   std::vector<float> values;
   FederatedAverager averager(8, Averaging::kImportance);
-  averager.Combine(shards, shared, stats, entries, values);
+  ASSERT_TRUE(averager.Combine(shards, shared, stats, entries, values).ok());
   EXPECT_EQ(entries, (std::vector<uint32_t>{2, 4}));
   for (float v : shared.values()) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(shared.values()[4], 42.5f);
@@ -160,15 +160,13 @@ TEST(FederatedAveragerLargeVisitsTest, RejectsMalformedShards) {
   std::vector<float> values;
   FederatedAverager averager(8, Averaging::kEqual);
   const std::vector<LearnerShard> out_of_range = {MakeShard(0, {8}, {1.0f}, {1}, -1, false)};
-  EXPECT_THROW(averager.Combine(out_of_range, shared, stats, entries, values),
-               std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(out_of_range, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> wrong_order = {MakeShard(1, {}, {}, {}, -1, false)};
-  EXPECT_THROW(averager.Combine(wrong_order, shared, stats, entries, values),
-               std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(wrong_order, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> bad_start = {MakeShard(0, {}, {}, {}, 3, false)};
-  EXPECT_THROW(averager.Combine(bad_start, shared, stats, entries, values), std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(bad_start, shared, stats, entries, values).ok());
   const std::vector<LearnerShard> not_finite = {MakeShard(0, {1}, {std::nanf("")}, {1}, -1, false)};
-  EXPECT_THROW(averager.Combine(not_finite, shared, stats, entries, values), std::invalid_argument);
+  EXPECT_FALSE(averager.Combine(not_finite, shared, stats, entries, values).ok());
   EXPECT_EQ(shared.values(), QTable(1).values());
 }
 
@@ -377,7 +375,7 @@ QTable RunByHand(const TrainingJob& job, bool threaded) {
         run(round % 2 == 0 ? learner_count - 1 - i : static_cast<int>((i + round) % learner_count));
       }
     }
-    averager.Combine(shards, shared, stats, entries, values);
+    EXPECT_TRUE(averager.Combine(shards, shared, stats, entries, values).ok());
     for (FedAsynQLearner& learner : learners) learner.ApplyAverage(entries, values);
   }
   return shared;

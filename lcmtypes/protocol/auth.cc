@@ -6,8 +6,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
-#include <stdexcept>
 
 namespace dynapath::protocol {
 namespace {
@@ -15,8 +16,14 @@ namespace {
 constexpr uint8_t kMagic[4] = {'D', 'P', 'A', '1'};
 
 void InitSodium() {
-  // Idempotent and thread-safe; fails only without a source of randomness.
-  if (sodium_init() < 0) throw std::runtime_error("libsodium cannot initialise");
+  // Idempotent and thread-safe; fails only when the kernel gives no
+  // randomness (no getrandom, no /dev/urandom): not an input or a run-time
+  // condition a caller could handle, and libsodium's own randombytes aborts
+  // in that case too. Say why before doing the same.
+  if (sodium_init() < 0) {
+    std::fputs("dynapath: libsodium cannot initialise (no source of randomness)\n", stderr);
+    std::abort();
+  }
 }
 
 void PutU64(uint8_t* out, uint64_t value) {

@@ -1,34 +1,45 @@
 #include "lcmtypes/protocol/convert.h"
 
+#include <cstdlib>
+
+#include "core/learners.h"
 #include "core/region_model.h"
 #include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
 
+int8_t LearnerKindToWire(LearnerKind kind) {
+  switch (kind) {
+    case LearnerKind::kSingleAgent:
+      return job_batch_t::KIND_SINGLE_AGENT;
+    case LearnerKind::kFedAsynQ:
+      return job_batch_t::KIND_FEDASYNQ;
+  }
+  std::abort();  // not an enumerator: a broken invariant, not input
+}
+
+std::optional<LearnerKind> LearnerKindFromWire(int8_t wire) {
+  for (LearnerKind kind : kAllLearnerKinds) {
+    if (LearnerKindToWire(kind) == wire) return kind;
+  }
+  return std::nullopt;
+}
+
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
-  batch.kind = config.kind == LearnerKind::kFedAsynQ ? job_batch_t::KIND_FEDASYNQ
-                                                     : job_batch_t::KIND_SINGLE_AGENT;
+  batch.kind = LearnerKindToWire(config.kind);
   // 0 in-grid, 1 in-region, 2 all stored (the .lcm comment predates 2; the
   // field is an int8 either way, so the fingerprint is unchanged).
   batch.bootstrap = static_cast<int8_t>(config.bootstrap == Bootstrap::kInGrid     ? 0
                                         : config.bootstrap == Bootstrap::kInRegion ? 1
                                                                                    : 2);
   batch.averaging = config.federated.averaging == Averaging::kEqual ? 0 : 1;
-  const SingleAgentOptions& s = config.single_agent;
-  batch.max_episodes = s.max_episodes;
-  batch.epsilon_start = s.epsilon_start;
-  batch.epsilon_decay = s.epsilon_decay;
-  batch.epsilon_min = s.epsilon_min;
-  batch.replay_capacity = s.replay_capacity;
-  batch.replay_start_episode = s.replay_start_episode;
-  batch.replay_batch = s.replay_batch;
-  batch.convergence_start_episode = s.convergence_start_episode;
-  batch.convergence_interval = s.convergence_interval;
-  batch.convergence_threshold = s.convergence_threshold;
-  batch.convergence_checks = s.convergence_checks;
-  batch.learners = config.federated.learners;
-  batch.sync_period = config.federated.sync_period;
-  batch.iterations_per_cell = config.federated.iterations_per_cell;
+  // Every option of core/learner_options.h to its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_TO_WIRE(member, ...) batch.member = config.single_agent.member;
+#define DYNAPATH_FEDASYNQ_TO_WIRE(member, ...) batch.member = config.federated.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_TO_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_TO_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_TO_WIRE
+#undef DYNAPATH_FEDASYNQ_TO_WIRE
 }
 
 void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& batch) {
@@ -73,24 +84,19 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.warm_start = QTable(m.num_cells);
   if (m.num_values > 0) job.warm_start.values() = m.values;
   job.seed = static_cast<uint64_t>(m.seed);
-  job.kind =
-      batch.kind == job_batch_t::KIND_FEDASYNQ ? LearnerKind::kFedAsynQ : LearnerKind::kSingleAgent;
-  SingleAgentOptions& s = job.single_agent;
-  s.max_episodes = batch.max_episodes;
-  s.epsilon_start = batch.epsilon_start;
-  s.epsilon_decay = batch.epsilon_decay;
-  s.epsilon_min = batch.epsilon_min;
-  s.replay_capacity = batch.replay_capacity;
-  s.replay_start_episode = batch.replay_start_episode;
-  s.replay_batch = batch.replay_batch;
-  s.convergence_start_episode = batch.convergence_start_episode;
-  s.convergence_interval = batch.convergence_interval;
-  s.convergence_threshold = batch.convergence_threshold;
-  s.convergence_checks = batch.convergence_checks;
-  job.federated.learners = batch.learners;
-  job.federated.sync_period = batch.sync_period;
-  job.federated.iterations_per_cell = batch.iterations_per_cell;
+  // Validated: the kind is one of ours.
+  job.kind = LearnerKindFromWire(batch.kind).value_or(LearnerKind::kSingleAgent);
+  // Every option of core/learner_options.h from its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_FROM_WIRE(member, ...) job.single_agent.member = batch.member;
+#define DYNAPATH_FEDASYNQ_FROM_WIRE(member, ...) job.federated.member = batch.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_FROM_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_FROM_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_FROM_WIRE
+#undef DYNAPATH_FEDASYNQ_FROM_WIRE
   job.federated.averaging = batch.averaging == 0 ? Averaging::kEqual : Averaging::kImportance;
+  if (Status checked = CheckJob(job); !checked) {
+    return Error{"job " + std::to_string(index) + ": " + checked.error().message};
+  }
   received.start_round = m.start_round;
   received.attempts.assign(m.attempts.begin(), m.attempts.end());
   received.successes.assign(m.successes.begin(), m.successes.end());
@@ -101,7 +107,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
                    ": start statistics do not match the region's start cells"};
     }
   }
-  if (job.kind == LearnerKind::kFedAsynQ &&
+  if (TrainsInRounds(job.kind) &&
       received.start_round > FederatedRounds(job.region, job.federated)) {
     return Error{"job " + std::to_string(index) + ": start round beyond the job's rounds"};
   }

@@ -3,6 +3,7 @@
 // (floats travel as floats), which is what keeps distributed results equal to
 // in-process ones.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,11 @@ struct JobProgress {
   QTable table;                               // empty: the job's warm start
   std::vector<uint32_t> attempts, successes;  // empty: fresh statistics
 };
+
+// The wire's KIND_* of a learner kind, and back (nullopt: no learner has
+// that wire value).
+int8_t LearnerKindToWire(LearnerKind kind);
+std::optional<LearnerKind> LearnerKindFromWire(int8_t wire);
 
 // Fills the batch header (options) from `config`.
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch);

@@ -1,7 +1,7 @@
 #include "lcmtypes/protocol/round_combiner.h"
 
 #include <algorithm>
-#include <stdexcept>
+#include <cassert>
 
 #include "core/mdp.h"
 #include "lcmtypes/protocol/convert.h"
@@ -9,33 +9,41 @@
 
 namespace dynapath::protocol {
 
+Status RoundCombiner::CheckItems(const std::vector<Job>& jobs, const Items& items) {
+  std::map<int, size_t> position;
+  std::vector<std::vector<int>> hosts(jobs.size());
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    position[jobs[i].index] = i;
+    hosts[i].assign(static_cast<size_t>(std::max(0, jobs[i].learners)), 0);
+  }
+  for (const auto& [agent, owned] : items) {
+    for (const auto& [job, learner] : owned) {
+      auto it = position.find(job);
+      if (it == position.end() || learner < 0 || learner >= jobs[it->second].learners) {
+        return Error{"round combiner: an item names no learner of its jobs"};
+      }
+      ++hosts[it->second][static_cast<size_t>(learner)];
+    }
+  }
+  for (const std::vector<int>& counts : hosts) {
+    for (int count : counts) {
+      if (count != 1) return Error{"round combiner: a learner is not hosted once"};
+    }
+  }
+  return Ok{};
+}
+
 RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round)
     : jobs_(std::move(jobs)), items_(std::move(items)), round_(start_round) {
+  // The caller checked the items (received ones with CheckItems; the
+  // coordinator's are its own plan).
+  assert(CheckItems(jobs_, items_).ok());
   for (size_t i = 0; i < jobs_.size(); ++i) {
     position_[jobs_[i].index] = i;
     averagers_.push_back(std::make_unique<FederatedAverager>(
         static_cast<int>(jobs_[i].shared.values().size()), jobs_[i].averaging));
   }
-  // Every learner of every job is hosted exactly once.
-  std::vector<std::vector<int>> hosts(jobs_.size());
-  for (size_t i = 0; i < jobs_.size(); ++i) {
-    hosts[i].assign(static_cast<size_t>(std::max(0, jobs_[i].learners)), 0);
-  }
-  for (auto& [agent, owned] : items_) {
-    for (const auto& [job, learner] : owned) {
-      auto it = position_.find(job);
-      if (it == position_.end() || learner < 0 || learner >= jobs_[it->second].learners) {
-        throw std::invalid_argument("round combiner: an item names no learner of its jobs");
-      }
-      ++hosts[it->second][static_cast<size_t>(learner)];
-    }
-    std::sort(owned.begin(), owned.end());
-  }
-  for (const std::vector<int>& counts : hosts) {
-    for (int count : counts) {
-      if (count != 1) throw std::invalid_argument("round combiner: a learner is not hosted once");
-    }
-  }
+  for (auto& [agent, owned] : items_) std::sort(owned.begin(), owned.end());
 }
 
 bool RoundCombiner::Finished() const {
@@ -114,7 +122,7 @@ std::vector<int> RoundCombiner::Missing() const {
 bool RoundCombiner::RoundComplete() const { return !Finished() && Missing().empty(); }
 
 std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
-  if (!RoundComplete()) throw std::logic_error("round combiner: round incomplete");
+  assert(RoundComplete());  // callers combine only complete rounds
   const std::map<int, shards_t>& messages = pending_[round_];
   std::vector<JobRound> result;
   std::vector<LearnerShard> shards;
@@ -131,7 +139,12 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
         job_round.steps += shard.steps;
       }
     }
-    averagers_[j]->Combine(shards, job.shared, job.stats, job_round.entries, job_round.values);
+    // Add() kept only messages whose shards fit the job (Mismatch: learners,
+    // entries, start cells; the Bus validated sizes and finiteness), one per
+    // learner, so the averager finds nothing malformed.
+    [[maybe_unused]] const Status combined =
+        averagers_[j]->Combine(shards, job.shared, job.stats, job_round.entries, job_round.values);
+    assert(combined.ok());
     result.push_back(std::move(job_round));
   }
   pending_.erase(round_);

@@ -25,6 +25,7 @@
 
 #include "core/fedasynq.h"
 #include "core/q_table.h"
+#include "core/result.h"
 #include "core/start_statistics.h"
 #include "core/training_job.h"
 #include "dynapath/shards_t.hpp"
@@ -44,6 +45,10 @@ class RoundCombiner {
   // (job index, learner) pairs an agent hosts.
   using Items = std::map<int, std::vector<std::pair<int, int>>>;
 
+  // Error unless every item names a learner of the jobs and every learner of
+  // every job is hosted exactly once (received items are checked with it).
+  static Status CheckItems(const std::vector<Job>& jobs, const Items& items);
+  // `items` must pass CheckItems.
   RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round);
 
   // The round being collected.

@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/learner_options.h"
 #include "core/mdp.h"
+#include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -82,21 +84,20 @@ std::string Validate(const changes_t& m) {
 
 std::string Validate(const job_batch_t& m) {
   if (m.batch_id < 0 || m.epoch < 0) return "negative batch or epoch";
-  if (m.kind != job_batch_t::KIND_SINGLE_AGENT && m.kind != job_batch_t::KIND_FEDASYNQ) {
-    return "unknown learner kind";
-  }
+  if (!LearnerKindFromWire(m.kind)) return "unknown learner kind";
   if (m.bootstrap < 0 || m.bootstrap > 2 || m.averaging < 0 || m.averaging > 1) {
     return "bad bootstrap or averaging";
   }
-  if (m.learners < 1 || m.learners > 4096 || m.sync_period < 1 || m.iterations_per_cell < 1) {
-    return "bad federated options";
-  }
-  if (m.max_episodes < 1 || m.replay_capacity < 1 || m.replay_batch < 0 ||
-      m.convergence_interval < 1 || m.convergence_checks < 1 || !std::isfinite(m.epsilon_start) ||
-      !std::isfinite(m.epsilon_decay) || !std::isfinite(m.epsilon_min) ||
-      !std::isfinite(m.convergence_threshold)) {
-    return "bad single-agent options";
-  }
+  // The ranges of core/learner_options.h.
+#define DYNAPATH_CHECK_OPTION(group, member, type, default_value, min, max) \
+  if (!learner_option::InRange<type>(m.member, min, max)) return "bad " group " option " #member;
+#define DYNAPATH_CHECK_FEDASYNQ_OPTION(...) DYNAPATH_CHECK_OPTION("federated", __VA_ARGS__)
+#define DYNAPATH_CHECK_SINGLE_AGENT_OPTION(...) DYNAPATH_CHECK_OPTION("single-agent", __VA_ARGS__)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_CHECK_FEDASYNQ_OPTION)
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_CHECK_SINGLE_AGENT_OPTION)
+#undef DYNAPATH_CHECK_SINGLE_AGENT_OPTION
+#undef DYNAPATH_CHECK_FEDASYNQ_OPTION
+#undef DYNAPATH_CHECK_OPTION
   if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
   for (const job_t& job : m.jobs) {
     if (!GridSize(job.grid_rows, job.grid_cols) || !Inside(job.row0, job.rows, job.grid_rows) ||

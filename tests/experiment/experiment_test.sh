@@ -31,7 +31,11 @@ fi
 
 cd "$work" || exit 1
 study=(--sizes 20,50 --difficulties easy,hard --steps 10)
-approaches=8
+# The approaches of `all`, from the registry's one list (core/approach_list.h).
+registered=$(grep -o '^ *X(k[A-Za-z0-9]*, *"[^"]*"' "$(dirname "$0")/../../core/approach_list.h" \
+  | sed 's/^[^"]*"//; s/"$//')
+approaches=$(printf '%s\n' "$registered" | wc -l)
+[ "$approaches" -ge 8 ] || { echo "cannot read core/approach_list.h" >&2; exit 1; }
 configs=4
 rows_per_config=$((approaches * (10 + 1)))
 
@@ -100,9 +104,13 @@ head -1 "$a/results_detailed.csv" \
 # Study order: sizes, then difficulties; approaches in the order of `all`.
 order=$(tail -n +2 "$a/results.csv" | cut -d, -f2,3 | uniq | tr '\n' ' ')
 [ "$order" = "20,Easy 20,Hard 50,Easy 50,Hard " ] || fail "study order: $order"
-approach_order=$(tail -n +2 "$a/results.csv" | head -8 | cut -d, -f1 | tr '\n' ';')
-[ "$approach_order" = "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;Incremental Oracle;" ] \
+approach_order=$(tail -n +2 "$a/results.csv" | head -"$approaches" | cut -d, -f1 | tr '\n' ';')
+[ "$approach_order" = "$(printf '%s\n' "$registered" | tr '\n' ';')" ] \
   || fail "approach order: $approach_order"
+case "$approach_order" in
+  "A* Static;A* Oracle;BFS Oracle;onlyTrainLeafNodes;singleAgent;fedAsynQ_EqAvg;fedAsynQ_ImAvg;"*) ;;
+  *) fail "SPEC's seven approaches do not come first: $approach_order" ;;
+esac
 [ "$(tail -n +2 "$a/edge_results.csv" | cut -d, -f2,3 | sort -u)" = "50,Hard" ] || fail "edge case labels"
 # Each configuration's own files, merged exactly.
 for dir in 20_easy_50 20_hard_52 50_easy_50 50_hard_52 edge_50_hard_102; do

@@ -208,14 +208,16 @@ TEST_F(RoundCombinerAddTest, RejectsMessagesThatDoNotFit) {
 TEST(RoundCombinerTest, EveryLearnerMustBeHostedOnce) {
   const TrainingJob job = SmallJob(Averaging::kEqual, 2);
   const RegionModel model(job);
-  auto make = [&](RoundCombiner::Items items) {
-    RoundCombiner combiner({CombinerJob(job, model)}, std::move(items), 0);
+  const std::vector<RoundCombiner::Job> jobs = {CombinerJob(job, model)};
+  auto check = [&](const RoundCombiner::Items& items) {
+    return RoundCombiner::CheckItems(jobs, items).ok();
   };
-  EXPECT_NO_THROW(make({{1, {{0, 0}, {0, 1}}}}));
-  EXPECT_THROW(make({{1, {{0, 0}}}}), std::invalid_argument);  // learner 1 missing
-  EXPECT_THROW(make({{1, {{0, 0}, {0, 1}}}, {2, {{0, 1}}}}), std::invalid_argument);  // twice
-  EXPECT_THROW(make({{1, {{0, 0}, {0, 2}}}}), std::invalid_argument);  // no learner 2
-  EXPECT_THROW(make({{1, {{1, 0}, {0, 1}}}}), std::invalid_argument);  // no job 1
+  EXPECT_TRUE(check({{1, {{0, 0}, {0, 1}}}}));
+  EXPECT_TRUE(check({{1, {{0, 1}}}, {2, {{0, 0}}}}));
+  EXPECT_FALSE(check({{1, {{0, 0}}}}));                         // learner 1 missing
+  EXPECT_FALSE(check({{1, {{0, 0}, {0, 1}}}, {2, {{0, 1}}}}));  // twice
+  EXPECT_FALSE(check({{1, {{0, 0}, {0, 2}}}}));                 // no learner 2
+  EXPECT_FALSE(check({{1, {{1, 0}, {0, 1}}}}));                 // no job 1
 }
 
 TEST(RoundCombinerTest, JobsEndAtTheirOwnRound) {

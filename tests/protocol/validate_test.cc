@@ -6,6 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <climits>
+#include <cmath>
+#include <limits>
+
+#include "core/learners.h"
+#include "lcmtypes/protocol/convert.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -71,6 +76,68 @@ TEST(Validate, GridCellCountInSixtyFourBits) {
   grid.num_cells = 4;
   grid.cells = {1, 1, 1, 2};
   EXPECT_EQ(Validate(grid), "");
+}
+
+TEST(Validate, EveryLearnerKindTravelsAndNoOtherIsAccepted) {
+  job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+  for (LearnerKind kind : kAllLearnerKinds) {
+    batch.kind = LearnerKindToWire(kind);
+    EXPECT_EQ(LearnerKindFromWire(batch.kind), kind);
+    EXPECT_EQ(Validate(batch), "");
+  }
+  batch.kind = 2;
+  EXPECT_EQ(Validate(batch), "unknown learner kind");
+  batch.kind = -1;
+  EXPECT_EQ(Validate(batch), "unknown learner kind");
+}
+
+TEST(Validate, EveryLearnerOptionOutsideItsRangeIsNamed) {
+  job_batch_t good = BatchWithJob(0, 1, 0, 2);
+  SetBatchOptions(LearnerConfig{}, good);  // the defaults are in range
+  ASSERT_EQ(Validate(good), "");
+  job_batch_t batch = good;
+  batch.learners = learner_option::kMaxLearners + 1;
+  EXPECT_EQ(Validate(batch), "bad federated option learners");
+  batch = good;
+  batch.sync_period = 0;
+  EXPECT_EQ(Validate(batch), "bad federated option sync_period");
+  batch = good;
+  batch.replay_batch = -1;
+  EXPECT_EQ(Validate(batch), "bad single-agent option replay_batch");
+  batch = good;
+  batch.epsilon_decay = std::nan("");
+  EXPECT_EQ(Validate(batch), "bad single-agent option epsilon_decay");
+  batch = good;
+  batch.convergence_threshold = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(Validate(batch), "bad single-agent option convergence_threshold");
+  batch = good;
+  batch.replay_start_episode = -5;  // any value: no range
+  EXPECT_EQ(Validate(batch), "");
+}
+
+TEST(Validate, LearnerOptionsRoundTripThroughTheWire) {
+  LearnerConfig config;
+  config.kind = LearnerKind::kFedAsynQ;
+  config.single_agent.max_episodes = 7;
+  config.single_agent.epsilon_decay = 0.25;
+  config.single_agent.convergence_checks = 3;
+  config.federated.learners = 5;
+  config.federated.iterations_per_cell = 9;
+  job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+  SetBatchOptions(config, batch);
+  ASSERT_EQ(Validate(batch), "");
+  Result<ReceivedJob> received = JobFromBatch(batch, 0);
+  ASSERT_TRUE(received.ok()) << received.error().message;
+  const TrainingJob& job = received->job;
+  EXPECT_EQ(job.kind, LearnerKind::kFedAsynQ);
+#define DYNAPATH_EXPECT_SAME(member, ...) \
+  EXPECT_EQ(job.single_agent.member, config.single_agent.member) << #member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_EXPECT_SAME)
+#undef DYNAPATH_EXPECT_SAME
+#define DYNAPATH_EXPECT_SAME(member, ...) \
+  EXPECT_EQ(job.federated.member, config.federated.member) << #member;
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_EXPECT_SAME)
+#undef DYNAPATH_EXPECT_SAME
 }
 
 }  // namespace

@@ -80,9 +80,7 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   group.List("--difficulties", o.difficulties, ValueKind::kStringList, "LIST",
              "comma-separated difficulties: easy, medium, hard", "easy,medium,hard");
   group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
-             "comma-separated approaches: A* Static, A* Oracle, BFS Oracle, onlyTrainLeafNodes, "
-             "singleAgent, fedAsynQ_EqAvg, fedAsynQ_ImAvg, Incremental Oracle; or all",
-             "all");
+             "comma-separated approaches: " + ApproachNamesText() + "; or all", "all");
   group.Flag("--edge-case", o.edge_case,
              "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
   group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");

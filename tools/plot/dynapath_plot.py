@@ -42,18 +42,19 @@ DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # One colour and marker per approach in every figure (Okabe-Ito colours, which
 # stay distinct for colour-blind readers; filled markers so that the report's
 # values can be drawn hollow).
-APPROACH_STYLES = {
-    "A* Static": ("#8c8c8c", "s"),
-    "A* Oracle": ("#000000", "D"),
-    "BFS Oracle": ("#cc79a7", "P"),
-    "onlyTrainLeafNodes": ("#d55e00", "v"),
-    "singleAgent": ("#e69f00", "^"),
-    "fedAsynQ_EqAvg": ("#0072b2", "o"),
-    "fedAsynQ_ImAvg": ("#009e73", "X"),
-    "Incremental Oracle": ("#f0e442", "d"),
-}
-EXTRA_STYLES = [("#56b4e9", "p"), ("#882255", "h"), ("#999933", "<"), ("#332288", ">"),
-                ("#44aa99", "8"), ("#aa4499", "*")]
+# The registry's approaches in its order (core/approach_list.h, substituted
+# by CMake); the i-th gets the i-th style, so the colours stay where they
+# were (A* Static grey, ..., fedAsynQ_ImAvg green, Incremental Oracle yellow)
+# and a new approach takes the next one.
+REGISTERED_APPROACHES = "@DYNAPATH_APPROACH_NAMES@".split("|")
+STYLES = [("#8c8c8c", "s"), ("#000000", "D"), ("#cc79a7", "P"), ("#d55e00", "v"),
+          ("#e69f00", "^"), ("#0072b2", "o"), ("#009e73", "X"), ("#f0e442", "d"),
+          ("#56b4e9", "p"), ("#882255", "h"), ("#999933", "<"), ("#332288", ">"),
+          ("#44aa99", "8"), ("#aa4499", "*")]
+APPROACH_STYLES = {name: STYLES[i % len(STYLES)] for i, name in enumerate(REGISTERED_APPROACHES)}
+# Names in a results file that are not registered (an older or newer tree's).
+_FIRST_FREE = len(REGISTERED_APPROACHES) % len(STYLES)
+EXTRA_STYLES = STYLES[_FIRST_FREE:] + STYLES[:_FIRST_FREE]
 
 DPI = 150
 
