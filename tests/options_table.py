@@ -51,7 +51,7 @@ END = "<!-- end of options table -->"
 
 def declarations(source):
     """{"--name": ["path: Function", ...]}, from the tracked C++ sources."""
-    files = subprocess.run(["git", "-C", source, "ls-files", "*.cc", "*.h"], check=True,
+    files = subprocess.run(["git", "-C", source, "ls-files", "--deduplicate", "*.cc", "*.h"], check=True,
                            capture_output=True, text=True).stdout.split()
     found = {}
     for path in files:
