@@ -242,6 +242,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
     for (int w = 0; w < workers; ++w) {
       hosted->workers.push_back(
           std::make_unique<FedAsynQLearner>(*hosted->model, hosted->learners[hosted->first[w]]));
+      hosted->workers.back()->set_count_visits(c.averaging != Averaging::kEqual);
       hosted->workers.back()->Reset(c.shared);
     }
     start_round = std::max(start_round, hosted->received.start_round);

@@ -72,12 +72,16 @@ void FedAsynQLearner::Reset(const QTable& table) {
 
 LearnerShard FedAsynQLearner::RunRound(const StartStatistics& stats, uint64_t job_seed,
                                        int64_t round, int sync_period) {
-  return Run(learner_index_, stats, job_seed, round, sync_period, false);
+  LearnerShard shard;
+  Run(learner_index_, stats, job_seed, round, sync_period, false, shard);
+  return shard;
 }
 
 LearnerShard FedAsynQLearner::RunRoundAndRevert(int learner, const StartStatistics& stats,
                                                 uint64_t job_seed, int64_t round, int sync_period) {
-  return Run(learner, stats, job_seed, round, sync_period, true);
+  LearnerShard shard;
+  Run(learner, stats, job_seed, round, sync_period, true, shard);
+  return shard;
 }
 
 namespace {
@@ -109,18 +113,32 @@ uint32_t FindSlot(const Slot* slots, uint32_t mask, int shift, uint32_t entry) {
 // values before the round) in touched/originals. Everything lives in
 // locals: stores through the table and the lists could otherwise alias
 // members, reloaded at every step. Returns the number of entries listed.
-template <bool kDirect>
+//
+// Without kCount (equal averaging, which needs no visit counts) every step is
+// listed, repeats included, and nothing is counted: listing is two stores,
+// and reverting the list backwards restores each entry's first original.
+template <bool kDirect, bool kCount>
 size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps, bool& reached,
             Slot* slots, uint32_t mask, int shift, uint32_t* touched, float* originals) {
   Rng rng = walk_rng;  // a local copy stays in registers
   size_t listed = 0;
   bool station = false;
   for (int step = 0; step < steps; ++step) {
-    const int a = model.actions(s)[rng.Below(static_cast<uint32_t>(model.action_count(s)))];
+    const uint32_t index = rng.Below(static_cast<uint32_t>(model.in_region_count(s)));
+    const int a = model.actions(s)[index];
     const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
-    const int next = model.target(s, a);
+    const int next = model.step_target(s, static_cast<int>(index));
     const float reward = model.reward(s, a);
     const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
+    if constexpr (!kCount) {
+      const float value = q[entry];
+      touched[step] = entry;
+      originals[step] = value;
+      q[entry] = value + kLearningRate * (reward + kDiscount * best_next - value);
+      station |= reward == kStationReward;
+      s = next;
+      continue;
+    }
     // Count the visit, without branches on whether the entry is new (which
     // a random walk makes unpredictable): the listing is always written and
     // only counted when the slot was empty.
@@ -144,24 +162,56 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
   }
   reached |= station;
   walk_rng = rng;
-  return listed;
+  return kCount ? listed : static_cast<size_t>(std::max(0, steps));
 }
 
 }  // namespace
 
-LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
-                                  int64_t round, int sync_period, bool revert) {
-  LearnerShard shard;
+void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
+                          int64_t round, int sync_period, bool revert, LearnerShard& shard) {
+  // Refilled in place: a round's vectors keep their capacity for the next.
+  shard.entries.clear();
+  shard.values.clear();
+  shard.visits.clear();
+  shard.reached_station = false;
+  shard.steps = 0;
   shard.learner = learner;
   shard.round = round;
   Rng rng(LearnerRoundSeed(job_seed, learner, round));
   const int start = stats.Draw(rng);
   shard.start_cell = start;
-  if (start < 0) return shard;
+  if (start < 0) return;
 
-  // Scratch sized for the round; the slots are all empty between rounds.
   float* q = table_.values().data();
   const size_t table_entries = table_.values().size();
+  bool reached = model_.is_station(start);
+  // Every cell of a region has an in-region move except in a 1x1 region,
+  // which takes no step.
+  const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
+  if (!count_visits_) {
+    const size_t step_count = static_cast<size_t>(steps);
+    if (touched_.size() < step_count + 1) {
+      touched_.resize(step_count + 1);
+      originals_.resize(step_count + 1);
+    }
+    const size_t listed = Walk<true, false>(model_, q, rng, start, steps, reached, nullptr, 0, 0,
+                                            touched_.data(), originals_.data());
+    shard.reached_station = reached;
+    shard.steps = steps;
+    for (size_t i = 0; i < listed; ++i) marks_.Mark(touched_[i]);
+    marks_.List(shard.entries);
+    marks_.Clear(shard.entries);
+    shard.values.resize(shard.entries.size());
+    for (size_t i = 0; i < shard.entries.size(); ++i) shard.values[i] = q[shard.entries[i]];
+    // What an absent count decodes to on the wire (protocol::ShardFromMessage).
+    shard.visits.assign(shard.entries.size(), 1u);
+    if (revert) {
+      for (size_t i = listed; i-- > 0;) q[touched_[i]] = originals_[i];
+    }
+    return;
+  }
+
+  // Scratch sized for the round; the slots are all empty between rounds.
   const size_t most_touched =
       static_cast<size_t>(std::clamp<int64_t>(sync_period, 0, static_cast<int64_t>(table_entries)));
   const size_t wanted = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
@@ -174,14 +224,11 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
   const int shift = 32 - std::countr_zero(slots_.size());
 
-  bool reached = model_.is_station(start);
-  // Every cell of a region has an in-region move except in a 1x1 region,
-  // which takes no step.
-  const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
-  const size_t listed = direct ? Walk<true>(model_, q, rng, start, steps, reached, slots_.data(),
-                                            mask, shift, touched_.data(), originals_.data())
-                               : Walk<false>(model_, q, rng, start, steps, reached, slots_.data(),
-                                             mask, shift, touched_.data(), originals_.data());
+  const size_t listed =
+      direct ? Walk<true, true>(model_, q, rng, start, steps, reached, slots_.data(), mask, shift,
+                                touched_.data(), originals_.data())
+             : Walk<false, true>(model_, q, rng, start, steps, reached, slots_.data(), mask, shift,
+                                 touched_.data(), originals_.data());
   shard.reached_station = reached;
   shard.steps = steps;
 
@@ -211,14 +258,14 @@ LearnerShard FedAsynQLearner::Run(int learner, const StartStatistics& stats, uin
   } else {
     std::fill(slots_.begin(), slots_.end(), Slot{});
   }
-  return shard;
+  return;
 }
 
 void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
                                          const StartStatistics& stats, uint64_t job_seed,
                                          int64_t round, int sync_period, LearnerShard* shards) {
   for (int i = 0; i < count; ++i) {
-    shards[i] = Run(learners[i], stats, job_seed, round, sync_period, true);
+    Run(learners[i], stats, job_seed, round, sync_period, true, shards[i]);
   }
 }
 
@@ -231,7 +278,8 @@ void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
 FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
     : averaging_(averaging),
       table_entries_(table_entries),
-      marks_(static_cast<size_t>(table_entries)) {
+      marks_(static_cast<size_t>(table_entries)),
+      positions_(table_entries <= kDensePositionsLimit ? static_cast<size_t>(table_entries) : 0) {
   // Only the differences l_k - max_j l_j = -(N_max - N_k) * (-log(1 - eta))
   // are ever exponentiated (log-sum-exp), so the weights stay finite for any
   // visit count; they depend only on d = N_max - N_k, tabulated here.
@@ -285,10 +333,15 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
                 shared_values[entries[i]]);
   }
   if (weighted) std::fill(learner_visits_.begin(), learner_visits_.end(), 0u);
+  const bool dense = !positions_.empty();
+  if (dense) {
+    for (size_t i = 0; i < entries.size(); ++i) positions_[entries[i]] = static_cast<uint32_t>(i);
+  }
   for (size_t k = 0; k < learners; ++k) {
     const LearnerShard& shard = shards[k];
     for (size_t j = 0; j < shard.entries.size(); ++j) {
-      const size_t slot = marks_.Position(shard.entries[j]) * learners + k;
+      const uint32_t entry = shard.entries[j];
+      const size_t slot = (dense ? positions_[entry] : marks_.Position(entry)) * learners + k;
       learner_values_[slot] = shard.values[j];
       if (weighted) learner_visits_[slot] = shard.visits[j];
     }
@@ -296,8 +349,28 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
 
   // Averages, each summed in double in learner order.
   values.resize(entries.size());
+  size_t first_left = 0;
+  if (!weighted) {
+    // Four entries at a time: each sum still runs in learner order, but four
+    // independent chains of additions hide the latency of one (12 dependent
+    // additions per entry were most of an equal average's time).
+    constexpr size_t kBlock = 4;
+    const double scale = static_cast<double>(learners);
+    for (; first_left + kBlock <= entries.size(); first_left += kBlock) {
+      const float* q = &learner_values_[first_left * learners];
+      double sums[kBlock] = {0.0, 0.0, 0.0, 0.0};
+      for (size_t k = 0; k < learners; ++k) {
+        for (size_t b = 0; b < kBlock; ++b) sums[b] += q[b * learners + k];
+      }
+      for (size_t b = 0; b < kBlock; ++b) {
+        const size_t i = first_left + b;
+        values[i] = static_cast<float>(sums[b] / scale);
+        shared.values()[entries[i]] = values[i];
+      }
+    }
+  }
   const double log_base = -std::log(1.0 - kImportanceEta);
-  for (size_t i = 0; i < entries.size(); ++i) {
+  for (size_t i = first_left; i < entries.size(); ++i) {
     const float* q = &learner_values_[i * learners];
     double sum = 0.0;
     if (!weighted) {
@@ -342,6 +415,7 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
   const int learner_count = std::max(1, options.learners);
   // One object plays all K learners on one table (see RunRoundAndRevert).
   FedAsynQLearner worker(model, 0);
+  worker.set_count_visits(options.averaging != Averaging::kEqual);
   worker.Reset(result.table);
   StartStatistics stats(model.start_cells());
   FederatedAverager averager(model.cells() * kNumActions, options.averaging);

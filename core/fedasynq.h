@@ -122,6 +122,11 @@ class FedAsynQLearner {
 
   const QTable& table() const { return table_; }
 
+  // Whether rounds count visits N_k(s, a) (default). Equal averaging does
+  // not use them: without counting, a round is cheaper and its shard's
+  // visits are all 1, what an absent count decodes to on the wire.
+  void set_count_visits(bool count) { count_visits_ = count; }
+
   // One slot of the visit counts' hash table (fedasynq.cc).
   struct Slot {
     uint32_t key = 0;  // entry + 1, 0 = empty
@@ -131,6 +136,7 @@ class FedAsynQLearner {
  private:
   const RegionModel& model_;
   int learner_index_;
+  bool count_visits_ = true;
   QTable table_;
   // Scratch of a round (no allocation per step), proportional to the round,
   // not to the region: the entries touched in order of first touch (one
@@ -145,8 +151,8 @@ class FedAsynQLearner {
   std::vector<Slot> slots_;
   SortedMarks marks_;  // sorts the shard's entries
 
-  LearnerShard Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
-                   int sync_period, bool revert);
+  void Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
+           int sync_period, bool revert, LearnerShard& shard);
 };
 
 // Combines one round's shards into the shared table.
@@ -168,7 +174,12 @@ class FederatedAverager {
   int table_entries_;
   // Scratch reused between rounds (no allocation once warmed up), about one
   // bit per table entry plus what a round touches:
-  SortedMarks marks_;                     // the union of the shards' entries
+  SortedMarks marks_;  // the union of the shards' entries
+  // Small tables (a leaf's): entry -> position in the union, one load where
+  // SortedMarks::Position costs a rank and a software popcount. Empty for
+  // tables above kDensePositionsLimit entries, which use the marks' ranks.
+  static constexpr int kDensePositionsLimit = 1 << 16;
+  std::vector<uint32_t> positions_;
   std::vector<float> learner_values_;     // |U| x K: Q_k(e), the shared value if untouched
   std::vector<uint32_t> learner_visits_;  // |U| x K: N_k(e)
   std::vector<double> decay_;             // decay_[d] = (1 - eta)^d = exp(-d * -log(1 - eta))

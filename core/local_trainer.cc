@@ -137,6 +137,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     for (int w = 0; w <= workers; ++w) run.first_learner.push_back(w * learners / workers);
     for (int w = 0; w < workers; ++w) {
       run.workers.push_back(std::make_unique<FedAsynQLearner>(*run.model, 0));
+      run.workers.back()->set_count_visits(jobs[j].federated.averaging != Averaging::kEqual);
       run.workers.back()->Reset(run.shared);
     }
     run.averager = std::make_unique<FederatedAverager>(static_cast<int>(run.shared.values().size()),

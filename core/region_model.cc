@@ -29,6 +29,8 @@ void RegionModel::Build() {
     offset_[a] = kActionRowOffset[a] * cols + kActionColOffset[a];
   record_.assign(static_cast<size_t>(n), CellRecord{});
   start_cells_.clear();
+  in_region_count_.assign(static_cast<size_t>(n), 0);
+  step_delta_.assign(static_cast<size_t>(n) * kNumActions, 0);
   for (int cell = 0; cell < n; ++cell) {
     CellRecord& record = record_[cell];
     const int row = cell / cols, col = cell % cols;
@@ -50,6 +52,12 @@ void RegionModel::Build() {
       if (static_cast<Cell>(codes_[blocked ? cell : next]) == Cell::kStation) record.station |= bit;
     }
     if (static_cast<Cell>(codes_[cell]) != Cell::kObstacle) start_cells_.push_back(cell);
+    const auto& list = region_model_internal::kActionLists[record.in_region];
+    in_region_count_[cell] = list.count;
+    for (int i = 0; i < list.count; ++i) {
+      step_delta_[static_cast<size_t>(cell) * kNumActions + i] =
+          static_cast<int16_t>(target(cell, list.actions[i]) - cell);
+    }
   }
 }
 

@@ -175,6 +175,27 @@ same_results "$work/map_logged" "$work/map_local" "a map with movers: --agents 2
   --log-level warn >/dev/null || fail "--replay of a map run"
 same_results "$work/map_logged" "$work/map_replayed" "--replay of a map run with movers"
 
+# The same map run in one process over memq://, and with agent 2 killed
+# while the learners of every adaptation batch are split over the agents
+# (a larger committed map, 25x61, so that the kill lands mid-run).
+"$dynapath" run --embedded --agents 2 --placement split "${map[@]}" "${replay[@]}" \
+  --out "$work/map_embedded" --log-level warn >/dev/null || fail "--embedded map run"
+same_results "$work/map_local" "$work/map_embedded" "a map with movers: --embedded, learners split"
+wide=(--maze "$(dirname "$0")/data/maps/maze-25-61-1.map" --stations 6 --movers 10 --steps 60
+  --approach fedAsynQ_EqAvg)
+"$dynapath" run --local "${wide[@]}" --out "$work/wide_local" --log-level warn >/dev/null ||
+  fail "25x61 map --local"
+"$dynapath" run --agents 2 --placement split "${wide[@]}" --out "$work/wide_killed" \
+  --log-level info >/dev/null 2>"$work/wide_killed.log" &
+launcher=$!
+wait_for_line "$work/wide_killed.log" "initial training" || fail "no 'initial training' line (map)"
+victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
+if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill (map)"; fi
+wait $launcher || fail "map run with a killed agent exited $?"
+grep -q "reassigning its work" "$work/wide_killed.log" ||
+  fail "the coordinator did not reassign the killed agent's work (map)"
+same_results "$work/wide_local" "$work/wide_killed" "a map with movers, agent killed with SIGKILL (split)"
+
 # 7. Bad input.
 expect_usage_error() {
   local needle=$1; shift

@@ -273,6 +273,42 @@ TEST(FedAsynQLearnerTest, RunRoundAndRevertPlaysAnyLearnerAndKeepsTheTable) {
   EXPECT_FALSE(own.table() == start);
 }
 
+// Equal averaging's rounds skip the visit counts: the same entries, values,
+// start and table afterwards (reverted or not) as a counting round, with
+// every visit count 1. Both table sizes: a 20x20 region's 3,200 entries
+// outnumber the 2,048 count slots (hashed counts), a 12x12's do not (direct).
+TEST(FedAsynQLearnerTest, RoundsWithoutVisitCountsMatchCountingRounds) {
+  const Grid grid = GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid;
+  for (const Region& region : {Region{0, 19, 0, 19}, Region{4, 15, 2, 13}}) {
+    const RegionModel model(grid, region);
+    QTable start(model.cells());
+    for (size_t i = 0; i < start.values().size(); ++i) {
+      start.values()[i] = static_cast<float>(i % 5) * 0.25f - 0.5f;
+    }
+    StartStatistics stats(model.start_cells());
+    for (int round = 0; round < 6; ++round) {
+      FedAsynQLearner counting(model, 3), plain(model, 3);
+      plain.set_count_visits(false);
+      counting.Reset(start);
+      plain.Reset(start);
+      const bool revert = round % 2 == 0;
+      const LearnerShard expected = revert ? counting.RunRoundAndRevert(3, stats, 9, round, 1000)
+                                           : counting.RunRound(stats, 9, round, 1000);
+      const LearnerShard shard = revert ? plain.RunRoundAndRevert(3, stats, 9, round, 1000)
+                                        : plain.RunRound(stats, 9, round, 1000);
+      ASSERT_FALSE(shard.entries.empty());
+      EXPECT_EQ(shard.entries, expected.entries);
+      EXPECT_EQ(shard.values, expected.values);
+      EXPECT_EQ(shard.visits, std::vector<uint32_t>(shard.entries.size(), 1u));
+      EXPECT_EQ(shard.start_cell, expected.start_cell);
+      EXPECT_EQ(shard.reached_station, expected.reached_station);
+      EXPECT_EQ(shard.steps, expected.steps);
+      EXPECT_TRUE(plain.table() == counting.table());
+      EXPECT_EQ(plain.table() == start, revert);
+    }
+  }
+}
+
 TEST(FedAsynQLearnerTest, RegionsWithoutStartsOrMovesGiveTrivialShards) {
   const Grid walls = MapFromText("##\n##\n");
   const RegionModel empty(walls, Region{0, 1, 0, 1});

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/scenario.h"
+
 namespace dynapath {
 namespace {
 
@@ -112,6 +114,24 @@ TEST(RegionModelTest, SingleCellRegionHasNoActions) {
   const RegionModel model(grid, Region{1, 1, 1, 1});
   EXPECT_EQ(model.action_count(0), 0);
   EXPECT_EQ(model.start_cells(), (std::vector<int>{0}));
+}
+
+// The walk's shortcut (count, then the index-th move) agrees with the
+// action list and target() everywhere, on square and wide regions, inside
+// a larger grid and as the whole grid.
+TEST(RegionModelTest, StepTargetsFollowTheActionList) {
+  const Grid grid = GenerateScenario(37, 37, Difficulty::kHard, 52, 0).grid;
+  for (const Region& region :
+       {Region{0, 36, 0, 36}, Region{3, 9, 0, 36}, Region{20, 20, 5, 5}, Region{10, 29, 17, 19}}) {
+    const RegionModel model(grid, region);
+    for (int cell = 0; cell < model.cells(); ++cell) {
+      ASSERT_EQ(model.in_region_count(cell), model.action_count(cell)) << cell;
+      for (int i = 0; i < model.action_count(cell); ++i) {
+        ASSERT_EQ(model.step_target(cell, i), model.target(cell, model.actions(cell)[i]))
+            << "cell " << cell << " move " << i;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 # checked. Then the viewer joins a live run with --pid, and bad options.
 # Usage: view_test.sh DYNAPATH DYNAPATH_VIEW IMAGE_INFO POLICY_REPLAY
 # Exit 77 (skipped) without network namespaces or Xvfb. Set
-# DYNAPATH_VIEW_SCREENSHOT=FILE to keep the screenshot (docs/images/view.png).
+# DYNAPATH_VIEW_SCREENSHOT=FILE to keep the screenshot (docs/images/view.png),
+# DYNAPATH_VIEW_MAP_SCREENSHOT=FILE the map run's (docs/images/view_map.png).
 set -uo pipefail
 dynapath=$1
 view=$2
@@ -78,6 +79,38 @@ else
   cat "$work/live_view.log" "$work/live.log"
   fail "dynapath view --pid exited $code"
 fi
+# A MovingAI map (25x61, not square) with seeded stations and movers, live.
+map="$(cd "$(dirname "$0")/../data/maps" && pwd)/maze-25-61-1.map"
+"$dynapath" netns -- bash -c '
+  "$1" run --agents 2 --maze "$4" --stations 6 --movers 8 --steps 300 --approach fedAsynQ_EqAvg \
+    --out "$2/map" --log-level info >/dev/null 2>"$2/map.log" &
+  launcher=$!
+  for _ in $(seq 100); do grep -q "in a private network" "$2/map.log" && break; sleep 0.1; done
+  if ! grep -q "in a private network" "$2/map.log"; then
+    kill -TERM $launcher; wait $launcher
+    exit 77
+  fi
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$3" --pid $launcher --screenshot "$2/map.png" \
+    --frames 3 --timeout 60 --window 800x400 --log-level warn
+  code=$?
+  kill -TERM $launcher
+  wait $launcher
+  exit $code' _ "$dynapath" "$work" "$view" "$map" 2>"$work/map_view.log"
+code=$?
+if [ $code -eq 77 ]; then
+  echo "the launcher made no private network: the map run not checked"
+elif [ $code -eq 0 ]; then
+  shot=$("$info" "$work/map.png" 2>&1)
+  [ "$shot" = "png 800 400" ] && pass "view on a live 25x61 map run: 800x400 screenshot" ||
+    fail "map screenshot: $shot"
+else
+  cat "$work/map_view.log" "$work/map.log"
+  fail "dynapath view on a map run exited $code"
+fi
+if [ -n "${DYNAPATH_VIEW_MAP_SCREENSHOT:-}" ] && [ -f "$work/map.png" ]; then
+  cp "$work/map.png" "$DYNAPATH_VIEW_MAP_SCREENSHOT"
+fi
+
 "$view" --pid 999999999 >/dev/null 2>"$work/err"
 got=$?
 if [ $got -eq 1 ] && grep -q "no process with pid" "$work/err"; then pass "view --pid of no process: exit 1"; else
