@@ -184,6 +184,21 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
 }
 
 int LaunchProcesses(const DistributedRun& run) {
+  {
+    // A value a config file cannot carry fails the run before anything starts.
+    runtime::ConfigWriter check;
+    runtime::OptionGroup group(check);
+    runtime::ProcessOptions process = runtime::ChildProcessOptions(run.process);
+    runtime::ScenarioOptions scenario = run.scenario;
+    runtime::RunOptions plan = run.run;
+    runtime::DeclareProcessOptions(group, process, true);
+    runtime::DeclareScenarioOptions(group, scenario);
+    runtime::DeclareRunOptions(group, plan);
+    if (Status status = check.status(); !status) {
+      spdlog::error("cannot start the run's processes: {}", status.error().message);
+      return 1;
+    }
+  }
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   // Listen to the run's reports before its processes start.
   std::unique_ptr<lcm::LCM> report_lcm;
@@ -268,16 +283,21 @@ int LaunchProcesses(const DistributedRun& run) {
   coordinator::CoordinatorCommandLine coordinator_options;
   coordinator_options.run = run.run;
   coordinator_options.agents = run.agents;
-  start("coordinator", FindBinary("coordinator"), coordinator_options,
-        coordinator::DeclareCoordinatorCommandLine);
+  bool started = start("coordinator", FindBinary("coordinator"), coordinator_options,
+                       coordinator::DeclareCoordinatorCommandLine);
   envsim::EnvSimCommandLine envsim_options;
   envsim_options.scenario = run.scenario;
-  start("envsim", FindBinary("envsim"), envsim_options, envsim::DeclareEnvSimCommandLine);
-  for (int i = 1; i <= run.agents; ++i) {
+  started = started &&
+            start("envsim", FindBinary("envsim"), envsim_options, envsim::DeclareEnvSimCommandLine);
+  for (int i = 1; i <= run.agents && started; ++i) {
     agent::AgentCommandLine agent_options;
     agent_options.threads.threads = run.threads_per_agent;
-    start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
-          agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
+    started = start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
+                    agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
+  }
+  if (!started) {  // the run cannot go on without one of them: stop the others now
+    StopAll(children, std::chrono::milliseconds(3000));
+    return 1;
   }
 
   int exit_code = 0;

@@ -30,7 +30,11 @@ void ConfigWriter::Put(const std::string& key, const std::string& toml_value) {
 }
 
 Status ConfigWriter::status() const {
-  if (!unwritable_.empty()) return Error{"option --" + unwritable_ + ": cannot pass this value on"};
+  if (!unwritable_.empty()) {
+    return Error{"option --" + unwritable_ +
+                 ": a value holding both ' and \" or a line break cannot be handed to a child "
+                 "process"};
+  }
   return Ok{};
 }
 
@@ -164,6 +168,14 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
                          what.substr(equals + 3) + "'");
     }
     return usage_error(what);
+  } catch (const CLI::ConfigError& error) {
+    // CLI11: "INI was not able to parse KEY" for a key no option has.
+    const std::string what = error.what();
+    const std::string prefix = "INI was not able to parse ";
+    if (what.rfind(prefix, 0) == 0) {
+      return usage_error("unknown key '" + what.substr(prefix.size()) + "' in the --config file");
+    }
+    return usage_error(what);
   } catch (const CLI::ParseError& error) {
     return usage_error(error.what());
   }
@@ -178,6 +190,8 @@ void CloseInheritedFd(const std::string& path) {
 }
 
 void AddConfigOption(CLI::App& app) {
+  // A key no option has is a mistake, as an unknown option is.
+  app.allow_config_extras(CLI::config_extras_mode::error);
   app.set_config("--config", "",
                  "read options from FILE (CLI11 TOML, key = value with the options' names); "
                  "the command line overrides it")
