@@ -119,7 +119,7 @@ void DeclareThreadOptions(OptionGroup& group, ThreadOptions& options) {
 
 Result<int> ResolveThreads(const ThreadOptions& options) {
   const long long hardware = std::max(1u, std::thread::hardware_concurrency());
-  Result<long long> threads = InRange("threads", options.threads, hardware, 1, 1024);
+  Result<long long> threads = InRange("threads", options.threads, hardware, 1, kMaxThreads);
   if (!threads) return threads.error();
   return static_cast<int>(*threads);
 }

@@ -44,6 +44,8 @@ Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& options, bool r
 ProcessOptions ChildProcessOptions(const ProcessSetup& setup);
 
 // --threads: worker threads, the machine's hardware threads unless given.
+inline constexpr long long kMaxThreads = 1024;
+inline constexpr long long kMaxAgents = 256;  // of one `run` or study configuration
 struct ThreadOptions {
   std::optional<long long> threads;
 };

@@ -46,8 +46,23 @@ void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
   group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
 }
 
+Status CheckBootstrap(const std::string& text) {
+  if (text == "in-grid" || text == "in-region") return Ok{};
+  return Error{"must be in-grid or in-region, got '" + text + "'"};
+}
+
+Status CheckSemantics(const std::string& text) {
+  if (text == "ours" || text == "report") return Ok{};
+  return Error{"must be ours or report, got '" + text + "'"};
+}
+
+Status CheckPlacement(const std::string& text) {
+  if (text == "auto" || text == "whole" || text == "split") return Ok{};
+  return Error{"must be auto, whole or split, got '" + text + "'"};
+}
+
 Result<int> ResolveLeafLimit(long long leaf_limit) {
-  Result<long long> checked = InRange("leaf-limit", leaf_limit, 0, 1, 10000);
+  Result<long long> checked = InRange("leaf-limit", leaf_limit, 0, 1, kMaxLeafLimit);
   if (!checked) return checked.error();
   return static_cast<int>(*checked);
 }
@@ -84,13 +99,13 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (!leaf_limit) return leaf_limit.error();
   plan.options.leaf_limit = *leaf_limit;
   const std::string& bootstrap = o.bootstrap;
-  if (bootstrap != "in-grid" && bootstrap != "in-region") {
-    return Error{"option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'"};
+  if (Status status = CheckBootstrap(bootstrap); !status) {
+    return Error{"option --bootstrap " + status.error().message};
   }
   plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
   const std::string& semantics = o.semantics;
-  if (semantics != "ours" && semantics != "report") {
-    return Error{"option --semantics must be ours or report, got '" + semantics + "'"};
+  if (Status status = CheckSemantics(semantics); !status) {
+    return Error{"option --semantics " + status.error().message};
   }
   plan.options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
   if (plan.options.semantics == Semantics::kReport && bootstrap != "in-grid") {
@@ -99,15 +114,12 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
   const std::string& placement = o.placement;
-  if (placement == "auto") {
-    plan.placement = Placement::kAuto;
-  } else if (placement == "whole") {
-    plan.placement = Placement::kWhole;
-  } else if (placement == "split") {
-    plan.placement = Placement::kSplit;
-  } else {
-    return Error{"option --placement must be auto, whole or split, got '" + placement + "'"};
+  if (Status status = CheckPlacement(placement); !status) {
+    return Error{"option --placement " + status.error().message};
   }
+  plan.placement = placement == "auto"    ? Placement::kAuto
+                   : placement == "whole" ? Placement::kWhole
+                                          : Placement::kSplit;
   return plan;
 }
 

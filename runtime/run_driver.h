@@ -38,6 +38,14 @@ struct RunOptions {
   std::string semantics = "ours";
   std::string placement = "auto";
 };
+// The values the run plan's options accept, checked without naming the
+// option (callers add "option --NAME" or a config file's origin), so that
+// `run` and `experiment` check them the same way.
+inline constexpr long long kMaxLeafLimit = 10000;
+Status CheckBootstrap(const std::string& text);  // "must be in-grid or in-region, got 'x'"
+Status CheckSemantics(const std::string& text);
+Status CheckPlacement(const std::string& text);
+
 // --leaf-limit alone (dynapath maze), checked.
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit);
 Result<int> ResolveLeafLimit(long long leaf_limit);

@@ -242,14 +242,18 @@ void DeclareLogOptions(OptionGroup& group, LogOptions& options) {
   group.Option("--log-level", options.log_level, "LEVEL", "trace, debug, info, warn, error or off");
 }
 
-Status ApplyLogLevel(const LogOptions& options) {
-  const std::string& name = options.log_level;
-  const spdlog::level::level_enum level = spdlog::level::from_str(name);
-  if (level == spdlog::level::off && name != "off") {
-    return Error{"option --log-level must be trace, debug, info, warn, error or off, got '" + name +
-                 "'"};
+Status CheckLogLevel(const std::string& text) {
+  if (spdlog::level::from_str(text) == spdlog::level::off && text != "off") {
+    return Error{"must be trace, debug, info, warn, error or off, got '" + text + "'"};
   }
-  spdlog::set_level(level);
+  return Ok{};
+}
+
+Status ApplyLogLevel(const LogOptions& options) {
+  if (Status status = CheckLogLevel(options.log_level); !status) {
+    return Error{"option --log-level " + status.error().message};
+  }
+  spdlog::set_level(spdlog::level::from_str(options.log_level));
   return Ok{};
 }
 

@@ -38,5 +38,7 @@ struct LogOptions {
 };
 void DeclareLogOptions(OptionGroup& group, LogOptions& options);
 Status ApplyLogLevel(const LogOptions& options);
+// "must be trace, debug, info, warn, error or off, got 'x'" unless a level.
+Status CheckLogLevel(const std::string& text);
 
 }  // namespace dynapath::runtime

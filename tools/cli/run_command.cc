@@ -49,7 +49,7 @@ int RunCommand(const std::vector<std::string>& args) {
   if (Status status = runtime::ApplyLogLevel(log); !status) {
     return usage_error(status.error().message);
   }
-  Result<runtime::RunMode> run_mode = runtime::ResolveMode(mode, 256);
+  Result<runtime::RunMode> run_mode = runtime::ResolveMode(mode, runtime::kMaxAgents);
   if (!run_mode) return usage_error(run_mode.error().message);
   const bool distributed = run_mode->kind != runtime::RunMode::kLocal;
   Result<int> threads = runtime::ResolveThreads(thread_options);

@@ -277,20 +277,19 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     options.steps = static_cast<int>(*value);
   }
   if (const OptionValue* leaf = find("leaf-limit")) {
-    Result<long long> value = ParseInteger(*leaf, 1, 10000);
+    Result<long long> value = ParseInteger(*leaf, 1, runtime::kMaxLeafLimit);
     if (!value) return value.error();
     options.leaf_limit = static_cast<int>(*value);
   }
   if (const OptionValue* bootstrap = find("bootstrap")) {
-    if (bootstrap->text != "in-grid" && bootstrap->text != "in-region") {
-      return Error{bootstrap->origin + ": must be in-grid or in-region, got '" + bootstrap->text +
-                   "'"};
+    if (Status status = runtime::CheckBootstrap(bootstrap->text); !status) {
+      return Error{bootstrap->origin + ": " + status.error().message};
     }
     options.bootstrap = bootstrap->text;
   }
   if (const OptionValue* semantics = find("semantics")) {
-    if (semantics->text != "ours" && semantics->text != "report") {
-      return Error{semantics->origin + ": must be ours or report, got '" + semantics->text + "'"};
+    if (Status status = runtime::CheckSemantics(semantics->text); !status) {
+      return Error{semantics->origin + ": " + status.error().message};
     }
     if (semantics->text == "report" && options.bootstrap != "in-grid") {
       return Error{semantics->origin + ": report sets the bootstrap itself; leave bootstrap out"};
@@ -298,9 +297,8 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     options.semantics = semantics->text;
   }
   if (const OptionValue* placement = find("placement")) {
-    if (placement->text != "auto" && placement->text != "whole" && placement->text != "split") {
-      return Error{placement->origin + ": must be auto, whole or split, got '" + placement->text +
-                   "'"};
+    if (Status status = runtime::CheckPlacement(placement->text); !status) {
+      return Error{placement->origin + ": " + status.error().message};
     }
     options.placement = placement->text;
   }
@@ -313,24 +311,22 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     return Error{local->origin + ": choose one of --local, --agents N and --embedded"};
   }
   if (agents) {
-    Result<long long> value = ParseInteger(*agents, 1, 256);
+    Result<long long> value = ParseInteger(*agents, 1, runtime::kMaxAgents);
     if (!value) return value.error();
     options.agents = static_cast<int>(*value);
   }
   options.mode = embedded ? StudyMode::kEmbedded : agents ? StudyMode::kAgents : StudyMode::kLocal;
 
   if (const OptionValue* threads = find("threads")) {
-    Result<long long> value = ParseInteger(*threads, 1, 1024);
+    Result<long long> value = ParseInteger(*threads, 1, runtime::kMaxThreads);
     if (!value) return value.error();
     options.threads = static_cast<int>(*value);
   } else {
     options.threads = std::max(1, hardware_threads);
   }
   if (const OptionValue* level = find("log-level")) {
-    const spdlog::level::level_enum parsed = spdlog::level::from_str(level->text);
-    if (parsed == spdlog::level::off && level->text != "off") {
-      return Error{level->origin + ": must be trace, debug, info, warn, error or off, got '" +
-                   level->text + "'"};
+    if (Status status = runtime::CheckLogLevel(level->text); !status) {
+      return Error{level->origin + ": " + status.error().message};
     }
     options.log_level = level->text;
   }
