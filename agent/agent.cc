@@ -37,6 +37,11 @@ using Ms = std::chrono::milliseconds;
 // while it waits on, up to the cap), or twice our own compute time if longer.
 constexpr int64_t kNudgeMs = 10;
 constexpr int64_t kNudgeCapMs = 250;
+// Rounds of our own shards kept for re-sending (at most kKeptBytes of them,
+// at least two): the coordinator asks for a round it lacks as soon as it
+// sees a later one, by which time the agents may be a few rounds further
+// (protocol::kAgentKeptRounds; DistributedTrainer restarts beyond).
+constexpr size_t kKeptBytes = size_t{16} << 20;
 
 uint64_t KernelRandom64() {
   uint64_t value = 0;
@@ -383,10 +388,21 @@ void Agent::ComputeRound() {
     spdlog::error("agent {}: own shards rejected: {}", options_.id, why);
   }
   sent_.push_back(std::move(message));
-  if (sent_.size() > 2) sent_.pop_front();
+  size_t kept = 0;
+  for (const shards_t& sent : sent_) kept += static_cast<size_t>(sent.getEncodedSize());
+  while (sent_.size() > 2 &&
+         (sent_.size() > static_cast<size_t>(protocol::kAgentKeptRounds) || kept > kKeptBytes)) {
+    kept -= static_cast<size_t>(sent_.front().getEncodedSize());
+    sent_.pop_front();
+  }
   reported_round_ = round;
   waiting_since_ms_ = protocol::SteadyMs();
-  nudge_interval_ms_ = std::max(kNudgeMs, 2 * round_compute_ms_);
+  // The first nudge after a round trip or two (measured by the Bus's
+  // repairs; kNudgeMs until then), or twice our own compute time.
+  const double rtt = bus_.RepairRoundTripMs();
+  const int64_t nudge =
+      rtt < 0 ? kNudgeMs : std::clamp<int64_t>(static_cast<int64_t>(2 * rtt) + 2, 3, kNudgeMs);
+  nudge_interval_ms_ = std::max(nudge, 2 * round_compute_ms_);
   next_nudge_ms_ = waiting_since_ms_ + nudge_interval_ms_;
 }
 
@@ -405,9 +421,15 @@ void Agent::OnShards(const shards_t& shards) {
   // The sender still lacks shards of an earlier round: ours of it got lost.
   if (shards.needs_round < combiner_->round()) {
     for (const shards_t& sent : sent_) {
-      if (sent.round == shards.needs_round) PublishShards(sent, combiner_->round());
+      // The coordinator's request (no shards): every kept round from it on,
+      // in order, so that it catches up in one round trip.
+      if (sent.round == shards.needs_round ||
+          (shards.num_shards == 0 && sent.round > shards.needs_round)) {
+        PublishShards(sent, combiner_->round());
+      }
     }
   }
+  if (shards.num_shards == 0) return;  // the coordinator's request: nothing to combine
   std::string why;
   if (combiner_->Add(shards, &why) == protocol::RoundCombiner::Added::kInvalid) {
     spdlog::warn("agent {}: dropped shards of agent {}: {}", options_.id, shards.agent, why);

@@ -100,7 +100,7 @@ class Agent {
   std::vector<std::unique_ptr<HostedJob>> split_jobs_;  // jobs with learners here
   std::unique_ptr<protocol::RoundCombiner> combiner_;   // all agents' rounds of them
   int64_t computed_round_ = -1;                         // last round computed here
-  std::deque<shards_t> sent_;                           // our last two rounds' shards
+  std::deque<shards_t> sent_;                           // our last rounds' shards (agent.cc)
   int64_t waiting_since_ms_ = 0;                        // when our shards of the round went out
   int64_t next_nudge_ms_ = 0;
   int64_t nudge_interval_ms_ = 0;

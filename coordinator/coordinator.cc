@@ -133,9 +133,9 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     spdlog::info(
         "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
         "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress, {} split "
-        "batches run whole); round trip {:.1f} ms",
+        "batches run whole); {} split rounds asked for again; round trip {:.1f} ms",
         t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
-        t.epochs, t.stalls, t.split_fallbacks, t.round_trip_ms);
+        t.epochs, t.stalls, t.split_fallbacks, t.round_requests, t.round_trip_ms);
     spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
     spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
                  plan.out_dir);

@@ -49,6 +49,9 @@ struct DistributedTrainer::Batch {
   int stalls = 0;
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
+  // Split: the round last asked of the agents (RequestRound) and when.
+  int64_t requested_round = -1;
+  int64_t requested_ms = 0;
   int restarts_at_round = 0;
   // Round-trip samples: when this epoch's batch first went out, whether it
   // was repeated (then acknowledgements are ambiguous), who acknowledged.
@@ -80,9 +83,17 @@ bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
     case runtime::Placement::kSplit:
       return true;
   }
+  // Every split round costs a network round trip: split only when a round's
+  // work is longer than both the fixed cost of its messages and the measured
+  // round trip (none yet: this batch runs whole and measures it).
+  if (round_trip_ms_ < 0) return false;
+  return RoundUs(batch) >= std::max(options_.split_min_round_us, round_trip_ms_ * 1000);
+}
+
+double DistributedTrainer::RoundUs(const Batch& batch) {
   std::vector<Region> regions;
   for (const JobState& state : batch.jobs) regions.push_back(state.job.region);
-  return EstimatedRoundUs(regions, batch.jobs.front().job.federated) >= options_.split_min_round_us;
+  return EstimatedRoundUs(regions, batch.jobs.front().job.federated);
 }
 
 DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbox,
@@ -282,8 +293,16 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   if (!batch_ || !batch_->split) return;
   Batch& batch = *batch_;
   if (message.batch_id != batch.id || message.epoch != batch.epoch) return;  // stale
+  if (message.num_shards == 0) return;  // our own request (RequestRound)
   std::string why;
-  switch (batch.combiner->Add(message, &why)) {
+  const protocol::RoundCombiner::Added added = batch.combiner->Add(message, &why);
+  // An agent is past the round we collect: all agents had that round's
+  // shards, so the ones we lack were lost on their way to us. Ask at once,
+  // while the agents still keep them.
+  if (message.round > batch.combiner->round() && !batch.combiner->RoundComplete()) {
+    RequestRound();
+  }
+  switch (added) {
     case protocol::RoundCombiner::Added::kInvalid:
       spdlog::warn("dropped shards of agent {}: {}", message.agent, why);
       return;
@@ -303,6 +322,28 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
     }
     ++traffic_.rounds;
   }
+}
+
+void DistributedTrainer::RequestRound() {
+  Batch& batch = *batch_;
+  const int64_t now = AgentRegistry::NowMs();
+  const int64_t round = batch.combiner->round();
+  // Once per round, and again after two round trips (the request or its
+  // answer was lost: agents run on meanwhile, past what they keep).
+  const int64_t retry = static_cast<int64_t>(
+      round_trip_ms_ < 0 ? 20.0 : std::clamp(2 * round_trip_ms_ + 5, 5.0, 200.0));
+  if (round == batch.requested_round && now - batch.requested_ms < retry) return;
+  batch.requested_round = round;
+  batch.requested_ms = now;
+  shards_t request{};
+  request.run_id = bus_.run_id();
+  request.batch_id = batch.id;
+  request.epoch = batch.epoch;
+  request.round = round;
+  request.needs_round = round;
+  request.num_shards = 0;  // a request: agents re-send their shards of needs_round
+  bus_.Publish(protocol::channel::kShards, request);
+  ++traffic_.round_requests;
 }
 
 void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
@@ -365,10 +406,12 @@ void DistributedTrainer::CheckAgents() {
         received += batch.jobs[static_cast<size_t>(job)].result ? 1 : 0;
       }
       resend = resend || info.round > received;  // it sent what did not arrive
-    } else if (static_cast<double>(now - batch.last_progress_ms) > options_.resend_seconds * 1000) {
+    } else if (now - batch.last_progress_ms >
+               std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
+                        ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))) {
       // Agents keep their shards of their last two rounds only: one further
       // ahead cannot fill our gap, so the batch restarts from our round.
-      if (info.round > batch.combiner->round() + 1) {
+      if (info.round > batch.combiner->round() + protocol::kAgentKeptRounds - 1) {
         spdlog::warn("shards of agent {} for round {} were lost; restarting the round (batch {})",
                      agent, batch.combiner->round(), batch.id);
         if (batch.combiner->round() == batch.restart_round) {
@@ -380,6 +423,7 @@ void DistributedTrainer::CheckAgents() {
         restart = true;
         break;
       }
+      RequestRound();
       resend = true;
     }
   }
@@ -423,8 +467,12 @@ void DistributedTrainer::CheckAgents() {
   // send a heartbeat right after each result, so a gap seen that long is a
   // loss, not a result still in flight). Split rounds keep resend_seconds:
   // their gaps are detected by the lack of progress itself.
+  // Split rounds: a gap is a round without progress beyond a round's work
+  // plus the repeat interval of whole jobs (reordering is not loss).
   const int64_t interval =
-      batch.split ? static_cast<int64_t>(options_.resend_seconds * 1000) : ResendIntervalMs();
+      batch.split ? std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
+                             ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))
+                  : ResendIntervalMs();
   if ((resend && now - batch.stuck_since_ms >= interval && now - batch.last_send_ms > interval) ||
       (stalled && now - batch.last_send_ms > interval)) {
     ++traffic_.resends;

@@ -8,7 +8,9 @@
 // learners and returns final tables: no per-round traffic. When a batch has
 // fewer jobs than agents and its federated rounds are long enough that
 // parallel learners save more than a round's messages cost (EstimatedRoundUs
-// against split_min_round_us), or when placement is kSplit, every job's
+// against split_min_round_us and against the measured round trip to the
+// agents: auto placement runs whole jobs until it has measured one, and never
+// splits rounds shorter than a round trip), or when placement is kSplit, every job's
 // learners are split over the agents instead, which publish
 // their shards each round; the agents and the coordinator all combine them in
 // learner order (protocol::RoundCombiner: FederatedAverager, exactly as
@@ -18,7 +20,9 @@
 // in which its work is reassigned, split jobs from the last round the
 // coordinator completed (it holds their shared tables and start statistics),
 // whole jobs from their start. Lost messages are re-sent: agents ask each
-// other for missing shards (shards_t.needs_round); the coordinator repeats
+// other for missing shards (shards_t.needs_round), and the coordinator asks
+// for a round's shards as soon as an agent is past it (agents keep their last
+// protocol::kAgentKeptRounds rounds); the coordinator repeats
 // the batch when an agent's heartbeat shows it lacks the batch, or has sent
 // something that did not arrive; agents answer a repeat by re-sending. A
 // batch that still makes no progress (repeats lost too: a lossy link) is
@@ -91,6 +95,7 @@ struct TrafficStats {
   int64_t resends = 0, epochs = 0;
   int64_t stalls = 0;           // batches reassigned for lack of progress
   int64_t split_fallbacks = 0;  // split batches run whole after repeated restarts
+  int64_t round_requests = 0;   // split rounds asked for again (shards lost on the way)
   double round_trip_ms = -1;    // smoothed batch-to-acknowledgement time (-1: none yet)
 };
 
@@ -118,8 +123,13 @@ class DistributedTrainer : public Trainer {
 
   void OnShards(const shards_t& message, int64_t bytes);
   void OnResult(const job_result_t& message, int64_t bytes);
+  // Split: asks the agents for their shards of the round the coordinator
+  // collects (a shards_t without shards, needs_round = that round).
+  void RequestRound();
   std::vector<int> WaitForAgents();
   bool ShouldSplit(const Batch& batch, size_t agents) const;
+  // One federated round of the batch's jobs on one thread (estimated).
+  static double RoundUs(const Batch& batch);
   void StartEpoch(std::vector<int> agents);
   void PublishBatch();
   void CheckAgents();

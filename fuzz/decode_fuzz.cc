@@ -67,6 +67,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ValidateAndConvert<dynapath::shards_t>(data, n);
   ValidateAndConvert<dynapath::job_result_t>(data, n);
   ValidateAndConvert<dynapath::fragment_t>(data, n);
+  ValidateAndConvert<dynapath::fragment_nack_t>(data, n);
   ValidateAndConvert<dynapath::step_report_t>(data, n);
   ValidateAndConvert<dynapath::policy_t>(data, n);
   return 0;

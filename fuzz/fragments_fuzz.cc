@@ -1,7 +1,8 @@
 // libFuzzer target: the fragment assembler under arbitrary pieces (message
 // ids, totals, counts, offsets, sizes all from the input) with small caps:
-// the bytes it holds never exceed its budget and a completed message has
-// exactly its announced size.
+// the bytes it holds never exceed its budget, a completed message has
+// exactly its announced size, and the NACKs it asks for (selective repair)
+// name only pieces of partial messages, with a bitmap of their count.
 
 #include <algorithm>
 #include <cstdint>
@@ -27,6 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   limits.max_buffered_bytes = 8192 + 1024;
   limits.max_partials = 4;
   limits.lifetime = 50;
+  limits.min_piece_bytes = 1;
   dynapath::protocol::FragmentAssembler assembler(limits);
   const uint8_t* p = data;
   const uint8_t* end = data + size;
@@ -58,6 +60,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (outcome.kind == dynapath::protocol::FragmentAssembler::Outcome::Kind::kComplete &&
         static_cast<int32_t>(outcome.bytes.size()) != fragment.total_size) {
       std::abort();
+    }
+    for (const dynapath::protocol::Nack& nack : assembler.DueNacks(now, 3, 5, 4)) {
+      if (nack.count < 1 || nack.missing.size() != (static_cast<size_t>(nack.count) + 7) / 8 ||
+          nack.missing_count < 1 || nack.missing_count > nack.count || assembler.pending() == 0) {
+        std::abort();
+      }
     }
   }
   return 0;

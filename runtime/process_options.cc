@@ -38,6 +38,9 @@ void DeclareProcessOptions(OptionGroup& group, ProcessOptions& o, bool run_id_re
   group.Option("--grid-cells", o.grid_cells, "N",
                "cells of the run's grid at most: caps what the process buffers of "
                "fragmented messages");
+  group.Option("--fragment-size", o.fragment_size, "BYTES",
+               "payload bytes per fragment of large messages (1024-60000)",
+               "one Ethernet frame when the URL's ttl > 0, else 60000");
   group.Option("--fault-drop", o.fault_drop, "P",
                "testing: drop published messages with probability P");
   group.Option("--fault-dup", o.fault_dup, "P",
@@ -97,7 +100,19 @@ Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& o, bool run_id_
   setup.bus.max_grid_cells = *cells;
   setup.bus.drop_probability = *drop;
   setup.bus.duplicate_probability = *dup;
-  if (protocol::IsMemq(protocol::ResolveLcmUrl(setup.lcm_url))) setup.bus.fragment_above = 0;
+  const std::string url = protocol::ResolveLcmUrl(setup.lcm_url);
+  if (protocol::IsMemq(url)) setup.bus.fragment_above = 0;
+  Result<long long> fragment_size =
+      InRange("fragment-size", o.fragment_size, protocol::DefaultFragmentSize(url), 1024, 60000);
+  if (!fragment_size) return fragment_size.error();
+  setup.bus.fragment_size = static_cast<int>(*fragment_size);
+  setup.fragment_size = o.fragment_size;
+  // Messages above one piece are fragmented (a datagram above the MTU
+  // would be split by IP, and a lost frame would lose all of it).
+  if (setup.bus.fragment_above > 0 &&
+      (o.fragment_size || *fragment_size == protocol::kFrameFragmentSize)) {
+    setup.bus.fragment_above = std::min(setup.bus.fragment_above, setup.bus.fragment_size);
+  }
   return setup;
 }
 
@@ -106,6 +121,7 @@ ProcessOptions ChildProcessOptions(const ProcessSetup& setup) {
   options.run_id = setup.run_id;
   options.lcm_url = setup.lcm_url;
   options.grid_cells = setup.bus.max_grid_cells;
+  options.fragment_size = setup.fragment_size;
   options.fault_drop = setup.bus.drop_probability;
   options.fault_dup = setup.bus.duplicate_probability;
   return options;

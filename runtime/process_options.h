@@ -19,6 +19,9 @@ struct ProcessSetup {
   // The secret's text, for the launcher to hand to its children; "" with
   // --insecure.
   std::string secret;
+  // --fragment-size as given (the launcher hands it on); bus.fragment_size
+  // holds the size in force.
+  std::optional<long long> fragment_size;
 };
 
 // A new random secret for a run the launcher starts (setup.secret, bus.key).
@@ -30,6 +33,7 @@ struct ProcessOptions {
   std::string lcm_url;
   bool insecure = false;
   long long grid_cells = protocol::kMaxGridCells;
+  std::optional<long long> fragment_size;  // unset: by the URL (DefaultFragmentSize)
   double fault_drop = 0.0, fault_dup = 0.0;
 };
 // --lcm-url alone (dynapath view).

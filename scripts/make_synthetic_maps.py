@@ -4,7 +4,9 @@
 Real MovingAI maps are not available offline here, so these imitate the kinds
 of the benchmark: `city` (street grid with irregular blocks), `maze`
 (corridors of a given width from a randomised depth-first search), `room`
-(rooms with doors), `random` (uniform obstacles). Deterministic for a seed.
+(rooms with doors), `random` (uniform obstacles), `cave` (the open, irregular
+caverns of game levels such as the Dragon Age maps, by cellular automaton; `T`
+trees on its walls). Deterministic for a seed.
 
 usage: make_synthetic_maps.py OUT_DIR
 """
@@ -91,6 +93,24 @@ def uniform(h, w, percent, rng):
     return [["@" if rng.random() < percent / 100 else "." for _ in range(w)] for _ in range(h)]
 
 
+def cave(h, w, rng):
+    # 45% rock, then five rounds of "rock where at least 5 of the 9 cells
+    # around are rock": the classic cave automaton.
+    g = [[rng.random() < 0.45 for _ in range(w)] for _ in range(h)]
+    for _ in range(5):
+        n = [[False] * w for _ in range(h)]
+        for r in range(h):
+            for c in range(w):
+                rock = 0
+                for dr in (-1, 0, 1):
+                    for dc in (-1, 0, 1):
+                        rr, cc = r + dr, c + dc
+                        rock += 1 if not (0 <= rr < h and 0 <= cc < w) or g[rr][cc] else 0
+                n[r][c] = rock >= 5
+        g = n
+    return [["T" if g[r][c] else "." for c in range(w)] for r in range(h)]
+
+
 def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
@@ -100,6 +120,7 @@ def main():
     write(os.path.join(out, "room-101-101-10.map"), room(101, 101, 10, rng))
     write(os.path.join(out, "random-300-300-20.map"), uniform(300, 300, 20, rng))
     write(os.path.join(out, "city-1000-1000.map"), city(1000, 1000, rng))
+    write(os.path.join(out, "cave-256-512.map"), cave(256, 512, rng))
 
 
 if __name__ == "__main__":

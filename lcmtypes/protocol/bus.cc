@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -13,12 +14,21 @@
 #include "lcmtypes/protocol/liveness.h"
 
 namespace dynapath::protocol {
+namespace {
+
+// Fragments are paced per this many bytes sent (see fragment_pause_us).
+constexpr size_t kPaceBytes = 60000;
+// How often the repair thread looks for partial messages to NACK.
+constexpr auto kRepairTick = std::chrono::milliseconds(5);
+
+}  // namespace
 
 Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
     : lcm_(lcm),
       run_id_(std::move(run_id)),
       options_(options),
       fragments_(BusFragmentLimits(options.max_grid_cells)),
+      sent_(options.sent_store_bytes, 256, 30000),
       // Message ids: distinct per process and bus, so a receiver never mixes
       // the fragments of two senders.
       next_message_id_(static_cast<int64_t>(
@@ -28,9 +38,32 @@ Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
           (reinterpret_cast<uintptr_t>(this) & 0xfffff0))),
       fault_rng_(options.fault_seed),
       sealer_(options.key),
-      verifier_(options.key) {}
+      verifier_(options.key) {
+  if (options_.fragment_above > 0 && options_.repair) {
+    AddRoute(Channel(channel::kFragmentNack), static_cast<int64_t>(fragment_nack_t::getHash()),
+             [this](const uint8_t* data, int size, const std::string& where) {
+               fragment_nack_t nack;
+               if (!DecodeExactly(data, size, nack))
+                 return Drop(where, "undecodable fragment_nack_t");
+               if (nack.run_id != run_id_) return Drop(where, "message of another run");
+               if (std::string error = Validate(nack); !error.empty()) {
+                 return Drop(where, "fragment_nack_t: " + error);
+               }
+               OnNack(nack);
+             });
+    repair_thread_ = std::thread([this] { RepairLoop(); });
+  }
+}
 
 Bus::~Bus() {
+  if (repair_thread_.joinable()) {
+    {
+      std::lock_guard lock(repair_wait_mutex_);
+      repair_stop_ = true;
+    }
+    repair_wake_.notify_all();
+    repair_thread_.join();
+  }
   if (counters_dropped_ > 0) {
     const BusCounters c = counters();
     spdlog::warn(
@@ -44,6 +77,11 @@ Bus::~Bus() {
 
 std::string Bus::Channel(std::string_view name) const { return ChannelName(run_id_, name); }
 
+double Bus::RepairRoundTripMs() const {
+  std::lock_guard lock(const_cast<std::mutex&>(fragments_mutex_));
+  return repair_rtt_measured_ ? repair_rtt_ms_ : -1.0;
+}
+
 BusCounters Bus::counters() const {
   BusCounters c;
   c.published = counters_published_.load();
@@ -54,6 +92,16 @@ BusCounters Bus::counters() const {
   c.injected_duplicates = counters_injected_duplicates_.load();
   c.unauthenticated = counters_unauthenticated_.load();
   c.replayed = counters_replayed_.load();
+  c.fragments_sent = counters_fragments_sent_.load();
+  c.ids_reused = counters_ids_reused_.load();
+  c.nacks_sent = counters_nacks_sent_.load();
+  c.nacks_received = counters_nacks_received_.load();
+  c.pieces_repaired = counters_pieces_repaired_.load();
+  {
+    std::lock_guard lock(const_cast<std::mutex&>(fragments_mutex_));
+    c.partials_evicted = fragments_.evicted() + fragments_.expired();
+    if (repair_rtt_measured_) c.repair_round_trip_ms = static_cast<int64_t>(repair_rtt_ms_);
+  }
   return c;
 }
 
@@ -62,7 +110,19 @@ std::string Bus::TrafficSummary() const {
   return "published " + std::to_string(c.published) + ", received " + std::to_string(c.received) +
          ", dropped " + std::to_string(c.dropped) + " (" + std::to_string(c.unauthenticated) +
          " unauthenticated, " + std::to_string(c.replayed) + " replayed, " +
-         std::to_string(c.dropped - c.unauthenticated - c.replayed) + " invalid)";
+         std::to_string(c.dropped - c.unauthenticated - c.replayed) + " invalid)" +
+         (c.fragments_sent + c.fragments_received + c.nacks_sent > 0
+              ? "; fragments " + std::to_string(c.fragments_sent) + " sent, " +
+                    std::to_string(c.fragments_received) + " received, " +
+                    std::to_string(c.ids_reused) + " resends reusing their id, " +
+                    std::to_string(c.nacks_sent) + " NACKs sent, " +
+                    std::to_string(c.nacks_received) + " answered with " +
+                    std::to_string(c.pieces_repaired) + " pieces, " +
+                    std::to_string(c.partials_evicted) + " partial messages dropped" +
+                    (c.repair_round_trip_ms >= 0
+                         ? ", repair round trip " + std::to_string(c.repair_round_trip_ms) + " ms"
+                         : std::string())
+              : std::string());
 }
 
 void Bus::PublishRaw(const std::string& channel, const void* data, size_t size) {
@@ -93,28 +153,111 @@ void Bus::PublishBytes(const std::string& channel, const std::vector<uint8_t>& b
     PublishRaw(channel, bytes.data(), bytes.size());
     return;
   }
+  const int piece = std::max(1024, options_.fragment_size);
+  const uint64_t hash = SentStore::Hash(bytes);
+  const int64_t now = SteadyMs();
+  std::shared_ptr<const SentMessage> message;
+  {
+    std::lock_guard lock(sent_mutex_);
+    message = sent_.Find(channel, bytes, hash, piece, now);
+    if (message) {
+      // A resend: same id and pieces, so receivers combine it with what
+      // they hold of the earlier attempts.
+      ++counters_ids_reused_;
+    } else {
+      auto fresh = std::make_shared<SentMessage>();
+      fresh->channel = channel;
+      fresh->id = next_message_id_.fetch_add(1);
+      fresh->fingerprint = fingerprint;
+      fresh->hash = hash;
+      fresh->piece = piece;
+      fresh->bytes = bytes;
+      fresh->sent_ms = now;
+      message = fresh;
+      sent_.Add(message, now);
+    }
+  }
+  SendPieces(*message, nullptr, false);
+}
+
+void Bus::SendPieces(const SentMessage& message, const std::vector<uint8_t>* only, bool repair) {
   fragment_t fragment{};
   fragment.run_id = run_id_;
-  fragment.message_id = next_message_id_.fetch_add(1);
-  fragment.fingerprint = fingerprint;
-  fragment.total_size = static_cast<int32_t>(bytes.size());
-  const int piece = std::max(1024, options_.fragment_size);
-  fragment.count = static_cast<int32_t>((bytes.size() + piece - 1) / piece);
+  fragment.message_id = message.id;
+  fragment.fingerprint = message.fingerprint;
+  fragment.total_size = static_cast<int32_t>(message.bytes.size());
+  fragment.count = message.count();
   std::vector<uint8_t> encoded;
+  size_t paced = 0;
   for (int32_t i = 0; i < fragment.count; ++i) {
-    const size_t begin = static_cast<size_t>(i) * piece;
-    const size_t end = std::min(bytes.size(), begin + piece);
+    if (only != nullptr && !NackBit(*only, i)) continue;
+    const size_t begin = static_cast<size_t>(i) * static_cast<size_t>(message.piece);
+    const size_t end = std::min(message.bytes.size(), begin + static_cast<size_t>(message.piece));
     fragment.index = i;
     fragment.offset = static_cast<int32_t>(begin);
     fragment.size = static_cast<int32_t>(end - begin);
-    fragment.data.assign(bytes.begin() + static_cast<ptrdiff_t>(begin),
-                         bytes.begin() + static_cast<ptrdiff_t>(end));
+    fragment.data.assign(message.bytes.begin() + static_cast<ptrdiff_t>(begin),
+                         message.bytes.begin() + static_cast<ptrdiff_t>(end));
     encoded.resize(static_cast<size_t>(fragment.getEncodedSize()));
     fragment.encode(encoded.data(), 0, static_cast<int>(encoded.size()));
-    if (i > 0 && options_.fragment_pause_us > 0) {
+    if (paced >= kPaceBytes && options_.fragment_pause_us > 0) {
       std::this_thread::sleep_for(std::chrono::microseconds(options_.fragment_pause_us));
+      paced = 0;
     }
-    PublishRaw(channel, encoded.data(), encoded.size());
+    paced += encoded.size();
+    ++counters_fragments_sent_;
+    if (repair) ++counters_pieces_repaired_;
+    if (options_.drop_fragment && options_.drop_fragment(fragment, repair)) {
+      ++counters_injected_drops_;
+      continue;
+    }
+    PublishRaw(message.channel, encoded.data(), encoded.size());
+  }
+}
+
+void Bus::OnNack(const fragment_nack_t& nack) {
+  std::shared_ptr<const SentMessage> message;
+  {
+    std::lock_guard lock(sent_mutex_);
+    message = sent_.Get(nack.channel, nack.message_id, SteadyMs());
+  }
+  // Another sender's message (NACKs reach every process), or one too old.
+  if (!message) return;
+  if (message->count() != nack.count) return Drop(nack.channel, "NACK of another piece count");
+  ++counters_nacks_received_;
+  SendPieces(*message, &nack.missing, true);
+}
+
+void Bus::RepairLoop() {
+  while (true) {
+    {
+      std::unique_lock lock(repair_wait_mutex_);
+      if (repair_wake_.wait_for(lock, kRepairTick, [this] { return repair_stop_.load(); })) return;
+    }
+    std::vector<Nack> due;
+    {
+      std::lock_guard lock(fragments_mutex_);
+      if (fragments_.pending() == 0) continue;
+      // Quiet long enough that reordering is not taken for loss; retry
+      // after two round trips of a repair.
+      const auto quiet = static_cast<int64_t>(
+          repair_rtt_measured_ ? std::clamp(1.5 * repair_rtt_ms_ + 1,
+                                            static_cast<double>(options_.nack_quiet_ms), 200.0)
+                               : 15.0);
+      const auto retry = static_cast<int64_t>(std::clamp(2 * repair_rtt_ms_ + 10, 20.0, 1000.0));
+      due = fragments_.DueNacks(SteadyMs(), quiet, retry, options_.max_nacks);
+    }
+    for (Nack& nack : due) {
+      fragment_nack_t message{};
+      message.run_id = run_id_;
+      message.channel = std::move(nack.channel);
+      message.message_id = nack.message_id;
+      message.count = nack.count;
+      message.bitmap_size = static_cast<int32_t>(nack.missing.size());
+      message.missing = std::move(nack.missing);
+      ++counters_nacks_sent_;
+      Publish(channel::kFragmentNack, message);
+    }
   }
 }
 
@@ -174,7 +317,16 @@ void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) 
     return Drop(channel, "fragment_t: " + error);
   }
   ++counters_fragments_;
-  FragmentAssembler::Outcome outcome = fragments_.Add(channel, fragment, SteadyMs());
+  FragmentAssembler::Outcome outcome;
+  {
+    std::lock_guard lock(fragments_mutex_);
+    outcome = fragments_.Add(channel, fragment, SteadyMs());
+    if (outcome.repair_round_trip >= 0) {
+      const auto sample = static_cast<double>(outcome.repair_round_trip);
+      repair_rtt_ms_ = repair_rtt_measured_ ? 0.875 * repair_rtt_ms_ + 0.125 * sample : sample;
+      repair_rtt_measured_ = true;
+    }
+  }
   if (outcome.kind == FragmentAssembler::Outcome::Kind::kDropped) return Drop(channel, outcome.why);
   if (outcome.kind == FragmentAssembler::Outcome::Kind::kComplete) {
     Dispatch(channel, outcome.bytes.data(), static_cast<int>(outcome.bytes.size()));

@@ -10,9 +10,17 @@
 //     the run id and by protocol::Validate (sizes, bounds, finite values), and
 //     dropped with a counted, rate-limited warning when anything is wrong.
 //   * Fragmentation. Messages above a size limit travel as fragment_t pieces
-//     of at most one UDP datagram each. The receiver keeps pieces across
-//     re-sends of the same message, so a resend fills gaps instead of
-//     starting over (udpm loses whole multi-MB messages often).
+//     of at most one UDP datagram each. Publishing the same bytes on the
+//     same channel again (a component's resend) reuses the message id
+//     (sent_store.h), and the receiver keeps pieces across re-sends, so a
+//     resend fills gaps instead of starting over.
+//   * Selective repair. A receiver holding part of a message and getting no
+//     new piece of it for a quiet period (long enough that reordering does
+//     not look like loss) publishes a fragment_nack_t with a bitmap of the
+//     pieces it lacks, again after a retry interval while they stay missing;
+//     the sender re-sends exactly those. Both intervals follow the measured
+//     NACK-to-repair round trip. A message lost whole is the component's to
+//     resend (it learns of it from heartbeats).
 //   * Fault injection (tests only): drop or duplicate published messages.
 //
 // Handlers run on the thread that calls lcm::LCM::handle (the dispatch
@@ -20,6 +28,7 @@
 // Subscribe before dispatching starts. Publish is safe from any thread.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
@@ -28,6 +37,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "core/limits.h"
@@ -35,6 +45,7 @@
 #include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/decode.h"
 #include "lcmtypes/protocol/fragments.h"
+#include "lcmtypes/protocol/sent_store.h"
 #include "lcmtypes/protocol/validate.h"
 
 namespace dynapath::protocol {
@@ -43,11 +54,23 @@ struct BusOptions {
   // Encoded messages above this many bytes are fragmented (0: never).
   int fragment_above = 128 * 1024;
   int fragment_size = 60000;  // payload bytes per fragment: one UDP datagram
-  // Pause between two fragments of a message. LCM's udpm receiver copies
+  // Pause after every 60 KB of fragments sent. LCM's udpm receiver copies
   // datagrams into a fixed ring buffer its dispatch thread drains; a burst
   // of several 60 KB fragments overruns it and loses the message (measured:
   // one in two 250 KB job batches on loopback without pausing).
   int fragment_pause_us = 300;
+  // Selective repair (NACKs) of fragmented messages. A receiver NACKs a
+  // partial message quiet for 1.5 repair round trips + 1 ms (reordering
+  // within it is not loss), at least nack_quiet_ms; 15 ms until a round trip
+  // is measured.
+  bool repair = true;
+  int nack_quiet_ms = 3;
+  int max_nacks = 30;  // NACKs of a message without progress
+  // What the sender keeps for repairs and id reuse.
+  int64_t sent_store_bytes = int64_t{64} << 20;
+  // Test-only: a fragment for which this returns true is not sent (`repair`:
+  // the piece answers a NACK).
+  std::function<bool(const fragment_t&, bool repair)> drop_fragment;
   // Test-only fault injection on publish: probability of dropping a message
   // (or fragment) and of sending it twice.
   double drop_probability = 0.0;
@@ -71,6 +94,14 @@ struct BusCounters {
   int64_t fragments_received = 0;
   int64_t injected_drops = 0;
   int64_t injected_duplicates = 0;
+  // Selective repair.
+  int64_t fragments_sent = 0;
+  int64_t ids_reused = 0;  // publishes that resent a stored message
+  int64_t nacks_sent = 0;
+  int64_t nacks_received = 0;         // of messages this Bus sent
+  int64_t pieces_repaired = 0;        // pieces re-sent for NACKs
+  int64_t partials_evicted = 0;       // incomplete messages dropped for room or age
+  int64_t repair_round_trip_ms = -1;  // smoothed NACK-to-repair time
 };
 
 class Bus {
@@ -111,6 +142,9 @@ class Bus {
   }
 
   BusCounters counters() const;
+  // The smoothed time from a NACK to its first repaired piece (-1: none
+  // measured yet): a round trip to the senders of this run.
+  double RepairRoundTripMs() const;
   // One line for the end of a run: messages published, received, dropped
   // and why.
   std::string TrafficSummary() const;
@@ -134,6 +168,10 @@ class Bus {
   void OnRaw(const lcm::ReceiveBuffer* buffer, const std::string& channel);
   void Dispatch(const std::string& channel, const uint8_t* data, int size);
   void OnFragment(const std::string& channel, const uint8_t* data, int size);
+  void OnNack(const fragment_nack_t& nack);
+  // Sends the pieces of `message` (those set in `only`, if given).
+  void SendPieces(const SentMessage& message, const std::vector<uint8_t>* only, bool repair);
+  void RepairLoop();
   void Drop(const std::string& channel, const std::string& why);
 
   lcm::LCM& lcm_;
@@ -141,7 +179,16 @@ class Bus {
   BusOptions options_;
   std::map<std::string, std::vector<Route>> routes_;
   std::vector<lcm::Subscription*> subscriptions_;
-  FragmentAssembler fragments_;  // dispatch thread only
+  std::mutex fragments_mutex_;   // the dispatch and repair threads
+  FragmentAssembler fragments_;  // guarded by fragments_mutex_
+  double repair_rtt_ms_ = 20;    // guarded by fragments_mutex_
+  bool repair_rtt_measured_ = false;
+  std::mutex sent_mutex_;
+  SentStore sent_;  // guarded by sent_mutex_
+  std::mutex repair_wait_mutex_;
+  std::condition_variable repair_wake_;
+  std::atomic<bool> repair_stop_{false};
+  std::thread repair_thread_;
   std::atomic<int64_t> next_message_id_;
   std::mutex fault_mutex_;
   Rng fault_rng_;
@@ -149,7 +196,9 @@ class Bus {
   Verifier verifier_;  // dispatch thread only
   std::atomic<int64_t> counters_published_{0}, counters_received_{0}, counters_dropped_{0},
       counters_fragments_{0}, counters_injected_drops_{0}, counters_injected_duplicates_{0},
-      counters_unauthenticated_{0}, counters_replayed_{0};
+      counters_unauthenticated_{0}, counters_replayed_{0}, counters_fragments_sent_{0},
+      counters_ids_reused_{0}, counters_nacks_sent_{0}, counters_nacks_received_{0},
+      counters_pieces_repaired_{0};
   int64_t last_warning_ms_ = -1000000;
   int64_t warnings_suppressed_ = 0;
 };

@@ -20,7 +20,13 @@ inline constexpr std::string_view kShards = "SHARDS";
 inline constexpr std::string_view kResults = "RESULTS";
 inline constexpr std::string_view kReport = "REPORT";
 inline constexpr std::string_view kPolicy = "POLICY";
+// Selective repair of fragmented messages (any channel's): fragment_nack_t.
+inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel
+
+// Rounds of its own shards an agent keeps to re-send (SHARDS, needs_round):
+// a coordinator lagging further behind restarts the round.
+inline constexpr int kAgentKeptRounds = 32;
 
 // "DYNAPATH/<run>/<name>".
 std::string ChannelName(std::string_view run_id, std::string_view name);

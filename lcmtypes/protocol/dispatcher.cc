@@ -15,6 +15,13 @@ std::string ResolveLcmUrl(const std::string& url) {
 
 bool IsMemq(const std::string& url) { return url.rfind("memq://", 0) == 0; }
 
+int DefaultFragmentSize(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0) return 60000;
+  const size_t ttl = url.find("ttl=");
+  if (ttl == std::string::npos) return 60000;  // LCM's default ttl is 0
+  return std::atoi(url.c_str() + ttl + 4) > 0 ? kFrameFragmentSize : 60000;
+}
+
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   const std::string resolved = ResolveLcmUrl(url);
   auto lcm = std::make_unique<lcm::LCM>(resolved);

@@ -20,6 +20,15 @@ std::string ResolveLcmUrl(const std::string& url);
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url);
 // True for memq:// (one process, nothing to fragment).
 bool IsMemq(const std::string& url);
+// Payload bytes of a Bus fragment that fits one Ethernet frame (1500-byte
+// MTU: 1472 bytes of UDP payload, less LCM's header with the channel name,
+// fragment_t's fields with a run id of at most 64 characters and the
+// authentication trailer), so one lost frame costs one small piece.
+inline constexpr int kFrameFragmentSize = 1200;
+// The fragment size for `url` (resolved): one Ethernet frame for udpm URLs
+// whose ttl lets datagrams leave the host, else one 60 KB datagram (the
+// loopback's MTU is 64 KB: nothing to gain from small pieces there).
+int DefaultFragmentSize(const std::string& url);
 
 class Dispatcher {
  public:

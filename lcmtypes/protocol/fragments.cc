@@ -1,5 +1,6 @@
 #include "lcmtypes/protocol/fragments.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace dynapath::protocol {
@@ -22,11 +23,20 @@ bool FragmentAssembler::EvictOldest(const Key& keep) {
   auto oldest = partials_.end();
   for (auto it = partials_.begin(); it != partials_.end(); ++it) {
     if (it->first == keep) continue;
-    if (oldest == partials_.end() || it->second.last_seen < oldest->second.last_seen) oldest = it;
+    // Stray pieces of completed messages go first, then the stalest.
+    if (oldest == partials_.end() ||
+        std::make_pair(!it->second.after_complete, it->second.last_seen) <
+            std::make_pair(!oldest->second.after_complete, oldest->second.last_seen)) {
+      oldest = it;
+    }
   }
   if (oldest == partials_.end()) return false;
+  if (oldest->second.after_complete) {
+    ++strays_;
+  } else {
+    ++evicted_;
+  }
   Erase(oldest);
-  ++evicted_;
   return true;
 }
 
@@ -50,8 +60,11 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
   }
   // Forget partial messages whose sender gave up or died.
   for (auto it = partials_.begin(); it != partials_.end();) {
-    if (now - it->second.last_seen > limits_.lifetime) {
-      ++expired_;
+    const int64_t lifetime = it->second.after_complete
+                                 ? std::min(limits_.lifetime, limits_.completed_lifetime)
+                                 : limits_.lifetime;
+    if (now - it->second.last_seen > lifetime) {
+      ++(it->second.after_complete ? strays_ : expired_);
       buffered_ -= it->second.held;
       it = partials_.erase(it);
     } else {
@@ -69,6 +82,7 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
     partial.total_size = fragment.total_size;
     partial.count = fragment.count;
     partial.first_seen = now;
+    partial.after_complete = completed_.count(key) != 0;
     it = partials_.emplace(key, std::move(partial)).first;
   }
   Partial& partial = it->second;
@@ -80,6 +94,12 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
   }
   partial.last_seen = now;
   if (partial.pieces.count(fragment.index) != 0) return Outcome{};  // a re-sent piece
+  Outcome progress;
+  if (partial.first_nack >= 0 && !partial.timed) {
+    progress.repair_round_trip = now - partial.first_nack;
+    partial.timed = true;
+  }
+  partial.nacks = 0;
   const int64_t cost = static_cast<int64_t>(fragment.size) + kPieceOverhead;
   while (buffered_ + cost > limits_.max_buffered_bytes && EvictOldest(key)) {
   }
@@ -90,12 +110,13 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
   partial.pieces.emplace(fragment.index, std::make_pair(fragment.offset, fragment.data));
   partial.held += cost;
   buffered_ += cost;
-  if (static_cast<int32_t>(partial.pieces.size()) < partial.count) return Outcome{};
+  if (static_cast<int32_t>(partial.pieces.size()) < partial.count) return progress;
 
   // All pieces are there: they must tile the message exactly.
   std::map<int32_t, const std::vector<uint8_t>*> by_offset;
   for (const auto& [index, piece] : partial.pieces) by_offset.emplace(piece.first, &piece.second);
   Outcome outcome;
+  outcome.repair_round_trip = progress.repair_round_trip;
   int64_t end = 0;
   bool tiles = by_offset.size() == partial.pieces.size();
   for (const auto& [offset, bytes] : by_offset) {
@@ -114,13 +135,52 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
   }
   const int64_t fingerprint = partial.fingerprint;
   Erase(it);
+  RememberCompleted(key);
   if (!tiles) return dropped("fragment pieces overlap or leave gaps");
   if (PeekFingerprint(outcome.bytes.data(), static_cast<int>(outcome.bytes.size())) !=
       fingerprint) {
     return dropped("reassembled message has the wrong type");
   }
   outcome.kind = Outcome::Kind::kComplete;
+  ++completed_count_;
   return outcome;
+}
+
+void FragmentAssembler::RememberCompleted(const Key& key) {
+  if (limits_.max_completed == 0 || !completed_.insert(key).second) return;
+  completed_order_.push_back(key);
+  while (completed_order_.size() > limits_.max_completed) {
+    completed_.erase(completed_order_.front());
+    completed_order_.pop_front();
+  }
+}
+
+std::vector<Nack> FragmentAssembler::DueNacks(int64_t now, int64_t quiet, int64_t retry,
+                                              int max_nacks) {
+  std::vector<Nack> due;
+  for (auto& [key, partial] : partials_) {
+    if (partial.count > partial.total_size / std::max(1, limits_.min_piece_bytes) + 1) continue;
+    if (partial.after_complete || partial.nacks >= max_nacks || now - partial.last_seen < quiet ||
+        (partial.nacks > 0 && now - partial.last_nack < retry)) {
+      continue;
+    }
+    Nack nack;
+    nack.channel = key.first;
+    nack.message_id = key.second;
+    nack.count = partial.count;
+    nack.missing.assign((static_cast<size_t>(partial.count) + 7) / 8, 0);
+    for (int32_t i = 0; i < partial.count; ++i) {
+      if (partial.pieces.count(i) == 0) {
+        nack.missing[static_cast<size_t>(i) / 8] |= static_cast<uint8_t>(1u << (i % 8));
+        ++nack.missing_count;
+      }
+    }
+    ++partial.nacks;
+    partial.last_nack = now;
+    if (partial.first_nack < 0) partial.first_nack = now;
+    due.push_back(std::move(nack));
+  }
+  return due;
 }
 
 }  // namespace dynapath::protocol

@@ -182,6 +182,14 @@ std::string Validate(const fragment_t& m) {
   return {};
 }
 
+std::string Validate(const fragment_nack_t& m) {
+  if (m.count < 1 || m.channel.empty() || m.channel.size() > 256) return "bad nack header";
+  if (!Count(m.bitmap_size, m.missing.size()) || Wide(m.bitmap_size) != (Wide(m.count) + 7) / 8) {
+    return "nack bitmap size mismatch";
+  }
+  return {};
+}
+
 std::string Validate(const step_report_t& m) {
   if (m.time_step < 0 || m.time_step > m.total_steps || m.pass < 0) return "bad time step";
   if (!std::isfinite(m.success_rate) || !std::isfinite(m.average_path_length) ||

@@ -9,6 +9,7 @@
 
 #include "core/limits.h"
 #include "dynapath/changes_t.hpp"
+#include "dynapath/fragment_nack_t.hpp"
 #include "dynapath/fragment_t.hpp"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
@@ -32,6 +33,7 @@ std::string Validate(const job_batch_t& message);
 std::string Validate(const shards_t& message);
 std::string Validate(const job_result_t& message);
 std::string Validate(const fragment_t& message);
+std::string Validate(const fragment_nack_t& message);
 std::string Validate(const step_report_t& message);
 std::string Validate(const policy_t& message);
 

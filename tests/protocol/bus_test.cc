@@ -4,12 +4,14 @@
 
 #include <chrono>
 #include <lcm/lcm-cpp.hpp>
+#include <mutex>
 #include <optional>
 #include <vector>
 
 #include "dynapath/step_report_t.hpp"
 #include "lcmtypes/protocol/auth.h"
 #include "lcmtypes/protocol/channels.h"
+#include "lcmtypes/protocol/dispatcher.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -169,6 +171,94 @@ TEST(BusTest, InjectedDropsLoseMessages) {
       lcm, [&] { return false; }, std::chrono::milliseconds(200));
   EXPECT_EQ(got, 0);
   EXPECT_EQ(sender.counters().injected_drops, 1);
+}
+
+// Selective repair through a transport that loses chosen pieces: the
+// receiver NACKs, the sender re-sends exactly the lost pieces (again when a
+// repair is lost too) and the message completes once.
+TEST(BusTest, NackedPiecesAndOnlyThoseAreResent) {
+  lcm::LCM lcm("memq://");
+  BusOptions options;
+  options.fragment_above = 2000;
+  options.fragment_size = 1024;
+  std::mutex mutex;
+  std::vector<int32_t> repaired;
+  int repairs_of_3 = 0;
+  BusOptions lossy = options;
+  lossy.drop_fragment = [&](const fragment_t& f, bool repair) {
+    std::lock_guard lock(mutex);
+    if (repair) {
+      repaired.push_back(f.index);
+      return f.index == 3 && repairs_of_3++ == 0;  // the first repair of 3 is lost too
+    }
+    return f.index == 1 || f.index == 3;
+  };
+  Bus sender(lcm, "run1", lossy);
+  Bus receiver(lcm, "run1", options);
+  std::vector<policy_t> got;
+  receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t& m) { got.push_back(m); });
+  const policy_t sent = Policy("run1", 40);  // 5 pieces
+  sender.Publish(channel::kPolicy, sent);
+  Pump(
+      lcm, [&] { return !got.empty(); }, std::chrono::milliseconds(3000));
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].cells, sent.cells);
+  std::lock_guard lock(mutex);
+  // First NACK: pieces 1 and 3; second: 3 alone.
+  EXPECT_EQ(repaired, (std::vector<int32_t>{1, 3, 3}));
+  EXPECT_EQ(receiver.counters().nacks_sent, 2);
+  EXPECT_EQ(sender.counters().nacks_received, 2);
+  EXPECT_EQ(sender.counters().pieces_repaired, 3);
+  EXPECT_GE(receiver.counters().repair_round_trip_ms, 0);
+  // Nothing more is asked for once complete.
+  Pump(
+      lcm, [&] { return false; }, std::chrono::milliseconds(200));
+  EXPECT_EQ(receiver.counters().nacks_sent, 2);
+  EXPECT_EQ(got.size(), 1u);
+}
+
+// A component's resend of the same bytes reuses the message id: its pieces
+// fill the gaps the first attempt left (here without NACKs).
+TEST(BusTest, ResendOfTheSameMessageFillsGaps) {
+  lcm::LCM lcm("memq://");
+  BusOptions options;
+  options.fragment_above = 2000;
+  options.fragment_size = 1024;
+  options.repair = false;
+  int attempt = 0;
+  BusOptions lossy = options;
+  lossy.drop_fragment = [&](const fragment_t& f, bool) {
+    return attempt == 0 ? (f.index == 0 || f.index == 2) : (f.index != 0 && f.index != 2);
+  };
+  Bus sender(lcm, "run1", lossy);
+  Bus receiver(lcm, "run1", options);
+  int got = 0;
+  receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
+  const policy_t sent = Policy("run1", 40);
+  sender.Publish(channel::kPolicy, sent);
+  Pump(
+      lcm, [&] { return false; }, std::chrono::milliseconds(100));
+  EXPECT_EQ(got, 0);
+  attempt = 1;  // only the pieces the first attempt lost get through
+  sender.Publish(channel::kPolicy, sent);
+  Pump(lcm, [&] { return got > 0; });
+  EXPECT_EQ(got, 1);
+  EXPECT_EQ(sender.counters().ids_reused, 1);
+  // Other bytes are another message.
+  sender.Publish(channel::kPolicy, Policy("run1", 41));
+  EXPECT_EQ(sender.counters().ids_reused, 1);
+}
+
+// Pieces of one Ethernet frame only when datagrams leave the host.
+TEST(BusTest, FragmentSizeFollowsTheUrlsTtl) {
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=1"), kFrameFragmentSize);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?recv_buf_size=2000000&ttl=3"),
+            kFrameFragmentSize);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=0"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=x"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("memq://"), 60000);
+  EXPECT_EQ(DefaultFragmentSize("file:///tmp/log?mode=w&ttl=1"), 60000);
 }
 
 }  // namespace

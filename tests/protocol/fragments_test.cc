@@ -128,6 +128,54 @@ TEST(FragmentAssembler, ExpiresStalePartialMessages) {
   EXPECT_EQ(assembler.pending(), 1u);
 }
 
+// Selective repair: a partial message is NACKed with exactly its missing
+// pieces once it has been quiet (reordered pieces arriving within the quiet
+// period are no loss), again after the retry interval, never once complete;
+// stray pieces of a completed message are not NACKed.
+TEST(FragmentAssembler, NacksExactlyTheMissingPiecesAfterAQuietPeriod) {
+  const int32_t total = 5 * 1024;  // five pieces of 1024 bytes (the Bus's smallest)
+  auto piece = [&](int64_t id, int32_t index) {
+    return Piece(id, total, 5, index, index * 1024, std::vector<uint8_t>(1024, 7),
+                 0x0707070707070707);
+  };
+  FragmentLimits big = SmallLimits();
+  big.lifetime = 100000;
+  big.max_message_bytes = 10000;
+  big.max_buffered_bytes = 100000;
+  FragmentAssembler a(big);
+  a.Add("C", piece(1, 0), 0);
+  a.Add("C", piece(1, 3), 1);                      // 1 and 2 late or lost, 4 not yet sent
+  EXPECT_TRUE(a.DueNacks(10, 15, 30, 5).empty());  // quiet for 9 ms only
+  a.Add("C", piece(1, 1), 12);                     // reordered, not lost
+  EXPECT_TRUE(a.DueNacks(20, 15, 30, 5).empty());
+  std::vector<Nack> due = a.DueNacks(27, 15, 30, 5);
+  ASSERT_EQ(due.size(), 1u);
+  EXPECT_EQ(due[0].channel, "C");
+  EXPECT_EQ(due[0].message_id, 1);
+  EXPECT_EQ(due[0].count, 5);
+  EXPECT_EQ(due[0].missing_count, 2);
+  ASSERT_EQ(due[0].missing.size(), 1u);
+  EXPECT_EQ(due[0].missing[0], (1u << 2) | (1u << 4));
+  EXPECT_TRUE(a.DueNacks(40, 15, 30, 5).empty());   // retry not due yet
+  EXPECT_EQ(a.DueNacks(58, 15, 30, 5).size(), 1u);  // the repair was lost too
+  // The repair arrives: one round-trip sample, from the first NACK (Karn).
+  EXPECT_EQ(a.Add("C", piece(1, 2), 60).repair_round_trip, 33);
+  EXPECT_EQ(a.Add("C", piece(1, 4), 61).kind, Kind::kComplete);
+  EXPECT_TRUE(a.DueNacks(500, 15, 30, 5).empty());
+  // A stray repair piece of the completed message: held briefly, never NACKed.
+  EXPECT_EQ(a.Add("C", piece(1, 2), 600).kind, Kind::kIncomplete);
+  EXPECT_TRUE(a.DueNacks(700, 15, 30, 5).empty());
+  // The whole message again (a sender's repeat) is delivered again.
+  for (int32_t i = 0; i < 4; ++i) a.Add("C", piece(1, i == 2 ? 0 : i), 700);
+  EXPECT_EQ(a.Add("C", piece(1, 4), 700).kind, Kind::kComplete);
+  // At most max_nacks NACKs without progress.
+  a.Add("C", piece(2, 0), 1000);
+  int nacks = 0;
+  for (int64_t t = 1000; t < 3000; t += 10)
+    nacks += static_cast<int>(a.DueNacks(t, 15, 30, 5).size());
+  EXPECT_EQ(nacks, 5);
+}
+
 TEST(ProtocolLimits, CapsFollowTheGrid) {
   EXPECT_LT(LargestMessageBytes(100 * 100), 2 * 1024 * 1024);
   EXPECT_GT(LargestMessageBytes(100 * 100), 41 * 100 * 100);

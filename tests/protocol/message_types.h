@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dynapath/changes_t.hpp"
+#include "dynapath/fragment_nack_t.hpp"
 #include "dynapath/fragment_t.hpp"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
@@ -58,12 +59,13 @@ MessageType MakeMessageType() {
 
 inline const std::vector<MessageType>& AllMessageTypes() {
   static const std::vector<MessageType> types = {
-      MakeMessageType<changes_t>(),     MakeMessageType<fragment_t>(),
-      MakeMessageType<grid_t>(),        MakeMessageType<heartbeat_t>(),
-      MakeMessageType<job_batch_t>(),   MakeMessageType<job_result_t>(),
-      MakeMessageType<job_t>(),         MakeMessageType<learner_shard_t>(),
-      MakeMessageType<policy_t>(),      MakeMessageType<shards_t>(),
-      MakeMessageType<step_report_t>(), MakeMessageType<step_request_t>(),
+      MakeMessageType<changes_t>(),       MakeMessageType<fragment_t>(),
+      MakeMessageType<fragment_nack_t>(), MakeMessageType<grid_t>(),
+      MakeMessageType<heartbeat_t>(),     MakeMessageType<job_batch_t>(),
+      MakeMessageType<job_result_t>(),    MakeMessageType<job_t>(),
+      MakeMessageType<learner_shard_t>(), MakeMessageType<policy_t>(),
+      MakeMessageType<shards_t>(),        MakeMessageType<step_report_t>(),
+      MakeMessageType<step_request_t>(),
   };
   return types;
 }

@@ -218,6 +218,9 @@ lan_run() {
   rm -f "$secret"
   "$LAN_BUILD/tools/dynapath" secret "$secret" >/dev/null || return 1
   common+=(--secret-file "$secret")
+  # Extra options of every process (experiments, e.g. --fragment-size 8800).
+  # shellcheck disable=SC2206
+  common+=(${LAN_PROCESS_OPTIONS:-})
   local start end pid
   start=$(date +%s.%N)
   nsenter -t "${LAN_HOLDER[a]}" -n -- "$LAN_BUILD/coordinator/dynapath-coordinator" "${common[@]}" --agents 2 --wait 30 \
