@@ -68,6 +68,7 @@ void FedAsynQLearner::Reset(const QTable& table) {
   // combiner's shared table sized from that job's region.
   assert(table.cells() == model_.cells());
   table_ = table;
+  twin_in_sync_ = false;
 }
 
 LearnerShard FedAsynQLearner::RunRound(const StartStatistics& stats, uint64_t job_seed,
@@ -165,6 +166,47 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
   return kCount ? listed : static_cast<size_t>(std::max(0, steps));
 }
 
+// Two learners' walks of one round, interleaved step by step on two copies of
+// the same table: each walk is exactly what Walk<kDirect, false> gives it
+// alone (they share nothing but the model), and the two chains of dependent
+// loads and arithmetic overlap, where one walk alone leaves the core waiting.
+void WalkTwo(const RegionModel& model, float* qa, float* qb, Rng& rng_a, Rng& rng_b, int sa, int sb,
+             int steps, bool& reached_a, bool& reached_b, uint32_t* touched_a, float* originals_a,
+             uint32_t* touched_b, float* originals_b) {
+  Rng ra = rng_a, rb = rng_b;
+  bool station_a = false, station_b = false;
+  for (int step = 0; step < steps; ++step) {
+    const uint32_t ia = ra.Below(static_cast<uint32_t>(model.in_region_count(sa)));
+    const uint32_t ib = rb.Below(static_cast<uint32_t>(model.in_region_count(sb)));
+    const int aa = model.actions(sa)[ia];
+    const int ab = model.actions(sb)[ib];
+    const int next_a = model.step_target(sa, static_cast<int>(ia));
+    const int next_b = model.step_target(sb, static_cast<int>(ib));
+    const uint32_t ea = static_cast<uint32_t>(sa * kNumActions + aa);
+    const uint32_t eb = static_cast<uint32_t>(sb * kNumActions + ab);
+    const float reward_a = model.reward(sa, aa);
+    const float reward_b = model.reward(sb, ab);
+    const float best_a = model.BootstrapMax(next_a, qa + static_cast<size_t>(next_a) * kNumActions);
+    const float best_b = model.BootstrapMax(next_b, qb + static_cast<size_t>(next_b) * kNumActions);
+    const float va = qa[ea];
+    const float vb = qb[eb];
+    touched_a[step] = ea;
+    originals_a[step] = va;
+    touched_b[step] = eb;
+    originals_b[step] = vb;
+    qa[ea] = va + kLearningRate * (reward_a + kDiscount * best_a - va);
+    qb[eb] = vb + kLearningRate * (reward_b + kDiscount * best_b - vb);
+    station_a |= reward_a == kStationReward;
+    station_b |= reward_b == kStationReward;
+    sa = next_a;
+    sb = next_b;
+  }
+  reached_a |= station_a;
+  reached_b |= station_b;
+  rng_a = ra;
+  rng_b = rb;
+}
+
 }  // namespace
 
 void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
@@ -177,6 +219,7 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
   shard.steps = 0;
   shard.learner = learner;
   shard.round = round;
+  if (!revert) twin_in_sync_ = false;  // table_ keeps this round's updates
   Rng rng(LearnerRoundSeed(job_seed, learner, round));
   const int start = stats.Draw(rng);
   shard.start_cell = start;
@@ -198,16 +241,7 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
                                             touched_.data(), originals_.data());
     shard.reached_station = reached;
     shard.steps = steps;
-    for (size_t i = 0; i < listed; ++i) marks_.Mark(touched_[i]);
-    marks_.List(shard.entries);
-    marks_.Clear(shard.entries);
-    shard.values.resize(shard.entries.size());
-    for (size_t i = 0; i < shard.entries.size(); ++i) shard.values[i] = q[shard.entries[i]];
-    // What an absent count decodes to on the wire (protocol::ShardFromMessage).
-    shard.visits.assign(shard.entries.size(), 1u);
-    if (revert) {
-      for (size_t i = listed; i-- > 0;) q[touched_[i]] = originals_[i];
-    }
+    FinishUncounted(q, touched_.data(), originals_.data(), listed, revert, shard);
     return;
   }
 
@@ -261,10 +295,80 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
   return;
 }
 
+void FedAsynQLearner::FinishUncounted(float* q, const uint32_t* touched, const float* originals,
+                                      size_t listed, bool revert, LearnerShard& shard) {
+  for (size_t i = 0; i < listed; ++i) marks_.Mark(touched[i]);
+  marks_.List(shard.entries);
+  marks_.Clear(shard.entries);
+  shard.values.resize(shard.entries.size());
+  for (size_t i = 0; i < shard.entries.size(); ++i) shard.values[i] = q[shard.entries[i]];
+  // What an absent count decodes to on the wire (protocol::ShardFromMessage).
+  shard.visits.assign(shard.entries.size(), 1u);
+  if (revert) {
+    for (size_t i = listed; i-- > 0;) q[touched[i]] = originals[i];
+  }
+}
+
+void FedAsynQLearner::RunTwoAndRevert(int learner_a, int learner_b, const StartStatistics& stats,
+                                      uint64_t job_seed, int64_t round, int sync_period,
+                                      LearnerShard& shard_a, LearnerShard& shard_b) {
+  Rng rng_a(LearnerRoundSeed(job_seed, learner_a, round));
+  Rng rng_b(LearnerRoundSeed(job_seed, learner_b, round));
+  const int start_a = stats.Draw(rng_a), start_b = stats.Draw(rng_b);
+  const int steps = std::max(0, sync_period);
+  if (start_a < 0 || start_b < 0 || steps == 0 || model_.action_count(start_a) == 0 ||
+      model_.action_count(start_b) == 0) {
+    // Nothing to interleave (no start, or a 1x1 region): one at a time.
+    Run(learner_a, stats, job_seed, round, sync_period, true, shard_a);
+    Run(learner_b, stats, job_seed, round, sync_period, true, shard_b);
+    return;
+  }
+  if (!twin_in_sync_) {  // table_ is the round's starting table here
+    twin_ = table_;
+    twin_in_sync_ = true;
+  }
+  const size_t step_count = static_cast<size_t>(steps);
+  if (touched_.size() < step_count + 1) {
+    touched_.resize(step_count + 1);
+    originals_.resize(step_count + 1);
+  }
+  if (twin_touched_.size() < step_count + 1) {
+    twin_touched_.resize(step_count + 1);
+    twin_originals_.resize(step_count + 1);
+  }
+  for (LearnerShard* shard : {&shard_a, &shard_b}) {
+    shard->entries.clear();
+    shard->values.clear();
+    shard->visits.clear();
+    shard->round = round;
+    shard->steps = steps;
+  }
+  shard_a.learner = learner_a;
+  shard_b.learner = learner_b;
+  shard_a.start_cell = start_a;
+  shard_b.start_cell = start_b;
+  bool reached_a = model_.is_station(start_a), reached_b = model_.is_station(start_b);
+  float* qa = table_.values().data();
+  float* qb = twin_.values().data();
+  WalkTwo(model_, qa, qb, rng_a, rng_b, start_a, start_b, steps, reached_a, reached_b,
+          touched_.data(), originals_.data(), twin_touched_.data(), twin_originals_.data());
+  shard_a.reached_station = reached_a;
+  shard_b.reached_station = reached_b;
+  FinishUncounted(qa, touched_.data(), originals_.data(), step_count, true, shard_a);
+  FinishUncounted(qb, twin_touched_.data(), twin_originals_.data(), step_count, true, shard_b);
+}
+
 void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
                                          const StartStatistics& stats, uint64_t job_seed,
                                          int64_t round, int sync_period, LearnerShard* shards) {
-  for (int i = 0; i < count; ++i) {
+  int i = 0;
+  if (!count_visits_) {
+    for (; i + 1 < count; i += 2) {
+      RunTwoAndRevert(learners[i], learners[i + 1], stats, job_seed, round, sync_period, shards[i],
+                      shards[i + 1]);
+    }
+  }
+  for (; i < count; ++i) {
     Run(learners[i], stats, job_seed, round, sync_period, true, shards[i]);
   }
 }
@@ -273,6 +377,10 @@ void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
                                    const std::vector<float>& values) {
   std::vector<float>& table = table_.values();
   for (size_t i = 0; i < entries.size(); ++i) table[entries[i]] = values[i];
+  if (twin_in_sync_) {
+    std::vector<float>& twin = twin_.values();
+    for (size_t i = 0; i < entries.size(); ++i) twin[entries[i]] = values[i];
+  }
 }
 
 FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)

@@ -148,11 +148,26 @@ class FedAsynQLearner {
   // (a leaf's table).
   std::vector<uint32_t> touched_;
   std::vector<float> originals_;
+  // A second copy of the table, equal to table_ between rounds while
+  // twin_in_sync_, so that two learners' rounds can be walked interleaved
+  // (RunTwoAndRevert), with its own round scratch.
+  QTable twin_;
+  bool twin_in_sync_ = false;
+  std::vector<uint32_t> twin_touched_;
+  std::vector<float> twin_originals_;
   std::vector<Slot> slots_;
   SortedMarks marks_;  // sorts the shard's entries
 
   void Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
            int sync_period, bool revert, LearnerShard& shard);
+  // Equal averaging: two learners' rounds at once (one on the twin table).
+  void RunTwoAndRevert(int learner_a, int learner_b, const StartStatistics& stats,
+                       uint64_t job_seed, int64_t round, int sync_period, LearnerShard& shard_a,
+                       LearnerShard& shard_b);
+  // The end of an uncounted round: the shard's sorted entries and values
+  // from the round's list (repeats included), then the revert.
+  void FinishUncounted(float* q, const uint32_t* touched, const float* originals, size_t listed,
+                       bool revert, LearnerShard& shard);
 };
 
 // Combines one round's shards into the shared table.

@@ -133,7 +133,9 @@ same_results "$work/small_local" "$work/garbage" "garbage on every channel"
 "$dynapath" secret "$work/run.key" || fail "dynapath secret"
 [ "$(stat -c %a "$work/run.key")" = 600 ] || fail "the secret file is not mode 600"
 key=(--secret-file "$work/run.key")
-"$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${key[@]}" "${big[@]:0:4}" \
+# Hard 300: its initial training takes seconds on one thread, so the kill
+# after 1 s always lands mid-run (hard 100 could finish first).
+"$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${key[@]}" --size 300 --difficulty hard \
   --log-level error &
 envsim=$!
 "$bin_dir/agent/dynapath-agent" --run-id "$orphans_run" "${key[@]}" --id 1 --threads 1 \

@@ -309,6 +309,44 @@ TEST(FedAsynQLearnerTest, RoundsWithoutVisitCountsMatchCountingRounds) {
   }
 }
 
+// Without visit counts, RunRoundsAndRevert walks learners two at a time on
+// a twin table: every shard, and the table after each round's average, are
+// those of one-at-a-time counting rounds; an odd count and a start-less
+// region take the one-at-a-time path for what is left.
+TEST(FedAsynQLearnerTest, PairedUncountedRoundsMatchOneAtATime) {
+  const Grid grid = GenerateScenario(20, 20, Difficulty::kHard, 52, 0).grid;
+  for (const int learners : {12, 5}) {
+    const RegionModel model(grid, Region{2, 17, 0, 15});
+    FedAsynQLearner counting(model, 0), paired(model, 0);
+    paired.set_count_visits(false);
+    QTable start(model.cells());
+    counting.Reset(start);
+    paired.Reset(start);
+    StartStatistics stats(model.start_cells());
+    std::vector<int> ids(static_cast<size_t>(learners));
+    for (int k = 0; k < learners; ++k) ids[k] = k;
+    std::vector<LearnerShard> expected(ids.size()), got(ids.size());
+    for (int round = 0; round < 4; ++round) {
+      counting.RunRoundsAndRevert(ids.data(), learners, stats, 21, round, 500, expected.data());
+      paired.RunRoundsAndRevert(ids.data(), learners, stats, 21, round, 500, got.data());
+      for (int k = 0; k < learners; ++k) {
+        ASSERT_EQ(got[k].learner, k);
+        ASSERT_EQ(got[k].entries, expected[k].entries) << "round " << round << " learner " << k;
+        ASSERT_EQ(got[k].values, expected[k].values) << "round " << round << " learner " << k;
+        ASSERT_EQ(got[k].start_cell, expected[k].start_cell);
+        ASSERT_EQ(got[k].reached_station, expected[k].reached_station);
+        ASSERT_EQ(got[k].steps, expected[k].steps);
+      }
+      ASSERT_TRUE(paired.table() == counting.table());
+      // A made-up average applied to both: the twin table must follow.
+      std::vector<uint32_t> entries = expected[0].entries;
+      std::vector<float> values(entries.size(), static_cast<float>(round) + 0.5f);
+      counting.ApplyAverage(entries, values);
+      paired.ApplyAverage(entries, values);
+    }
+  }
+}
+
 TEST(FedAsynQLearnerTest, RegionsWithoutStartsOrMovesGiveTrivialShards) {
   const Grid walls = MapFromText("##\n##\n");
   const RegionModel empty(walls, Region{0, 1, 0, 1});
