@@ -4,51 +4,54 @@
 #include <spdlog/spdlog.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "agent/agent.h"
+#include "agent/command_line.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  cli::InitProcessLogging("agent");
-  cli::ArgParser parser("dynapath-agent --run-id ID --secret-file PATH [options]",
-                        "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
-                        "returns Q-table shards per round (or final tables), sends heartbeats.\n"
-                        "Exits when the coordinator finishes, fails or is silent for 4 s.");
-  cli::AddProcessOptions(parser, true);
-  parser.AddOption("id", "N", "agent id, unique within the run", "random");
-  parser.AddOption("threads", "N", "worker threads", "hardware threads");
-  parser.AddOption("wait", "SECONDS", "how long to wait for a coordinator to appear", "60");
-  cli::AddLogLevelOption(parser);
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-agent"); code >= 0) return code;
+  runtime::InitProcessLogging("agent");
+  CLI::App app(
+      "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
+      "returns Q-table shards per round (or final tables), sends heartbeats.\n"
+      "Exits when the coordinator finishes, fails or is silent for 4 s.",
+      "dynapath-agent");
+  runtime::OptionGroup group(app);
+  agent::AgentCommandLine given;
+  agent::DeclareAgentCommandLine(group, given);
+  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-agent");
+      code >= 0) {
+    return code;
+  }
   auto fail = [](const std::string& message) {
-    return cli::ProcessError("dynapath-agent", message);
+    return runtime::ProcessError("dynapath-agent", message);
   };
-  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  Result<runtime::ProcessSetup> setup = runtime::ResolveProcessOptions(given.process, true);
   if (!setup) return fail(setup.error().message);
   // Random, not derived from host name and pid: agents in containers of their
   // own share both. A collision is still detected (Agent::Run).
-  Result<long long> id = parser.GetInt("id", agent::RandomAgentId(), 0, 2147483647LL);
-  if (!id) return fail(id.error().message);
-  const long long hardware = std::max(1u, std::thread::hardware_concurrency());
-  Result<long long> threads = parser.GetInt("threads", hardware, 1, 1024);
-  if (!threads) return fail(threads.error().message);
-  Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
-  if (!wait) return fail(wait.error().message);
+  Result<long long> agent_id =
+      runtime::InRange("id", given.id, agent::RandomAgentId(), 0, 2147483647LL);
+  if (!agent_id) return fail(agent_id.error().message);
+  Result<int> thread_count = runtime::ResolveThreads(given.threads);
+  if (!thread_count) return fail(thread_count.error().message);
+  Result<double> wait_seconds = runtime::ResolveWaitSeconds(given.wait);
+  if (!wait_seconds) return fail(wait_seconds.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return cli::ProcessError("dynapath-agent", lcm.error().message, 1);
+  if (!lcm) return runtime::ProcessError("dynapath-agent", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   agent::AgentOptions options;
-  options.id = static_cast<int>(*id);
-  options.threads = static_cast<int>(*threads);
-  options.startup_timeout_seconds = static_cast<double>(*wait);
+  options.id = static_cast<int>(*agent_id);
+  options.threads = *thread_count;
+  options.startup_timeout_seconds = *wait_seconds;
   options.exit_process_when_orphaned = true;
   agent::Agent agent(bus, options);
   protocol::Dispatcher dispatcher(**lcm);

@@ -118,13 +118,13 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
 
     EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, &stop);
     const grid_t& maze = envsim.Connect(options_.agent_wait_seconds);
-    cli::RunPlan plan = options_.plan;
+    runtime::RunPlan plan = options_.plan;
     plan.options.run_seed = static_cast<uint64_t>(maze.seed);
     const RunLabels labels{maze.size_label, maze.difficulty};
     spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
                  labels.difficulty_label, maze.source, maze.total_steps, plan.approaches.size());
     Result<std::vector<ApproachRun>> runs =
-        cli::RunApproaches(envsim, trainer_, plan, labels, [&](const StepView& view) {
+        runtime::RunApproaches(envsim, trainer_, plan, labels, [&](const StepView& view) {
           if (stop) throw std::runtime_error("interrupted");
           PublishStep(view, view.pass);
         });

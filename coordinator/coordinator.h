@@ -12,12 +12,12 @@
 #include "coordinator/distributed_trainer.h"
 #include "lcmtypes/protocol/bus.h"
 #include "lcmtypes/protocol/inbox.h"
-#include "tools/common/run_driver.h"
+#include "runtime/run_driver.h"
 
 namespace dynapath::coordinator {
 
 struct CoordinatorOptions {
-  cli::RunPlan plan;
+  runtime::RunPlan plan;
   int min_agents = 1;                  // wait for this many agents before starting
   double agent_wait_seconds = 60.0;    // ... for at most this long
   double agent_timeout_seconds = 2.0;  // an agent silent this long is dropped

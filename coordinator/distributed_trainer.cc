@@ -75,12 +75,12 @@ bool DistributedTrainer::ShouldSplit(const Batch& batch, size_t agents) const {
     return false;
   }
   switch (options_.placement) {
-    case cli::Placement::kWhole:
+    case runtime::Placement::kWhole:
       return false;
-    case cli::Placement::kAuto:
+    case runtime::Placement::kAuto:
       if (split_disabled_) return false;
       break;
-    case cli::Placement::kSplit:
+    case runtime::Placement::kSplit:
       return true;
   }
   // Every split round costs a network round trip: split only when a round's
@@ -436,8 +436,9 @@ void DistributedTrainer::CheckAgents() {
         "batch {}: round {} restarted {} times; running its jobs whole on the agents instead of "
         "splitting their rounds{}",
         batch.id, batch.restart_round, batch.restarts_at_round,
-        options_.placement == cli::Placement::kAuto ? " (and no more splitting in this run)" : "");
-    if (options_.placement == cli::Placement::kAuto) split_disabled_ = true;
+        options_.placement == runtime::Placement::kAuto ? " (and no more splitting in this run)"
+                                                        : "");
+    if (options_.placement == runtime::Placement::kAuto) split_disabled_ = true;
     ++traffic_.split_fallbacks;
     batch.split = false;
     batch.combiner.reset();

@@ -47,7 +47,7 @@
 #include "dynapath/shards_t.hpp"
 #include "lcmtypes/protocol/bus.h"
 #include "lcmtypes/protocol/inbox.h"
-#include "tools/common/run_driver.h"
+#include "runtime/run_driver.h"
 
 namespace dynapath::coordinator {
 
@@ -59,7 +59,7 @@ struct DistributedTrainerOptions {
   // repeat after twice the measured round trip + 20 ms, at least 30 ms:
   // the time from sending a batch to an agent's heartbeat acknowledging it).
   double resend_seconds = 0.2;
-  cli::Placement placement = cli::Placement::kAuto;
+  runtime::Placement placement = runtime::Placement::kAuto;
   // kAuto splits a batch's learners when one round of all its jobs is
   // estimated to take at least this long on one thread. A split round costs
   // every agent a message out, one in per other agent and a combine:

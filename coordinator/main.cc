@@ -4,55 +4,50 @@
 
 #include <string>
 
+#include "coordinator/command_line.h"
 #include "coordinator/coordinator.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  cli::InitProcessLogging("coordinator");
-  cli::ArgParser parser(
-      "dynapath-coordinator --run-id ID --secret-file PATH [options]",
+  runtime::InitProcessLogging("coordinator");
+  CLI::App app(
       "Runs the chosen approaches on the maze of the run's environment simulator,\n"
       "training on the run's agent processes, and writes DIR/results.csv and\n"
-      "DIR/results_detailed.csv exactly as `dynapath run --local` does.");
-  cli::AddProcessOptions(parser, true);
-  cli::AddRunOptions(parser);
-  parser.AddOption("agents", "N", "wait for N live agents before starting", "1");
-  parser.AddOption("wait", "SECONDS", "how long to wait for agents and envsim", "60");
-  parser.AddOption("give-up", "SECONDS",
-                   "fail when a training batch makes no progress this long although its agents "
-                   "are alive (its work is reassigned every 5 s before that)",
-                   "60");
-  cli::AddLogLevelOption(parser);
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-coordinator"); code >= 0) {
+      "DIR/results_detailed.csv exactly as `dynapath run --local` does.",
+      "dynapath-coordinator");
+  runtime::OptionGroup group(app);
+  coordinator::CoordinatorCommandLine given;
+  coordinator::DeclareCoordinatorCommandLine(group, given);
+  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-coordinator");
+      code >= 0) {
     return code;
   }
   auto fail = [](const std::string& message) {
-    return cli::ProcessError("dynapath-coordinator", message);
+    return runtime::ProcessError("dynapath-coordinator", message);
   };
-  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  Result<runtime::ProcessSetup> setup = runtime::ResolveProcessOptions(given.process, true);
   if (!setup) return fail(setup.error().message);
-  Result<cli::RunPlan> plan = cli::ResolveRunOptions(parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(given.run);
   if (!plan) return fail(plan.error().message);
-  Result<long long> agents = parser.GetInt("agents", 1, 1, 4096);
-  if (!agents) return fail(agents.error().message);
-  Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
-  if (!wait) return fail(wait.error().message);
-  Result<long long> give_up = parser.GetInt("give-up", 60, 5, 86400);
-  if (!give_up) return fail(give_up.error().message);
+  Result<long long> agent_count = runtime::InRange("agents", given.agents, 0, 1, 4096);
+  if (!agent_count) return fail(agent_count.error().message);
+  Result<double> wait_seconds = runtime::ResolveWaitSeconds(given.wait);
+  if (!wait_seconds) return fail(wait_seconds.error().message);
+  Result<long long> give_up_seconds = runtime::InRange("give-up", given.give_up, 0, 5, 86400);
+  if (!give_up_seconds) return fail(give_up_seconds.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return cli::ProcessError("dynapath-coordinator", lcm.error().message, 1);
+  if (!lcm) return runtime::ProcessError("dynapath-coordinator", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   coordinator::CoordinatorOptions options;
   options.plan = std::move(*plan);
-  options.min_agents = static_cast<int>(*agents);
-  options.agent_wait_seconds = static_cast<double>(*wait);
-  options.give_up_seconds = static_cast<double>(*give_up);
+  options.min_agents = static_cast<int>(*agent_count);
+  options.agent_wait_seconds = *wait_seconds;
+  options.give_up_seconds = static_cast<double>(*give_up_seconds);
   coordinator::Coordinator coordinator(bus, std::move(options));
   protocol::Dispatcher dispatcher(**lcm);
   return coordinator.Run(stop);

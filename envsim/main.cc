@@ -5,47 +5,46 @@
 #include <cstdlib>
 #include <string>
 
+#include "envsim/command_line.h"
 #include "envsim/envsim.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
-  cli::InitProcessLogging("envsim");
-  cli::ArgParser parser(
-      "dynapath-envsim --run-id ID --secret-file PATH [maze options] [--hz RATE]",
+  runtime::InitProcessLogging("envsim");
+  CLI::App app(
       "Holds a run's maze and its change sequence (generated from a seed exactly as\n"
       "the report's runs, loaded from files, or replayed from an LCM log) and hands\n"
       "them to the coordinator one time step at a time: in lock-step with it by\n"
-      "default, or free-running at --hz steps per second.");
-  cli::AddProcessOptions(parser, true);
-  cli::AddScenarioOptions(parser);
-  parser.AddOption("hz", "RATE", "free-running: time steps per second", "0 (lock-step)");
-  parser.AddOption("wait", "SECONDS", "how long to wait for a coordinator to appear", "60");
-  cli::AddLogLevelOption(parser);
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  if (int code = cli::ParseProcessArgs(parser, args, "dynapath-envsim"); code >= 0) return code;
+      "default, or free-running at --hz steps per second.",
+      "dynapath-envsim");
+  runtime::OptionGroup group(app);
+  envsim::EnvSimCommandLine given;
+  envsim::DeclareEnvSimCommandLine(group, given);
+  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-envsim");
+      code >= 0) {
+    return code;
+  }
   auto fail = [](const std::string& message) {
-    return cli::ProcessError("dynapath-envsim", message);
+    return runtime::ProcessError("dynapath-envsim", message);
   };
-  Result<cli::ProcessSetup> setup = cli::ResolveProcessOptions(parser, true);
+  Result<runtime::ProcessSetup> setup = runtime::ResolveProcessOptions(given.process, true);
   if (!setup) return fail(setup.error().message);
-  Result<cli::ScenarioSetup> scenario = cli::ResolveScenario(parser);
+  Result<runtime::ScenarioSetup> scenario = runtime::ResolveScenario(given.scenario);
   if (!scenario) return fail(scenario.error().message);
   envsim::EnvSimOptions options;
-  const std::string hz_text = parser.Get("hz", "0");
-  char* end = nullptr;
-  options.hz = std::strtod(hz_text.c_str(), &end);
-  if (end == hz_text.c_str() || *end != '\0' || !(options.hz >= 0.0 && options.hz <= 1e6)) {
-    return fail("option --hz must be a rate in [0, 1e6], got '" + hz_text + "'");
+  options.hz = given.hz;
+  if (!(options.hz >= 0.0 && options.hz <= 1e6)) {
+    return fail("option --hz must be a rate in [0, 1e6], got " + std::to_string(options.hz));
   }
-  Result<long long> wait = parser.GetInt("wait", 60, 1, 86400);
-  if (!wait) return fail(wait.error().message);
-  options.startup_timeout_seconds = static_cast<double>(*wait);
+  Result<double> wait_seconds = runtime::ResolveWaitSeconds(given.wait);
+  if (!wait_seconds) return fail(wait_seconds.error().message);
+  options.startup_timeout_seconds = *wait_seconds;
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return cli::ProcessError("dynapath-envsim", lcm.error().message, 1);
+  if (!lcm) return runtime::ProcessError("dynapath-envsim", lcm.error().message, 1);
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   protocol::Bus bus(**lcm, setup->run_id, setup->bus);
   envsim::ScenarioInfo info{std::move(scenario->scenario), scenario->labels, scenario->seed,

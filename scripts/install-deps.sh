@@ -8,6 +8,7 @@ packages=(
   libspdlog-dev libfmt-dev            # logging
   nlohmann-json3-dev                  # study manifests (dynapath experiment)
   libtomlplusplus-dev                 # study files (dynapath experiment --config)
+  libcli11-dev                        # command-line options of every command and process
   libgtest-dev libgmock-dev           # unit tests
   libbenchmark-dev                    # benchmarks
   liblcm-dev liblcm-bin liblcm-java   # LCM transport, lcm-gen, lcm-logger, lcm-spy classes

@@ -222,6 +222,21 @@ expect_usage_error "--run-id" "$bin_dir/agent/dynapath-agent"
 expect_usage_error "--threads" "$bin_dir/agent/dynapath-agent" --run-id x --insecure --threads 0
 expect_usage_error "--hz" "$bin_dir/envsim/dynapath-envsim" --run-id x --insecure --hz fast
 expect_usage_error "unknown option" "$bin_dir/coordinator/dynapath-coordinator" --run-id x --frob 1
+# Options from a config file (how the launcher hands them over): an unknown
+# key is an error; the command line overrides the file.
+printf 'run-id="x"\ninsecure=true\ncolour="red"\n' >"$work/bad.conf"
+expect_usage_error "unknown key 'colour'" "$bin_dir/agent/dynapath-agent" --config "$work/bad.conf"
+printf 'run-id="x"\ninsecure=true\nthreads=0\n' >"$work/threads.conf"
+expect_usage_error "--threads" "$bin_dir/agent/dynapath-agent" --config "$work/threads.conf"
+"$bin_dir/agent/dynapath-agent" --config "$work/threads.conf" --threads 1 --id 77 --wait 1 \
+  --lcm-url memq:// 2>"$work/err"
+grep -q "agent 77: 1 threads" "$work/err" || fail "--config with overrides: $(cat "$work/err")"
+# A value a config file cannot carry stops the launcher before any process starts.
+quoted_dir="$work/it's \"quoted\""
+mkdir -p "$quoted_dir" && "$dynapath" maze --size 8 --save "$quoted_dir/m.txt" --no-grid >/dev/null
+"$dynapath" run --agents 2 --maze "$quoted_dir/m.txt" --out "$work/quoted" >/dev/null 2>"$work/err"
+[ $? -eq 1 ] && grep -q "cannot start the run's processes: option --maze" "$work/err" ||
+  fail "unpassable --maze value: $(cat "$work/err")"
 # The run's secret: required by hand-started processes, checked before use.
 for process in agent/dynapath-agent envsim/dynapath-envsim coordinator/dynapath-coordinator; do
   expect_usage_error "--secret-file PATH is required" "$bin_dir/$process" --run-id x

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks of `dynapath netns` (tools/netns): its usage errors, and that the
+# Checks of `dynapath netns` (launch/private_network.h): its usage errors, and that the
 # private network it makes has only lo, up with multicast and a 224.0.0.0/4
 # route, carries LCM udpm messages inside and keeps two namespaces apart.
 # All LCM traffic stays inside private namespaces (the probe refuses to run

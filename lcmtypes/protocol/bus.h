@@ -78,7 +78,7 @@ struct BusOptions {
   uint64_t fault_seed = 1;
   // The run's key. The default, the well-known insecure key, suits tests
   // and one-process (memq://) use; processes take it from --secret-file or
-  // the launcher, or --insecure (tools/common/process_options.h).
+  // the launcher, or --insecure (runtime/process_options.h).
   RunKey key = InsecureKey();
   // Cells of the run's grid (at most): the fragment caps derive from it
   // (protocol/limits.h). Unknown: the protocol's largest grid.

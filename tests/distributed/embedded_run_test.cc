@@ -25,14 +25,14 @@
 #include "envsim/envsim.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/run_driver.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 
 namespace dynapath {
 namespace {
 
 namespace fs = std::filesystem;
-using cli::ScenarioSetup;
+using runtime::ScenarioSetup;
 
 constexpr int kSize = 20;
 constexpr unsigned kSeed = 52;  // the report's hard maze seed
@@ -47,8 +47,8 @@ ScenarioSetup HardMaze() {
   return setup;
 }
 
-cli::RunPlan Plan(const fs::path& out) {
-  cli::RunPlan plan;
+runtime::RunPlan Plan(const fs::path& out) {
+  runtime::RunPlan plan;
   Result<std::vector<Approach>> approaches =
       ParseApproachList("BFS Oracle,singleAgent,fedAsynQ_EqAvg,fedAsynQ_ImAvg");
   EXPECT_TRUE(approaches.ok());
@@ -88,7 +88,7 @@ class EmbeddedRunTest : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // The reference: everything in this process on a thread pool.
-    Result<std::vector<ApproachRun>> local = cli::RunLocal(Plan(dir_ / "local"), HardMaze(), 2);
+    Result<std::vector<ApproachRun>> local = runtime::RunLocal(Plan(dir_ / "local"), HardMaze(), 2);
     ASSERT_TRUE(local.ok()) << local.error().message;
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -105,7 +105,7 @@ class EmbeddedRunTest : public ::testing::Test {
   // coordinator ends. With `stop_agent_2_mid_run`, agent 2 stops while it
   // holds work, which must be reassigned to agent 1.
   int RunDistributed(bool stop_agent_2_mid_run, int64_t* epochs,
-                     cli::Placement placement = cli::Placement::kAuto) {
+                     runtime::Placement placement = runtime::Placement::kAuto) {
     lcm::LCM lcm("memq://");
     EXPECT_TRUE(lcm.good());
     const std::string run_id = "embedded-test";
@@ -138,7 +138,7 @@ class EmbeddedRunTest : public ::testing::Test {
     std::atomic<int> batches_for_agent_2{0};
     // With split placement, agent 2 stops once it hosts learners of a split
     // job (in the middle of its rounds); else at its first batch.
-    const bool wait_for_split = placement == cli::Placement::kSplit;
+    const bool wait_for_split = placement == runtime::Placement::kSplit;
     watcher_bus.Subscribe<job_batch_t>(protocol::channel::kJobs, [&](job_batch_t& batch) {
       for (size_t i = 0; i < batch.item_agent.size(); ++i) {
         if (batch.item_agent[i] != 2) continue;
@@ -195,14 +195,14 @@ TEST_F(EmbeddedRunTest, WorkOfAnAgentThatStopsIsReassigned) {
 
 TEST_F(EmbeddedRunTest, LearnersSplitOverTwoAgentsGiveTheFiguresOfALocalRun) {
   int64_t epochs = -1;
-  ASSERT_EQ(RunDistributed(/*stop_agent_2_mid_run=*/false, &epochs, cli::Placement::kSplit), 0);
+  ASSERT_EQ(RunDistributed(/*stop_agent_2_mid_run=*/false, &epochs, runtime::Placement::kSplit), 0);
   EXPECT_GT(rounds_, 0) << "no job was split over the agents";
   ExpectSameResultsAsLocal();
 }
 
 TEST_F(EmbeddedRunTest, SplitWorkOfAnAgentThatStopsIsReassigned) {
   int64_t epochs = -1;
-  ASSERT_EQ(RunDistributed(/*stop_agent_2_mid_run=*/true, &epochs, cli::Placement::kSplit), 0);
+  ASSERT_EQ(RunDistributed(/*stop_agent_2_mid_run=*/true, &epochs, runtime::Placement::kSplit), 0);
   EXPECT_GE(epochs, 1) << "no batch was reassigned";
   EXPECT_GT(rounds_, 0) << "no job was split over the agents";
   ExpectSameResultsAsLocal();

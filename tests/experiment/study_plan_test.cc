@@ -73,13 +73,23 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   // The edge case keeps its seed, takes --steps.
   EXPECT_EQ(plan[4].Name(), "edge_50_hard_102");
   EXPECT_EQ(plan[4].steps, 10);
-  EXPECT_EQ(ScenarioArguments(plan[0]),
-            (std::vector<std::string>{"--size", "50", "--difficulty", "hard", "--seed", "7",
-                                      "--steps", "10"}));
-  EXPECT_EQ(RunArguments(*options, "out/runs/x"),
-            (std::vector<std::string>{"--approach", "BFS Oracle,fedAsynQ_ImAvg", "--out",
-                                      "out/runs/x", "--leaf-limit", "20", "--bootstrap", "in-grid",
-                                      "--semantics", "ours", "--placement", "auto"}));
+  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  EXPECT_EQ(scenario.size, 50);
+  EXPECT_EQ(scenario.difficulty, "hard");
+  EXPECT_EQ(scenario.seed, 7);
+  EXPECT_EQ(scenario.steps, 10);
+  EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay);
+  const runtime::RunOptions run = RunOptionsOf(*options, "out/runs/x");
+  EXPECT_EQ(run.approach, "BFS Oracle,fedAsynQ_ImAvg");
+  EXPECT_EQ(run.out, "out/runs/x");
+  EXPECT_EQ(run.leaf_limit, 20);
+  EXPECT_EQ(run.bootstrap, "in-grid");
+  EXPECT_EQ(run.semantics, "ours");
+  EXPECT_EQ(run.placement, "auto");
+  // What `dynapath run` would resolve from them.
+  Result<runtime::RunPlan> resolved = runtime::ResolveRunOptions(run);
+  ASSERT_TRUE(resolved) << resolved.error().message;
+  EXPECT_EQ(resolved->approaches.size(), 2u);
 
   options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
   ASSERT_TRUE(options);

@@ -12,7 +12,7 @@ int RunCommand(const std::vector<std::string>& args);
 // --agents it enters a private network namespace, so it must be called
 // while the process has a single thread.
 int ExperimentCommand(const std::vector<std::string>& args);
-// Runs a command in a private network namespace (tools/netns). Must be
+// Runs a command in a private network namespace (launch/private_network.h). Must be
 // called while the process has a single thread.
 int NetnsCommand(const std::vector<std::string>& args);
 // Writes a new run secret to a file (mode 600) for processes started by hand.

@@ -22,15 +22,16 @@
 #include <variant>
 
 #include "core/experiment.h"
+#include "launch/launcher.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
+#include "runtime/option_group.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/cli/launcher.h"
 #include "tools/common/build_info.h"
 #include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
-#include "tools/common/run_driver.h"
-#include "tools/common/scenario_options.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
@@ -80,20 +81,16 @@ const std::atomic<bool>& InstallSignalHandlers() {
 }
 
 // The option values given on the command line.
-Result<OptionValues> CommandLineValues(const ArgParser& parser) {
+Result<OptionValues> CommandLineValues(const CLI::App& app, const StudyCommandLine& given) {
+  if (given.edge_case && given.no_edge_case) {
+    return Error{"choose one of --edge-case and --no-edge-case"};
+  }
   OptionValues values;
-  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
-    if (!parser.Has(spec.name)) continue;
-    const std::string origin = "option --" + spec.name;
-    if (spec.name == "edge-case" || spec.name == "no-edge-case") {
-      if (parser.Has("edge-case") && parser.Has("no-edge-case")) {
-        return Error{"choose one of --edge-case and --no-edge-case"};
-      }
-      values["edge-case"] = OptionValue{spec.name == "edge-case" ? "true" : "false", origin};
-    } else if (spec.value_name.empty()) {
-      values[spec.name] = OptionValue{"true", origin};
-    } else {
-      values[spec.name] = OptionValue{parser.Get(spec.name), origin};
+  for (auto& [name, value] : GivenOptionValues(app)) {
+    if (name == "no-edge-case") {
+      values["edge-case"] = OptionValue{"false", value.origin};
+    } else if (StudyOptionKinds().count(name) > 0) {
+      values[name] = value;
     }
   }
   return values;
@@ -148,17 +145,12 @@ struct Session {
 // `dynapath run` would take. Ok when it ran to its end.
 Status RunConfiguration(const Session& session, const StudyConfiguration& configuration,
                         int index) {
-  ArgParser run_parser("dynapath run", "");
-  AddScenarioOptions(run_parser);
-  AddRunOptions(run_parser);
   const std::string directory = (session.out / configuration.Directory()).string();
-  std::vector<std::string> args = ScenarioArguments(configuration);
-  const std::vector<std::string> run_args = RunArguments(session.options, directory);
-  args.insert(args.end(), run_args.begin(), run_args.end());
-  if (Status status = run_parser.Parse(args); !status) return status;
-  Result<ScenarioSetup> setup = ResolveScenario(run_parser);
+  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
+  const runtime::RunOptions run_options = RunOptionsOf(session.options, directory);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
-  Result<RunPlan> plan = ResolveRunOptions(run_parser);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
   if (!plan) return plan.error();
   const int approaches = static_cast<int>(plan->approaches.size());
   ProgressDisplay& display = session.display;
@@ -166,7 +158,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   if (session.mode == StudyMode::kLocal) {
     const std::atomic<bool>& stop = session.stop;
     Result<std::vector<ApproachRun>> runs =
-        RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
+        runtime::RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
           if (stop) throw std::runtime_error("interrupted");
           display.Step(ApproachName(view.run.approach), view.pass, approaches,
                        view.run.steps.back().time_step, view.total_steps);
@@ -175,62 +167,47 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
     return Ok{};
   }
 
-  DistributedRun run;
+  launch::DistributedRun run;
   char suffix[16];
   std::snprintf(suffix, sizeof suffix, "-c%02d", index + 1);
   run.process.run_id = protocol::NewRunId() + suffix;
   run.process.lcm_url = session.options.lcm_url;
-  MakeRunSecret(run.process);  // a new secret for each run of the study
+  runtime::MakeRunSecret(run.process);  // a new secret for each run of the study
   run.process.bus.max_grid_cells =
       static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
   run.agents = session.options.agents;
   run.threads_per_agent = std::max(1, session.options.threads / session.options.agents);
-  run.envsim_args = ScenarioArguments(configuration);
-  run.coordinator_args = run_args;
+  run.scenario = scenario;
+  run.run = run_options;
   run.log_level = session.options.log_level;
   run.child_stderr = session.log_fd;
-  run.on_step = [&display, approaches](const StepReport& report) {
+  run.on_step = [&display, approaches](const launch::StepReport& report) {
     display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
   };
   int code = 0;
   if (session.mode == StudyMode::kEmbedded) {
     spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                  run.process.run_id, run.agents);
-    code = RunEmbedded(run, *plan, *setup);
+    code = launch::RunEmbedded(run, *plan, *setup);
   } else {
     spdlog::info("run {}: envsim, coordinator and {} agent processes", run.process.run_id,
                  run.agents);
-    code = LaunchProcesses(run);
+    code = launch::LaunchProcesses(run);
   }
   if (code == 0) return Ok{};
   if (code == 130) return Error{"interrupted"};
   return Error{"the run failed (exit status " + std::to_string(code) + "); see study.log"};
 }
 
-// Declares the options: the study's, --config and --force.
-void DeclareOptions(ArgParser& parser) {
-  for (const StudyOptionSpec& spec : StudyOptionSpecs()) {
-    if (spec.value_name.empty()) {
-      parser.AddFlag(spec.name, spec.help + (spec.default_text.empty()
-                                                 ? std::string()
-                                                 : " (default: " + spec.default_text + ")"));
-    } else {
-      parser.AddOption(spec.name, spec.value_name, spec.help, spec.default_text);
-    }
-  }
-  parser.AddOption("config", "FILE",
-                   "read options from a TOML file (key = value, same names); the command line "
-                   "overrides it");
-  parser.AddFlag("force", "start over: delete the results of the study already in DIR");
-}
-
-// The options of the config file (if any) overridden by the command line's.
-Result<StudyOptions> ResolveOptions(const ArgParser& parser) {
-  Result<OptionValues> command_line = CommandLineValues(parser);
+// The options of the config file `config_path` (if any) overridden by the
+// command line's.
+Result<StudyOptions> ResolveOptions(const CLI::App& app, const StudyCommandLine& given,
+                                    const std::optional<std::string>& config_path) {
+  Result<OptionValues> command_line = CommandLineValues(app, given);
   if (!command_line) return command_line.error();
   OptionValues file_values;
-  if (parser.Has("config")) {
-    Result<ConfigFile> file = ReadConfigFile(parser.Get("config"));
+  if (config_path) {
+    Result<ConfigFile> file = ReadConfigFile(*config_path);
     if (!file) return file.error();
     Result<OptionValues> values = ConfigOptionValues(*file);
     if (!values) return values.error();
@@ -470,20 +447,28 @@ class StudyRunner {
 }  // namespace
 
 int ExperimentCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath experiment [--config FILE] [options]", kSummary);
-  DeclareOptions(parser);
-  if (Status status = parser.Parse(args); !status) return UsageError(status.error().message);
-  if (parser.WantsHelp()) {
-    std::fputs(parser.Help().c_str(), stdout);
-    return 0;
+  CLI::App app(kSummary, "dynapath experiment");
+  runtime::OptionGroup group(app);
+  StudyCommandLine given;
+  DeclareStudyCommandLine(group, given);
+  // The study file is TOML read by toml++ (study_config.h), so that its
+  // errors name the line; CLI11's own --config would not.
+  std::optional<std::string> config_path;
+  group.Option("--config", config_path, "FILE",
+               "read options from a TOML file (key = value, same names); the command line "
+               "overrides it");
+  bool force = false;
+  group.Flag("--force", force, "start over: delete the results of the study already in DIR");
+  if (int code = runtime::ParseCommandLine(app, args, "dynapath experiment"); code >= 0) {
+    return code;
   }
-  Result<StudyOptions> resolved = ResolveOptions(parser);
+  Result<StudyOptions> resolved = ResolveOptions(app, given, config_path);
   if (!resolved) return UsageError(resolved.error().message);
   const StudyOptions& options = *resolved;
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
   const fs::path out = options.out;
 
-  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), parser.Has("force"));
+  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), force);
   if (const CommandError* error = std::get_if<CommandError>(&opened)) {
     std::fprintf(stderr, "dynapath experiment: %s\n", error->message.c_str());
     return error->code;
@@ -510,9 +495,9 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   // the manifest, which runs git, comes after: children are fine).
   StudyMode mode = options.mode;
   if (mode == StudyMode::kAgents) {
-    const ProcessNetwork network = EnterProcessNetwork(options.lcm_url);
-    if (network == ProcessNetwork::kNone) mode = StudyMode::kEmbedded;
-    if (network == ProcessNetwork::kPrivate) {
+    const launch::ProcessNetwork network = launch::EnterProcessNetwork(options.lcm_url);
+    if (network == launch::ProcessNetwork::kNone) mode = StudyMode::kEmbedded;
+    if (network == launch::ProcessNetwork::kPrivate) {
       spdlog::info("study in a private network; watch a run with: dynapath-spy --pid {}", getpid());
     }
   }

@@ -1,64 +1,66 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <optional>
 
 #include "core/astar_paths.h"
 #include "core/bfs_oracle.h"
 #include "core/quadtree.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
-#include "tools/common/scenario_options.h"
 
 namespace dynapath::cli {
 
 int MazeCommand(const std::vector<std::string>& args) {
-  ArgParser parser("dynapath maze [options]",
-                   "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
-                   "quadtree leaves and levels, and the optimal success rate and average path\n"
-                   "length at time step 0.");
-  AddScenarioOptions(parser);
-  parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
-  parser.AddOption("save", "FILE", "write the maze to FILE in the text format");
-  parser.AddOption("save-changes", "FILE", "write the change sequence to FILE");
-  parser.AddFlag("no-grid", "do not print the grid itself");
-  AddLogLevelOption(parser);
-  if (Status status = parser.Parse(args); !status) {
+  CLI::App app(
+      "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
+      "quadtree leaves and levels, and the optimal success rate and average path\n"
+      "length at time step 0.",
+      "dynapath maze");
+  runtime::OptionGroup group(app);
+  runtime::ScenarioOptions scenario;
+  runtime::DeclareScenarioOptions(group, scenario);
+  long long leaf_limit_given = QuadTree::kDefaultLeafLimit;
+  runtime::DeclareLeafLimitOption(group, leaf_limit_given);
+  std::optional<std::string> save, save_changes;
+  group.Option("--save", save, "FILE", "write the maze to FILE in the text format");
+  group.Option("--save-changes", save_changes, "FILE", "write the change sequence to FILE");
+  bool no_grid = false;
+  group.Flag("--no-grid", no_grid, "do not print the grid itself");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  if (int code = runtime::ParseCommandLine(app, args, "dynapath maze"); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
     std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
     return kExitUsage;
   }
-  if (parser.WantsHelp()) {
-    std::fputs(parser.Help().c_str(), stdout);
-    return 0;
-  }
-  if (Status status = ApplyLogLevel(parser); !status) {
-    std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
-    return kExitUsage;
-  }
-  Result<ScenarioSetup> setup = ResolveScenario(parser);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) {
     std::fprintf(stderr, "dynapath maze: %s\n", setup.error().message.c_str());
     return kExitUsage;
   }
-  Result<long long> leaf_limit = parser.GetInt("leaf-limit", QuadTree::kDefaultLeafLimit, 1, 10000);
+  Result<int> leaf_limit = runtime::ResolveLeafLimit(leaf_limit_given);
   if (!leaf_limit) {
     std::fprintf(stderr, "dynapath maze: %s\n", leaf_limit.error().message.c_str());
     return kExitUsage;
   }
   const Grid& grid = setup->scenario.grid;
-  if (parser.Has("save")) {
-    if (Status status = SaveGrid(grid, parser.Get("save")); !status) {
+  if (save) {
+    if (Status status = SaveGrid(grid, *save); !status) {
       std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
       return kExitFailure;
     }
   }
-  if (parser.Has("save-changes")) {
-    if (Status status = SaveChanges(setup->scenario.changes, grid.rows(), grid.cols(),
-                                    parser.Get("save-changes"));
+  if (save_changes) {
+    if (Status status =
+            SaveChanges(setup->scenario.changes, grid.rows(), grid.cols(), *save_changes);
         !status) {
       std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
       return kExitFailure;
     }
   }
-  if (!parser.Has("no-grid")) std::fputs(GridToText(grid).c_str(), stdout);
+  if (!no_grid) std::fputs(GridToText(grid).c_str(), stdout);
 
   const QuadTree tree(grid.rows(), grid.cols(), static_cast<int>(*leaf_limit));
   int leaves_without_station = 0;

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "launch/private_network.h"
 #include "tools/cli/commands.h"
-#include "tools/netns/private_network.h"
 
 namespace dynapath::cli {
 namespace {
@@ -60,7 +60,7 @@ int NetnsCommand(const std::vector<std::string>& args) {
     return kExitUsage;
   }
 
-  if (Status status = EnterPrivateNetwork(); !status) {
+  if (Status status = launch::EnterPrivateNetwork(); !status) {
     std::fprintf(stderr, "dynapath netns: %s\n", status.error().message.c_str());
     return kExitFailure;
   }

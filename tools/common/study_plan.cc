@@ -17,34 +17,6 @@ namespace {
 
 constexpr int kMaxSize = kMaxGridSide;
 
-// How a config-file key's value must look.
-enum class FileKind { kInteger, kString, kBoolean, kIntegerList, kStringList };
-
-struct KeyKind {
-  const char* name;
-  FileKind kind;
-};
-
-constexpr KeyKind kFileKeys[] = {
-    {"sizes", FileKind::kIntegerList},
-    {"difficulties", FileKind::kStringList},
-    {"approaches", FileKind::kStringList},
-    {"edge-case", FileKind::kBoolean},
-    {"seed", FileKind::kInteger},
-    {"steps", FileKind::kInteger},
-    {"leaf-limit", FileKind::kInteger},
-    {"bootstrap", FileKind::kString},
-    {"semantics", FileKind::kString},
-    {"local", FileKind::kBoolean},
-    {"agents", FileKind::kInteger},
-    {"embedded", FileKind::kBoolean},
-    {"threads", FileKind::kInteger},
-    {"placement", FileKind::kString},
-    {"log-level", FileKind::kString},
-    {"lcm-url", FileKind::kString},
-    {"out", FileKind::kString},
-};
-
 std::string ScalarText(const ConfigValue& value) {
   switch (value.kind) {
     case ConfigValue::Kind::kString:
@@ -101,37 +73,50 @@ std::string StudyModeName(StudyMode mode) {
   return "local";
 }
 
-const std::vector<StudyOptionSpec>& StudyOptionSpecs() {
-  static const std::vector<StudyOptionSpec> specs = {
-      {"sizes", "LIST", "comma-separated maze sizes (rows = columns, at least 2)",
-       "20,50,100,200,300"},
-      {"difficulties", "LIST", "comma-separated difficulties: easy, medium, hard",
-       "easy,medium,hard"},
-      {"approaches", "LIST", "comma-separated approaches: " + ApproachNamesText() + "; or all",
-       "all"},
-      {"edge-case", "", "also run the report's edge case, the hard 50x50 maze of seed 102", "on"},
-      {"no-edge-case", "", "leave the edge case out", ""},
-      {"seed", "S", "one seed for every maze", "the report's: 50 + difficulty index"},
-      {"steps", "T", "time steps of every maze", "2 x rows, the report's"},
-      {"leaf-limit", "N", "largest quadtree leaf side", "20"},
-      {"bootstrap", "SCOPE", "in-grid or in-region (docs/DECISIONS.md)", "in-grid"},
-      {"semantics", "WHOSE", "ours, or report: the report code's learning (docs/DECISIONS.md)",
-       "ours"},
-      {"local", "", "run each maze in this process on a thread pool (default)", ""},
-      {"agents", "N",
-       "run each maze with envsim, coordinator and N agent processes over LCM (one private "
-       "network for the whole study, or --lcm-url's)",
-       ""},
-      {"embedded", "", "run each maze's components as threads over memq://", ""},
-      {"placement", "MODE",
-       "distributed modes: auto, whole or split (docs/DISTRIBUTED.md; results are the same)",
-       "auto"},
-      {"threads", "N", "worker threads (--local), in all (distributed)", "hardware threads"},
-      {"lcm-url", "URL", "with --agents: use this LCM network instead of a private one", ""},
-      {"log-level", "LEVEL", "trace, debug, info, warn, error or off (of OUT/study.log)", "info"},
-      {"out", "DIR", "study directory", "study"},
-  };
-  return specs;
+void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
+  using runtime::ValueKind;
+  group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
+             "comma-separated maze sizes (rows = columns, at least 2)", "20,50,100,200,300");
+  group.List("--difficulties", o.difficulties, ValueKind::kStringList, "LIST",
+             "comma-separated difficulties: easy, medium, hard", "easy,medium,hard");
+  group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
+             "comma-separated approaches: " + ApproachNamesText() + "; or all", "all");
+  group.Flag("--edge-case", o.edge_case,
+             "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
+  group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");
+  runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
+  runtime::DeclareLearnerOptions(group, o.learner);
+  runtime::DeclareModeOptions(group, o.mode);
+  runtime::DeclarePlacementOption(group, o.learner);
+  runtime::DeclareThreadOptions(group, o.threads);
+  runtime::DeclareLcmUrlOption(group, o.lcm_url);
+  runtime::DeclareLogOptions(group, o.log);
+  group.Option("--out", o.out, "DIR", "study directory", "study");
+}
+
+const runtime::OptionKinds& StudyOptionKinds() {
+  static const runtime::OptionKinds kinds = [] {
+    runtime::OptionKinds declared;
+    CLI::App app;
+    StudyCommandLine options;
+    runtime::OptionGroup group(app, &declared);
+    DeclareStudyCommandLine(group, options);
+    declared.erase("no-edge-case");  // a file says edge-case = false
+    return declared;
+  }();
+  return kinds;
+}
+
+OptionValues GivenOptionValues(const CLI::App& app) {
+  OptionValues values;
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->count() == 0 || option->get_lnames().empty()) continue;
+    const std::string name = option->get_lnames().front();
+    std::string text = "true";  // a flag
+    if (option->get_expected_min() > 0) text = Join(option->results(), ",");
+    values[name] = OptionValue{text, "option --" + name};
+  }
+  return values;
 }
 
 Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
@@ -139,16 +124,12 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
   for (const ConfigEntry& entry : file.entries) {
     std::string key = entry.key;
     std::replace(key.begin(), key.end(), '_', '-');
-    const KeyKind* spec = nullptr;
-    for (const KeyKind& candidate : kFileKeys) {
-      if (key == candidate.name) spec = &candidate;
-    }
+    const runtime::OptionKinds& kinds = StudyOptionKinds();
+    const auto spec = kinds.find(key);
     const std::string where = file.name + ":" + std::to_string(entry.line);
-    if (spec == nullptr) {
+    if (spec == kinds.end()) {
       std::string names;
-      for (const KeyKind& candidate : kFileKeys) {
-        names += (names.empty() ? "" : ", ") + std::string(candidate.name);
-      }
+      for (const auto& [name, kind] : kinds) names += (names.empty() ? "" : ", ") + name;
       return Error{where + ": unknown key '" + entry.key + "' (expected one of: " + names + ")"};
     }
     const ConfigValue& value = entry.value;
@@ -159,17 +140,20 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
     };
     using Kind = ConfigValue::Kind;
-    switch (spec->kind) {
-      case FileKind::kInteger:
+    switch (spec->second) {
+      case runtime::ValueKind::kInteger:
         if (value.kind != Kind::kInteger) return wrong("an integer");
         break;
-      case FileKind::kString:
+      case runtime::ValueKind::kFloat:
+        if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) return wrong("a number");
+        break;
+      case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
         break;
-      case FileKind::kBoolean:
+      case runtime::ValueKind::kBoolean:
         if (value.kind != Kind::kBoolean) return wrong("true or false");
         break;
-      case FileKind::kIntegerList:
+      case runtime::ValueKind::kIntegerList:
         if (value.kind == Kind::kArray) {
           if (!value.items.empty() && value.items.front().kind != Kind::kInteger) {
             return wrong("an array of integers");
@@ -178,7 +162,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           return wrong("an integer or an array of integers");
         }
         break;
-      case FileKind::kStringList:
+      case runtime::ValueKind::kStringList:
         if (value.kind == Kind::kArray) {
           if (!value.items.empty() && value.items.front().kind != Kind::kString) {
             return wrong("an array of strings");
@@ -293,20 +277,19 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     options.steps = static_cast<int>(*value);
   }
   if (const OptionValue* leaf = find("leaf-limit")) {
-    Result<long long> value = ParseInteger(*leaf, 1, 10000);
+    Result<long long> value = ParseInteger(*leaf, 1, runtime::kMaxLeafLimit);
     if (!value) return value.error();
     options.leaf_limit = static_cast<int>(*value);
   }
   if (const OptionValue* bootstrap = find("bootstrap")) {
-    if (bootstrap->text != "in-grid" && bootstrap->text != "in-region") {
-      return Error{bootstrap->origin + ": must be in-grid or in-region, got '" + bootstrap->text +
-                   "'"};
+    if (Status status = runtime::CheckBootstrap(bootstrap->text); !status) {
+      return Error{bootstrap->origin + ": " + status.error().message};
     }
     options.bootstrap = bootstrap->text;
   }
   if (const OptionValue* semantics = find("semantics")) {
-    if (semantics->text != "ours" && semantics->text != "report") {
-      return Error{semantics->origin + ": must be ours or report, got '" + semantics->text + "'"};
+    if (Status status = runtime::CheckSemantics(semantics->text); !status) {
+      return Error{semantics->origin + ": " + status.error().message};
     }
     if (semantics->text == "report" && options.bootstrap != "in-grid") {
       return Error{semantics->origin + ": report sets the bootstrap itself; leave bootstrap out"};
@@ -314,9 +297,8 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     options.semantics = semantics->text;
   }
   if (const OptionValue* placement = find("placement")) {
-    if (placement->text != "auto" && placement->text != "whole" && placement->text != "split") {
-      return Error{placement->origin + ": must be auto, whole or split, got '" + placement->text +
-                   "'"};
+    if (Status status = runtime::CheckPlacement(placement->text); !status) {
+      return Error{placement->origin + ": " + status.error().message};
     }
     options.placement = placement->text;
   }
@@ -329,24 +311,22 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     return Error{local->origin + ": choose one of --local, --agents N and --embedded"};
   }
   if (agents) {
-    Result<long long> value = ParseInteger(*agents, 1, 256);
+    Result<long long> value = ParseInteger(*agents, 1, runtime::kMaxAgents);
     if (!value) return value.error();
     options.agents = static_cast<int>(*value);
   }
   options.mode = embedded ? StudyMode::kEmbedded : agents ? StudyMode::kAgents : StudyMode::kLocal;
 
   if (const OptionValue* threads = find("threads")) {
-    Result<long long> value = ParseInteger(*threads, 1, 1024);
+    Result<long long> value = ParseInteger(*threads, 1, runtime::kMaxThreads);
     if (!value) return value.error();
     options.threads = static_cast<int>(*value);
   } else {
     options.threads = std::max(1, hardware_threads);
   }
   if (const OptionValue* level = find("log-level")) {
-    const spdlog::level::level_enum parsed = spdlog::level::from_str(level->text);
-    if (parsed == spdlog::level::off && level->text != "off") {
-      return Error{level->origin + ": must be trace, debug, info, warn, error or off, got '" +
-                   level->text + "'"};
+    if (Status status = runtime::CheckLogLevel(level->text); !status) {
+      return Error{level->origin + ": " + status.error().message};
     }
     options.log_level = level->text;
   }
@@ -415,20 +395,26 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
   return plan;
 }
 
-std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration) {
-  return {"--size",       std::to_string(configuration.size),
-          "--difficulty", LowerDifficulty(configuration.difficulty),
-          "--seed",       std::to_string(configuration.seed),
-          "--steps",      std::to_string(configuration.steps)};
+runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration) {
+  runtime::ScenarioOptions options;
+  options.size = configuration.size;
+  options.difficulty = LowerDifficulty(configuration.difficulty);
+  options.seed = configuration.seed;
+  options.steps = configuration.steps;
+  return options;
 }
 
-std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir) {
+runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir) {
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  return {"--approach",      Join(names, ","),  "--out",
-          out_dir,           "--leaf-limit",    std::to_string(options.leaf_limit),
-          "--bootstrap",     options.bootstrap, "--semantics",
-          options.semantics, "--placement",     options.placement};
+  runtime::RunOptions run;
+  run.approach = Join(names, ",");
+  run.out = out_dir;
+  run.leaf_limit = options.leaf_limit;
+  run.bootstrap = options.bootstrap;
+  run.semantics = options.semantics;
+  run.placement = options.placement;
+  return run;
 }
 
 Json StudyIdentityJson(const StudyOptions& options) {

@@ -11,6 +11,10 @@
 #include "core/approach.h"
 #include "core/difficulty.h"
 #include "core/result.h"
+#include "runtime/option_group.h"
+#include "runtime/process_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 #include "tools/common/json.h"
 #include "tools/common/study_config.h"
 
@@ -51,15 +55,28 @@ struct OptionValue {
 // text, as on the command line; booleans are "true" or "false".
 using OptionValues = std::map<std::string, OptionValue>;
 
-// The study's options: name, value name for --help ("" for a flag), help
-// text and default. The config file takes the same names (with '-' or '_').
-struct StudyOptionSpec {
-  std::string name;
-  std::string value_name;
-  std::string help;
-  std::string default_text;
+// The study's options as given, declared once on CLI11
+// (DeclareStudyCommandLine): the study's own (lists kept as their text) and
+// the groups it shares with `dynapath run` (learner options, placement,
+// mode, threads, LCM URL, log level, seed and steps). The config file takes
+// the same names (with '-' or '_'), checked by the kinds the declaration
+// records.
+struct StudyCommandLine {
+  std::optional<std::string> sizes, difficulties, approaches, out;
+  bool edge_case = false, no_edge_case = false;
+  std::optional<long long> seed, steps;
+  runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
+  runtime::ModeOptions mode;
+  runtime::ThreadOptions threads;
+  std::string lcm_url;
+  runtime::LogOptions log;
 };
-const std::vector<StudyOptionSpec>& StudyOptionSpecs();
+void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& options);
+// The keys a study file may hold, with their kinds (from the declaration).
+const runtime::OptionKinds& StudyOptionKinds();
+// The options given on a parsed command line, as text values ("option
+// --NAME"); flags are "true".
+OptionValues GivenOptionValues(const CLI::App& app);
 
 // The entries of a config file as option values; unknown keys and values of
 // the wrong type are errors naming the line. `local = false`,
@@ -97,11 +114,12 @@ struct StudyConfiguration {
 // (hard 50x50 of seed 102, with --steps when given) when enabled.
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 
-// The `dynapath run` maze options of a configuration (--size, --difficulty,
-// --seed, --steps), and its run options (--approach, --out, --leaf-limit,
-// --bootstrap, --semantics), as arguments.
-std::vector<std::string> ScenarioArguments(const StudyConfiguration& configuration);
-std::vector<std::string> RunArguments(const StudyOptions& options, const std::string& out_dir);
+// The `dynapath run` maze options of a configuration (size, difficulty,
+// seed, steps), and its run options (approaches, out, leaf limit,
+// bootstrap, semantics, placement): copied into the structs `run` parses
+// into, not spelled out as arguments.
+runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
+runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir);
 
 // The options that determine the results (compared to resume a study), and
 // the others, as manifest objects.

@@ -9,20 +9,22 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/text_file.h"
 #include "lcmtypes/protocol/channels.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/option_group.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 #include "tools/view/gif_writer.h"
 #include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_stream.h"
 #include "tools/view/safe_name.h"
+#include "tools/view/view_options.h"
 
 namespace {
 
@@ -42,79 +44,51 @@ struct Output {
   int first_step = -1, last_step = -1;
 };
 
-// Splits the log file (the one argument that is not an option or an
-// option's value) from the options.
-struct SplitArgs {
-  std::vector<std::string> positional, options;
-};
-SplitArgs Split(const std::vector<std::string>& args, const std::set<std::string>& with_value) {
-  SplitArgs split;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    if (arg.size() > 2 && arg.rfind("--", 0) == 0) {
-      split.options.push_back(arg);
-      const std::string name = arg.substr(2);
-      if (name.find('=') == std::string::npos && with_value.count(name) && i + 1 < args.size()) {
-        split.options.push_back(args[++i]);
-      }
-    } else if (arg == "--") {
-      split.positional.insert(split.positional.end(), args.begin() + i + 1, args.end());
-      break;
-    } else if (arg == "-h") {
-      split.options.push_back(arg);
-    } else {
-      split.positional.push_back(arg);
-    }
-  }
-  return split;
-}
-
 std::string Kilobytes(uintmax_t bytes) { return std::to_string((bytes + 1023) / 1024) + " KB"; }
 
 int Run(const std::vector<std::string>& args) {
-  cli::ArgParser parser(
-      "dynapath render LOG --out DIR [options]",
+  CLI::App app(
       "Draws the policy of every time step of a logged run (dynapath run --log LOG) as PNG\n"
       "frames, OUT/<approach>/step_0000.png ..., and an animated OUT/<approach>/policy.gif.\n"
       "With several runs in the log (and no --run-id): OUT/<run>/<approach>/...\n"
       "Free cells light, obstacles dark, stations green, cells whose policy fails red,\n"
-      "arrows for the greedy actions, retrained regions outlined in orange.");
-  parser.AddOption("out", "DIR", "directory for the pictures", "required");
-  parser.AddOption("approach", "NAME", "only this approach ('A* Oracle' or its directory A_Oracle)",
-                   "all");
-  parser.AddOption("run-id", "ID", "only this run of the log", "all runs");
-  parser.AddOption("cell", "PX", "pixels per cell side (1-64; arrows from 6 px)",
-                   "16 up to 50x50 cells, smaller beyond");
-  parser.AddOption("delay", "MS", "GIF frame delay in milliseconds (20-60000)", "250");
-  parser.AddFlag("no-gif", "write the PNG frames only");
-  cli::AddLogLevelOption(parser);
+      "arrows for the greedy actions, retrained regions outlined in orange.",
+      "dynapath render");
+  std::string log_path;
+  app.add_option("LOG", log_path, "the LCM log of a run (dynapath run --log LOG)");
+  runtime::OptionGroup group(app);
+  std::optional<std::string> out;
+  group.Option("--out", out, "DIR", "directory for the pictures", "required");
+  view::ShowOptions show;
+  view::DeclareShowOptions(group, show);
+  long long delay_given = 250;
+  group.Option("--delay", delay_given, "MS", "GIF frame delay in milliseconds (20-60000)");
+  bool no_gif = false;
+  group.Flag("--no-gif", no_gif, "write the PNG frames only");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
 
-  const SplitArgs split = Split(args, {"out", "approach", "run-id", "cell", "delay", "log-level"});
-  if (int code = cli::ParseProcessArgs(parser, split.options, kProgram); code >= 0) return code;
-  if (split.positional.empty()) {
-    return cli::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
   }
-  if (split.positional.size() > 1) {
-    return cli::ProcessError(kProgram,
-                             "unexpected argument '" + split.positional[1] + "' (see --help)");
+  if (log_path.empty()) {
+    return runtime::ProcessError(kProgram, "missing LOG (usage: dynapath render LOG --out DIR)");
   }
-  const std::string log_path = split.positional[0];
-  if (!parser.Has("out") || parser.Get("out").empty()) {
-    return cli::ProcessError(kProgram, "option --out DIR is required");
+  if (!out || out->empty()) {
+    return runtime::ProcessError(kProgram, "option --out DIR is required");
   }
-  const fs::path out_dir = parser.Get("out");
-  Result<long long> cell = parser.GetInt("cell", 0, 1, view::kMaxCellPx);
-  if (!cell) return cli::ProcessError(kProgram, cell.error().message);
-  Result<long long> delay = parser.GetInt("delay", 250, 20, 60000);
-  if (!delay) return cli::ProcessError(kProgram, delay.error().message);
-  const std::string run_filter = parser.Get("run-id");
-  if (parser.Has("run-id")) {
-    if (Status status = protocol::CheckRunId(run_filter); !status) {
-      return cli::ProcessError(kProgram, status.error().message);
-    }
+  const fs::path out_dir = *out;
+  if (Status status = view::CheckShowOptions(show); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
   }
-  const std::string approach_filter = parser.Get("approach");
-  const bool want_gif = !parser.Has("no-gif");
+  Result<int> cell = view::ResolveCellOption(show.cell_px);
+  if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
+  Result<long long> delay = runtime::InRange("delay", delay_given, 0, 20, 60000);
+  if (!delay) return runtime::ProcessError(kProgram, delay.error().message);
+  const std::string run_filter = show.run_id.value_or("");
+  const std::string approach_filter = show.approach.value_or("");
+  const bool want_gif = !no_gif;
   view::DrawOptions draw;
   draw.cell_px = static_cast<int>(*cell);
 
@@ -127,7 +101,7 @@ int Run(const std::vector<std::string>& args) {
           keys.emplace_back(policy.run_id, policy.approach);
         }
       });
-  if (!scan) return cli::ProcessError(kProgram, scan.error().message, kExitFailure);
+  if (!scan) return runtime::ProcessError(kProgram, scan.error().message, kExitFailure);
   if (keys.empty()) {
     std::string message = "log " + log_path + " holds no POLICY messages";
     if (!run_filter.empty()) message += " of run " + run_filter;
@@ -136,7 +110,7 @@ int Run(const std::vector<std::string>& args) {
     } else {
       message += " (record a distributed run: dynapath run --agents N --log FILE)";
     }
-    return cli::ProcessError(kProgram, message, kExitFailure);
+    return runtime::ProcessError(kProgram, message, kExitFailure);
   }
   if (!approach_filter.empty()) {
     std::vector<std::pair<std::string, std::string>> kept;
@@ -150,10 +124,10 @@ int Run(const std::vector<std::string>& args) {
         names += (names.empty() ? "'" : ", '") + key.second + "'";
     }
     if (kept.empty()) {
-      return cli::ProcessError(kProgram,
-                               "log " + log_path + " holds no policy of approach '" +
-                                   approach_filter + "' (it holds " + names + ")",
-                               kExitFailure);
+      return runtime::ProcessError(kProgram,
+                                   "log " + log_path + " holds no policy of approach '" +
+                                       approach_filter + "' (it holds " + names + ")",
+                                   kExitFailure);
     }
     keys = std::move(kept);
   }
@@ -176,8 +150,8 @@ int Run(const std::vector<std::string>& args) {
     std::error_code error;
     fs::create_directories(dir, error);
     if (error) {
-      return cli::ProcessError(kProgram, "cannot create " + dir.string() + ": " + error.message(),
-                               kExitFailure);
+      return runtime::ProcessError(
+          kProgram, "cannot create " + dir.string() + ": " + error.message(), kExitFailure);
     }
     output.dir = dir;
     outputs.emplace(key, std::move(output));
@@ -238,8 +212,8 @@ int Run(const std::vector<std::string>& args) {
           last_progress = now;
         }
       });
-  if (!pass) return cli::ProcessError(kProgram, pass.error().message, kExitFailure);
-  if (!failure.empty()) return cli::ProcessError(kProgram, failure, kExitFailure);
+  if (!pass) return runtime::ProcessError(kProgram, pass.error().message, kExitFailure);
+  if (!failure.empty()) return runtime::ProcessError(kProgram, failure, kExitFailure);
 
   for (const auto& key : keys) {
     Output& output = outputs.at(key);
@@ -248,7 +222,7 @@ int Run(const std::vector<std::string>& args) {
       const fs::path gif_path = output.dir / "policy.gif";
       const std::vector<uint8_t> bytes = output.gif->Finish();
       if (Status status = WriteFileAtomically(gif_path.string(), bytes); !status) {
-        return cli::ProcessError(kProgram, status.error().message, kExitFailure);
+        return runtime::ProcessError(kProgram, status.error().message, kExitFailure);
       }
       gif_text = " and policy.gif (" + std::to_string(output.gif->frames()) + " frames, " +
                  Kilobytes(bytes.size()) + ")";
@@ -278,10 +252,10 @@ int Run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  dynapath::cli::InitProcessLogging(kProgram);
+  dynapath::runtime::InitProcessLogging(kProgram);
   try {
     return Run(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& error) {
-    return dynapath::cli::ProcessError(kProgram, error.what(), kExitFailure);
+    return dynapath::runtime::ProcessError(kProgram, error.what(), kExitFailure);
   }
 }

@@ -12,16 +12,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/process_options.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/option_group.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/policy_feed.h"
+#include "tools/view/view_options.h"
 #include "tools/view/viewer.h"
 
 namespace {
@@ -83,62 +85,70 @@ Result<std::pair<int, int>> ParseWindowSize(const std::string& text) {
 }
 
 int Run(const std::vector<std::string>& args) {
-  cli::ArgParser parser(
-      "dynapath view [options]",
+  CLI::App app(
       "A live window on a run's policy: the latest POLICY message of an approach, drawn\n"
       "like `dynapath render` draws them. Keys: Tab/PageUp/PageDown or 1-9 pick the\n"
       "approach, A follows the latest one, wheel or +/- zoom, drag or arrows pan, F fits,\n"
       "Q or Escape quit. A run in its private network (the default of dynapath run\n"
-      "--agents N): give the pid its launcher logs, --pid PID.");
-  parser.AddOption("run-id", "ID", "the run to watch", "the most recent run heard");
-  parser.AddOption("lcm-url", "URL", "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
-  parser.AddOption("pid", "PID",
-                   "join the private network of this process (a running `dynapath run`)");
-  parser.AddOption("approach", "NAME", "approach shown first ('A* Oracle' or A_Oracle)",
-                   "follow the latest");
-  parser.AddOption("cell", "PX", "pixels per cell side (1-64)", "16 up to 50x50 cells");
-  parser.AddOption("window", "WxH", "window size", "960x760");
-  parser.AddOption("screenshot", "FILE",
-                   "save what the window shows as a PNG once --frames policies arrived, and exit");
-  parser.AddOption("frames", "N", "policies to receive before the screenshot", "1");
-  parser.AddOption("timeout", "SEC", "screenshot mode: give up after SEC seconds (exit 1)", "60");
-  cli::AddLogLevelOption(parser);
-  if (int code = cli::ParseProcessArgs(parser, args, kProgram); code >= 0) return code;
+      "--agents N): give the pid its launcher logs, --pid PID.",
+      "dynapath view");
+  runtime::OptionGroup group(app);
+  view::ShowOptions show;
+  view::DeclareShowOptions(group, show);
+  std::string lcm_url;
+  runtime::DeclareLcmUrlOption(group, lcm_url);
+  std::optional<std::string> pid_given;
+  group.Option("--pid", pid_given, "PID",
+               "join the private network of this process (a running `dynapath run`)");
+  std::string window_given = "960x760";
+  group.Option("--window", window_given, "WxH", "window size");
+  std::optional<std::string> screenshot;
+  group.Option("--screenshot", screenshot, "FILE",
+               "save what the window shows as a PNG once --frames policies arrived, and exit");
+  long long frames_given = 1;
+  group.Option("--frames", frames_given, "N", "policies to receive before the screenshot");
+  long long timeout_given = 60;
+  group.Option("--timeout", timeout_given, "SEC",
+               "screenshot mode: give up after SEC seconds (exit 1)");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
 
   view::ViewerOptions options;
-  const std::string run_id = parser.Get("run-id");
-  if (parser.Has("run-id")) {
-    if (Status status = protocol::CheckRunId(run_id); !status) {
-      return cli::ProcessError(kProgram, status.error().message);
-    }
+  if (Status status = view::CheckShowOptions(show); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
   }
-  Result<long long> cell = parser.GetInt("cell", 0, 1, view::kMaxCellPx);
-  if (!cell) return cli::ProcessError(kProgram, cell.error().message);
-  options.cell_px = static_cast<int>(*cell);
-  Result<std::pair<int, int>> window = ParseWindowSize(parser.Get("window", "960x760"));
-  if (!window) return cli::ProcessError(kProgram, window.error().message);
+  const std::string run_id = show.run_id.value_or("");
+  Result<int> cell = view::ResolveCellOption(show.cell_px);
+  if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
+  options.cell_px = *cell;
+  Result<std::pair<int, int>> window = ParseWindowSize(window_given);
+  if (!window) return runtime::ProcessError(kProgram, window.error().message);
   options.window_width = window->first;
   options.window_height = window->second;
-  options.approach = parser.Get("approach");
-  options.screenshot = parser.Get("screenshot");
-  Result<long long> frames = parser.GetInt("frames", 1, 1, 1000000);
-  if (!frames) return cli::ProcessError(kProgram, frames.error().message);
+  options.approach = show.approach.value_or("");
+  options.screenshot = screenshot.value_or("");
+  Result<long long> frames = runtime::InRange("frames", frames_given, 0, 1, 1000000);
+  if (!frames) return runtime::ProcessError(kProgram, frames.error().message);
   options.screenshot_after = static_cast<int>(*frames);
-  Result<long long> timeout = parser.GetInt("timeout", 60, 1, 86400);
-  if (!timeout) return cli::ProcessError(kProgram, timeout.error().message);
+  Result<long long> timeout = runtime::InRange("timeout", timeout_given, 0, 1, 86400);
+  if (!timeout) return runtime::ProcessError(kProgram, timeout.error().message);
   options.timeout_seconds = static_cast<double>(*timeout);
-  if (parser.Has("screenshot") && options.screenshot.empty()) {
-    return cli::ProcessError(kProgram, "option --screenshot needs a file name");
+  if (screenshot && options.screenshot.empty()) {
+    return runtime::ProcessError(kProgram, "option --screenshot needs a file name");
   }
 
-  if (parser.Has("pid")) {
-    const std::string pid = parser.Get("pid");
+  if (pid_given) {
+    const std::string& pid = *pid_given;
     if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) {
-      return cli::ProcessError(kProgram, "option --pid needs a process id, got '" + pid + "'");
+      return runtime::ProcessError(kProgram, "option --pid needs a process id, got '" + pid + "'");
     }
     // Still one thread: setns into a user namespace requires it.
     if (Status status = EnterNetworkOf(pid); !status) {
-      return cli::ProcessError(kProgram, status.error().message, kExitFailure);
+      return runtime::ProcessError(kProgram, status.error().message, kExitFailure);
     }
     spdlog::info("joined the network of process {}", pid);
   }
@@ -146,16 +156,16 @@ int Run(const std::vector<std::string>& args) {
   // SFML aborts the process when it cannot open a display: say so first.
   const char* display = std::getenv("DISPLAY");
   if (display == nullptr || *display == '\0') {
-    return cli::ProcessError(
+    return runtime::ProcessError(
         kProgram,
         "no display (DISPLAY is not set): dynapath view opens a window; use "
         "`dynapath render LOG --out DIR` for pictures without one (or xvfb-run)",
         kExitFailure);
   }
 
-  options.lcm_url = protocol::ResolveLcmUrl(parser.Get("lcm-url"));
+  options.lcm_url = protocol::ResolveLcmUrl(lcm_url);
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(options.lcm_url);
-  if (!lcm) return cli::ProcessError(kProgram, lcm.error().message, kExitFailure);
+  if (!lcm) return runtime::ProcessError(kProgram, lcm.error().message, kExitFailure);
   view::PolicyFeed feed(**lcm, run_id);
   protocol::Dispatcher dispatcher(**lcm);
   spdlog::info("listening for DYNAPATH/{}/POLICY on {}", run_id.empty() ? "*" : run_id,
@@ -170,10 +180,10 @@ int Run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  dynapath::cli::InitProcessLogging(kProgram);
+  dynapath::runtime::InitProcessLogging(kProgram);
   try {
     return Run(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& error) {
-    return dynapath::cli::ProcessError(kProgram, error.what(), kExitFailure);
+    return dynapath::runtime::ProcessError(kProgram, error.what(), kExitFailure);
   }
 }

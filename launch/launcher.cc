@@ -1,4 +1,4 @@
-#include "tools/cli/launcher.h"
+#include "launch/launcher.h"
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
@@ -15,14 +15,17 @@
 #include <thread>
 
 #include "agent/agent.h"
+#include "agent/command_line.h"
+#include "coordinator/command_line.h"
 #include "coordinator/coordinator.h"
 #include "dynapath/step_report_t.hpp"
+#include "envsim/command_line.h"
 #include "envsim/envsim.h"
+#include "launch/private_network.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
-#include "tools/netns/private_network.h"
 
-namespace dynapath::cli {
+namespace dynapath::launch {
 namespace {
 
 namespace fs = std::filesystem;
@@ -52,15 +55,20 @@ struct Child {
   int status = 0;
 };
 
-// A pipe holding `secret`, read end returned (close-on-exec), write end
-// closed: the child reads the secret once through /dev/fd/N. Unlike an
-// argument it is not in /proc/PID/cmdline (world-readable); unlike the
-// environment it is not inherited by whatever the child starts; unlike a
+// A pipe holding `text`, read end returned (close-on-exec), write end
+// closed: the child reads it once through /dev/fd/N. The run's secret and
+// each child's options (a CLI11 config file) go this way. Unlike an
+// argument the secret is not in /proc/PID/cmdline (world-readable); unlike
+// the environment it is not inherited by whatever the child starts; unlike a
 // file it leaves nothing on disk. -1 on failure.
-int SecretPipe(const std::string& secret) {
+int TextPipe(const std::string& text) {
+  // A pipe holds 64 KiB before a write blocks; options are a few hundred bytes.
+  if (text.size() > 60000) {
+    errno = E2BIG;
+    return -1;
+  }
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) return -1;
-  const std::string text = secret + "\n";  // far below PIPE_BUF: never blocks
   const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
   close(fds[1]);
   if (!written) {
@@ -70,9 +78,10 @@ int SecretPipe(const std::string& secret) {
   return fds[0];
 }
 
-// Starts `argv`. `secret_fd` >= 0: a SecretPipe the child keeps open across
-// exec (argv names it as /dev/fd/N).
-pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd, int secret_fd = -1) {
+// Starts `argv`. `keep_fds`: TextPipes the child keeps open across exec
+// (argv or its config names them as /dev/fd/N).
+pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
+            const std::vector<int>& keep_fds = {}) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid != 0) return pid;
@@ -80,7 +89,9 @@ pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd, int secret_fd =
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(1);
   if (stderr_fd >= 0 && dup2(stderr_fd, STDERR_FILENO) < 0) _exit(126);
-  if (secret_fd >= 0 && fcntl(secret_fd, F_SETFD, 0) != 0) _exit(126);
+  for (int fd : keep_fds) {
+    if (fcntl(fd, F_SETFD, 0) != 0) _exit(126);
+  }
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
@@ -173,6 +184,21 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
 }
 
 int LaunchProcesses(const DistributedRun& run) {
+  {
+    // A value a config file cannot carry fails the run before anything starts.
+    runtime::ConfigWriter check;
+    runtime::OptionGroup group(check);
+    runtime::ProcessOptions process = runtime::ChildProcessOptions(run.process);
+    runtime::ScenarioOptions scenario = run.scenario;
+    runtime::RunOptions plan = run.run;
+    runtime::DeclareProcessOptions(group, process, true);
+    runtime::DeclareScenarioOptions(group, scenario);
+    runtime::DeclareRunOptions(group, plan);
+    if (Status status = check.status(); !status) {
+      spdlog::error("cannot start the run's processes: {}", status.error().message);
+      return 1;
+    }
+  }
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   // Listen to the run's reports before its processes start.
   std::unique_ptr<lcm::LCM> report_lcm;
@@ -188,61 +214,90 @@ int LaunchProcesses(const DistributedRun& run) {
       spdlog::warn("no progress reports: {}", opened.error().message);
     }
   }
-  std::vector<std::string> common = {"--run-id", run.process.run_id, "--log-level", run.log_level};
-  if (!run.process.lcm_url.empty()) {
-    common.insert(common.end(), {"--lcm-url", run.process.lcm_url});
-  }
-  common.insert(common.end(), {"--grid-cells", std::to_string(run.process.bus.max_grid_cells)});
-  if (run.process.bus.drop_probability > 0) {
-    common.insert(common.end(), {"--fault-drop", std::to_string(run.process.bus.drop_probability)});
-  }
-  if (run.process.bus.duplicate_probability > 0) {
-    common.insert(common.end(),
-                  {"--fault-dup", std::to_string(run.process.bus.duplicate_probability)});
-  }
   std::vector<Child> children;
-  // `with_secret`: hand the run's secret over a pipe (--secret-file
-  // /dev/fd/N), or pass --insecure when the run has none.
-  auto start = [&](const std::string& name, std::vector<std::string> argv, bool with_secret) {
-    int secret_fd = -1;
-    if (with_secret && run.process.secret.empty()) {
-      argv.push_back("--insecure");
-    } else if (with_secret) {
-      secret_fd = SecretPipe(run.process.secret);
+  // Starts a child with its options as one config file: `options` is its
+  // command-line struct, written by the same declaration its main parses
+  // with. With `secret`, the run's secret goes over a pipe of its own
+  // (--secret-file /dev/fd/N), or --insecure when the run has none.
+  // `visible`: more arguments besides --config.
+  auto start = [&](const std::string& name, const std::string& binary, auto& options, auto declare,
+                   std::vector<std::string> visible = {}) {
+    std::vector<int> fds;
+    auto close_fds = [&] {
+      for (int fd : fds) close(fd);
+    };
+    options.process = runtime::ChildProcessOptions(run.process);
+    options.log.log_level = run.log_level;
+    if (run.process.secret.empty()) {
+      options.process.insecure = true;
+    } else {
+      const int secret_fd = TextPipe(run.process.secret + "\n");
       if (secret_fd < 0) {
         spdlog::error("cannot hand the run's secret to {}: {}", name, std::strerror(errno));
         return false;
       }
-      argv.insert(argv.end(), {"--secret-file", "/dev/fd/" + std::to_string(secret_fd)});
+      fds.push_back(secret_fd);
+      options.process.secret_file = "/dev/fd/" + std::to_string(secret_fd);
     }
-    const pid_t pid = Spawn(argv, run.child_stderr, secret_fd);
-    if (secret_fd >= 0) close(secret_fd);
+    runtime::ConfigWriter writer;
+    runtime::OptionGroup group(writer);
+    declare(group, options);
+    if (Status status = writer.status(); !status) {
+      spdlog::error("cannot hand {} its options: {}", name, status.error().message);
+      close_fds();
+      return false;
+    }
+    const int config_fd = TextPipe(writer.Text());
+    if (config_fd < 0) {
+      spdlog::error("cannot hand {} its options: {}", name, std::strerror(errno));
+      close_fds();
+      return false;
+    }
+    fds.push_back(config_fd);
+    std::vector<std::string> argv = {binary, "--config", "/dev/fd/" + std::to_string(config_fd)};
+    // The config is complete; the run id, how the secret arrives and an
+    // agent's id are repeated as arguments so that ps and pgrep tell a run's
+    // processes apart and show that the secret came over a pipe (the tests
+    // find processes this way).
+    argv.insert(argv.end(), {"--run-id", run.process.run_id});
+    if (options.process.secret_file) {
+      argv.insert(argv.end(), {"--secret-file", *options.process.secret_file});
+    } else {
+      argv.push_back("--insecure");
+    }
+    argv.insert(argv.end(), visible.begin(), visible.end());
+    const pid_t pid = Spawn(argv, run.child_stderr, fds);
+    close_fds();
     if (pid < 0) return false;
     children.push_back(Child{name, pid});
     return true;
   };
   if (!run.log_file.empty()) {
-    start("lcm-logger",
-          {"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
-           "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
-          false);  // records the bytes as sent, tags included
+    const pid_t pid =
+        Spawn({"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
+               "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
+              run.child_stderr);  // records the bytes as sent, tags included
+    if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
   }
-  std::vector<std::string> argv = {FindBinary("coordinator")};
-  argv.insert(argv.end(), common.begin(), common.end());
-  argv.insert(argv.end(), run.coordinator_args.begin(), run.coordinator_args.end());
-  argv.insert(argv.end(), {"--agents", std::to_string(run.agents)});
-  start("coordinator", argv, true);
-  argv = {FindBinary("envsim")};
-  argv.insert(argv.end(), common.begin(), common.end());
-  argv.insert(argv.end(), run.envsim_args.begin(), run.envsim_args.end());
-  start("envsim", argv, true);
-  for (int i = 1; i <= run.agents; ++i) {
-    argv = {FindBinary("agent")};
-    argv.insert(argv.end(), common.begin(), common.end());
-    argv.insert(argv.end(),
-                {"--id", std::to_string(i), "--threads", std::to_string(run.threads_per_agent)});
-    start("agent " + std::to_string(i), argv, true);
+  coordinator::CoordinatorCommandLine coordinator_options;
+  coordinator_options.run = run.run;
+  coordinator_options.agents = run.agents;
+  bool started = start("coordinator", FindBinary("coordinator"), coordinator_options,
+                       coordinator::DeclareCoordinatorCommandLine);
+  envsim::EnvSimCommandLine envsim_options;
+  envsim_options.scenario = run.scenario;
+  started = started &&
+            start("envsim", FindBinary("envsim"), envsim_options, envsim::DeclareEnvSimCommandLine);
+  for (int i = 1; i <= run.agents && started; ++i) {
+    agent::AgentCommandLine agent_options;
+    agent_options.threads.threads = run.threads_per_agent;
+    started = start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
+                    agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
+  }
+  if (!started) {  // the run cannot go on without one of them: stop the others now
+    StopAll(children, std::chrono::milliseconds(3000));
+    return 1;
   }
 
   int exit_code = 0;
@@ -294,7 +349,8 @@ int LaunchProcesses(const DistributedRun& run) {
   return exit_code;
 }
 
-int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSetup& scenario) {
+int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                const runtime::ScenarioSetup& scenario) {
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   // One memq:// instance: a second one in this process would hear nothing.
   lcm::LCM lcm("memq://");
@@ -342,4 +398,4 @@ int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSe
   return stop ? 130 : code;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::launch

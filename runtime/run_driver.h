@@ -7,11 +7,12 @@
 #include <vector>
 
 #include "core/experiment.h"
+#include "core/quadtree.h"
 #include "core/results_csv.h"
-#include "tools/common/arg_parser.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/option_group.h"
+#include "runtime/scenario_options.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
 // How a distributed run spreads a training batch over the agent processes
 // (coordinator/distributed_trainer.h); --local ignores it.
@@ -28,12 +29,34 @@ struct RunPlan {
   Placement placement = Placement::kAuto;
 };
 
+// The options of a run plan as given; ResolveRunOptions checks them.
+struct RunOptions {
+  std::string approach = "all";
+  std::string out = "results";
+  long long leaf_limit = QuadTree::kDefaultLeafLimit;
+  std::string bootstrap = "in-grid";
+  std::string semantics = "ours";
+  std::string placement = "auto";
+};
+// The values the run plan's options accept, checked without naming the
+// option (callers add "option --NAME" or a config file's origin), so that
+// `run` and `experiment` check them the same way.
+inline constexpr long long kMaxLeafLimit = 10000;
+Status CheckBootstrap(const std::string& text);  // "must be in-grid or in-region, got 'x'"
+Status CheckSemantics(const std::string& text);
+Status CheckPlacement(const std::string& text);
+
+// --leaf-limit alone (dynapath maze), checked.
+void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit);
+Result<int> ResolveLeafLimit(long long leaf_limit);
+// --leaf-limit, --bootstrap and --semantics (also `dynapath experiment`'s).
+void DeclareLearnerOptions(OptionGroup& group, RunOptions& options);
+// --placement (also `dynapath experiment`'s).
+void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
 // Declares --approach, --out, --leaf-limit, --bootstrap, --semantics and
 // --placement.
-void AddRunOptions(ArgParser& parser);
-// The names of those options (for the launcher to forward them).
-const std::vector<std::string>& RunOptionNames();
-Result<RunPlan> ResolveRunOptions(const ArgParser& parser);
+void DeclareRunOptions(OptionGroup& group, RunOptions& options);
+Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
 // approach), logging progress, and (re)writes DIR/results.csv and
@@ -52,4 +75,4 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
                                           int threads, const StepCallback& extra = {});
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

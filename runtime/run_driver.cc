@@ -1,4 +1,4 @@
-#include "tools/common/run_driver.h"
+#include "runtime/run_driver.h"
 
 #include <spdlog/spdlog.h>
 
@@ -7,7 +7,7 @@
 #include "core/local_trainer.h"
 #include "core/thread_pool.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 namespace {
 
 // Logs one line per approach every few seconds, and at its start and end.
@@ -42,63 +42,84 @@ class ProgressLog {
 
 }  // namespace
 
-void AddRunOptions(ArgParser& parser) {
-  parser.AddOption("approach", "LIST",
-                   "comma-separated approaches: " + ApproachNamesText() + "; or all", "all");
-  parser.AddOption("out", "DIR", "output directory", "results");
-  parser.AddOption("leaf-limit", "N", "largest quadtree leaf side", "20");
-  parser.AddOption(
-      "bootstrap", "SCOPE",
-      "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)",
-      "in-grid");
-  parser.AddOption("semantics", "WHOSE",
-                   "learning semantics: ours, or report (the report code's bootstrap and first "
-                   "training; docs/DECISIONS.md)",
-                   "ours");
-  parser.AddOption("placement", "MODE",
-                   "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement)",
-                   "auto");
+void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
+  group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
 }
 
-const std::vector<std::string>& RunOptionNames() {
-  static const std::vector<std::string> names = {"approach",  "out",       "leaf-limit",
-                                                 "bootstrap", "semantics", "placement"};
-  return names;
+Status CheckBootstrap(const std::string& text) {
+  if (text == "in-grid" || text == "in-region") return Ok{};
+  return Error{"must be in-grid or in-region, got '" + text + "'"};
 }
 
-Result<RunPlan> ResolveRunOptions(const ArgParser& parser) {
+Status CheckSemantics(const std::string& text) {
+  if (text == "ours" || text == "report") return Ok{};
+  return Error{"must be ours or report, got '" + text + "'"};
+}
+
+Status CheckPlacement(const std::string& text) {
+  if (text == "auto" || text == "whole" || text == "split") return Ok{};
+  return Error{"must be auto, whole or split, got '" + text + "'"};
+}
+
+Result<int> ResolveLeafLimit(long long leaf_limit) {
+  Result<long long> checked = InRange("leaf-limit", leaf_limit, 0, 1, kMaxLeafLimit);
+  if (!checked) return checked.error();
+  return static_cast<int>(*checked);
+}
+
+void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
+  DeclareLeafLimitOption(group, o.leaf_limit);
+  group.Option("--bootstrap", o.bootstrap, "SCOPE",
+               "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)");
+  group.Option("--semantics", o.semantics, "WHOSE",
+               "learning semantics: ours, or report (the report code's bootstrap and first "
+               "training; docs/DECISIONS.md)");
+}
+
+void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
+  group.Option("--placement", o.placement, "MODE",
+               "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement; results "
+               "are the same)");
+}
+
+void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
+  group.Option("--approach", o.approach, "LIST",
+               "comma-separated approaches: " + ApproachNamesText() + "; or all");
+  group.Option("--out", o.out, "DIR", "output directory");
+  DeclareLearnerOptions(group, o);
+  DeclarePlacementOption(group, o);
+}
+
+Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   RunPlan plan;
-  Result<std::vector<Approach>> approaches = ParseApproachList(parser.Get("approach", "all"));
+  Result<std::vector<Approach>> approaches = ParseApproachList(o.approach);
   if (!approaches) return approaches.error();
   plan.approaches = *approaches;
-  Result<long long> leaf_limit = parser.GetInt("leaf-limit", QuadTree::kDefaultLeafLimit, 1, 10000);
+  Result<int> leaf_limit = ResolveLeafLimit(o.leaf_limit);
   if (!leaf_limit) return leaf_limit.error();
-  plan.options.leaf_limit = static_cast<int>(*leaf_limit);
-  const std::string bootstrap = parser.Get("bootstrap", "in-grid");
-  if (bootstrap != "in-grid" && bootstrap != "in-region") {
-    return Error{"option --bootstrap must be in-grid or in-region, got '" + bootstrap + "'"};
+  plan.options.leaf_limit = *leaf_limit;
+  const std::string& bootstrap = o.bootstrap;
+  if (Status status = CheckBootstrap(bootstrap); !status) {
+    return Error{"option --bootstrap " + status.error().message};
   }
   plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
-  const std::string semantics = parser.Get("semantics", "ours");
-  if (semantics != "ours" && semantics != "report") {
-    return Error{"option --semantics must be ours or report, got '" + semantics + "'"};
+  const std::string& semantics = o.semantics;
+  if (Status status = CheckSemantics(semantics); !status) {
+    return Error{"option --semantics " + status.error().message};
   }
   plan.options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
   if (plan.options.semantics == Semantics::kReport && bootstrap != "in-grid") {
     return Error{"option --semantics report sets the bootstrap itself; leave --bootstrap out"};
   }
-  plan.out_dir = parser.Get("out", "results");
+  plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
-  const std::string placement = parser.Get("placement", "auto");
-  if (placement == "auto") {
-    plan.placement = Placement::kAuto;
-  } else if (placement == "whole") {
-    plan.placement = Placement::kWhole;
-  } else if (placement == "split") {
-    plan.placement = Placement::kSplit;
-  } else {
-    return Error{"option --placement must be auto, whole or split, got '" + placement + "'"};
+  const std::string& placement = o.placement;
+  if (Status status = CheckPlacement(placement); !status) {
+    return Error{"option --placement " + status.error().message};
   }
+  plan.placement = placement == "auto"    ? Placement::kAuto
+                   : placement == "whole" ? Placement::kWhole
+                                          : Placement::kSplit;
   return plan;
 }
 
@@ -139,4 +160,4 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
   }
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::runtime

@@ -1,4 +1,4 @@
-#include "tools/common/scenario_options.h"
+#include "runtime/scenario_options.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,37 +12,41 @@
 #include "core/movingai_map.h"
 #include "lcmtypes/protocol/log_scenario.h"
 
-namespace dynapath::cli {
+namespace dynapath::runtime {
 
-void AddScenarioOptions(ArgParser& parser) {
-  parser.AddOption("size", "N", "maze rows (and columns unless --cols)", "20");
-  parser.AddOption("cols", "M", "maze columns, for rectangular mazes", "--size");
-  parser.AddOption("difficulty", "D", "easy, medium or hard", "easy");
-  parser.AddOption("seed", "S", "seed of the maze and change sequence (C-library stream)",
-                   "the report's: 50 + difficulty index");
-  parser.AddOption("steps", "T", "number of time steps", "2 x rows, the report's");
-  parser.AddOption("maze", "FILE",
-                   "load the maze from a file instead: a MovingAI map (.map, walls never move) "
-                   "or the text format ('#', '.', 'C', every obstacle may move)");
-  parser.AddOption("stations", "N|P%",
-                   "with --maze: place N stations (or P% of the free cells) from the seed");
-  parser.AddOption("stations-file", "FILE",
-                   "with --maze: stations from a file, 'row col' per line");
-  parser.AddOption("movers", "N|P%",
-                   "with --maze: N moving obstacles (or P% of the free cells) from the seed; "
-                   "only they move");
-  parser.AddOption("changes", "FILE", "load the change sequence from a change file instead");
-  parser.AddOption("replay", "LOG",
-                   "re-issue the maze and change sequence recorded in an LCM log (--log)");
-  parser.AddFlag("allow-unreachable",
-                 "run a maze where no free cell reaches a station (else an error)");
+namespace {
+constexpr long long kDefaultSize = 20;
+}  // namespace
+
+void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& seed,
+                                std::optional<long long>& steps) {
+  group.Option("--seed", seed, "S", "seed of the maze and change sequence (C-library stream)",
+               "the report's: 50 + difficulty index");
+  group.Option("--steps", steps, "T", "number of time steps", "2 x rows, the report's");
 }
 
-const std::vector<std::string>& ScenarioOptionNames() {
-  static const std::vector<std::string> names = {
-      "size",    "cols",   "difficulty",        "seed",     "steps",         "maze",
-      "changes", "replay", "allow-unreachable", "stations", "stations-file", "movers"};
-  return names;
+void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
+  group.Option("--size", o.size, "N", "maze rows (and columns unless --cols)",
+               std::to_string(kDefaultSize));
+  group.Option("--cols", o.cols, "M", "maze columns, for rectangular mazes", "--size");
+  group.Option("--difficulty", o.difficulty, "D", "easy, medium or hard", "easy");
+  DeclareSeedAndStepsOptions(group, o.seed, o.steps);
+  group.Option("--maze", o.maze, "FILE",
+               "load the maze from a file instead: a MovingAI map (.map, walls never move) "
+               "or the text format ('#', '.', 'C', every obstacle may move)");
+  group.Option("--stations", o.stations, "N|P%",
+               "with --maze: place N stations (or P% of the free cells) from the seed");
+  group.Option("--stations-file", o.stations_file, "FILE",
+               "with --maze: stations from a file, 'row col' per line");
+  group.Option("--movers", o.movers, "N|P%",
+               "with --maze: N moving obstacles (or P% of the free cells) from the seed; "
+               "only they move");
+  group.Option("--changes", o.changes, "FILE",
+               "load the change sequence from a change file instead");
+  group.Option("--replay", o.replay, "LOG",
+               "re-issue the maze and change sequence recorded in an LCM log (--log)");
+  group.Flag("--allow-unreachable", o.allow_unreachable,
+             "run a maze where no free cell reaches a station (else an error)");
 }
 
 namespace {
@@ -68,22 +72,31 @@ Status CheckStationReachable(const Grid& grid) {
   return Error{"no free cell of the maze reaches a station"};
 }
 
-Result<ScenarioSetup> ReplayScenario(const ArgParser& parser) {
-  for (const char* other : {"size", "cols", "difficulty", "seed", "steps", "maze", "changes",
-                            "stations", "stations-file", "movers"}) {
-    if (parser.Has(other)) {
+Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
+  const std::pair<const char*, bool> others[] = {{"size", o.size.has_value()},
+                                                 {"cols", o.cols.has_value()},
+                                                 {"difficulty", o.difficulty.has_value()},
+                                                 {"seed", o.seed.has_value()},
+                                                 {"steps", o.steps.has_value()},
+                                                 {"maze", o.maze.has_value()},
+                                                 {"changes", o.changes.has_value()},
+                                                 {"stations", o.stations.has_value()},
+                                                 {"stations-file", o.stations_file.has_value()},
+                                                 {"movers", o.movers.has_value()}};
+  for (const auto& [other, given] : others) {
+    if (given) {
       return Error{std::string("--replay sets the maze and changes: do not combine it with --") +
                    other};
     }
   }
-  Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(parser.Get("replay"));
+  Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(*o.replay);
   if (!logged) return logged.error();
   ScenarioSetup setup;
   setup.scenario = std::move(logged->scenario);
   setup.labels.size_label = logged->size_label;
   setup.labels.difficulty_label = logged->difficulty;
   setup.seed = logged->seed;
-  setup.source = "replayed from " + parser.Get("replay") + " (run " + logged->run_id + ")";
+  setup.source = "replayed from " + *o.replay + " (run " + logged->run_id + ")";
   return setup;
 }
 
@@ -101,17 +114,17 @@ std::string MapLabel(const std::string& path) {
 
 // Stations and movers of a loaded maze (issue 11), drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
-Status PlaceOnMap(const ArgParser& parser, bool movingai, Grid& grid, CRandom& random,
+Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& random,
                   std::optional<std::vector<int>>& movers) {
-  if (parser.Has("stations") && parser.Has("stations-file")) {
+  if (o.stations && o.stations_file) {
     return Error{"give --stations or --stations-file, not both"};
   }
-  if (parser.Has("stations-file")) {
-    Result<std::vector<int>> stations = LoadStationsFile(parser.Get("stations-file"), grid);
+  if (o.stations_file) {
+    Result<std::vector<int>> stations = LoadStationsFile(*o.stations_file, grid);
     if (!stations) return stations.error();
     for (int cell : *stations) grid.set(cell, Cell::kStation);
-  } else if (parser.Has("stations")) {
-    Result<CellCount> count = ParseCellCount(parser.Get("stations"));
+  } else if (o.stations) {
+    Result<CellCount> count = ParseCellCount(*o.stations);
     if (!count) return Error{"option --stations: " + count.error().message};
     Result<std::vector<int>> placed =
         PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kStation, random);
@@ -123,8 +136,8 @@ Status PlaceOnMap(const ArgParser& parser, bool movingai, Grid& grid, CRandom& r
     return Error{
         "a MovingAI map has no stations: give --stations N (or P%) or --stations-file FILE"};
   }
-  if (parser.Has("movers")) {
-    Result<CellCount> count = ParseCellCount(parser.Get("movers"));
+  if (o.movers) {
+    Result<CellCount> count = ParseCellCount(*o.movers);
     if (!count) return Error{"option --movers: " + count.error().message};
     Result<std::vector<int>> placed =
         PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kObstacle, random);
@@ -138,50 +151,53 @@ Status PlaceOnMap(const ArgParser& parser, bool movingai, Grid& grid, CRandom& r
 
 }  // namespace
 
-Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
-  if (parser.Has("replay")) return ReplayScenario(parser);
+Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
+  if (o.replay) return ReplayScenario(o);
   constexpr long long kMaxSide = kMaxGridSide;
   ScenarioSetup setup;
   std::optional<Difficulty> difficulty = Difficulty::kEasy;
-  if (parser.Has("difficulty")) {
-    difficulty = ParseDifficulty(parser.Get("difficulty"));
+  if (o.difficulty) {
+    difficulty = ParseDifficulty(*o.difficulty);
     if (!difficulty) {
-      return Error{"option --difficulty must be easy, medium or hard, got '" +
-                   parser.Get("difficulty") + "'"};
+      return Error{"option --difficulty must be easy, medium or hard, got '" + *o.difficulty + "'"};
     }
   }
-  Result<long long> seed = parser.GetInt("seed", ReportSeed(*difficulty), 0, 4294967295LL);
+  Result<long long> seed = InRange("seed", o.seed, ReportSeed(*difficulty), 0, 4294967295LL);
   if (!seed) return seed.error();
   setup.seed = static_cast<uint64_t>(*seed);
   CRandom random(static_cast<uint32_t>(*seed));
   std::optional<std::vector<int>> movers;  // set: only these obstacles move
 
-  if (parser.Has("maze")) {
-    if (parser.Has("size") || parser.Has("cols")) {
+  if (o.maze) {
+    if (o.size || o.cols) {
       return Error{"--maze sets the maze size: do not combine it with --size or --cols"};
     }
     bool movingai = false;
-    Result<Grid> grid = LoadMazeFile(parser.Get("maze"), &movingai);
+    Result<Grid> grid = LoadMazeFile(*o.maze, &movingai);
     if (!grid) return grid.error();
     setup.scenario.grid = std::move(*grid);
-    Status placed = PlaceOnMap(parser, movingai, setup.scenario.grid, random, movers);
+    Status placed = PlaceOnMap(o, movingai, setup.scenario.grid, random, movers);
     if (!placed) return placed.error();
     // A map is told apart in result files by its name (maps of one size
     // differ); a text maze keeps "Custom".
-    setup.labels.difficulty_label = parser.Has("difficulty") ? DifficultyName(*difficulty)
-                                    : movingai               ? MapLabel(parser.Get("maze"))
-                                                             : "Custom";
-    setup.source = "maze file " + parser.Get("maze");
+    setup.labels.difficulty_label = o.difficulty ? DifficultyName(*difficulty)
+                                    : movingai   ? MapLabel(*o.maze)
+                                                 : "Custom";
+    setup.source = "maze file " + *o.maze;
   } else {
-    for (const char* map_only : {"stations", "stations-file", "movers"}) {
-      if (parser.Has(map_only)) {
+    const std::pair<const char*, bool> map_options[] = {
+        {"stations", o.stations.has_value()},
+        {"stations-file", o.stations_file.has_value()},
+        {"movers", o.movers.has_value()}};
+    for (const auto& [map_only, given] : map_options) {
+      if (given) {
         return Error{std::string("--") + map_only +
                      " is for loaded maps (--maze); the report's mazes keep their generator"};
       }
     }
-    Result<long long> rows = parser.GetInt("size", 20, 1, kMaxSide);
+    Result<long long> rows = InRange("size", o.size, kDefaultSize, 1, kMaxSide);
     if (!rows) return rows.error();
-    Result<long long> cols = parser.GetInt("cols", *rows, 1, kMaxSide);
+    Result<long long> cols = InRange("cols", o.cols, *rows, 1, kMaxSide);
     if (!cols) return cols.error();
     setup.scenario.grid = GenerateMaze(static_cast<int>(*rows), static_cast<int>(*cols),
                                        ProbabilitiesOf(*difficulty), random);
@@ -191,19 +207,19 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   const Grid& grid = setup.scenario.grid;
   setup.labels.size_label = SizeLabel(grid.rows(), grid.cols());
   if (Status reachable = CheckStationReachable(grid); !reachable) {
-    if (!parser.Has("allow-unreachable")) {
+    if (!o.allow_unreachable) {
       return Error{reachable.error().message + " (--allow-unreachable runs it anyway)"};
     }
     spdlog::warn("{}: running it anyway (--allow-unreachable)", reachable.error().message);
   }
 
-  Result<long long> steps = parser.GetInt("steps", ReportTimeSteps(grid.rows()), 0, 1'000'000);
+  Result<long long> steps = InRange("steps", o.steps, ReportTimeSteps(grid.rows()), 0, 1'000'000);
   if (!steps) return steps.error();
-  if (parser.Has("changes")) {
-    Result<ChangeSequence> changes = LoadChanges(parser.Get("changes"), grid.rows(), grid.cols());
+  if (o.changes) {
+    Result<ChangeSequence> changes = LoadChanges(*o.changes, grid.rows(), grid.cols());
     if (!changes) return changes.error();
     setup.scenario.changes = std::move(*changes);
-    if (parser.Has("steps")) {
+    if (o.steps) {
       if (*steps > static_cast<long long>(setup.scenario.changes.steps.size())) {
         return Error{"--steps " + std::to_string(*steps) + " is more than the " +
                      std::to_string(setup.scenario.changes.steps.size()) +
@@ -211,7 +227,7 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
       }
       setup.scenario.changes.steps.resize(static_cast<size_t>(*steps));
     }
-    setup.source += ", changes from " + parser.Get("changes");
+    setup.source += ", changes from " + *o.changes;
   } else {
     // Right after the maze, from the same stream, as the report's runs did
     // (a loaded maze starts a fresh stream from the seed).
@@ -222,19 +238,23 @@ Result<ScenarioSetup> ResolveScenario(const ArgParser& parser) {
   return setup;
 }
 
-void AddLogLevelOption(ArgParser& parser) {
-  parser.AddOption("log-level", "LEVEL", "trace, debug, info, warn, error or off", "info");
+void DeclareLogOptions(OptionGroup& group, LogOptions& options) {
+  group.Option("--log-level", options.log_level, "LEVEL", "trace, debug, info, warn, error or off");
 }
 
-Status ApplyLogLevel(const ArgParser& parser) {
-  const std::string name = parser.Get("log-level", "info");
-  const spdlog::level::level_enum level = spdlog::level::from_str(name);
-  if (level == spdlog::level::off && name != "off") {
-    return Error{"option --log-level must be trace, debug, info, warn, error or off, got '" + name +
-                 "'"};
+Status CheckLogLevel(const std::string& text) {
+  if (spdlog::level::from_str(text) == spdlog::level::off && text != "off") {
+    return Error{"must be trace, debug, info, warn, error or off, got '" + text + "'"};
   }
-  spdlog::set_level(level);
   return Ok{};
 }
 
-}  // namespace dynapath::cli
+Status ApplyLogLevel(const LogOptions& options) {
+  if (Status status = CheckLogLevel(options.log_level); !status) {
+    return Error{"option --log-level " + status.error().message};
+  }
+  spdlog::set_level(spdlog::level::from_str(options.log_level));
+  return Ok{};
+}
+
+}  // namespace dynapath::runtime

@@ -1,4 +1,4 @@
-#include "tools/netns/private_network.h"
+#include "launch/private_network.h"
 
 #include <arpa/inet.h>
 #include <dirent.h>
@@ -17,7 +17,7 @@
 #include <cstring>
 #include <string>
 
-namespace dynapath {
+namespace dynapath::launch {
 namespace {
 
 Error CreateError(const std::string& detail) {
@@ -215,4 +215,4 @@ Status EnterPrivateNetwork() {
   return SetUp();
 }
 
-}  // namespace dynapath
+}  // namespace dynapath::launch

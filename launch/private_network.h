@@ -7,7 +7,7 @@
 
 #include "core/result.h"
 
-namespace dynapath {
+namespace dynapath::launch {
 
 // Moves the calling process into a new user + network namespace with only a
 // loopback interface, brought up with multicast on and a route for
@@ -24,4 +24,4 @@ namespace dynapath {
 // a forked child), so callers can fall back to another transport.
 Status EnterPrivateNetwork();
 
-}  // namespace dynapath
+}  // namespace dynapath::launch

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "tools/common/process_options.h"
-#include "tools/common/run_driver.h"
-#include "tools/common/scenario_options.h"
+#include "runtime/process_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
 
-namespace dynapath::cli {
+namespace dynapath::launch {
 
 // One time step of one approach, as the coordinator reports it.
 struct StepReport {
@@ -23,11 +23,11 @@ struct StepReport {
 };
 
 struct DistributedRun {
-  ProcessSetup process;  // run id, LCM URL, fault injection
+  runtime::ProcessSetup process;  // run id, LCM URL, fault injection
   int agents = 1;
   int threads_per_agent = 1;
-  std::vector<std::string> envsim_args;       // scenario options to forward
-  std::vector<std::string> coordinator_args;  // run options to forward
+  runtime::ScenarioOptions scenario;  // envsim's
+  runtime::RunOptions run;            // the coordinator's
   std::string log_level = "info";
   std::string log_file;  // --log: record with lcm-logger
   bool private_network = true;
@@ -51,6 +51,7 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
 // Ctrl-C or failure. Returns the exit code.
 int LaunchProcesses(const DistributedRun& run);
 // Runs all components as threads over memq://.
-int RunEmbedded(const DistributedRun& run, const RunPlan& plan, const ScenarioSetup& scenario);
+int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                const runtime::ScenarioSetup& scenario);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::launch

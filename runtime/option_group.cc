@@ -1,0 +1,201 @@
+#include "runtime/option_group.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+namespace dynapath::runtime {
+namespace {
+
+// "--name" -> "name", the key of a config file.
+std::string Key(const std::string& name) { return name.substr(name.find_first_not_of('-')); }
+
+// A TOML string CLI11's config reader takes back unchanged: basic ("...")
+// or literal ('...') quotes, neither of which it unescapes. Text holding
+// both quote kinds or a line break cannot be written; Put records that.
+std::optional<std::string> Quote(const std::string& text) {
+  if (text.find_first_of("\n\r") != std::string::npos) return std::nullopt;
+  if (text.find('"') == std::string::npos) return "\"" + text + "\"";
+  if (text.find('\'') == std::string::npos) return "'" + text + "'";
+  return std::nullopt;
+}
+
+}  // namespace
+
+void ConfigWriter::Put(const std::string& key, const std::string& toml_value) {
+  text_ += key + "=" + toml_value + "\n";
+}
+
+Status ConfigWriter::status() const {
+  if (!unwritable_.empty()) {
+    return Error{"option --" + unwritable_ +
+                 ": a value holding both ' and \" or a line break cannot be handed to a child "
+                 "process"};
+  }
+  return Ok{};
+}
+
+void ConfigWriter::PutText(const std::string& key, const std::string& text) {
+  std::optional<std::string> quoted = Quote(text);
+  if (!quoted) {
+    if (unwritable_.empty()) unwritable_ = key;
+    return;
+  }
+  Put(key, *quoted);
+}
+
+void OptionGroup::Record(const std::string& name, ValueKind kind) {
+  if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
+}
+
+void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
+                         const std::string& help) {
+  if (writer_ != nullptr) return writer_->PutText(Key(name), value);
+  Record(name, ValueKind::kString);
+  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+}
+
+void OptionGroup::Option(const std::string& name, std::optional<std::string>& value,
+                         const std::string& value_name, const std::string& help,
+                         const std::string& default_text) {
+  if (writer_ != nullptr) {
+    if (value) writer_->PutText(Key(name), *value);
+    return;
+  }
+  Record(name, ValueKind::kString);
+  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  if (!default_text.empty()) option->default_str(default_text);
+}
+
+void OptionGroup::Option(const std::string& name, std::optional<long long>& value,
+                         const std::string& value_name, const std::string& help,
+                         const std::string& default_text) {
+  if (writer_ != nullptr) {
+    if (value) writer_->Put(Key(name), std::to_string(*value));
+    return;
+  }
+  Record(name, ValueKind::kInteger);
+  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  if (!default_text.empty()) option->default_str(default_text);
+}
+
+void OptionGroup::Option(const std::string& name, long long& value, const std::string& value_name,
+                         const std::string& help) {
+  if (writer_ != nullptr) return writer_->Put(Key(name), std::to_string(value));
+  Record(name, ValueKind::kInteger);
+  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+}
+
+void OptionGroup::Option(const std::string& name, double& value, const std::string& value_name,
+                         const std::string& help) {
+  // {} is the shortest text that reads back as the same double.
+  if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
+  Record(name, ValueKind::kFloat);
+  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+}
+
+void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
+  if (writer_ != nullptr) {
+    if (value) writer_->Put(Key(name), "true");
+    return;
+  }
+  Record(name, ValueKind::kBoolean);
+  app_->add_flag(name, value, help);
+}
+
+void OptionGroup::List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
+                       const std::string& value_name, const std::string& help,
+                       const std::string& default_text) {
+  if (writer_ != nullptr) {
+    if (text) writer_->PutText(Key(name), *text);
+    return;
+  }
+  Record(name, kind);
+  CLI::Option* option = app_->add_option(name, text, help)->type_name(value_name);
+  if (!default_text.empty()) option->default_str(default_text);
+}
+
+Result<long long> InRange(const std::string& name, std::optional<long long> value,
+                          long long fallback, long long min, long long max) {
+  if (!value) return fallback;  // a default is right by construction
+  const long long given = *value;
+  if (given < min || given > max) {
+    return Error{"option --" + name + " must be between " + std::to_string(min) + " and " +
+                 std::to_string(max) + ", got " + std::to_string(given)};
+  }
+  return given;
+}
+
+int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program) {
+  auto usage_error = [&](const std::string& message) {
+    std::fprintf(stderr, "%s: %s\n", program.c_str(), message.c_str());
+    return 2;
+  };
+  std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+  try {
+    app.parse(args);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    return 0;
+  } catch (const CLI::ExtrasError&) {
+    const std::vector<std::string> extras = app.remaining();
+    for (const std::string& extra : extras) {
+      if (extra.rfind("-", 0) == 0 && extra.size() > 1) {
+        return usage_error("unknown option " + extra.substr(0, extra.find('=')) + " (see --help)");
+      }
+    }
+    return usage_error("unexpected argument '" + (extras.empty() ? "" : extras.front()) +
+                       "' (see --help)");
+  } catch (const CLI::ArgumentMismatch& error) {
+    // CLI11: "--out: 1 required TEXT missing".
+    const std::string what = error.what();
+    const size_t colon = what.find(':');
+    if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
+        what.find("missing") != std::string::npos) {
+      return usage_error("option " + what.substr(0, colon) + " needs a value");
+    }
+    return usage_error(what);
+  } catch (const CLI::ConversionError& error) {
+    // CLI11: "Could not convert: --size = abc".
+    const std::string what = error.what();
+    const size_t name = what.find("--");
+    const size_t equals = what.find(" = ", name == std::string::npos ? 0 : name);
+    if (name != std::string::npos && equals != std::string::npos) {
+      return usage_error("option " + what.substr(name, equals - name) + " needs a number, got '" +
+                         what.substr(equals + 3) + "'");
+    }
+    return usage_error(what);
+  } catch (const CLI::ConfigError& error) {
+    // CLI11: "INI was not able to parse KEY" for a key no option has.
+    const std::string what = error.what();
+    const std::string prefix = "INI was not able to parse ";
+    if (what.rfind(prefix, 0) == 0) {
+      return usage_error("unknown key '" + what.substr(prefix.size()) + "' in the --config file");
+    }
+    return usage_error(what);
+  } catch (const CLI::ParseError& error) {
+    return usage_error(error.what());
+  }
+  return -1;
+}
+
+void CloseInheritedFd(const std::string& path) {
+  if (path.rfind("/dev/fd/", 0) != 0) return;
+  char* end = nullptr;
+  const long fd = std::strtol(path.c_str() + 8, &end, 10);
+  if (end != path.c_str() + 8 && *end == '\0' && fd > STDERR_FILENO) close(static_cast<int>(fd));
+}
+
+void AddConfigOption(CLI::App& app) {
+  // A key no option has is a mistake, as an unknown option is.
+  app.allow_config_extras(CLI::config_extras_mode::error);
+  app.set_config("--config", "",
+                 "read options from FILE (CLI11 TOML, key = value with the options' names); "
+                 "the command line overrides it")
+      ->type_name("FILE");
+}
+
+}  // namespace dynapath::runtime

@@ -1,0 +1,102 @@
+#pragma once
+// Where a group of options is declared once (issue 10): each group (scenario,
+// run plan, process, ...) has one function `DeclareXOptions(OptionGroup&,
+// XOptions&)` that names each option with its value name, help text and
+// default. The same declaration serves two purposes:
+//   * on a CLI11 app: parsing a command line or a config file into the
+//     struct, and --help;
+//   * on a ConfigWriter: writing the struct's values as a CLI11 config file
+//     (TOML key = value lines), which is how the launcher hands a child
+//     process its options (`--config /dev/fd/N`), instead of re-spelling
+//     them as arguments.
+// The default of an option is its struct member's initial value, shown in
+// --help from there; options whose default depends on others are
+// std::optional, with the rule in `default_text`.
+
+#include <CLI/CLI.hpp>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace dynapath::runtime {
+
+// Collects "key=value" lines of the options that are set, as CLI11 reads
+// them back.
+class ConfigWriter {
+ public:
+  void Put(const std::string& key, const std::string& toml_value);
+  // A quoted string; text CLI11 cannot read back (both quote kinds, a line
+  // break) makes status() an error.
+  void PutText(const std::string& key, const std::string& text);
+  const std::string& Text() const { return text_; }
+  Status status() const;
+
+ private:
+  std::string text_;
+  std::string unwritable_;  // the first key whose value could not be written
+};
+
+// What an option's value is, by its config-file key ("leaf-limit"): for a
+// config reader that checks values before they reach the parser (the study
+// files of `dynapath experiment`).
+enum class ValueKind { kString, kInteger, kFloat, kBoolean, kIntegerList, kStringList };
+using OptionKinds = std::map<std::string, ValueKind>;
+
+class OptionGroup {
+ public:
+  // `kinds`, when given, gets the kind of every option declared.
+  explicit OptionGroup(CLI::App& app, OptionKinds* kinds = nullptr) : app_(&app), kinds_(kinds) {}
+  explicit OptionGroup(ConfigWriter& writer) : writer_(&writer) {}
+
+  // An option taking a value, "--name VALUE_NAME". `default_text` is shown
+  // in --help for std::optional members (the struct's value otherwise).
+  void Option(const std::string& name, std::string& value, const std::string& value_name,
+              const std::string& help);
+  void Option(const std::string& name, std::optional<std::string>& value,
+              const std::string& value_name, const std::string& help,
+              const std::string& default_text = "");
+  void Option(const std::string& name, std::optional<long long>& value,
+              const std::string& value_name, const std::string& help,
+              const std::string& default_text = "");
+  void Option(const std::string& name, long long& value, const std::string& value_name,
+              const std::string& help);
+  void Option(const std::string& name, double& value, const std::string& value_name,
+              const std::string& help);
+  // A comma-separated list, kept as its text; `kind` is kIntegerList or
+  // kStringList.
+  void List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
+            const std::string& value_name, const std::string& help,
+            const std::string& default_text);
+  // A flag without a value.
+  void Flag(const std::string& name, bool& value, const std::string& help);
+
+ private:
+  void Record(const std::string& name, ValueKind kind);
+
+  CLI::App* app_ = nullptr;
+  OptionKinds* kinds_ = nullptr;
+  ConfigWriter* writer_ = nullptr;
+};
+
+// `fallback` when unset; else `value` when in [min, max], else the error
+// "option --NAME must be between MIN and MAX, got VALUE".
+Result<long long> InRange(const std::string& name, std::optional<long long> value,
+                          long long fallback, long long min, long long max);
+
+// The project's way of parsing a command line on CLI11: --help prints the
+// help and returns 0; a bad option prints "PROGRAM: MESSAGE" (one line) and
+// returns 2. Returns -1 to go on. `args` excludes the program name.
+int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program);
+
+// Adds --config FILE: options read from a CLI11 config file (TOML), the
+// command line overriding it. A file named /dev/fd/N (the launcher's pipe)
+// is closed after reading.
+void AddConfigOption(CLI::App& app);
+// Closes the inherited descriptor of a /dev/fd/N path after it was read, so
+// nothing this process starts inherits it.
+void CloseInheritedFd(const std::string& path);
+
+}  // namespace dynapath::runtime

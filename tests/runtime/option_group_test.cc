@@ -1,0 +1,194 @@
+// The option declarations of runtime/ (issue 10): a struct written as a
+// config file by its declaration reads back the same through CLI11, values
+// a config cannot carry are refused, and bad command lines give one error.
+
+#include "runtime/option_group.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "runtime/process_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
+
+namespace dynapath::runtime {
+namespace {
+
+struct Everything {
+  ScenarioOptions scenario;
+  RunOptions run;
+  ProcessOptions process;
+  LogOptions log;
+};
+
+void Declare(OptionGroup& group, Everything& o) {
+  DeclareScenarioOptions(group, o.scenario);
+  DeclareRunOptions(group, o.run);
+  DeclareProcessOptions(group, o.process, true);
+  DeclareLogOptions(group, o.log);
+}
+
+class OptionGroupTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    char name[] = "/tmp/option_group_test_XXXXXX";
+    const int fd = mkstemp(name);
+    ASSERT_GE(fd, 0);
+    close(fd);
+    path_ = name;
+  }
+  void TearDown() override { std::remove(path_.c_str()); }
+
+  // Writes `given` with its declaration, then parses the file into a fresh
+  // struct with the same declaration, as a child process does.
+  int RoundTrip(Everything given, Everything& read, std::vector<std::string> args = {}) {
+    ConfigWriter writer;
+    OptionGroup out(writer);
+    Declare(out, given);
+    EXPECT_TRUE(writer.status());
+    std::ofstream(path_) << writer.Text();
+    CLI::App app;
+    OptionGroup in(app);
+    Declare(in, read);
+    AddConfigOption(app);
+    args.insert(args.begin(), {"--config", path_});
+    return ParseCommandLine(app, args, "test");
+  }
+
+  std::string path_;
+};
+
+TEST_F(OptionGroupTest, AStructReadsBackTheSame) {
+  Everything given;
+  given.scenario.size = 33;
+  given.scenario.cols = 41;
+  given.scenario.difficulty = "hard";
+  given.scenario.seed = 4294967295LL;
+  given.scenario.maze = "/tmp/a dir/it's a map.map";  // a space and a quote
+  given.scenario.allow_unreachable = true;
+  given.run.approach = "A* Static,fedAsynQ_EqAvg,BFS Oracle";  // commas stay one value
+  given.run.out = "out/x";
+  given.run.leaf_limit = 7;
+  given.run.semantics = "report";
+  given.run.placement = "split";
+  given.process.run_id = "r1";
+  given.process.secret_file = "/dev/fd/9";
+  given.process.grid_cells = 2500;
+  given.process.fault_drop = 0.1;  // no exact binary value: must read back bit for bit
+  given.log.log_level = "warn";
+  Everything read;
+  ASSERT_EQ(RoundTrip(given, read), -1);
+  EXPECT_EQ(read.scenario.size, 33);
+  EXPECT_EQ(read.scenario.cols, 41);
+  EXPECT_EQ(read.scenario.difficulty, "hard");
+  EXPECT_EQ(read.scenario.seed, 4294967295LL);
+  EXPECT_EQ(read.scenario.maze, given.scenario.maze);
+  EXPECT_FALSE(read.scenario.steps);  // unset stays unset
+  EXPECT_FALSE(read.scenario.replay);
+  EXPECT_TRUE(read.scenario.allow_unreachable);
+  EXPECT_EQ(read.run.approach, given.run.approach);
+  EXPECT_EQ(read.run.out, "out/x");
+  EXPECT_EQ(read.run.leaf_limit, 7);
+  EXPECT_EQ(read.run.bootstrap, "in-grid");
+  EXPECT_EQ(read.run.semantics, "report");
+  EXPECT_EQ(read.run.placement, "split");
+  EXPECT_EQ(read.process.run_id, "r1");
+  EXPECT_EQ(read.process.secret_file, "/dev/fd/9");
+  EXPECT_FALSE(read.process.insecure);
+  EXPECT_EQ(read.process.grid_cells, 2500);
+  EXPECT_EQ(read.process.fault_drop, 0.1);
+  EXPECT_EQ(read.log.log_level, "warn");
+}
+
+TEST_F(OptionGroupTest, TheCommandLineOverridesTheFile) {
+  Everything given;
+  given.scenario.size = 33;
+  given.run.leaf_limit = 7;
+  Everything read;
+  ASSERT_EQ(RoundTrip(given, read, {"--size", "12"}), -1);
+  EXPECT_EQ(read.scenario.size, 12);
+  EXPECT_EQ(read.run.leaf_limit, 7);
+}
+
+TEST_F(OptionGroupTest, DoubleQuotedTextUsesLiteralQuotes) {
+  Everything given;
+  given.scenario.maze = "/tmp/a \"quoted\" map.txt";
+  Everything read;
+  ASSERT_EQ(RoundTrip(given, read), -1);
+  EXPECT_EQ(read.scenario.maze, given.scenario.maze);
+}
+
+TEST(ConfigWriterTest, RefusesWhatCli11CannotReadBack) {
+  for (const char* text : {"both ' and \"", "a\nline break"}) {
+    ConfigWriter writer;
+    OptionGroup group(writer);
+    ScenarioOptions options;
+    options.maze = text;
+    DeclareScenarioOptions(group, options);
+    Status status = writer.status();
+    ASSERT_FALSE(status) << text;
+    EXPECT_NE(status.error().message.find("--maze"), std::string::npos);
+  }
+}
+
+TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"--sise", "20"}, "unknown option --sise"},
+      {{"--out"}, "option --out needs a value"},
+      {{"--size", "abc"}, "option --size needs a number, got 'abc'"},
+      {{"stray"}, "unexpected argument 'stray'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    CLI::App app;
+    OptionGroup group(app);
+    Everything options;
+    Declare(group, options);
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(ParseCommandLine(app, args, "test"), 2) << expected;
+    const std::string error = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(error.rfind("test: " + expected, 0), 0u) << error;
+    EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << error;
+  }
+}
+
+TEST_F(OptionGroupTest, AnUnknownConfigKeyIsAnError) {
+  std::ofstream(path_) << "size=12\ncolour=\"red\"\n";
+  CLI::App app;
+  OptionGroup group(app);
+  Everything options;
+  Declare(group, options);
+  AddConfigOption(app);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "test: unknown key 'colour' in the --config file\n");
+}
+
+TEST(InRangeTest, FallbackUncheckedValueChecked) {
+  EXPECT_EQ(*InRange("n", std::nullopt, 0, 1, 5), 0);
+  EXPECT_EQ(*InRange("n", 5, 0, 1, 5), 5);
+  Result<long long> bad = InRange("n", 6, 0, 1, 5);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "option --n must be between 1 and 5, got 6");
+}
+
+TEST(OptionKindsTest, TheDeclarationRecordsEachKind) {
+  CLI::App app;
+  OptionKinds kinds;
+  OptionGroup group(app, &kinds);
+  Everything options;
+  Declare(group, options);
+  EXPECT_EQ(kinds.at("size"), ValueKind::kInteger);
+  EXPECT_EQ(kinds.at("maze"), ValueKind::kString);
+  EXPECT_EQ(kinds.at("allow-unreachable"), ValueKind::kBoolean);
+  EXPECT_EQ(kinds.at("fault-drop"), ValueKind::kFloat);
+  EXPECT_EQ(kinds.at("leaf-limit"), ValueKind::kInteger);
+}
+
+}  // namespace
+}  // namespace dynapath::runtime
