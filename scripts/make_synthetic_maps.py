@@ -112,6 +112,9 @@ def cave(h, w, rng):
 
 
 def main():
+    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
+        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
+        sys.exit(0 if sys.argv[1:] in (["--help"], ["-h"]) else 2)
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     rng = random.Random(11)
