@@ -18,11 +18,32 @@ namespace {
 constexpr long long kDefaultSize = 20;
 }  // namespace
 
+// "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": the file's
+// name without ".map", with characters that would break a CSV field replaced.
+std::string MapLabel(const std::string& path) {
+  std::string name = path.substr(path.find_last_of('/') + 1);
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".map") == 0)
+    name.resize(name.size() - 4);
+  for (char& ch : name) {
+    if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
+  }
+  return name.empty() ? "Custom" : name;
+}
+
 void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& seed,
                                 std::optional<long long>& steps) {
   group.Option("--seed", seed, "S", "seed of the maze and change sequence (C-library stream)",
                "the report's: 50 + difficulty index");
   group.Option("--steps", steps, "T", "number of time steps", "2 x rows, the report's");
+}
+
+void DeclareMapPopulationOptions(OptionGroup& group, std::optional<std::string>& stations,
+                                 std::optional<std::string>& movers) {
+  group.Option("--stations", stations, "N|P%",
+               "on a loaded map: place N stations (or P% of the free cells) from the seed");
+  group.Option("--movers", movers, "N|P%",
+               "on a loaded map: N moving obstacles (or P% of the free cells) from the seed; "
+               "only they move");
 }
 
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
@@ -34,13 +55,9 @@ void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
   group.Option("--maze", o.maze, "FILE",
                "load the maze from a file instead: a MovingAI map (.map, walls never move) "
                "or the text format ('#', '.', 'C', every obstacle may move)");
-  group.Option("--stations", o.stations, "N|P%",
-               "with --maze: place N stations (or P% of the free cells) from the seed");
+  DeclareMapPopulationOptions(group, o.stations, o.movers);
   group.Option("--stations-file", o.stations_file, "FILE",
                "with --maze: stations from a file, 'row col' per line");
-  group.Option("--movers", o.movers, "N|P%",
-               "with --maze: N moving obstacles (or P% of the free cells) from the seed; "
-               "only they move");
   group.Option("--changes", o.changes, "FILE",
                "load the change sequence from a change file instead");
   group.Option("--replay", o.replay, "LOG",
@@ -98,18 +115,6 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
   setup.seed = logged->seed;
   setup.source = "replayed from " + *o.replay + " (run " + logged->run_id + ")";
   return setup;
-}
-
-// "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": the file's
-// name without ".map", with characters that would break a CSV field replaced.
-std::string MapLabel(const std::string& path) {
-  std::string name = path.substr(path.find_last_of('/') + 1);
-  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".map") == 0)
-    name.resize(name.size() - 4);
-  for (char& ch : name) {
-    if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
-  }
-  return name.empty() ? "Custom" : name;
 }
 
 // Stations and movers of a loaded maze (issue 11), drawn from `random`;

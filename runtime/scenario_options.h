@@ -27,6 +27,12 @@ struct ScenarioOptions {
   bool allow_unreachable = false;
 };
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
+// --stations and --movers (also a study's, for its maps).
+void DeclareMapPopulationOptions(OptionGroup& group, std::optional<std::string>& stations,
+                                 std::optional<std::string>& movers);
+// "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": how result
+// files label a map run (its Difficulty column).
+std::string MapLabel(const std::string& path);
 // --seed and --steps alone (`dynapath experiment`: for every maze).
 void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& seed,
                                 std::optional<long long>& steps);

@@ -314,6 +314,45 @@ def copy_figures(results_dir):
     return lines
 
 
+def is_maze_row(row):
+    """A generated maze of the report (size "50", difficulty "Hard"), not a map."""
+    return row["Size"].isdigit() and row["Difficulty"] in DIFFICULTIES
+
+
+def maps_section(rows, results_dir, output):
+    """Markdown for the MovingAI maps of a study (`experiment --maps`): per map its
+    approaches' figures, and its success-over-time figure copied next to the output."""
+    if not rows:
+        return ""
+    images = os.path.join(os.path.dirname(os.path.abspath(output)), "images", "maps")
+    text = ("\n## Maps\n\nThe study's MovingAI maps (`dynapath experiment --maps`): no published "
+            "figures exist for them, so ours alone, per map in study order. Success rate and path "
+            "length averaged over the time steps; times in seconds (initial) and milliseconds per "
+            "step (adaptation).\n")
+    maps = []
+    for row in rows:
+        key = (row["Size"], row["Difficulty"])
+        if key not in maps:
+            maps.append(key)
+    for size, label in maps:
+        text += f"\n### {label} ({size})\n\n"
+        text += "| Approach | Avg success | Avg path | Initial s | Adapt ms/step |\n"
+        text += "|---|---|---|---|---|\n"
+        for row in rows:
+            if (row["Size"], row["Difficulty"]) != (size, label):
+                continue
+            text += (f"| {row['Approach']} | {float(row['AvgSuccessRate']):.4f} | "
+                     f"{float(row['AvgPathLength']):.3f} | {float(row['InitialTime']):.3f} | "
+                     f"{1000 * float(row['AdaptTimePerStep']):.3f} |\n")
+        figure = f"success_over_time_{size}_{label}.png"
+        source = os.path.join(results_dir, "figures", figure)
+        if os.path.exists(source):
+            os.makedirs(images, exist_ok=True)
+            shutil.copyfile(source, os.path.join(images, figure))
+            text += f"\n![success over time on {label}](images/maps/{figure})\n"
+    return text
+
+
 def main():
     args, options = [], {}
     argv = sys.argv[1:]
@@ -331,7 +370,16 @@ def main():
         sys.exit(__doc__)
     results_dir = args[0]
     output = args[1] if len(args) > 1 else os.path.join(HERE, "..", "docs", "REPRODUCTION.md")
-    ours = read(os.path.join(results_dir, "results.csv"))
+    rows = read(os.path.join(results_dir, "results.csv"))
+    ours = [r for r in rows if is_maze_row(r)]
+    map_rows = [r for r in rows if not is_maze_row(r)]
+    if not ours:  # a study of maps only: nothing to set beside the report
+        text = ("# Study of MovingAI maps\n\nMade by `scripts/make_reproduction_report.py` from the "
+                f"study in `{results_dir}` (`dynapath experiment --maps`).\n")
+        with open(output, "w") as f:
+            f.write(text + maps_section(map_rows, results_dir, output))
+        print(f"wrote {output} ({len(map_rows)} rows of maps)")
+        return
     ref = read(os.path.join(REFERENCE, "paper_results.csv"))
     sizes = sorted({r["Size"] for r in ours}, key=int)
     main_lines, failures = table(ours, ref, sizes, DIFFICULTIES)
@@ -404,6 +452,7 @@ def main():
                  "are ours, dashed lines and hollow markers the report's published values. All "
                  "figures of the study (per configuration too) are in the study's `figures/`.\n\n")
         text += "\n".join(figures)
+    text += maps_section(map_rows, results_dir, output)
     with open(output, "w") as f:
         f.write(text)
     print(f"wrote {output} ({failures} failing rows of the 20/50 acceptance check)")

@@ -228,5 +228,26 @@ else
   echo "skipped: dynapath plot ($plot is not built)"
 fi
 
+# 8. A study of MovingAI maps (a folder of two committed maps) with agent
+# processes: each map's files are those of `dynapath run --local --maze` with
+# the study's stations and movers, labelled with the map's name and shape.
+maps_dir="$(cd "$(dirname "$0")/../data/maps" && pwd)"
+"$dynapath" experiment --maps "$maps_dir" --movers 4 --steps 4 --agents 2 \
+  --approaches "BFS Oracle,fedAsynQ_EqAvg" --out "$work/maps" --log-level warn >/dev/null 2>"$work/maps.err" ||
+  { fail "map study exited non-zero"; tail -5 "$work/maps.err"; }
+[ "$(tail -n +2 "$work/maps/results.csv" | cut -d, -f2,3 | uniq | tr '\n' ' ')" = \
+  "25x61,maze-25-61-1 5x9,wide-5-9 " ] || fail "map study labels: $(cut -d, -f2,3 "$work/maps/results.csv")"
+for map in maze-25-61-1 wide-5-9; do
+  "$dynapath" run --local --maze "$maps_dir/$map.map" --stations 0.5% --movers 4 --steps 4 \
+    --approach "BFS Oracle,fedAsynQ_EqAvg" --out "$work/map_$map" --log-level warn >/dev/null ||
+    fail "run --local of $map"
+  if same_result_files "$work/maps/runs/map_${map}_50" "$work/map_$map" results.csv results_detailed.csv; then
+    pass "map study: $map as dynapath run --local"
+  else
+    fail "map study: $map differs from dynapath run --local"
+  fi
+done
+expect_usage_error "needs maps" --stations 3 --out "$work/nomaps"
+
 echo "experiment_test took $SECONDS s"
 if [ $failures -eq 0 ]; then echo "experiment_test: all checks passed"; else echo "experiment_test: $failures failures"; exit 1; fi

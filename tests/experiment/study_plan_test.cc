@@ -143,6 +143,78 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->agents, 1);
 }
 
+// Maps (issue 11): a folder gives its maps in name order, after any mazes;
+// with maps, sizes and the edge case default to none; each map run is the
+// `dynapath run --maze` of its path with the study's stations and movers.
+TEST(StudyPlanTest, MapsFromFilesAndFolders) {
+  const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
+  Result<StudyOptions> options = ResolveStudyOptions(Cli({{"maps", maps}, {"movers", "3"}}), 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->maps,
+            (std::vector<std::string>{maps + "/maze-25-61-1.map", maps + "/wide-5-9.map"}));
+  EXPECT_TRUE(options->sizes.empty());
+  EXPECT_FALSE(options->edge_case);
+  EXPECT_EQ(options->stations, "0.5%");
+  EXPECT_EQ(options->movers, "3");
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 2u);
+  EXPECT_EQ(plan[0].Name(), "map_maze-25-61-1_50");
+  EXPECT_EQ(plan[0].Directory(), "runs/map_maze-25-61-1_50");
+  EXPECT_EQ(plan[0].Label(), "map maze-25-61-1 25x61, seed 50");
+  EXPECT_EQ(plan[0].ShortLabel(), "maze-25-61-1 s50");
+  EXPECT_EQ(plan[0].SizeText(), "25x61");
+  EXPECT_EQ(plan[0].DifficultyText(), "maze-25-61-1");
+  EXPECT_EQ(plan[0].steps, 50);  // 2 x rows
+  EXPECT_EQ(plan[1].Name(), "map_wide-5-9_50");
+  EXPECT_EQ(plan[1].steps, 10);
+  EXPECT_DOUBLE_EQ(plan[1].Work(), 15800.0 + std::pow(5.0 * 9 * 11, 0.8));
+  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[1]);
+  EXPECT_EQ(scenario.maze, maps + "/wide-5-9.map");
+  EXPECT_EQ(scenario.stations, "0.5%");
+  EXPECT_EQ(scenario.movers, "3");
+  EXPECT_EQ(scenario.seed, 50);
+  EXPECT_EQ(scenario.steps, 10);
+  const Json identity = StudyIdentityJson(*options);
+  EXPECT_EQ(identity["maps"].size(), 2u);
+  EXPECT_EQ(identity["movers"], "3");
+
+  // Mazes and the edge case when asked for, before the maps; one map file.
+  options = ResolveStudyOptions(Cli({{"maps", maps + "/wide-5-9.map"},
+                                     {"sizes", "20"},
+                                     {"difficulties", "hard"},
+                                     {"edge-case", "true"},
+                                     {"seed", "7"},
+                                     {"steps", "4"}}),
+                                2);
+  ASSERT_TRUE(options) << options.error().message;
+  const std::vector<StudyConfiguration> mixed = MakeStudyPlan(*options);
+  ASSERT_EQ(mixed.size(), 3u);
+  EXPECT_EQ(mixed[0].Name(), "20_hard_7");
+  EXPECT_TRUE(mixed[1].edge_case);
+  EXPECT_EQ(mixed[2].Name(), "map_wide-5-9_7");
+  EXPECT_EQ(mixed[2].steps, 4);
+  // Without maps, nothing about them enters the identity (old studies resume).
+  EXPECT_FALSE(StudyIdentityJson(*ResolveStudyOptions({}, 2)).contains("maps"));
+}
+
+TEST(StudyPlanTest, BadMapOptions) {
+  const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
+  const std::pair<OptionValues, std::string> cases[] = {
+      {Cli({{"maps", maps + "/missing.map"}}), "option --maps: " + maps + "/missing.map: cannot"},
+      {Cli({{"maps", std::string(DYNAPATH_TEST_DATA_DIR)}}), "option --maps: folder "},
+      {Cli({{"maps", maps + "/wide-5-9.stations"}}),
+       "option --maps: " + maps + "/wide-5-9.stations"},
+      {Cli({{"maps", maps + "/wide-5-9.map," + maps}}), "option --maps: map "},
+      {Cli({{"stations", "3"}}), "option --stations: needs maps"},
+      {Cli({{"maps", maps}, {"movers", "lots"}}), "option --movers: expected a count"},
+  };
+  for (const auto& [values, expected] : cases) {
+    Result<StudyOptions> options = ResolveStudyOptions(values, 2);
+    ASSERT_FALSE(options) << expected;
+    EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
+  }
+}
+
 TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
   const std::pair<OptionValues, const char*> cases[] = {
       {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 4096"},

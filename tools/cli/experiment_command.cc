@@ -124,8 +124,8 @@ Status RemovePreviousStudy(const fs::path& out) {
 bool Complete(const fs::path& out, const StudyConfiguration& configuration,
               const StudyOptions& options) {
   return ConfigurationComplete((out / configuration.Directory()).string(), options.approaches,
-                               SizeLabel(configuration.size, configuration.size),
-                               DifficultyName(configuration.difficulty), configuration.steps);
+                               configuration.SizeText(), configuration.DifficultyText(),
+                               configuration.steps);
 }
 
 double Seconds() {

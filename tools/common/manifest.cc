@@ -76,7 +76,7 @@ ConfigurationRecord FreshRecord(const StudyConfiguration& configuration) {
   record.name = configuration.Name();
   record.directory = configuration.Directory();
   record.size = configuration.size;
-  record.difficulty = DifficultyName(configuration.difficulty);
+  record.difficulty = configuration.DifficultyText();
   record.seed = configuration.seed;
   record.steps = configuration.steps;
   record.edge_case = configuration.edge_case;

@@ -7,9 +7,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <tuple>
 
+#include "core/experiment.h"
 #include "core/limits.h"
+#include "core/map_scenario.h"
+#include "core/movingai_map.h"
 #include "core/scenario.h"
+#include "core/text_file.h"
 #include "core/text_util.h"
 
 namespace dynapath::cli {
@@ -59,6 +65,48 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
 
+// The maps of a --maps list: files as given, folders as their .map files in
+// name order; each must exist and be a MovingAI map (read here, so a study
+// with a bad map fails before it starts).
+Result<std::vector<std::string>> ExpandMapList(const std::vector<std::string>& items,
+                                               const std::string& origin) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> paths;
+  for (const std::string& item : items) {
+    std::error_code error;
+    if (fs::is_directory(item, error)) {
+      std::vector<std::string> found;
+      for (const fs::directory_entry& entry : fs::directory_iterator(item, error)) {
+        if (entry.path().extension() == ".map") found.push_back(entry.path().string());
+      }
+      if (error) return Error{origin + ": cannot list folder " + item + ": " + error.message()};
+      if (found.empty()) return Error{origin + ": folder " + item + " holds no .map file"};
+      std::sort(found.begin(), found.end());
+      paths.insert(paths.end(), found.begin(), found.end());
+    } else {
+      paths.push_back(item);
+    }
+  }
+  for (const std::string& path : paths) {
+    Result<std::string> bytes = ReadTextFile(path);
+    if (!bytes) return Error{origin + ": " + bytes.error().message};
+    Result<Grid> grid = ParseMovingAiMap(*bytes);
+    if (!grid) return Error{origin + ": " + path + ": " + grid.error().message};
+    if (std::count(paths.begin(), paths.end(), path) > 1) {
+      return Error{origin + ": map " + path + " is given twice"};
+    }
+  }
+  return paths;
+}
+
+// Rows and columns of a map ResolveStudyOptions has read.
+std::pair<int, int> MapShape(const std::string& path) {
+  Result<std::string> bytes = ReadTextFile(path);
+  if (!bytes) return {0, 0};
+  Result<Grid> grid = ParseMovingAiMap(*bytes);
+  return grid ? std::make_pair(grid->rows(), grid->cols()) : std::make_pair(0, 0);
+}
+
 }  // namespace
 
 std::string StudyModeName(StudyMode mode) {
@@ -84,6 +132,12 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   group.Flag("--edge-case", o.edge_case,
              "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
   group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");
+  group.List("--maps", o.maps, ValueKind::kStringList, "LIST",
+             "comma-separated MovingAI maps (.map files, or folders of them) to run after the "
+             "mazes, each with --stations (default 0.5%) and --movers (default 2%); with "
+             "--maps, --sizes and the edge case default to none",
+             "none");
+  runtime::DeclareMapPopulationOptions(group, o.stations, o.movers);
   runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
   runtime::DeclareLearnerOptions(group, o.learner);
   runtime::DeclareModeOptions(group, o.mode);
@@ -217,9 +271,29 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     return pieces;
   };
 
-  const OptionValue default_sizes{"20,50,100,200,300", "default sizes"};
+  if (const OptionValue* maps = find("maps")) {
+    Result<std::vector<std::string>> items = list(*maps);
+    if (!items) return items.error();
+    Result<std::vector<std::string>> paths = ExpandMapList(*items, maps->origin);
+    if (!paths) return paths.error();
+    options.maps = *paths;
+  }
+  for (const char* name : {"stations", "movers"}) {
+    const OptionValue* value = find(name);
+    if (!value) continue;
+    if (options.maps.empty()) return Error{value->origin + ": needs maps"};
+    Result<CellCount> count = ParseCellCount(value->text);
+    if (!count) return Error{value->origin + ": " + count.error().message};
+    (std::string(name) == "stations" ? options.stations : options.movers) = value->text;
+  }
+
+  // With maps, the generated mazes and the edge case are opt-in.
+  const OptionValue default_sizes{options.maps.empty() ? "20,50,100,200,300" : "", "default sizes"};
   const OptionValue* sizes = find("sizes");
-  Result<std::vector<std::string>> size_items = list(sizes ? *sizes : default_sizes);
+  if (!options.maps.empty()) options.edge_case = false;
+  Result<std::vector<std::string>> size_items =
+      sizes || options.maps.empty() ? list(sizes ? *sizes : default_sizes)
+                                    : Result<std::vector<std::string>>(std::vector<std::string>{});
   if (!size_items) return size_items.error();
   for (const std::string& item : *size_items) {
     Result<long long> size = ParseInteger(OptionValue{item, ""}, 2, kMaxSize);
@@ -345,19 +419,32 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
 }
 
 std::string StudyConfiguration::Name() const {
+  if (!map.empty()) return "map_" + map_label + "_" + std::to_string(seed);
   const std::string name =
       std::to_string(size) + "_" + LowerDifficulty(difficulty) + "_" + std::to_string(seed);
   return edge_case ? "edge_" + name : name;
 }
 
+std::string StudyConfiguration::SizeText() const {
+  return SizeLabel(size, map.empty() ? size : cols);
+}
+
+std::string StudyConfiguration::DifficultyText() const {
+  return map.empty() ? DifficultyName(difficulty) : map_label;
+}
+
 std::string StudyConfiguration::Directory() const { return "runs/" + Name(); }
 
 std::string StudyConfiguration::Label() const {
+  if (!map.empty()) {
+    return "map " + map_label + " " + SizeLabel(size, cols) + ", seed " + std::to_string(seed);
+  }
   return std::string(edge_case ? "edge case " : "") + std::to_string(size) + " " +
          DifficultyName(difficulty) + ", seed " + std::to_string(seed);
 }
 
 std::string StudyConfiguration::ShortLabel() const {
+  if (!map.empty()) return map_label + " s" + std::to_string(seed);
   return std::string(edge_case ? "edge " : "") + std::to_string(size) + " " +
          DifficultyName(difficulty) + " s" + std::to_string(seed);
 }
@@ -367,7 +454,8 @@ double StudyConfiguration::Work() const {
   // (docs/EXPERIMENTS.md): a fixed part (process start, the baselines'
   // set-up: about a second) plus (cells x steps)^0.8. Plain cells x steps
   // made the first small configurations predict hours for the 300x300 ones.
-  const double cell_steps = static_cast<double>(size) * size * (static_cast<double>(steps) + 1.0);
+  const double cell_steps =
+      static_cast<double>(size) * (map.empty() ? size : cols) * (static_cast<double>(steps) + 1.0);
   return 15800.0 + std::pow(cell_steps, 0.8);
 }
 
@@ -392,15 +480,32 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
     edge.edge_case = true;
     plan.push_back(edge);
   }
+  for (const std::string& path : options.maps) {
+    StudyConfiguration configuration;
+    configuration.map = path;
+    configuration.map_label = runtime::MapLabel(path);
+    std::tie(configuration.size, configuration.cols) = MapShape(path);
+    configuration.seed = options.seed ? *options.seed : ReportSeed(Difficulty::kEasy);
+    configuration.steps = options.steps ? *options.steps : ReportTimeSteps(configuration.size);
+    configuration.stations = options.stations;
+    configuration.movers = options.movers;
+    plan.push_back(configuration);
+  }
   return plan;
 }
 
 runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration) {
   runtime::ScenarioOptions options;
-  options.size = configuration.size;
-  options.difficulty = LowerDifficulty(configuration.difficulty);
   options.seed = configuration.seed;
   options.steps = configuration.steps;
+  if (!configuration.map.empty()) {
+    options.maze = configuration.map;
+    options.stations = configuration.stations;
+    if (!configuration.movers.empty()) options.movers = configuration.movers;
+    return options;
+  }
+  options.size = configuration.size;
+  options.difficulty = LowerDifficulty(configuration.difficulty);
   return options;
 }
 
@@ -435,6 +540,12 @@ Json StudyIdentityJson(const StudyOptions& options) {
   // Only when not the default, so the identity of earlier studies (which had
   // no such option) stays the same and they can still be resumed.
   if (options.semantics != "ours") json["semantics"] = options.semantics;
+  if (!options.maps.empty()) {
+    Json& maps = json["maps"] = Json::array();
+    for (const std::string& map : options.maps) maps.push_back(map);
+    json["stations"] = options.stations;
+    json["movers"] = options.movers;
+  }
   return json;
 }
 

@@ -30,6 +30,12 @@ struct StudyOptions {
   std::vector<Difficulty> difficulties;
   std::vector<Approach> approaches;
   bool edge_case = true;
+  // MovingAI maps (issue 11), after the generated mazes: their paths, in
+  // order (a folder gives its .map files, sorted), with the stations and
+  // movers every map gets (N or P% of its free cells, from the seed).
+  std::vector<std::string> maps;
+  std::string stations = "0.5%";
+  std::string movers = "2%";
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
   int leaf_limit = 20;
@@ -62,7 +68,7 @@ using OptionValues = std::map<std::string, OptionValue>;
 // the same names (with '-' or '_'), checked by the kinds the declaration
 // records.
 struct StudyCommandLine {
-  std::optional<std::string> sizes, difficulties, approaches, out;
+  std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
   bool edge_case = false, no_edge_case = false;
   std::optional<long long> seed, steps;
   runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
@@ -96,9 +102,19 @@ struct StudyConfiguration {
   unsigned seed = 50;
   int steps = 40;
   bool edge_case = false;  // the report's edge case, kept in edge_results*.csv
+  // A MovingAI map instead of a generated maze: its path, its label in
+  // result files (MapLabel) and its columns (`size` holds its rows).
+  std::string map, map_label;
+  int cols = 0;
+  std::string stations, movers;  // as StudyOptions
 
-  // "20_easy_50"; the edge case is "edge_50_hard_102".
+  // "20_easy_50"; the edge case is "edge_50_hard_102"; a map
+  // "map_warehouse-10-20-10-2-1_50".
   std::string Name() const;
+  // Its Size and Difficulty columns in result files: "50" and "Hard", or
+  // "63x161" and the map's label.
+  std::string SizeText() const;
+  std::string DifficultyText() const;
   // "runs/<name>", relative to the study directory.
   std::string Directory() const;
   // "50 Hard, seed 52" (the edge case: "edge case 50 Hard, seed 102").
@@ -111,7 +127,8 @@ struct StudyConfiguration {
 };
 
 // Sizes in order, each with the difficulties in order; then the edge case
-// (hard 50x50 of seed 102, with --steps when given) when enabled.
+// (hard 50x50 of seed 102, with --steps when given) when enabled; then the
+// maps in order (seed --seed or 50, steps --steps or 2 x rows).
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 
 // The `dynapath run` maze options of a configuration (size, difficulty,
