@@ -167,7 +167,7 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
       return Error{"option --difficulty must be easy, medium or hard, got '" + *o.difficulty + "'"};
     }
   }
-  Result<long long> seed = InRange("seed", o.seed, ReportSeed(*difficulty), 0, 4294967295LL);
+  Result<long long> seed = InRange("seed", o.seed, ReportSeed(*difficulty), 0, kMaxSeed);
   if (!seed) return seed.error();
   setup.seed = static_cast<uint64_t>(*seed);
   CRandom random(static_cast<uint32_t>(*seed));
@@ -218,7 +218,7 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     spdlog::warn("{}: running it anyway (--allow-unreachable)", reachable.error().message);
   }
 
-  Result<long long> steps = InRange("steps", o.steps, ReportTimeSteps(grid.rows()), 0, 1'000'000);
+  Result<long long> steps = InRange("steps", o.steps, ReportTimeSteps(grid.rows()), 0, kMaxSteps);
   if (!steps) return steps.error();
   if (o.changes) {
     Result<ChangeSequence> changes = LoadChanges(*o.changes, grid.rows(), grid.cols());

@@ -27,6 +27,11 @@ struct ScenarioOptions {
   bool allow_unreachable = false;
 };
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
+// Bounds of --seed (the C-library stream's 32-bit seed) and --steps, for
+// every command that takes them.
+inline constexpr long long kMaxSeed = 4294967295LL;
+inline constexpr long long kMaxSteps = 1'000'000;
+
 // --stations and --movers (also a study's, for its maps).
 void DeclareMapPopulationOptions(OptionGroup& group, std::optional<std::string>& stations,
                                  std::optional<std::string>& movers);

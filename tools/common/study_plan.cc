@@ -341,12 +341,12 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
     options.edge_case = edge->text == "true";
   }
   if (const OptionValue* seed = find("seed")) {
-    Result<long long> value = ParseInteger(*seed, 0, 4294967295LL);
+    Result<long long> value = ParseInteger(*seed, 0, runtime::kMaxSeed);
     if (!value) return value.error();
     options.seed = static_cast<unsigned>(*value);
   }
   if (const OptionValue* steps = find("steps")) {
-    Result<long long> value = ParseInteger(*steps, 0, 1'000'000);
+    Result<long long> value = ParseInteger(*steps, 0, runtime::kMaxSteps);
     if (!value) return value.error();
     options.steps = static_cast<int>(*value);
   }
