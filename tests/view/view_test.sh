@@ -49,64 +49,50 @@ if [ -n "${DYNAPATH_VIEW_SCREENSHOT:-}" ] && [ -f "$work/shot.png" ]; then
   cp "$work/shot.png" "$DYNAPATH_VIEW_SCREENSHOT"
 fi
 
-# --pid: a live run in the private network its launcher makes (nested in
-# this test's own private network), joined by the viewer. The run is long
-# (200 steps of 100x100); the launcher is stopped once the screenshot is
-# taken.
-"$dynapath" netns -- bash -c '
-  "$1" run --agents 2 --size 100 --difficulty hard --approach fedAsynQ_EqAvg,singleAgent \
-    --out "$2/live" --log-level info >/dev/null 2>"$2/live.log" &
-  launcher=$!
-  for _ in $(seq 100); do grep -q "in a private network" "$2/live.log" && break; sleep 0.1; done
-  if ! grep -q "in a private network" "$2/live.log"; then
-    kill -TERM $launcher; wait $launcher
-    exit 77
+# live_screenshot NAME WxH LABEL RUN_ARGS...: a live `dynapath run --agents 2
+# RUN_ARGS` in the private network its launcher makes (nested in this test's
+# own), joined by the viewer with --pid; the launcher is stopped once the
+# screenshot $work/NAME.png is taken, and the screenshot's size is checked.
+live_screenshot() {
+  local name=$1 size=$2 label=$3
+  shift 3
+  "$dynapath" netns -- bash -c '
+    dynapath=$1 work=$2 view=$3 name=$4 size=$5
+    shift 5
+    "$dynapath" run --agents 2 "$@" --out "$work/$name" --log-level info >/dev/null \
+      2>"$work/$name.log" &
+    launcher=$!
+    for _ in $(seq 100); do grep -q "in a private network" "$work/$name.log" && break; sleep 0.1; done
+    if ! grep -q "in a private network" "$work/$name.log"; then
+      kill -TERM $launcher; wait $launcher
+      exit 77
+    fi
+    xvfb-run -a -s "-screen 0 1280x1024x24" "$view" --pid $launcher --screenshot "$work/$name.png" \
+      --frames 3 --timeout 60 --window "$size" --log-level warn
+    code=$?
+    kill -TERM $launcher
+    wait $launcher
+    exit $code' _ "$dynapath" "$work" "$view" "$name" "$size" "$@" 2>"$work/${name}_view.log"
+  local code=$?
+  if [ $code -eq 77 ]; then
+    echo "the launcher made no private network: $label not checked"
+  elif [ $code -eq 0 ]; then
+    local shot
+    shot=$("$info" "$work/$name.png" 2>&1)
+    [ "$shot" = "png ${size/x/ }" ] && pass "$label: $size screenshot" || fail "$label: $shot"
+  else
+    cat "$work/${name}_view.log" "$work/$name.log"
+    fail "$label: dynapath view exited $code"
   fi
-  xvfb-run -a -s "-screen 0 1280x1024x24" "$3" --pid $launcher --screenshot "$2/live.png" \
-    --frames 3 --timeout 60 --window 640x480 --log-level warn
-  code=$?
-  kill -TERM $launcher
-  wait $launcher
-  exit $code' _ "$dynapath" "$work" "$view" 2>"$work/live_view.log"
-code=$?
-if [ $code -eq 77 ]; then
-  echo "the launcher made no private network: --pid not checked"
-elif [ $code -eq 0 ]; then
-  shot=$("$info" "$work/live.png" 2>&1)
-  [ "$shot" = "png 640 480" ] && pass "view --pid joined a live run's network: 640x480 screenshot" ||
-    fail "--pid screenshot: $shot"
-else
-  cat "$work/live_view.log" "$work/live.log"
-  fail "dynapath view --pid exited $code"
-fi
-# A MovingAI map (25x61, not square) with seeded stations and movers, live.
-map="$(cd "$(dirname "$0")/../data/maps" && pwd)/maze-25-61-1.map"
-"$dynapath" netns -- bash -c '
-  "$1" run --agents 2 --maze "$4" --stations 6 --movers 8 --steps 300 --approach fedAsynQ_EqAvg \
-    --out "$2/map" --log-level info >/dev/null 2>"$2/map.log" &
-  launcher=$!
-  for _ in $(seq 100); do grep -q "in a private network" "$2/map.log" && break; sleep 0.1; done
-  if ! grep -q "in a private network" "$2/map.log"; then
-    kill -TERM $launcher; wait $launcher
-    exit 77
-  fi
-  xvfb-run -a -s "-screen 0 1280x1024x24" "$3" --pid $launcher --screenshot "$2/map.png" \
-    --frames 3 --timeout 60 --window 800x400 --log-level warn
-  code=$?
-  kill -TERM $launcher
-  wait $launcher
-  exit $code' _ "$dynapath" "$work" "$view" "$map" 2>"$work/map_view.log"
-code=$?
-if [ $code -eq 77 ]; then
-  echo "the launcher made no private network: the map run not checked"
-elif [ $code -eq 0 ]; then
-  shot=$("$info" "$work/map.png" 2>&1)
-  [ "$shot" = "png 800 400" ] && pass "view on a live 25x61 map run: 800x400 screenshot" ||
-    fail "map screenshot: $shot"
-else
-  cat "$work/map_view.log" "$work/map.log"
-  fail "dynapath view on a map run exited $code"
-fi
+}
+
+# A long run (200 steps of 100x100).
+live_screenshot live 640x480 "view --pid joined a live run's network" \
+  --size 100 --difficulty hard --approach fedAsynQ_EqAvg,singleAgent
+# A MovingAI map (25x61, not square) with seeded stations and movers.
+live_screenshot map 800x400 "view on a live 25x61 map run" \
+  --maze "$(cd "$(dirname "$0")/../data/maps" && pwd)/maze-25-61-1.map" --stations 6 --movers 8 \
+  --steps 300 --approach fedAsynQ_EqAvg
 if [ -n "${DYNAPATH_VIEW_MAP_SCREENSHOT:-}" ] && [ -f "$work/map.png" ]; then
   cp "$work/map.png" "$DYNAPATH_VIEW_MAP_SCREENSHOT"
 fi
