@@ -92,20 +92,27 @@ wait_for_line() {  # FILE PATTERN: up to 30 s
   for _ in $(seq 1500); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
   return 1
 }
-for case in "auto coordinator: maze" "split initial training"; do
-  read -r placement line <<<"$case"
-  "$dynapath" run --agents 2 --placement $placement "${big[@]}" --out "$work/big_killed_$placement" \
-    --log-level info >/dev/null 2>"$work/killed_$placement.log" &
-  launcher=$!
-  wait_for_line "$work/killed_$placement.log" "$line" || fail "no '$line' line ($placement)"
+# kill_agent_mid_run LOCAL_DIR NAME PLACEMENT LINE RUN_ARGS...: a run with 2
+# agents whose agent 2 gets SIGKILL once LINE is logged: it must finish, the
+# coordinator must reassign the work, and the results equal LOCAL_DIR's.
+kill_agent_mid_run() {
+  local local_dir=$1 name=$2 placement=$3 line=$4
+  shift 4
+  "$dynapath" run --agents 2 --placement "$placement" "$@" --out "$work/$name" \
+    --log-level info >/dev/null 2>"$work/$name.log" &
+  local launcher=$!
+  wait_for_line "$work/$name.log" "$line" || fail "no '$line' line ($name)"
   # Agent 2 of this run: a child of this launcher (other tests run agents too).
+  local victim
   victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
-  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($placement)"; fi
-  wait $launcher || fail "run with a killed agent exited $? ($placement)"
-  grep -q "reassigning its work" "$work/killed_$placement.log" ||
-    fail "the coordinator did not reassign the killed agent's work ($placement)"
-  same_results "$work/big_local" "$work/big_killed_$placement" "agent killed with SIGKILL ($placement)"
-done
+  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($name)"; fi
+  wait $launcher || fail "run with a killed agent exited $? ($name)"
+  grep -q "reassigning its work" "$work/$name.log" ||
+    fail "the coordinator did not reassign the killed agent's work ($name)"
+  same_results "$local_dir" "$work/$name" "agent killed with SIGKILL ($name, $placement)"
+}
+kill_agent_mid_run "$work/big_local" big_killed_auto auto "coordinator: maze" "${big[@]}"
+kill_agent_mid_run "$work/big_local" big_killed_split split "initial training" "${big[@]}"
 
 # 3. Dropped and duplicated messages.
 small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps 20)
@@ -187,16 +194,7 @@ wide=(--maze "$(dirname "$0")/data/maps/maze-25-61-1.map" --stations 6 --movers 
   --approach fedAsynQ_EqAvg)
 "$dynapath" run --local "${wide[@]}" --out "$work/wide_local" --log-level warn >/dev/null ||
   fail "25x61 map --local"
-"$dynapath" run --agents 2 --placement split "${wide[@]}" --out "$work/wide_killed" \
-  --log-level info >/dev/null 2>"$work/wide_killed.log" &
-launcher=$!
-wait_for_line "$work/wide_killed.log" "initial training" || fail "no 'initial training' line (map)"
-victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
-if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill (map)"; fi
-wait $launcher || fail "map run with a killed agent exited $?"
-grep -q "reassigning its work" "$work/wide_killed.log" ||
-  fail "the coordinator did not reassign the killed agent's work (map)"
-same_results "$work/wide_local" "$work/wide_killed" "a map with movers, agent killed with SIGKILL (split)"
+kill_agent_mid_run "$work/wide_local" wide_killed split "initial training" "${wide[@]}"
 
 # 7. Bad input.
 expect_usage_error() {
