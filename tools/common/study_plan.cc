@@ -381,15 +381,35 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
   const OptionValue* local = find("local");
   const OptionValue* agents = find("agents");
   const OptionValue* embedded = find("embedded");
-  if ((local && (agents || embedded))) {
-    return Error{local->origin + ": choose one of --local, --agents N and --embedded"};
-  }
+  // runtime::ResolveMode decides, as for `dynapath run`; the study only
+  // names where the offending value came from.
+  runtime::ModeOptions given_mode;
+  given_mode.local = local != nullptr;
+  given_mode.embedded = embedded != nullptr;
   if (agents) {
     Result<long long> value = ParseInteger(*agents, 1, runtime::kMaxAgents);
     if (!value) return value.error();
-    options.agents = static_cast<int>(*value);
+    given_mode.agents = *value;
   }
-  options.mode = embedded ? StudyMode::kEmbedded : agents ? StudyMode::kAgents : StudyMode::kLocal;
+  Result<runtime::RunMode> mode = runtime::ResolveMode(given_mode, runtime::kMaxAgents);
+  if (!mode)
+    return Error{(local    ? local
+                  : agents ? agents
+                           : embedded)
+                     ->origin +
+                 ": " + mode.error().message};
+  options.agents = mode->agents;
+  switch (mode->kind) {
+    case runtime::RunMode::kLocal:
+      options.mode = StudyMode::kLocal;
+      break;
+    case runtime::RunMode::kAgents:
+      options.mode = StudyMode::kAgents;
+      break;
+    case runtime::RunMode::kEmbedded:
+      options.mode = StudyMode::kEmbedded;
+      break;
+  }
 
   if (const OptionValue* threads = find("threads")) {
     Result<long long> value = ParseInteger(*threads, 1, runtime::kMaxThreads);
