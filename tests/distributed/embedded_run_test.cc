@@ -21,6 +21,7 @@
 #include "coordinator/coordinator.h"
 #include "core/scenario.h"
 #include "core/text_util.h"
+#include "dynapath/fragment_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "envsim/envsim.h"
 #include "lcmtypes/protocol/channels.h"
@@ -118,10 +119,38 @@ class EmbeddedRunTest : public ::testing::Test {
     envsim::EnvSim sim(envsim_bus,
                        envsim::ScenarioInfo{setup.scenario, setup.labels, setup.seed, setup.source},
                        envsim::EnvSimOptions{});
+    // Agent 2 "dies" the moment it is given work: its stop flag is set and
+    // everything it would send from then on is dropped (its bus fragments
+    // every message, and drops every fragment once muted), so however fast
+    // it trains, its results never arrive and its work must be reassigned.
+    // The watcher subscribes before the agents, so it sees each batch first.
+    std::atomic<bool> stop_components{false}, stop_agent_2{false}, mute_agent_2{false};
+    std::atomic<int> batches_for_agent_2{0};
+    // With split placement, agent 2 stops once it hosts learners of a split
+    // job (in the middle of its rounds); else at its first batch.
+    const bool wait_for_split = placement == runtime::Placement::kSplit;
+    watcher_bus.Subscribe<job_batch_t>(protocol::channel::kJobs, [&](job_batch_t& batch) {
+      for (size_t i = 0; i < batch.item_agent.size(); ++i) {
+        if (batch.item_agent[i] != 2) continue;
+        ++batches_for_agent_2;
+        if (stop_agent_2_mid_run && (!wait_for_split || batch.item_learner[i] >= 0)) {
+          mute_agent_2 = true;
+          stop_agent_2 = true;
+        }
+        break;
+      }
+    });
     std::vector<std::unique_ptr<protocol::Bus>> agent_buses;
     std::vector<std::unique_ptr<agent::Agent>> agents;
     for (int id = 1; id <= 2; ++id) {
-      agent_buses.push_back(std::make_unique<protocol::Bus>(lcm, run_id, bus_options));
+      protocol::BusOptions agent_bus_options = bus_options;
+      if (id == 2 && stop_agent_2_mid_run) {
+        agent_bus_options.fragment_above = 1;
+        agent_bus_options.drop_fragment = [&](const fragment_t&, bool) {
+          return mute_agent_2.load();
+        };
+      }
+      agent_buses.push_back(std::make_unique<protocol::Bus>(lcm, run_id, agent_bus_options));
       agent::AgentOptions options;
       options.id = id;
       options.threads = 1;
@@ -133,22 +162,6 @@ class EmbeddedRunTest : public ::testing::Test {
     options.min_agents = 2;
     options.agent_timeout_seconds = 0.5;  // notice the stopped agent quickly
     coordinator::Coordinator coordinator(coordinator_bus, options);
-
-    std::atomic<bool> stop_components{false}, stop_agent_2{false};
-    std::atomic<int> batches_for_agent_2{0};
-    // With split placement, agent 2 stops once it hosts learners of a split
-    // job (in the middle of its rounds); else at its first batch.
-    const bool wait_for_split = placement == runtime::Placement::kSplit;
-    watcher_bus.Subscribe<job_batch_t>(protocol::channel::kJobs, [&](job_batch_t& batch) {
-      for (size_t i = 0; i < batch.item_agent.size(); ++i) {
-        if (batch.item_agent[i] != 2) continue;
-        ++batches_for_agent_2;
-        if (stop_agent_2_mid_run && (!wait_for_split || batch.item_learner[i] >= 0)) {
-          stop_agent_2 = true;
-        }
-        break;
-      }
-    });
 
     protocol::Dispatcher dispatcher(lcm);
     std::vector<std::thread> threads;
