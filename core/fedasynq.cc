@@ -109,15 +109,48 @@ uint32_t FindSlot(const Slot* slots, uint32_t mask, int shift, uint32_t entry) {
   return slot;
 }
 
+// One step of a learner's walk from `s`: the action drawn among the
+// in-region ones, its table entry, where it leads, what it pays and the
+// bootstrap maximum there.
+struct WalkStep {
+  uint32_t entry;
+  int next;
+  float reward;
+  float best_next;
+};
+inline WalkStep DrawStep(const RegionModel& model, const float* q, Rng& rng, int s) {
+  const uint32_t index = rng.Below(static_cast<uint32_t>(model.in_region_count(s)));
+  const int a = model.actions(s)[index];
+  const int next = model.step_target(s, static_cast<int>(index));
+  return {static_cast<uint32_t>(s * kNumActions + a), next, model.reward(s, a),
+          model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions)};
+}
+// The Q-learning update of a step's entry from its `value`.
+inline float Updated(float value, const WalkStep& step) {
+  return value + kLearningRate * (step.reward + kDiscount * step.best_next - value);
+}
+// An uncounted step (equal averaging, which needs no visit counts): every
+// step is listed at `step`, repeats included, so listing is two stores, and
+// reverting the list backwards restores each entry's first original.
+// Returns the next cell; `station` records a move that ended on a station
+// (the reward is +100 exactly then).
+inline int UncountedStep(const RegionModel& model, float* q, Rng& rng, int s, int step,
+                         uint32_t* touched, float* originals, bool& station) {
+  const WalkStep move = DrawStep(model, q, rng, s);
+  const float value = q[move.entry];
+  touched[step] = move.entry;
+  originals[step] = value;
+  q[move.entry] = Updated(value, move);
+  station |= move.reward == kStationReward;
+  return move.next;
+}
+
 // The random walk of one learner's round: `steps` Q-learning updates of `q`
 // from `s`, counting visits in `slots` and listing new entries (with their
-// values before the round) in touched/originals. Everything lives in
-// locals: stores through the table and the lists could otherwise alias
-// members, reloaded at every step. Returns the number of entries listed.
-//
-// Without kCount (equal averaging, which needs no visit counts) every step is
-// listed, repeats included, and nothing is counted: listing is two stores,
-// and reverting the list backwards restores each entry's first original.
+// values before the round) in touched/originals (kCount), or listing every
+// step (UncountedStep). Everything lives in locals: stores through the table
+// and the lists could otherwise alias members, reloaded at every step.
+// Returns the number of entries listed.
 template <bool kDirect, bool kCount>
 size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps, bool& reached,
             Slot* slots, uint32_t mask, int shift, uint32_t* touched, float* originals) {
@@ -125,81 +158,49 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
   size_t listed = 0;
   bool station = false;
   for (int step = 0; step < steps; ++step) {
-    const uint32_t index = rng.Below(static_cast<uint32_t>(model.in_region_count(s)));
-    const int a = model.actions(s)[index];
-    const uint32_t entry = static_cast<uint32_t>(s * kNumActions + a);
-    const int next = model.step_target(s, static_cast<int>(index));
-    const float reward = model.reward(s, a);
-    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
     if constexpr (!kCount) {
-      const float value = q[entry];
-      touched[step] = entry;
-      originals[step] = value;
-      q[entry] = value + kLearningRate * (reward + kDiscount * best_next - value);
-      station |= reward == kStationReward;
-      s = next;
-      continue;
+      s = UncountedStep(model, q, rng, s, step, touched, originals, station);
+    } else {
+      const WalkStep move = DrawStep(model, q, rng, s);
+      // Count the visit, without branches on whether the entry is new (which
+      // a random walk makes unpredictable): the listing is always written
+      // and only counted when the slot was empty.
+      const uint32_t key = move.entry + 1;
+      uint32_t slot = HomeSlot<kDirect>(move.entry, shift);
+      if constexpr (!kDirect) {
+        // Another entry's slot (rare: at most half the slots are used).
+        while ((slots[slot].key != 0) & (slots[slot].key != key)) slot = (slot + 1) & mask;
+      }
+      Slot& held = slots[slot];
+      const float value = q[move.entry];
+      touched[listed] = move.entry;
+      originals[listed] = value;
+      listed += held.key == 0;
+      held.key = key;
+      ++held.visits;
+      q[move.entry] = Updated(value, move);
+      station |= move.reward == kStationReward;
+      s = move.next;
     }
-    // Count the visit, without branches on whether the entry is new (which
-    // a random walk makes unpredictable): the listing is always written and
-    // only counted when the slot was empty.
-    const uint32_t key = entry + 1;
-    uint32_t slot = HomeSlot<kDirect>(entry, shift);
-    if constexpr (!kDirect) {
-      // Another entry's slot (rare: at most half the slots are used).
-      while ((slots[slot].key != 0) & (slots[slot].key != key)) slot = (slot + 1) & mask;
-    }
-    Slot& held = slots[slot];
-    const float value = q[entry];
-    touched[listed] = entry;
-    originals[listed] = value;
-    listed += held.key == 0;
-    held.key = key;
-    ++held.visits;
-    q[entry] = value + kLearningRate * (reward + kDiscount * best_next - value);
-    // The reward is +100 exactly when the move ends on a station.
-    station |= reward == kStationReward;
-    s = next;
   }
   reached |= station;
   walk_rng = rng;
   return kCount ? listed : static_cast<size_t>(std::max(0, steps));
 }
 
-// Two learners' walks of one round, interleaved step by step on two copies of
-// the same table: each walk is exactly what Walk<kDirect, false> gives it
-// alone (they share nothing but the model), and the two chains of dependent
-// loads and arithmetic overlap, where one walk alone leaves the core waiting.
+// Two learners' uncounted walks of one round, interleaved step by step on
+// two copies of the same table: each walk is exactly what Walk<true, false>
+// gives it alone (they share nothing but the model), and the two chains of
+// dependent loads and arithmetic overlap, where one walk alone leaves the
+// core waiting.
 void WalkTwo(const RegionModel& model, float* qa, float* qb, Rng& rng_a, Rng& rng_b, int sa, int sb,
              int steps, bool& reached_a, bool& reached_b, uint32_t* touched_a, float* originals_a,
              uint32_t* touched_b, float* originals_b) {
   Rng ra = rng_a, rb = rng_b;
   bool station_a = false, station_b = false;
   for (int step = 0; step < steps; ++step) {
-    const uint32_t ia = ra.Below(static_cast<uint32_t>(model.in_region_count(sa)));
-    const uint32_t ib = rb.Below(static_cast<uint32_t>(model.in_region_count(sb)));
-    const int aa = model.actions(sa)[ia];
-    const int ab = model.actions(sb)[ib];
-    const int next_a = model.step_target(sa, static_cast<int>(ia));
-    const int next_b = model.step_target(sb, static_cast<int>(ib));
-    const uint32_t ea = static_cast<uint32_t>(sa * kNumActions + aa);
-    const uint32_t eb = static_cast<uint32_t>(sb * kNumActions + ab);
-    const float reward_a = model.reward(sa, aa);
-    const float reward_b = model.reward(sb, ab);
-    const float best_a = model.BootstrapMax(next_a, qa + static_cast<size_t>(next_a) * kNumActions);
-    const float best_b = model.BootstrapMax(next_b, qb + static_cast<size_t>(next_b) * kNumActions);
-    const float va = qa[ea];
-    const float vb = qb[eb];
-    touched_a[step] = ea;
-    originals_a[step] = va;
-    touched_b[step] = eb;
-    originals_b[step] = vb;
-    qa[ea] = va + kLearningRate * (reward_a + kDiscount * best_a - va);
-    qb[eb] = vb + kLearningRate * (reward_b + kDiscount * best_b - vb);
-    station_a |= reward_a == kStationReward;
-    station_b |= reward_b == kStationReward;
-    sa = next_a;
-    sb = next_b;
+    sa = UncountedStep(model, qa, ra, sa, step, touched_a, originals_a, station_a);
+    sb = UncountedStep(model, qb, rb, sb, step, touched_b, originals_b, station_b);
   }
   reached_a |= station_a;
   reached_b |= station_b;
@@ -207,11 +208,9 @@ void WalkTwo(const RegionModel& model, float* qa, float* qb, Rng& rng_a, Rng& rn
   rng_b = rb;
 }
 
-}  // namespace
-
-void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
-                          int64_t round, int sync_period, bool revert, LearnerShard& shard) {
-  // Refilled in place: a round's vectors keep their capacity for the next.
+// A shard refilled in place (its vectors keep their capacity for the next
+// round) for `learner`'s round starting at `start`.
+void BeginShard(LearnerShard& shard, int learner, int64_t round, int start) {
   shard.entries.clear();
   shard.values.clear();
   shard.visits.clear();
@@ -219,10 +218,26 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
   shard.steps = 0;
   shard.learner = learner;
   shard.round = round;
+  shard.start_cell = start;
+}
+
+// Room for a round's list of `steps` entries and their originals (one spare).
+void ReserveList(std::vector<uint32_t>& touched, std::vector<float>& originals, int steps) {
+  const size_t wanted = static_cast<size_t>(steps) + 1;
+  if (touched.size() < wanted) {
+    touched.resize(wanted);
+    originals.resize(wanted);
+  }
+}
+
+}  // namespace
+
+void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
+                          int64_t round, int sync_period, bool revert, LearnerShard& shard) {
   if (!revert) twin_in_sync_ = false;  // table_ keeps this round's updates
   Rng rng(LearnerRoundSeed(job_seed, learner, round));
   const int start = stats.Draw(rng);
-  shard.start_cell = start;
+  BeginShard(shard, learner, round, start);
   if (start < 0) return;
 
   float* q = table_.values().data();
@@ -232,11 +247,7 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
   // which takes no step.
   const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
   if (!count_visits_) {
-    const size_t step_count = static_cast<size_t>(steps);
-    if (touched_.size() < step_count + 1) {
-      touched_.resize(step_count + 1);
-      originals_.resize(step_count + 1);
-    }
+    ReserveList(touched_, originals_, steps);
     const size_t listed = Walk<true, false>(model_, q, rng, start, steps, reached, nullptr, 0, 0,
                                             touched_.data(), originals_.data());
     shard.reached_station = reached;
@@ -250,10 +261,7 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
       static_cast<size_t>(std::clamp<int64_t>(sync_period, 0, static_cast<int64_t>(table_entries)));
   const size_t wanted = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
   if (slots_.size() < wanted) slots_.assign(wanted, Slot{});
-  if (touched_.size() < most_touched + 1) {
-    touched_.resize(most_touched + 1);
-    originals_.resize(most_touched + 1);
-  }
+  ReserveList(touched_, originals_, static_cast<int>(most_touched));
   const bool direct = slots_.size() >= table_entries;
   const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
   const int shift = 32 - std::countr_zero(slots_.size());
@@ -327,26 +335,11 @@ void FedAsynQLearner::RunTwoAndRevert(int learner_a, int learner_b, const StartS
     twin_ = table_;
     twin_in_sync_ = true;
   }
-  const size_t step_count = static_cast<size_t>(steps);
-  if (touched_.size() < step_count + 1) {
-    touched_.resize(step_count + 1);
-    originals_.resize(step_count + 1);
-  }
-  if (twin_touched_.size() < step_count + 1) {
-    twin_touched_.resize(step_count + 1);
-    twin_originals_.resize(step_count + 1);
-  }
-  for (LearnerShard* shard : {&shard_a, &shard_b}) {
-    shard->entries.clear();
-    shard->values.clear();
-    shard->visits.clear();
-    shard->round = round;
-    shard->steps = steps;
-  }
-  shard_a.learner = learner_a;
-  shard_b.learner = learner_b;
-  shard_a.start_cell = start_a;
-  shard_b.start_cell = start_b;
+  ReserveList(touched_, originals_, steps);
+  ReserveList(twin_touched_, twin_originals_, steps);
+  BeginShard(shard_a, learner_a, round, start_a);
+  BeginShard(shard_b, learner_b, round, start_b);
+  shard_a.steps = shard_b.steps = steps;
   bool reached_a = model_.is_station(start_a), reached_b = model_.is_station(start_b);
   float* qa = table_.values().data();
   float* qb = twin_.values().data();
@@ -354,8 +347,9 @@ void FedAsynQLearner::RunTwoAndRevert(int learner_a, int learner_b, const StartS
           touched_.data(), originals_.data(), twin_touched_.data(), twin_originals_.data());
   shard_a.reached_station = reached_a;
   shard_b.reached_station = reached_b;
-  FinishUncounted(qa, touched_.data(), originals_.data(), step_count, true, shard_a);
-  FinishUncounted(qb, twin_touched_.data(), twin_originals_.data(), step_count, true, shard_b);
+  const size_t listed = static_cast<size_t>(steps);
+  FinishUncounted(qa, touched_.data(), originals_.data(), listed, true, shard_a);
+  FinishUncounted(qb, twin_touched_.data(), twin_originals_.data(), listed, true, shard_b);
 }
 
 void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
