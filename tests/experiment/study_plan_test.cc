@@ -150,8 +150,11 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
   Result<StudyOptions> options = ResolveStudyOptions(Cli({{"maps", maps}, {"movers", "3"}}), 2);
   ASSERT_TRUE(options) << options.error().message;
-  EXPECT_EQ(options->maps,
-            (std::vector<std::string>{maps + "/maze-25-61-1.map", maps + "/wide-5-9.map"}));
+  ASSERT_EQ(options->maps.size(), 2u);
+  EXPECT_EQ(options->maps[0].path, maps + "/maze-25-61-1.map");
+  EXPECT_EQ(options->maps[1].path, maps + "/wide-5-9.map");
+  EXPECT_EQ(options->maps[0].rows, 25);
+  EXPECT_EQ(options->maps[0].cols, 61);
   EXPECT_TRUE(options->sizes.empty());
   EXPECT_FALSE(options->edge_case);
   EXPECT_EQ(options->stations, "0.5%");

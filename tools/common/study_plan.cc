@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <tuple>
 
 #include "core/experiment.h"
 #include "core/limits.h"
@@ -66,10 +65,10 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
 
 // The maps of a --maps list: files as given, folders as their .map files in
-// name order; each must exist and be a MovingAI map (read here, so a study
-// with a bad map fails before it starts).
-Result<std::vector<std::string>> ExpandMapList(const std::vector<std::string>& items,
-                                               const std::string& origin) {
+// name order; each must exist and be a MovingAI map (read here, once, so a
+// study with a bad map fails before it starts).
+Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::string>& items,
+                                                     const std::string& origin) {
   namespace fs = std::filesystem;
   std::vector<std::string> paths;
   for (const std::string& item : items) {
@@ -87,6 +86,7 @@ Result<std::vector<std::string>> ExpandMapList(const std::vector<std::string>& i
       paths.push_back(item);
     }
   }
+  std::vector<StudyOptions::Map> maps;
   for (const std::string& path : paths) {
     Result<std::string> bytes = ReadTextFile(path);
     if (!bytes) return Error{origin + ": " + bytes.error().message};
@@ -95,16 +95,9 @@ Result<std::vector<std::string>> ExpandMapList(const std::vector<std::string>& i
     if (std::count(paths.begin(), paths.end(), path) > 1) {
       return Error{origin + ": map " + path + " is given twice"};
     }
+    maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols()});
   }
-  return paths;
-}
-
-// Rows and columns of a map ResolveStudyOptions has read.
-std::pair<int, int> MapShape(const std::string& path) {
-  Result<std::string> bytes = ReadTextFile(path);
-  if (!bytes) return {0, 0};
-  Result<Grid> grid = ParseMovingAiMap(*bytes);
-  return grid ? std::make_pair(grid->rows(), grid->cols()) : std::make_pair(0, 0);
+  return maps;
 }
 
 }  // namespace
@@ -274,9 +267,9 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
   if (const OptionValue* maps = find("maps")) {
     Result<std::vector<std::string>> items = list(*maps);
     if (!items) return items.error();
-    Result<std::vector<std::string>> paths = ExpandMapList(*items, maps->origin);
-    if (!paths) return paths.error();
-    options.maps = *paths;
+    Result<std::vector<StudyOptions::Map>> read = ExpandMapList(*items, maps->origin);
+    if (!read) return read.error();
+    options.maps = *read;
   }
   for (const char* name : {"stations", "movers"}) {
     const OptionValue* value = find(name);
@@ -500,11 +493,12 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
     edge.edge_case = true;
     plan.push_back(edge);
   }
-  for (const std::string& path : options.maps) {
+  for (const StudyOptions::Map& map : options.maps) {
     StudyConfiguration configuration;
-    configuration.map = path;
-    configuration.map_label = runtime::MapLabel(path);
-    std::tie(configuration.size, configuration.cols) = MapShape(path);
+    configuration.map = map.path;
+    configuration.map_label = runtime::MapLabel(map.path);
+    configuration.size = map.rows;
+    configuration.cols = map.cols;
     configuration.seed = options.seed ? *options.seed : ReportSeed(Difficulty::kEasy);
     configuration.steps = options.steps ? *options.steps : ReportTimeSteps(configuration.size);
     configuration.stations = options.stations;
@@ -562,7 +556,7 @@ Json StudyIdentityJson(const StudyOptions& options) {
   if (options.semantics != "ours") json["semantics"] = options.semantics;
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
-    for (const std::string& map : options.maps) maps.push_back(map);
+    for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);
     json["stations"] = options.stations;
     json["movers"] = options.movers;
   }

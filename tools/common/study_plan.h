@@ -33,7 +33,11 @@ struct StudyOptions {
   // MovingAI maps (issue 11), after the generated mazes: their paths, in
   // order (a folder gives its .map files, sorted), with the stations and
   // movers every map gets (N or P% of its free cells, from the seed).
-  std::vector<std::string> maps;
+  struct Map {
+    std::string path;
+    int rows = 0, cols = 0;  // read once, when the options are resolved
+  };
+  std::vector<Map> maps;
   std::string stations = "0.5%";
   std::string movers = "2%";
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
