@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_path.h"
+
 #include <filesystem>
 
 #include "core/scenario.h"
@@ -27,7 +29,7 @@ TEST(ChangeSequenceTest, TextRoundTripOfAReportSequence) {
 
 TEST(ChangeSequenceTest, FileRoundTrip) {
   const Scenario scenario = GenerateScenario(20, 30, Difficulty::kEasy, 9);
-  const std::string path = testing::TempDir() + "/changes_test.txt";
+  const std::string path = test_paths::UniqueTempPath("changes_test.txt");
   ASSERT_TRUE(SaveChanges(scenario.changes, 20, 30, path).ok());
   Result<ChangeSequence> loaded = LoadChanges(path, 20, 30);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;

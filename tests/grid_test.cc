@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_path.h"
+
 #include <filesystem>
 
 namespace dynapath {
@@ -53,7 +55,7 @@ TEST(GridTest, BadTextGivesOneClearError) {
 }
 
 TEST(GridTest, SaveAndLoadFile) {
-  const std::string path = testing::TempDir() + "/grid_test_maze.txt";
+  const std::string path = test_paths::UniqueTempPath("grid_test_maze.txt");
   Grid grid(4, 5);
   grid.set(1, 1, Cell::kObstacle);
   grid.set(3, 4, Cell::kStation);

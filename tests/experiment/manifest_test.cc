@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_path.h"
+
 #include <regex>
 
 #include "core/text_file.h"
@@ -38,7 +40,7 @@ Manifest Example() {
 
 TEST(ManifestTest, RoundTripsThroughValidJson) {
   const Manifest manifest = Example();
-  const std::string path = ::testing::TempDir() + "/manifest_test.json";
+  const std::string path = test_paths::UniqueTempPath("manifest_test.json");
   ASSERT_TRUE(WriteManifest(manifest, path));
   // Valid JSON with the documented top-level keys.
   Result<std::string> text = ReadTextFile(path);
@@ -89,7 +91,7 @@ TEST(ManifestTest, RoundTripsThroughValidJson) {
 }
 
 TEST(ManifestTest, RejectsBrokenManifests) {
-  const std::string path = ::testing::TempDir() + "/manifest_test_bad.json";
+  const std::string path = test_paths::UniqueTempPath("manifest_test_bad.json");
   ASSERT_TRUE(WriteTextFileAtomically(path, "{\"dynapath_version\": \"0.1.0\",\n \"status\": "));
   Result<Manifest> read = ReadManifest(path);
   ASSERT_FALSE(read);

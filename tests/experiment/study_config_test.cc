@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_path.h"
+
 #include <fstream>
 
 namespace dynapath::cli {
@@ -105,7 +107,7 @@ TEST(StudyConfigTest, ReadsFloatsQuotedKeysAndMultiLineStrings) {
 }
 
 TEST(StudyConfigTest, ReadsAFileAndReportsAMissingOne) {
-  const std::string path = ::testing::TempDir() + "/study_config_test.toml";
+  const std::string path = test_paths::UniqueTempPath("study_config_test.toml");
   {
     std::ofstream out(path);
     out << "sizes = [20]\n";

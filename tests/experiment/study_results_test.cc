@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_path.h"
+
 #include <filesystem>
 
 #include "core/results_csv.h"
@@ -34,10 +36,11 @@ std::vector<ApproachRun> Runs(const std::vector<Approach>& approaches, const std
 class StudyResultsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) / "study_results_test";
+    dir_ = fs::path(test_paths::UniqueTempPath("study_results_test"));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
+  void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
   const std::vector<Approach> approaches_ = {Approach::kBfsOracle, Approach::kSingleAgent};
 };
