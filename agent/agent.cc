@@ -307,8 +307,7 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     message.job = jobs[i];
     message.episodes_or_rounds = result.episodes_or_rounds;
     message.steps = result.steps;
-    message.values = std::move(result.table.values());
-    message.num_values = static_cast<int32_t>(message.values.size());
+    protocol::PutTable(result.table, message);
     bus_.Publish(protocol::channel::kResults, message);
     std::lock_guard lock(mutex);
     results_.push_back(std::move(message));
@@ -328,7 +327,11 @@ void Agent::ContinueSplit() {
       for (auto& job : split_jobs_) {
         if (job->index != job_round.index) continue;
         for (auto& worker : job->workers) {
-          worker->ApplyAverage(job_round.entries, job_round.values);
+          if (worker->table().precision() == QPrecision::kFloat) {
+            worker->ApplyAverage(job_round.entries, job_round.values);
+          } else {
+            worker->ApplyAverage(job_round.entries, job_round.wide_values);
+          }
         }
       }
     }

@@ -353,14 +353,14 @@ void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
   JobState& state = batch.jobs[static_cast<size_t>(message.job)];
   if (state.result) return;  // repeated
   // A result of an older epoch is as good as any: jobs are pure functions.
-  if (message.num_values != state.job.region.cells() * kNumActions) {
+  std::optional<QTable> table =
+      protocol::GetTable(message, state.job.region.cells(), state.job.precision);
+  if (!table) {
     spdlog::warn("dropped a result of agent {}: its table does not fit job {}", message.agent,
                  message.job);
     return;
   }
-  QTable table(state.job.region.cells());
-  table.values() = message.values;
-  state.result = std::move(table);
+  state.result = std::move(*table);
   state.steps = message.steps;
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;

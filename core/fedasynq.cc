@@ -112,36 +112,40 @@ uint32_t FindSlot(const Slot* slots, uint32_t mask, int shift, uint32_t entry) {
 // One step of a learner's walk from `s`: the action drawn among the
 // in-region ones, its table entry, where it leads, what it pays and the
 // bootstrap maximum there.
+template <typename V>
 struct WalkStep {
   uint32_t entry;
   int next;
-  float reward;
-  float best_next;
+  V reward;
+  V best_next;
 };
-inline WalkStep DrawStep(const RegionModel& model, const float* q, Rng& rng, int s) {
+template <typename V>
+inline WalkStep<V> DrawStep(const RegionModel& model, const V* q, Rng& rng, int s) {
   const uint32_t index = rng.Below(static_cast<uint32_t>(model.in_region_count(s)));
   const int a = model.actions(s)[index];
   const int next = model.step_target(s, static_cast<int>(index));
-  return {static_cast<uint32_t>(s * kNumActions + a), next, model.reward(s, a),
+  return {static_cast<uint32_t>(s * kNumActions + a), next, static_cast<V>(model.reward(s, a)),
           model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions)};
 }
 // The Q-learning update of a step's entry from its `value`.
-inline float Updated(float value, const WalkStep& step) {
-  return value + kLearningRate * (step.reward + kDiscount * step.best_next - value);
+template <typename V>
+inline V Updated(V value, const WalkStep<V>& step) {
+  return value + kLearningRateOf<V> * (step.reward + kDiscountOf<V> * step.best_next - value);
 }
 // An uncounted step (equal averaging, which needs no visit counts): every
 // step is listed at `step`, repeats included, so listing is two stores, and
 // reverting the list backwards restores each entry's first original.
 // Returns the next cell; `station` records a move that ended on a station
 // (the reward is +100 exactly then).
-inline int UncountedStep(const RegionModel& model, float* q, Rng& rng, int s, int step,
-                         uint32_t* touched, float* originals, bool& station) {
-  const WalkStep move = DrawStep(model, q, rng, s);
-  const float value = q[move.entry];
+template <typename V>
+inline int UncountedStep(const RegionModel& model, V* q, Rng& rng, int s, int step,
+                         uint32_t* touched, V* originals, bool& station) {
+  const WalkStep<V> move = DrawStep(model, q, rng, s);
+  const V value = q[move.entry];
   touched[step] = move.entry;
   originals[step] = value;
   q[move.entry] = Updated(value, move);
-  station |= move.reward == kStationReward;
+  station |= move.reward == static_cast<V>(kStationReward);
   return move.next;
 }
 
@@ -151,9 +155,9 @@ inline int UncountedStep(const RegionModel& model, float* q, Rng& rng, int s, in
 // step (UncountedStep). Everything lives in locals: stores through the table
 // and the lists could otherwise alias members, reloaded at every step.
 // Returns the number of entries listed.
-template <bool kDirect, bool kCount>
-size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps, bool& reached,
-            Slot* slots, uint32_t mask, int shift, uint32_t* touched, float* originals) {
+template <bool kDirect, bool kCount, typename V>
+size_t Walk(const RegionModel& model, V* q, Rng& walk_rng, int s, int steps, bool& reached,
+            Slot* slots, uint32_t mask, int shift, uint32_t* touched, V* originals) {
   Rng rng = walk_rng;  // a local copy stays in registers
   size_t listed = 0;
   bool station = false;
@@ -161,7 +165,7 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
     if constexpr (!kCount) {
       s = UncountedStep(model, q, rng, s, step, touched, originals, station);
     } else {
-      const WalkStep move = DrawStep(model, q, rng, s);
+      const WalkStep<V> move = DrawStep(model, q, rng, s);
       // Count the visit, without branches on whether the entry is new (which
       // a random walk makes unpredictable): the listing is always written
       // and only counted when the slot was empty.
@@ -172,14 +176,14 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
         while ((slots[slot].key != 0) & (slots[slot].key != key)) slot = (slot + 1) & mask;
       }
       Slot& held = slots[slot];
-      const float value = q[move.entry];
+      const V value = q[move.entry];
       touched[listed] = move.entry;
       originals[listed] = value;
       listed += held.key == 0;
       held.key = key;
       ++held.visits;
       q[move.entry] = Updated(value, move);
-      station |= move.reward == kStationReward;
+      station |= move.reward == static_cast<V>(kStationReward);
       s = move.next;
     }
   }
@@ -193,9 +197,10 @@ size_t Walk(const RegionModel& model, float* q, Rng& walk_rng, int s, int steps,
 // gives it alone (they share nothing but the model), and the two chains of
 // dependent loads and arithmetic overlap, where one walk alone leaves the
 // core waiting.
-void WalkTwo(const RegionModel& model, float* qa, float* qb, Rng& rng_a, Rng& rng_b, int sa, int sb,
-             int steps, bool& reached_a, bool& reached_b, uint32_t* touched_a, float* originals_a,
-             uint32_t* touched_b, float* originals_b) {
+template <typename V>
+void WalkTwo(const RegionModel& model, V* qa, V* qb, Rng& rng_a, Rng& rng_b, int sa, int sb,
+             int steps, bool& reached_a, bool& reached_b, uint32_t* touched_a, V* originals_a,
+             uint32_t* touched_b, V* originals_b) {
   Rng ra = rng_a, rb = rng_b;
   bool station_a = false, station_b = false;
   for (int step = 0; step < steps; ++step) {
@@ -213,6 +218,7 @@ void WalkTwo(const RegionModel& model, float* qa, float* qb, Rng& rng_a, Rng& rn
 void BeginShard(LearnerShard& shard, int learner, int64_t round, int start) {
   shard.entries.clear();
   shard.values.clear();
+  shard.wide_values.clear();
   shard.visits.clear();
   shard.reached_station = false;
   shard.steps = 0;
@@ -222,7 +228,8 @@ void BeginShard(LearnerShard& shard, int learner, int64_t round, int start) {
 }
 
 // Room for a round's list of `steps` entries and their originals (one spare).
-void ReserveList(std::vector<uint32_t>& touched, std::vector<float>& originals, int steps) {
+template <typename V>
+void ReserveList(std::vector<uint32_t>& touched, std::vector<V>& originals, int steps) {
   const size_t wanted = static_cast<size_t>(steps) + 1;
   if (touched.size() < wanted) {
     touched.resize(wanted);
@@ -234,25 +241,34 @@ void ReserveList(std::vector<uint32_t>& touched, std::vector<float>& originals, 
 
 void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t job_seed,
                           int64_t round, int sync_period, bool revert, LearnerShard& shard) {
+  WithValueType(table_.precision(), [&]<typename V>(V*) {
+    RunIn<V>(learner, stats, job_seed, round, sync_period, revert, shard);
+  });
+}
+
+template <typename V>
+void FedAsynQLearner::RunIn(int learner, const StartStatistics& stats, uint64_t job_seed,
+                            int64_t round, int sync_period, bool revert, LearnerShard& shard) {
   if (!revert) twin_in_sync_ = false;  // table_ keeps this round's updates
   Rng rng(LearnerRoundSeed(job_seed, learner, round));
   const int start = stats.Draw(rng);
   BeginShard(shard, learner, round, start);
   if (start < 0) return;
 
-  float* q = table_.values().data();
-  const size_t table_entries = table_.values().size();
+  V* q = table_.Values<V>().data();
+  std::vector<V>& originals = Originals<V>();
+  const size_t table_entries = table_.size();
   bool reached = model_.is_station(start);
   // Every cell of a region has an in-region move except in a 1x1 region,
   // which takes no step.
   const int steps = model_.action_count(start) > 0 ? std::max(0, sync_period) : 0;
   if (!count_visits_) {
-    ReserveList(touched_, originals_, steps);
+    ReserveList(touched_, originals, steps);
     const size_t listed = Walk<true, false>(model_, q, rng, start, steps, reached, nullptr, 0, 0,
-                                            touched_.data(), originals_.data());
+                                            touched_.data(), originals.data());
     shard.reached_station = reached;
     shard.steps = steps;
-    FinishUncounted(q, touched_.data(), originals_.data(), listed, revert, shard);
+    FinishUncounted(q, touched_.data(), originals.data(), listed, revert, shard);
     return;
   }
 
@@ -261,34 +277,35 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
       static_cast<size_t>(std::clamp<int64_t>(sync_period, 0, static_cast<int64_t>(table_entries)));
   const size_t wanted = std::max<size_t>(16, std::bit_ceil(2 * most_touched));
   if (slots_.size() < wanted) slots_.assign(wanted, Slot{});
-  ReserveList(touched_, originals_, static_cast<int>(most_touched));
+  ReserveList(touched_, originals, static_cast<int>(most_touched));
   const bool direct = slots_.size() >= table_entries;
   const uint32_t mask = static_cast<uint32_t>(slots_.size() - 1);
   const int shift = 32 - std::countr_zero(slots_.size());
 
   const size_t listed =
       direct ? Walk<true, true>(model_, q, rng, start, steps, reached, slots_.data(), mask, shift,
-                                touched_.data(), originals_.data())
+                                touched_.data(), originals.data())
              : Walk<false, true>(model_, q, rng, start, steps, reached, slots_.data(), mask, shift,
-                                 touched_.data(), originals_.data());
+                                 touched_.data(), originals.data());
   shard.reached_station = reached;
   shard.steps = steps;
 
   for (size_t i = 0; i < listed; ++i) marks_.Mark(touched_[i]);
   marks_.List(shard.entries);
   marks_.Clear(shard.entries);
-  shard.values.resize(shard.entries.size());
+  std::vector<V>& values = ShardValues<V>(shard);
+  values.resize(shard.entries.size());
   shard.visits.resize(shard.entries.size());
   Slot* slots = slots_.data();
   for (size_t i = 0; i < shard.entries.size(); ++i) {
     const uint32_t entry = shard.entries[i];
-    shard.values[i] = q[entry];
+    values[i] = q[entry];
     shard.visits[i] = slots[direct ? FindSlot<true>(slots, mask, shift, entry)
                                    : FindSlot<false>(slots, mask, shift, entry)]
                           .visits;
   }
   for (size_t i = 0; i < listed; ++i) {
-    if (revert) q[touched_[i]] = originals_[i];
+    if (revert) q[touched_[i]] = originals[i];
   }
   // Empty the used slots: all of them at once unless few were used.
   if (listed * 4 < slots_.size()) {
@@ -303,13 +320,15 @@ void FedAsynQLearner::Run(int learner, const StartStatistics& stats, uint64_t jo
   return;
 }
 
-void FedAsynQLearner::FinishUncounted(float* q, const uint32_t* touched, const float* originals,
+template <typename V>
+void FedAsynQLearner::FinishUncounted(V* q, const uint32_t* touched, const V* originals,
                                       size_t listed, bool revert, LearnerShard& shard) {
   for (size_t i = 0; i < listed; ++i) marks_.Mark(touched[i]);
   marks_.List(shard.entries);
   marks_.Clear(shard.entries);
-  shard.values.resize(shard.entries.size());
-  for (size_t i = 0; i < shard.entries.size(); ++i) shard.values[i] = q[shard.entries[i]];
+  std::vector<V>& values = ShardValues<V>(shard);
+  values.resize(shard.entries.size());
+  for (size_t i = 0; i < shard.entries.size(); ++i) values[i] = q[shard.entries[i]];
   // What an absent count decodes to on the wire (protocol::ShardFromMessage).
   shard.visits.assign(shard.entries.size(), 1u);
   if (revert) {
@@ -317,6 +336,7 @@ void FedAsynQLearner::FinishUncounted(float* q, const uint32_t* touched, const f
   }
 }
 
+template <typename V>
 void FedAsynQLearner::RunTwoAndRevert(int learner_a, int learner_b, const StartStatistics& stats,
                                       uint64_t job_seed, int64_t round, int sync_period,
                                       LearnerShard& shard_a, LearnerShard& shard_b) {
@@ -335,21 +355,23 @@ void FedAsynQLearner::RunTwoAndRevert(int learner_a, int learner_b, const StartS
     twin_ = table_;
     twin_in_sync_ = true;
   }
-  ReserveList(touched_, originals_, steps);
-  ReserveList(twin_touched_, twin_originals_, steps);
+  std::vector<V>& originals = Originals<V>();
+  std::vector<V>& twin_originals = TwinOriginals<V>();
+  ReserveList(touched_, originals, steps);
+  ReserveList(twin_touched_, twin_originals, steps);
   BeginShard(shard_a, learner_a, round, start_a);
   BeginShard(shard_b, learner_b, round, start_b);
   shard_a.steps = shard_b.steps = steps;
   bool reached_a = model_.is_station(start_a), reached_b = model_.is_station(start_b);
-  float* qa = table_.values().data();
-  float* qb = twin_.values().data();
+  V* qa = table_.Values<V>().data();
+  V* qb = twin_.Values<V>().data();
   WalkTwo(model_, qa, qb, rng_a, rng_b, start_a, start_b, steps, reached_a, reached_b,
-          touched_.data(), originals_.data(), twin_touched_.data(), twin_originals_.data());
+          touched_.data(), originals.data(), twin_touched_.data(), twin_originals.data());
   shard_a.reached_station = reached_a;
   shard_b.reached_station = reached_b;
   const size_t listed = static_cast<size_t>(steps);
-  FinishUncounted(qa, touched_.data(), originals_.data(), listed, true, shard_a);
-  FinishUncounted(qb, twin_touched_.data(), twin_originals_.data(), listed, true, shard_b);
+  FinishUncounted(qa, touched_.data(), originals.data(), listed, true, shard_a);
+  FinishUncounted(qb, twin_touched_.data(), twin_originals.data(), listed, true, shard_b);
 }
 
 void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
@@ -357,25 +379,32 @@ void FedAsynQLearner::RunRoundsAndRevert(const int* learners, int count,
                                          int64_t round, int sync_period, LearnerShard* shards) {
   int i = 0;
   if (!count_visits_) {
-    for (; i + 1 < count; i += 2) {
-      RunTwoAndRevert(learners[i], learners[i + 1], stats, job_seed, round, sync_period, shards[i],
-                      shards[i + 1]);
-    }
+    WithValueType(table_.precision(), [&]<typename V>(V*) {
+      for (; i + 1 < count; i += 2) {
+        RunTwoAndRevert<V>(learners[i], learners[i + 1], stats, job_seed, round, sync_period,
+                           shards[i], shards[i + 1]);
+      }
+    });
   }
   for (; i < count; ++i) {
     Run(learners[i], stats, job_seed, round, sync_period, true, shards[i]);
   }
 }
 
+template <typename V>
 void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>& entries,
-                                   const std::vector<float>& values) {
-  std::vector<float>& table = table_.values();
+                                   const std::vector<V>& values) {
+  std::vector<V>& table = table_.Values<V>();
   for (size_t i = 0; i < entries.size(); ++i) table[entries[i]] = values[i];
   if (twin_in_sync_) {
-    std::vector<float>& twin = twin_.values();
+    std::vector<V>& twin = twin_.Values<V>();
     for (size_t i = 0; i < entries.size(); ++i) twin[entries[i]] = values[i];
   }
 }
+template void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>&,
+                                            const std::vector<float>&);
+template void FedAsynQLearner::ApplyAverage(const std::vector<uint32_t>&,
+                                            const std::vector<double>&);
 
 FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
     : averaging_(averaging),
@@ -392,22 +421,27 @@ FederatedAverager::FederatedAverager(int table_entries, Averaging averaging)
   }
 }
 
+template <typename V>
 Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTable& shared,
                                   StartStatistics& stats, std::vector<uint32_t>& entries,
-                                  std::vector<float>& values) {
+                                  std::vector<V>& values) {
   // Validate everything before changing anything.
-  if (static_cast<int64_t>(shared.values().size()) != table_entries_) {
+  if (shared.precision() != kPrecisionOf<V>) {
+    return Error{"FederatedAverager: table precision mismatch"};
+  }
+  if (static_cast<int64_t>(shared.size()) != table_entries_) {
     return Error{"FederatedAverager: table size mismatch"};
   }
   for (size_t k = 0; k < shards.size(); ++k) {
     const LearnerShard& shard = shards[k];
-    if (shard.learner != static_cast<int>(k) || shard.values.size() != shard.entries.size() ||
+    const std::vector<V>& shard_values = ShardValues<V>(shard);
+    if (shard.learner != static_cast<int>(k) || shard_values.size() != shard.entries.size() ||
         shard.visits.size() != shard.entries.size()) {
       return Error{"FederatedAverager: malformed shard"};
     }
     for (size_t j = 0; j < shard.entries.size(); ++j) {
       if (shard.entries[j] >= static_cast<uint32_t>(table_entries_) ||
-          !std::isfinite(shard.values[j])) {
+          !std::isfinite(shard_values[j])) {
         return Error{"FederatedAverager: shard entry out of range or not finite"};
       }
     }
@@ -425,13 +459,14 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
   // Per entry of U and learner k: Q_k(e) and N_k(e); learners that did not
   // touch e hold the shared value with no visits.
   const size_t learners = shards.size();
-  const std::vector<float>& shared_values = shared.values();
-  learner_values_.resize(entries.size() * learners);
+  std::vector<V>& shared_values = shared.Values<V>();
+  std::vector<V>& learner_values = ValuesOf<V>(learner_values_, learner_wide_values_);
+  learner_values.resize(entries.size() * learners);
   // Equal averaging needs no visit counts.
   const bool weighted = averaging_ != Averaging::kEqual;
   learner_visits_.resize(weighted ? entries.size() * learners : 0);
   for (size_t i = 0; i < entries.size(); ++i) {
-    std::fill_n(learner_values_.begin() + static_cast<ptrdiff_t>(i * learners), learners,
+    std::fill_n(learner_values.begin() + static_cast<ptrdiff_t>(i * learners), learners,
                 shared_values[entries[i]]);
   }
   if (weighted) std::fill(learner_visits_.begin(), learner_visits_.end(), 0u);
@@ -441,10 +476,11 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
   }
   for (size_t k = 0; k < learners; ++k) {
     const LearnerShard& shard = shards[k];
+    const std::vector<V>& shard_values = ShardValues<V>(shard);
     for (size_t j = 0; j < shard.entries.size(); ++j) {
       const uint32_t entry = shard.entries[j];
       const size_t slot = (dense ? positions_[entry] : marks_.Position(entry)) * learners + k;
-      learner_values_[slot] = shard.values[j];
+      learner_values[slot] = shard_values[j];
       if (weighted) learner_visits_[slot] = shard.visits[j];
     }
   }
@@ -459,21 +495,21 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
     constexpr size_t kBlock = 4;
     const double scale = static_cast<double>(learners);
     for (; first_left + kBlock <= entries.size(); first_left += kBlock) {
-      const float* q = &learner_values_[first_left * learners];
+      const V* q = &learner_values[first_left * learners];
       double sums[kBlock] = {0.0, 0.0, 0.0, 0.0};
       for (size_t k = 0; k < learners; ++k) {
         for (size_t b = 0; b < kBlock; ++b) sums[b] += q[b * learners + k];
       }
       for (size_t b = 0; b < kBlock; ++b) {
         const size_t i = first_left + b;
-        values[i] = static_cast<float>(sums[b] / scale);
-        shared.values()[entries[i]] = values[i];
+        values[i] = static_cast<V>(sums[b] / scale);
+        shared_values[entries[i]] = values[i];
       }
     }
   }
   const double log_base = -std::log(1.0 - kImportanceEta);
   for (size_t i = first_left; i < entries.size(); ++i) {
-    const float* q = &learner_values_[i * learners];
+    const V* q = &learner_values[i * learners];
     double sum = 0.0;
     if (!weighted) {
       for (size_t k = 0; k < learners; ++k) sum += q[k];
@@ -495,8 +531,8 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
       }
       sum /= total_weight;
     }
-    values[i] = static_cast<float>(sum);
-    shared.values()[entries[i]] = values[i];
+    values[i] = static_cast<V>(sum);
+    shared_values[entries[i]] = values[i];
   }
 
   marks_.Clear(entries);
@@ -506,11 +542,17 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
   }
   return Ok{};
 }
+template Status FederatedAverager::Combine(const std::vector<LearnerShard>&, QTable&,
+                                           StartStatistics&, std::vector<uint32_t>&,
+                                           std::vector<float>&);
+template Status FederatedAverager::Combine(const std::vector<LearnerShard>&, QTable&,
+                                           StartStatistics&, std::vector<uint32_t>&,
+                                           std::vector<double>&);
 
-TrainingResult TrainFedAsynQ(const TrainingJob& job) {
-  TrainingResult result;
-  result.node = job.node;
-  result.table = StartingTable(job);  // validates the job first
+namespace {
+
+template <typename V>
+void TrainFedAsynQIn(const TrainingJob& job, TrainingResult& result) {
   const RegionModel model(job);
   const FedAsynQOptions& options = job.federated;
 
@@ -525,7 +567,7 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
   std::vector<int> learner_indices(static_cast<size_t>(learner_count));
   for (int k = 0; k < learner_count; ++k) learner_indices[k] = k;
   std::vector<uint32_t> entries;
-  std::vector<float> values;
+  std::vector<V> values;
 
   const int64_t rounds = FederatedRounds(job.region, options);
   for (int64_t round = 0; round < rounds; ++round) {
@@ -539,6 +581,16 @@ TrainingResult TrainFedAsynQ(const TrainingJob& job) {
     worker.ApplyAverage(entries, values);
   }
   result.episodes_or_rounds = rounds;
+}
+
+}  // namespace
+
+TrainingResult TrainFedAsynQ(const TrainingJob& job) {
+  TrainingResult result;
+  result.node = job.node;
+  result.table = StartingTable(job);  // validates the job first
+  WithValueType(result.table.precision(),
+                [&]<typename V>(V*) { TrainFedAsynQIn<V>(job, result); });
   return result;
 }
 

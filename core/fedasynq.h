@@ -37,12 +37,37 @@ struct LearnerShard {
   int learner = 0;
   int64_t round = 0;
   std::vector<uint32_t> entries;  // table indices (cell * 8 + action), ascending
-  std::vector<float> values;      // the learner's value of each entry at round end
+  // The learner's value of each entry at round end, in the table's
+  // precision: `values` for float tables, `wide_values` for double tables.
+  std::vector<float> values;
+  std::vector<double> wide_values;
   std::vector<uint32_t> visits;   // N_k(s, a) of each entry in this round (>= 1)
   int start_cell = -1;            // region-local start of the round (-1: none)
   bool reached_station = false;   // the round visited a station
   int64_t steps = 0;              // Q-learning steps taken
 };
+
+// The values of a shard (or of an average) in value type V.
+template <typename V>
+std::vector<V>& ValuesOf(std::vector<float>& values, std::vector<double>& wide_values) {
+  if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
+    return values;
+  } else {
+    return wide_values;
+  }
+}
+template <typename V>
+std::vector<V>& ShardValues(LearnerShard& shard) {
+  return ValuesOf<V>(shard.values, shard.wide_values);
+}
+template <typename V>
+const std::vector<V>& ShardValues(const LearnerShard& shard) {
+  if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
+    return shard.values;
+  } else {
+    return shard.wide_values;
+  }
+}
 
 // A set of table entries kept as a bitmap with one summary bit per 64-bit
 // word: marking is O(1), and listing the marked entries in ascending order
@@ -112,8 +137,9 @@ class FedAsynQLearner {
 
   // Brings the learner's table to the new shared table: `entries`/`values`
   // are the averaged entries (the union of all shards' entries); every other
-  // entry is unchanged since the round started.
-  void ApplyAverage(const std::vector<uint32_t>& entries, const std::vector<float>& values);
+  // entry is unchanged since the round started. V: the table's value type.
+  template <typename V>
+  void ApplyAverage(const std::vector<uint32_t>& entries, const std::vector<V>& values);
 
   // Plays learners learners[0..count) of round `round` in turn, writing
   // shards[i] = RunRoundAndRevert(learners[i], ...).
@@ -147,7 +173,8 @@ class FedAsynQLearner {
   // outnumber the table's entries, slot = entry: no hashing, no collisions
   // (a leaf's table).
   std::vector<uint32_t> touched_;
-  std::vector<float> originals_;
+  std::vector<float> originals_;        // float tables
+  std::vector<double> wide_originals_;  // double tables
   // A second copy of the table, equal to table_ between rounds while
   // twin_in_sync_, so that two learners' rounds can be walked interleaved
   // (RunTwoAndRevert), with its own round scratch.
@@ -155,19 +182,33 @@ class FedAsynQLearner {
   bool twin_in_sync_ = false;
   std::vector<uint32_t> twin_touched_;
   std::vector<float> twin_originals_;
+  std::vector<double> twin_wide_originals_;
   std::vector<Slot> slots_;
   SortedMarks marks_;  // sorts the shard's entries
 
   void Run(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
            int sync_period, bool revert, LearnerShard& shard);
+  template <typename V>
+  void RunIn(int learner, const StartStatistics& stats, uint64_t job_seed, int64_t round,
+             int sync_period, bool revert, LearnerShard& shard);
   // Equal averaging: two learners' rounds at once (one on the twin table).
+  template <typename V>
   void RunTwoAndRevert(int learner_a, int learner_b, const StartStatistics& stats,
                        uint64_t job_seed, int64_t round, int sync_period, LearnerShard& shard_a,
                        LearnerShard& shard_b);
   // The end of an uncounted round: the shard's sorted entries and values
   // from the round's list (repeats included), then the revert.
-  void FinishUncounted(float* q, const uint32_t* touched, const float* originals, size_t listed,
+  template <typename V>
+  void FinishUncounted(V* q, const uint32_t* touched, const V* originals, size_t listed,
                        bool revert, LearnerShard& shard);
+  template <typename V>
+  std::vector<V>& Originals() {
+    return ValuesOf<V>(originals_, wide_originals_);
+  }
+  template <typename V>
+  std::vector<V>& TwinOriginals() {
+    return ValuesOf<V>(twin_originals_, twin_wide_originals_);
+  }
 };
 
 // Combines one round's shards into the shared table.
@@ -176,13 +217,16 @@ class FederatedAverager {
   FederatedAverager(int table_entries, Averaging averaging);
 
   // `shared`: the round's starting table, updated in place to the average.
-  // `shards`: exactly one per learner, in learner order (shards[k].learner == k).
+  // `shards`: exactly one per learner, in learner order (shards[k].learner == k),
+  // with values in the table's precision V.
   // Writes the averaged entries (ascending) to `entries`/`values` and records
   // every shard's start outcome in `stats` in learner order. Error, with
   // nothing changed, when a shard is malformed (wrong learner order or sizes,
-  // an entry outside the table or not finite, a start that is no start cell).
+  // an entry outside the table or not finite, a start that is no start cell)
+  // or the table is not of value type V.
+  template <typename V>
   Status Combine(const std::vector<LearnerShard>& shards, QTable& shared, StartStatistics& stats,
-                 std::vector<uint32_t>& entries, std::vector<float>& values);
+                 std::vector<uint32_t>& entries, std::vector<V>& values);
 
  private:
   Averaging averaging_;
@@ -195,7 +239,8 @@ class FederatedAverager {
   // tables above kDensePositionsLimit entries, which use the marks' ranks.
   static constexpr int kDensePositionsLimit = 1 << 16;
   std::vector<uint32_t> positions_;
-  std::vector<float> learner_values_;     // |U| x K: Q_k(e), the shared value if untouched
+  std::vector<float> learner_values_;  // |U| x K: Q_k(e), the shared value if untouched
+  std::vector<double> learner_wide_values_;  // the same for double tables
   std::vector<uint32_t> learner_visits_;  // |U| x K: N_k(e)
   std::vector<double> decay_;             // decay_[d] = (1 - eta)^d = exp(-d * -log(1 - eta))
 };

@@ -34,7 +34,7 @@ const PolicyScore& IncrementalPolicyEvaluation::Score(const Grid& grid, const QT
 void IncrementalPolicyEvaluation::Successors(const Grid& grid, const QTable& table, int cell,
                                              int32_t& first, int32_t& second) const {
   int best, next;
-  TopTwoActions(grid, cell, table.row(cell), best, next);
+  TopTwoActions(grid, cell, table, best, next);
   const int cols = grid.cols();
   first = best < 0 ? -1 : cell + kActionRowOffset[best] * cols + kActionColOffset[best];
   second = next < 0 ? -1 : cell + kActionRowOffset[next] * cols + kActionColOffset[next];

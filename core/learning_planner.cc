@@ -25,7 +25,10 @@ std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
 
 StepDetails LearningPlanner::Initialize(const Grid& grid) {
   tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
-  root_ = std::make_unique<RootQTable>(grid.rows(), grid.cols());
+  // The report's code keeps its tables in double (SPEC section 10).
+  root_ = std::make_unique<RootQTable>(
+      grid.rows(), grid.cols(),
+      options_.semantics == Semantics::kReport ? QPrecision::kDouble : QPrecision::kFloat);
   training_count_.assign(static_cast<size_t>(tree_->node_count()), 0);
   strategy_ = spec_.make_strategy(*tree_, options_.thresholds);
   grid_ = &grid;
@@ -67,7 +70,7 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
     picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
     if (grid.at(cell) == Cell::kStation) continue;
     int best = -1, second = -1;
-    TopTwoActions(grid, cell, root_->table().row(cell), best, second);
+    TopTwoActions(grid, cell, root_->table(), best, second);
     picture.actions[cell] = static_cast<int8_t>(best);
   }
   return true;
@@ -91,7 +94,7 @@ void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
     if (options_.semantics == Semantics::kReport && training_count_[node] == 0 &&
         node != tree_->root()) {
       const Region& region = tree_->node(node).region;
-      root_->Commit(region, QTable(region.cells()));
+      root_->Commit(region, QTable(region.cells(), root_->precision()));
     }
     seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
   }

@@ -19,6 +19,7 @@ TrainingJob MakeTrainingJob(NodeId node, uint64_t seed, const LearnerConfig& con
   job.grid_rows = grid.rows();
   job.grid_cols = grid.cols();
   job.bootstrap = config.bootstrap;
+  job.precision = root.precision();
   job.warm_start = root.Extract(job.region);
   job.seed = seed;
   job.kind = config.kind;
@@ -73,7 +74,8 @@ struct FederatedRun {
   int64_t rounds = 0;
   std::vector<LearnerShard> shards;
   std::vector<uint32_t> averaged_entries;
-  std::vector<float> averaged_values;
+  std::vector<float> averaged_values;        // float tables
+  std::vector<double> averaged_wide_values;  // double tables
 };
 
 // From this many jobs per thread on, the jobs of a batch run whole, one per
@@ -93,11 +95,14 @@ int WorkersPerJob(size_t jobs, int threads, int learners) {
 
 // Averages one round of `run` into its shared table and every worker's copy.
 void CombineRound(FederatedRun& run) {
-  // The shards of our own learners on this job's model are well formed.
-  [[maybe_unused]] const Status combined = run.averager->Combine(
-      run.shards, run.shared, run.stats, run.averaged_entries, run.averaged_values);
-  assert(combined.ok());
-  for (auto& worker : run.workers) worker->ApplyAverage(run.averaged_entries, run.averaged_values);
+  WithValueType(run.shared.precision(), [&run]<typename V>(V*) {
+    std::vector<V>& values = ValuesOf<V>(run.averaged_values, run.averaged_wide_values);
+    // The shards of our own learners on this job's model are well formed.
+    [[maybe_unused]] const Status combined =
+        run.averager->Combine(run.shards, run.shared, run.stats, run.averaged_entries, values);
+    assert(combined.ok());
+    for (auto& worker : run.workers) worker->ApplyAverage(run.averaged_entries, values);
+  });
 }
 
 }  // namespace
@@ -140,7 +145,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
       run.workers.back()->set_count_visits(jobs[j].federated.averaging != Averaging::kEqual);
       run.workers.back()->Reset(run.shared);
     }
-    run.averager = std::make_unique<FederatedAverager>(static_cast<int>(run.shared.values().size()),
+    run.averager = std::make_unique<FederatedAverager>(static_cast<int>(run.shared.size()),
                                                        jobs[j].federated.averaging);
     run.shards.resize(static_cast<size_t>(learners));
     for (int k = 0; k < learners; ++k) run.learner_indices.push_back(k);

@@ -4,7 +4,8 @@
 
 namespace dynapath {
 
-void TopTwoActions(const Grid& grid, int cell, const float* q, int& best, int& second) {
+template <typename V>
+void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int& second) {
   const int row = grid.RowOf(cell), col = grid.ColOf(cell);
   best = -1;
   second = -1;
@@ -20,6 +21,17 @@ void TopTwoActions(const Grid& grid, int cell, const float* q, int& best, int& s
   }
 }
 
+template void TopTwoActions(const Grid&, int, const float*, int&, int&);
+template void TopTwoActions(const Grid&, int, const double*, int&, int&);
+
+void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best, int& second) {
+  if (table.precision() == QPrecision::kFloat) {
+    TopTwoActions(grid, cell, table.Row<float>(cell), best, second);
+  } else {
+    TopTwoActions(grid, cell, table.Row<double>(cell), best, second);
+  }
+}
+
 void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out) {
   const int n = grid.size();
   const int cols = grid.cols();
@@ -30,7 +42,7 @@ void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepth
   for (int cell = 0; cell < n; ++cell) {
     if (grid.at(cell) != Cell::kFree) continue;
     int best, second;
-    TopTwoActions(grid, cell, root.row(cell), best, second);
+    TopTwoActions(grid, cell, root, best, second);
     int k = 0;
     for (int a : {best, second}) {
       if (a < 0) continue;

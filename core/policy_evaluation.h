@@ -58,6 +58,10 @@ PolicyScore ScoreGrid(const Grid& grid, const PolicyDepths& depths);
 // The two best in-grid actions of a cell by value, ties to the higher index
 // (SPEC section 4). Writes -1 for a missing second action (corner cells have
 // at least 3 in-grid actions, so never in practice).
-void TopTwoActions(const Grid& grid, int cell, const float* q, int& best, int& second);
+// `q`: the cell's 8 values.
+template <typename V>
+void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int& second);
+// The same for row `cell` of `table`, in the table's precision.
+void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best, int& second);
 
 }  // namespace dynapath

@@ -1,7 +1,14 @@
 #pragma once
-// Flat Q-tables: `cells x 8` floats, row-major by cell then action.
+// Flat Q-tables: `cells x 8` values, row-major by cell then action.
+//
+// Values are stored as float (our semantics) or as double (`--semantics
+// report`: the report's code keeps its tables in double, SPEC section 10, and
+// which action values tie exactly, and so which path wins, depends on it).
+// A table has one precision for its life; learners and evaluators are
+// templates over the value type and pick theirs once per job or call.
 
-#include <span>
+#include <cassert>
+#include <cstddef>
 #include <vector>
 
 #include "core/mdp.h"
@@ -9,24 +16,102 @@
 
 namespace dynapath {
 
+enum class QPrecision { kFloat, kDouble };
+
+// The value type of a precision, and back.
+template <typename V>
+inline constexpr QPrecision kPrecisionOf = QPrecision::kFloat;
+template <>
+inline constexpr QPrecision kPrecisionOf<double> = QPrecision::kDouble;
+
 class QTable {
  public:
   QTable() = default;
-  explicit QTable(int cells) : values_(static_cast<size_t>(cells) * kNumActions, 0.0f) {}
-
-  int cells() const { return static_cast<int>(values_.size() / kNumActions); }
-  float* row(int cell) { return values_.data() + static_cast<size_t>(cell) * kNumActions; }
-  const float* row(int cell) const {
-    return values_.data() + static_cast<size_t>(cell) * kNumActions;
+  explicit QTable(int cells, QPrecision precision = QPrecision::kFloat) : precision_(precision) {
+    const size_t size = static_cast<size_t>(cells) * kNumActions;
+    if (precision == QPrecision::kFloat) {
+      values_.assign(size, 0.0f);
+    } else {
+      wide_values_.assign(size, 0.0);
+    }
   }
-  std::vector<float>& values() { return values_; }
-  const std::vector<float>& values() const { return values_; }
+
+  QPrecision precision() const { return precision_; }
+  // Number of entries (cells x 8).
+  size_t size() const {
+    return precision_ == QPrecision::kFloat ? values_.size() : wide_values_.size();
+  }
+  int cells() const { return static_cast<int>(size() / kNumActions); }
+
+  // The float storage (float tables only).
+  float* row(int cell) { return Row<float>(cell); }
+  const float* row(int cell) const { return Row<float>(cell); }
+  std::vector<float>& values() {
+    assert(precision_ == QPrecision::kFloat);
+    return values_;
+  }
+  const std::vector<float>& values() const {
+    assert(precision_ == QPrecision::kFloat);
+    return values_;
+  }
+  // The double storage (double tables only).
+  std::vector<double>& wide_values() {
+    assert(precision_ == QPrecision::kDouble);
+    return wide_values_;
+  }
+  const std::vector<double>& wide_values() const {
+    assert(precision_ == QPrecision::kDouble);
+    return wide_values_;
+  }
+
+  // The storage of value type V, which must be the table's.
+  template <typename V>
+  std::vector<V>& Values() {
+    if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
+      return values();
+    } else {
+      return wide_values();
+    }
+  }
+  template <typename V>
+  const std::vector<V>& Values() const {
+    if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
+      return values();
+    } else {
+      return wide_values();
+    }
+  }
+  template <typename V>
+  V* Row(int cell) {
+    return Values<V>().data() + static_cast<size_t>(cell) * kNumActions;
+  }
+  template <typename V>
+  const V* Row(int cell) const {
+    return Values<V>().data() + static_cast<size_t>(cell) * kNumActions;
+  }
+
+  // Value of one entry, in double (exact for either precision).
+  double value(size_t entry) const {
+    return precision_ == QPrecision::kFloat ? values_[entry] : wide_values_[entry];
+  }
+  // Whether every value is 0.
+  bool AllZero() const;
 
   bool operator==(const QTable&) const = default;
 
  private:
-  std::vector<float> values_;
+  QPrecision precision_ = QPrecision::kFloat;
+  std::vector<float> values_;        // float tables
+  std::vector<double> wide_values_;  // double tables
 };
+
+// Calls f(static_cast<V*>(nullptr)) with V the value type of `precision`:
+// the one place a run-time precision becomes a template argument.
+template <typename F>
+decltype(auto) WithValueType(QPrecision precision, F&& f) {
+  if (precision == QPrecision::kFloat) return f(static_cast<float*>(nullptr));
+  return f(static_cast<double*>(nullptr));
+}
 
 // The root table of SPEC section 3: the policy in force everywhere.
 //
@@ -39,17 +124,20 @@ class QTable {
 // (tests/q_table_test.cc checks the equivalence against explicit copies).
 class RootQTable {
  public:
-  RootQTable(int rows, int cols) : rows_(rows), cols_(cols), table_(rows * cols) {}
+  RootQTable(int rows, int cols, QPrecision precision = QPrecision::kFloat)
+      : rows_(rows), cols_(cols), table_(rows * cols, precision) {}
 
   int rows() const { return rows_; }
   int cols() const { return cols_; }
+  QPrecision precision() const { return table_.precision(); }
   const QTable& table() const { return table_; }
   QTable& table() { return table_; }
 
   // The node's table: the root's values over `region`, cells in region order.
   QTable Extract(const Region& region) const;
-  // Trains-then-propagates: the node's new table replaces the root's values
-  // over `region` (and so every ancestor's and descendant's view of it).
+  // Trains-then-propagates: the node's new table (of the root's precision)
+  // replaces the root's values over `region` (and so every ancestor's and
+  // descendant's view of it).
   void Commit(const Region& region, const QTable& node_table);
 
  private:

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "core/grid.h"
@@ -113,30 +114,35 @@ class RegionModel {
   // The bootstrap term max_a' Q(s', a') of every update: the maximum of
   // q_row[a] (the cell's 8 values) over the cell's bootstrap actions, i.e.
   // its in-grid actions (Bootstrap::kInGrid), its in-region actions, or all
-  // 8 (Bootstrap::kAllStored).
-  float BootstrapMax(int cell, const float* q_row) const {
+  // 8 (Bootstrap::kAllStored). V: the table's value type (q_table.h).
+  template <typename V>
+  V BootstrapMax(int cell, const V* q_row) const {
     const float* mask = region_model_internal::kActionMasks[record_[cell].bootstrap].data();
     // A balanced tree of maxima: m[i] = max(x[i], x[i + 4]), then
     // max(max(m0, m2), max(m1, m3)), each max(x, y) = x < y ? y : x, which is
     // what SSE's _mm_max_ps(y, x) computes (the compiler does not vectorise
     // it by itself: it was about 30 scalar instructions of a learner's step).
 #if defined(__SSE__)
-    const __m128 low = _mm_add_ps(_mm_loadu_ps(q_row), _mm_loadu_ps(mask));
-    const __m128 high = _mm_add_ps(_mm_loadu_ps(q_row + 4), _mm_loadu_ps(mask + 4));
-    const __m128 m = _mm_max_ps(high, low);                                     // m0 m1 m2 m3
-    const __m128 halves = _mm_max_ps(_mm_movehl_ps(m, m), m);                   // left right . .
-    const __m128 best = _mm_max_ss(_mm_shuffle_ps(halves, halves, 1), halves);  // right vs left
-    return _mm_cvtss_f32(best);
-#else
-    float m[4];
+    if constexpr (std::is_same_v<V, float>) {
+      const __m128 low = _mm_add_ps(_mm_loadu_ps(q_row), _mm_loadu_ps(mask));
+      const __m128 high = _mm_add_ps(_mm_loadu_ps(q_row + 4), _mm_loadu_ps(mask + 4));
+      const __m128 m = _mm_max_ps(high, low);                                     // m0 m1 m2 m3
+      const __m128 halves = _mm_max_ps(_mm_movehl_ps(m, m), m);                   // left right . .
+      const __m128 best = _mm_max_ss(_mm_shuffle_ps(halves, halves, 1), halves);  // right vs left
+      return _mm_cvtss_f32(best);
+    }
+#endif
+    // The same tree in scalar code (doubles, or no SSE). The masks are 0 or
+    // -infinity, exact in either type.
+    V m[4];
     for (int i = 0; i < 4; ++i) {
-      const float x = q_row[i] + mask[i], y = q_row[i + 4] + mask[i + 4];
+      const V x = q_row[i] + static_cast<V>(mask[i]);
+      const V y = q_row[i + 4] + static_cast<V>(mask[i + 4]);
       m[i] = x < y ? y : x;
     }
-    const float left = m[0] < m[2] ? m[2] : m[0];
-    const float right = m[1] < m[3] ? m[3] : m[1];
+    const V left = m[0] < m[2] ? m[2] : m[0];
+    const V right = m[1] < m[3] ? m[3] : m[1];
     return left < right ? right : left;
-#endif
   }
 
   // Non-obstacle cells in increasing order: the possible start cells.

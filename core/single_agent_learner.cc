@@ -16,27 +16,34 @@ namespace dynapath {
 namespace {
 
 // Largest absolute difference between two tables of the same size.
+template <typename V>
 double MaxAbsChange(const QTable& a, const QTable& b) {
-  const std::vector<float>& x = a.values();
-  const std::vector<float>& y = b.values();
-  float largest = 0.0f;
+  const std::vector<V>& x = a.Values<V>();
+  const std::vector<V>& y = b.Values<V>();
+  V largest = 0;
   for (size_t i = 0; i < x.size(); ++i) largest = std::max(largest, std::fabs(x[i] - y[i]));
   return largest;
 }
 
-}  // namespace
+// Bit pattern of a value, for the exact "did not change" test.
+template <typename V>
+auto Bits(V value) {
+  if constexpr (sizeof(V) == 4) {
+    return std::bit_cast<uint32_t>(value);
+  } else {
+    return std::bit_cast<uint64_t>(value);
+  }
+}
 
-TrainingResult TrainSingleAgent(const TrainingJob& job) {
-  TrainingResult result;
-  result.node = job.node;
-  result.table = StartingTable(job);  // validates the job first
-  const RegionModel model(job);
+// The learner on a table of value type V (float, or the report code's double).
+template <typename V>
+void Train(const TrainingJob& job, const RegionModel& model, TrainingResult& result) {
   const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
-  if (stats.start_cells().empty()) return result;
+  if (stats.start_cells().empty()) return;
 
-  float* q = result.table.values().data();
+  V* q = result.table.Values<V>().data();
   // Settled updates (no-ops, see settled_updates.h) are skipped: the table
   // and the random stream are exactly those of applying every update.
   SettledUpdates settled(model);
@@ -45,11 +52,11 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
     if (settled.settled(entry)) return;
     const int s = static_cast<int>(entry / kNumActions), a = static_cast<int>(entry % kNumActions);
     const int next = model.target(s, a);
-    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    const float value = q[entry];
-    const float updated =
-        value + kLearningRate * (model.reward(s, a) + kDiscount * best_next - value);
-    if (std::bit_cast<uint32_t>(updated) == std::bit_cast<uint32_t>(value)) {
+    const V best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
+    const V value = q[entry];
+    const V updated = value + kLearningRateOf<V> * (static_cast<V>(model.reward(s, a)) +
+                                                     kDiscountOf<V> * best_next - value);
+    if (Bits(updated) == Bits(value)) {
       settled.MarkSettled(entry);
     } else {
       q[entry] = updated;
@@ -65,7 +72,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
   // buffer stores the table index s * 8 + a of each transition.
   std::vector<uint32_t> replay(static_cast<size_t>(std::max(1, options.replay_capacity)));
   size_t replay_size = 0, replay_next = 0;
-  QTable snapshot(model.cells());
+  QTable snapshot(model.cells(), result.table.precision());
   bool has_snapshot = false;
   int quiet_checks = 0;
   double epsilon = options.epsilon_start;
@@ -80,13 +87,13 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
     if (e >= options.convergence_start_episode &&
         (e - options.convergence_start_episode) % std::max(1, options.convergence_interval) == 0) {
       if (has_snapshot) {
-        quiet_checks = MaxAbsChange(result.table, snapshot) < options.convergence_threshold
+        quiet_checks = MaxAbsChange<V>(result.table, snapshot) < options.convergence_threshold
                            ? quiet_checks + 1
                            : 0;
         if (quiet_checks >= options.convergence_checks) break;
       }
-      std::copy(result.table.values().begin(), result.table.values().end(),
-                snapshot.values().begin());
+      std::copy(result.table.Values<V>().begin(), result.table.Values<V>().end(),
+                snapshot.Values<V>().begin());
       has_snapshot = true;
     }
 
@@ -107,7 +114,7 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
         a = actions[step_rng.Below(static_cast<uint32_t>(count))];
       } else {
         // Greedy; strict ">" over increasing actions: ties go to the lowest.
-        const float* row = q + static_cast<size_t>(s) * kNumActions;
+        const V* row = q + static_cast<size_t>(s) * kNumActions;
         a = actions[0];
         for (int i = 1; i < count; ++i) {
           if (row[actions[i]] > row[a]) a = actions[i];
@@ -147,6 +154,16 @@ TrainingResult TrainSingleAgent(const TrainingJob& job) {
 
   result.episodes_or_rounds = episodes;
   result.steps = steps;
+}
+
+}  // namespace
+
+TrainingResult TrainSingleAgent(const TrainingJob& job) {
+  TrainingResult result;
+  result.node = job.node;
+  result.table = StartingTable(job);  // validates the job first
+  const RegionModel model(job);
+  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, result); });
   return result;
 }
 

@@ -14,6 +14,9 @@ Status CheckJob(const TrainingJob& job) {
   if (job.warm_start.cells() != 0 && job.warm_start.cells() != job.region.cells()) {
     return Error{"training job: warm start does not match the region"};
   }
+  if (job.warm_start.cells() != 0 && job.warm_start.precision() != job.precision) {
+    return Error{"training job: warm start is not of the job's precision"};
+  }
   return Ok{};
 }
 
@@ -21,7 +24,7 @@ QTable StartingTable(const TrainingJob& job) {
   // Jobs are consistent by construction (MakeTrainingJob) or were checked
   // where they arrived (JobFromBatch calls CheckJob).
   assert(CheckJob(job).ok());
-  if (job.warm_start.cells() == 0) return QTable(job.region.cells());
+  if (job.warm_start.cells() == 0) return QTable(job.region.cells(), job.precision);
   return job.warm_start;
 }
 

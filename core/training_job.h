@@ -45,7 +45,8 @@ struct TrainingJob {
   int grid_rows = 0;           // the whole grid's size (0: the region is the grid)
   int grid_cols = 0;
   Bootstrap bootstrap = Bootstrap::kInGrid;
-  QTable warm_start;  // the node's current table (region.cells())
+  QPrecision precision = QPrecision::kFloat;  // of the tables (q_table.h)
+  QTable warm_start;  // the node's current table (region.cells(), `precision`), or empty: zeros
   uint64_t seed = 0;  // from (run seed, node, training count)
   LearnerKind kind = LearnerKind::kFedAsynQ;
   SingleAgentOptions single_agent;

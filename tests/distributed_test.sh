@@ -63,7 +63,7 @@ done
 # 1b. --semantics report (the report code's bootstrap and first training)
 # travels to the agents: same answers as --local under the switch, with
 # learners split and with whole jobs, and not the default's answers.
-report=(--size 30 --difficulty medium --steps 10 --approach singleAgent,fedAsynQ_EqAvg --semantics report)
+report=(--size 30 --difficulty medium --steps 10 --approach singleAgent,fedAsynQ_EqAvg,fedAsynQ_ImAvg --semantics report)
 "$dynapath" run --local "${report[@]}" --out "$work/report_local" --log-level warn >/dev/null ||
   fail "--semantics report --local run"
 "$dynapath" run --embedded --agents 2 --placement split "${report[@]}" --out "$work/report_embedded" \

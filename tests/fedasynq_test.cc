@@ -121,6 +121,42 @@ TEST_F(FederatedAveragerTest, ImportanceAveragingWeighsByPowersOfOneMinusEta) {
   EXPECT_EQ(shared_.values()[0], 1.0f);
 }
 
+// The report's double tables: shards and averages in double, the mean in
+// double with no rounding to float; a float shard on a double table is
+// malformed.
+TEST(FederatedAveragerDoubleTest, AveragesDoubleShardsInDouble) {
+  QTable shared(2, QPrecision::kDouble);
+  shared.wide_values().assign(16, 0.1);
+  StartStatistics stats(std::vector<int>{0, 1});
+  std::vector<LearnerShard> shards(3);
+  for (int k = 0; k < 3; ++k) {
+    shards[k].learner = k;
+    shards[k].start_cell = -1;
+  }
+  shards[0].entries = {5};
+  shards[0].wide_values = {0.2};
+  shards[0].visits = {1};
+  shards[1].entries = {5};
+  shards[1].wide_values = {0.7};
+  shards[1].visits = {1};
+  FederatedAverager averager(16, Averaging::kEqual);
+  std::vector<uint32_t> entries;
+  std::vector<double> values;
+  ASSERT_TRUE(averager.Combine(shards, shared, stats, entries, values).ok());
+  EXPECT_EQ(entries, (std::vector<uint32_t>{5}));
+  const double mean = (0.2 + 0.7 + 0.1) / 3.0;
+  ASSERT_EQ(values.size(), 1u);
+  EXPECT_EQ(values[0], mean);
+  EXPECT_NE(values[0], static_cast<double>(static_cast<float>(mean)));
+  EXPECT_EQ(shared.wide_values()[5], mean);
+  // A float shard on a double table, and a double table averaged as float.
+  shards[0].values = {0.2f};
+  shards[0].wide_values.clear();
+  EXPECT_FALSE(averager.Combine(shards, shared, stats, entries, values).ok());
+  std::vector<float> narrow;
+  EXPECT_FALSE(averager.Combine(shards, shared, stats, entries, narrow).ok());
+}
+
 TEST_F(FederatedAveragerTest, RecordsEveryStartOutcome) {
   Combine(Averaging::kEqual);
   EXPECT_EQ(stats_.attempts(), (std::vector<uint32_t>{2, 1}));
@@ -207,6 +243,34 @@ TEST(FedAsynQLearnerTest, TwoCellCorridorFollowsTheUpdateRuleExactly) {
   EXPECT_FLOAT_EQ(shard.values[0], east);
   EXPECT_FLOAT_EQ(shard.values[1], west);
   EXPECT_EQ(learner.table().row(0)[2], shard.values[0]);
+}
+
+// The same corridor on a double table (--semantics report): every update in
+// double with the double constants 0.4 and 0.9, exactly.
+TEST(FedAsynQLearnerTest, DoubleTablesFollowTheUpdateRuleInDouble) {
+  const Grid grid = MapFromText(".C\n");
+  const RegionModel model(grid, Region{0, 0, 0, 1});
+  FedAsynQLearner learner(model, 3);
+  learner.Reset(QTable(2, QPrecision::kDouble));
+  const StartStatistics stats(model.start_cells());
+  const LearnerShard shard = learner.RunRound(stats, 77, 4, 1000);
+  double east = 0.0, west = 0.0;
+  int s = shard.start_cell;
+  ASSERT_TRUE(s == 0 || s == 1);
+  for (int t = 0; t < 1000; ++t) {
+    if (s == 0) {
+      east += 0.4 * (100.0 + 0.9 * west - east);
+    } else {
+      west += 0.4 * (-1.0 + 0.9 * east - west);
+    }
+    s = 1 - s;
+  }
+  EXPECT_EQ(shard.entries, (std::vector<uint32_t>{0 * 8 + 2, 1 * 8 + 6}));
+  EXPECT_TRUE(shard.values.empty());
+  ASSERT_EQ(shard.wide_values.size(), 2u);
+  EXPECT_EQ(shard.wide_values[0], east);
+  EXPECT_EQ(shard.wide_values[1], west);
+  EXPECT_EQ(learner.table().wide_values()[2], east);
 }
 
 TEST(FedAsynQLearnerTest, ShardListsExactlyTheChangedEntries) {

@@ -80,9 +80,13 @@ inline PolicyQuality Quality(const Grid& grid, const QTable& table) {
           optimal == 0 ? 1.0 : static_cast<double>(length) / static_cast<double>(optimal)};
 }
 
+// Same precision, same size, same bits.
 inline bool BytesEqual(const QTable& a, const QTable& b) {
-  return a.values().size() == b.values().size() &&
-         std::memcmp(a.values().data(), b.values().data(), a.values().size() * sizeof(float)) == 0;
+  if (a.precision() != b.precision() || a.size() != b.size()) return false;
+  return a.precision() == QPrecision::kFloat
+             ? std::memcmp(a.values().data(), b.values().data(), a.size() * sizeof(float)) == 0
+             : std::memcmp(a.wide_values().data(), b.wide_values().data(),
+                           a.size() * sizeof(double)) == 0;
 }
 
 inline Grid MapFromText(const char* text) { return test_grids::FromText(text); }

@@ -101,22 +101,33 @@ class RecordingTrainer : public Trainer {
     bootstrap = config.bootstrap;
     for (size_t i = 0; i < nodes.size(); ++i) {
       const TrainingJob job = MakeTrainingJob(nodes[i], seeds[i], config, tree, grid, root);
+      precisions.push_back(job.precision);
       warm_starts[nodes[i]].push_back(job.warm_start);
     }
     for (NodeId node : nodes) {
-      QTable table(tree.node(node).region.cells());
-      std::fill(table.values().begin(), table.values().end(), static_cast<float>(node + 1));
+      QTable table(tree.node(node).region.cells(), root.precision());
+      WithValueType(root.precision(), [&]<typename V>(V*) {
+        std::fill(table.Values<V>().begin(), table.Values<V>().end(), static_cast<V>(node + 1));
+      });
       root.Commit(tree.node(node).region, table);
     }
     return {static_cast<int64_t>(nodes.size()), 0};
   }
   std::map<NodeId, std::vector<QTable>> warm_starts;
+  std::vector<QPrecision> precisions;  // of every job
   Bootstrap bootstrap = Bootstrap::kInRegion;
 };
 
-bool AllEqual(const QTable& table, float value) {
-  return std::all_of(table.values().begin(), table.values().end(),
-                     [value](float v) { return v == value; });
+// Every value of `table` in double (exact for either precision).
+std::vector<double> Values(const QTable& table) {
+  std::vector<double> values(table.size());
+  for (size_t i = 0; i < values.size(); ++i) values[i] = table.value(i);
+  return values;
+}
+
+bool AllEqual(const QTable& table, double value) {
+  const std::vector<double> values = Values(table);
+  return std::all_of(values.begin(), values.end(), [value](double v) { return v == value; });
 }
 
 TEST(ReportSemanticsTest, FirstTrainedNodeStartsFromZerosOnlyUnderTheSwitch) {
@@ -147,16 +158,24 @@ TEST(ReportSemanticsTest, FirstTrainedNodeStartsFromZerosOnlyUnderTheSwitch) {
         EXPECT_TRUE(AllEqual(warm, 0.0f));
       } else {
         // Its four leaves (ids 5..20) committed leaf + 1 >= 6.
-        const std::vector<float>& v = warm.values();
-        EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](float x) { return x >= 6.0f; }));
+        const std::vector<double> v = Values(warm);
+        EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](double x) { return x >= 6.0; }));
       }
     }
     // The root has a table from the start, kept in sync: it starts from the
     // values of the 8x8 nodes under both.
     ASSERT_EQ(trainer.warm_starts[0].size(), 1u);
-    const std::vector<float>& root_warm = trainer.warm_starts[0][0].values();
+    const std::vector<double> root_warm = Values(trainer.warm_starts[0][0]);
     EXPECT_TRUE(std::all_of(root_warm.begin(), root_warm.end(),
-                            [](float x) { return x >= 2.0f && x <= 5.0f; }));
+                            [](double x) { return x >= 2.0 && x <= 5.0; }));
+    // The report code's tables are double; ours float.
+    const QPrecision expected =
+        semantics == Semantics::kReport ? QPrecision::kDouble : QPrecision::kFloat;
+    EXPECT_TRUE(std::all_of(trainer.precisions.begin(), trainer.precisions.end(),
+                            [expected](QPrecision p) { return p == expected; }));
+    for (const auto& [node, tables] : trainer.warm_starts) {
+      for (const QTable& table : tables) EXPECT_EQ(table.precision(), expected) << node;
+    }
     // A second training of a node warm-starts from its values under both.
     trainer.warm_starts.clear();
     Grid changed = grid;

@@ -47,6 +47,8 @@ using test_maps::Quality;
 // `clear_when_full`: the report's buffer (emptied once full) instead of a
 // FIFO; by default what the job's semantics select (Bootstrap::kAllStored is
 // --semantics report).
+// V: the job's value type (double: --semantics report's tables).
+template <typename V = float>
 TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_full = -1) {
   const bool clear =
       clear_when_full < 0 ? job.bootstrap == Bootstrap::kAllStored : clear_when_full == 1;
@@ -57,19 +59,20 @@ TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_
   const SingleAgentOptions& options = job.single_agent;
   StartStatistics stats(model.start_cells());
   if (stats.start_cells().empty()) return result;
-  float* q = result.table.values().data();
+  V* q = result.table.Values<V>().data();
   const auto update = [&model, q](int s, int a) {
     const int next = model.target(s, a);
-    const float best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
-    float& value = q[static_cast<size_t>(s) * kNumActions + a];
-    value += kLearningRate * (model.reward(s, a) + kDiscount * best_next - value);
+    const V best_next = model.BootstrapMax(next, q + static_cast<size_t>(next) * kNumActions);
+    V& value = q[static_cast<size_t>(s) * kNumActions + a];
+    value += kLearningRateOf<V> *
+             (static_cast<V>(model.reward(s, a)) + kDiscountOf<V> * best_next - value);
     return next;
   };
   Rng rng(job.seed);
   const int max_steps = job.region.rows() + job.region.cols();
   std::vector<uint32_t> replay(static_cast<size_t>(std::max(1, options.replay_capacity)));
   size_t replay_size = 0, replay_next = 0;
-  QTable snapshot(model.cells());
+  QTable snapshot(model.cells(), job.precision);
   bool has_snapshot = false;
   int quiet_checks = 0;
   double epsilon = options.epsilon_start;
@@ -78,9 +81,10 @@ TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_
     if (e >= options.convergence_start_episode &&
         (e - options.convergence_start_episode) % std::max(1, options.convergence_interval) == 0) {
       if (has_snapshot) {
-        float largest = 0.0f;
-        for (size_t i = 0; i < snapshot.values().size(); ++i) {
-          largest = std::max(largest, std::fabs(result.table.values()[i] - snapshot.values()[i]));
+        V largest = 0;
+        for (size_t i = 0; i < snapshot.size(); ++i) {
+          largest = std::max(largest, std::fabs(result.table.Values<V>()[i] -
+                                                snapshot.Values<V>()[i]));
         }
         quiet_checks = largest < options.convergence_threshold ? quiet_checks + 1 : 0;
         if (quiet_checks >= options.convergence_checks) break;
@@ -99,7 +103,7 @@ TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_
       if (rng.Uniform() < epsilon) {
         a = actions[rng.Below(static_cast<uint32_t>(count))];
       } else {
-        const float* row = q + static_cast<size_t>(s) * kNumActions;
+        const V* row = q + static_cast<size_t>(s) * kNumActions;
         a = actions[0];
         for (int i = 1; i < count; ++i) {
           if (row[actions[i]] > row[a]) a = actions[i];
@@ -132,14 +136,18 @@ TrainingResult ReferenceTrainSingleAgent(const TrainingJob& job, int clear_when_
 TEST(SingleAgentTest, SkippingSettledUpdatesChangesNothing) {
   // First trainings from zeros, then retrainings from the trained table
   // after obstacle moves (the adaptation path), under all three bootstrap
-  // rules and with a small replay buffer: the table, the episode count (the
-  // convergence test) and the step count equal the reference's bit for bit.
+  // rules, with the report's double tables, and with a small replay buffer:
+  // the table, the episode count (the convergence test) and the step count
+  // equal the reference's bit for bit.
   const Scenario scenario = GenerateScenario(40, 40, Difficulty::kHard, 52, 6);
   const QuadTree tree(40, 40, 20);
-  for (const Bootstrap bootstrap :
-       {Bootstrap::kInGrid, Bootstrap::kInRegion, Bootstrap::kAllStored}) {
+  for (const auto& [bootstrap, precision] :
+       {std::pair{Bootstrap::kInGrid, QPrecision::kFloat},
+        std::pair{Bootstrap::kInRegion, QPrecision::kFloat},
+        std::pair{Bootstrap::kAllStored, QPrecision::kFloat},
+        std::pair{Bootstrap::kAllStored, QPrecision::kDouble}}) {
     Grid grid = scenario.grid;
-    RootQTable root(40, 40);
+    RootQTable root(40, 40, precision);
     LearnerConfig config;
     config.kind = LearnerKind::kSingleAgent;
     config.bootstrap = bootstrap;
@@ -149,10 +157,20 @@ TEST(SingleAgentTest, SkippingSettledUpdatesChangesNothing) {
       const TrainingJob job =
           MakeTrainingJob(node, JobSeed(9, node, count), config, tree, grid, root);
       const TrainingResult fast = TrainSingleAgent(job);
-      const TrainingResult reference = ReferenceTrainSingleAgent(job);
+      ASSERT_EQ(job.precision, precision);
+      const TrainingResult reference = precision == QPrecision::kFloat
+                                           ? ReferenceTrainSingleAgent<float>(job)
+                                           : ReferenceTrainSingleAgent<double>(job);
       EXPECT_TRUE(BytesEqual(fast.table, reference.table)) << node << " " << count;
       EXPECT_EQ(fast.episodes_or_rounds, reference.episodes_or_rounds);
       EXPECT_EQ(fast.steps, reference.steps);
+      if (precision == QPrecision::kDouble) {
+        // Learned in double, not in float and widened.
+        const std::vector<double>& v = fast.table.wide_values();
+        EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](double x) {
+          return static_cast<double>(static_cast<float>(x)) != x;
+        }));
+      }
       root.Commit(job.region, fast.table);
       ++jobs;
     };

@@ -25,6 +25,23 @@ std::optional<LearnerKind> LearnerKindFromWire(int8_t wire) {
   return std::nullopt;
 }
 
+int8_t PrecisionToWire(QPrecision precision) {
+  switch (precision) {
+    case QPrecision::kFloat:
+      return job_batch_t::PRECISION_FLOAT;
+    case QPrecision::kDouble:
+      return job_batch_t::PRECISION_DOUBLE;
+  }
+  std::abort();  // not an enumerator: a broken invariant, not input
+}
+
+std::optional<QPrecision> PrecisionFromWire(int8_t wire) {
+  for (QPrecision precision : {QPrecision::kFloat, QPrecision::kDouble}) {
+    if (PrecisionToWire(precision) == wire) return precision;
+  }
+  return std::nullopt;
+}
+
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
   batch.kind = LearnerKindToWire(config.kind);
   // 0 in-grid, 1 in-region, 2 all stored (the .lcm comment predates 2; the
@@ -55,13 +72,13 @@ void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& ba
   m.num_cells = static_cast<int32_t>(job.codes.size());
   m.codes.assign(job.codes.begin(), job.codes.end());
   m.start_round = progress.round;
-  const std::vector<float>& table =
-      progress.table.values().empty() ? job.warm_start.values() : progress.table.values();
+  // Every job of a batch is of the run's precision.
+  batch.precision = PrecisionToWire(job.precision);
+  const QTable& table = progress.table.cells() == 0 ? job.warm_start : progress.table;
   // An all-zero table (never trained) travels as nothing.
-  bool zero = true;
-  for (float v : table) zero = zero && v == 0.0f;
-  if (!zero) m.values = table;
+  if (table.cells() != 0 && !table.AllZero()) PutTable(table, m);
   m.num_values = static_cast<int32_t>(m.values.size());
+  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
   m.attempts.assign(progress.attempts.begin(), progress.attempts.end());
   m.successes.assign(progress.successes.begin(), progress.successes.end());
   m.num_starts = static_cast<int32_t>(m.attempts.size());
@@ -81,8 +98,10 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.bootstrap = batch.bootstrap == 0   ? Bootstrap::kInGrid
                   : batch.bootstrap == 1 ? Bootstrap::kInRegion
                                          : Bootstrap::kAllStored;
-  job.warm_start = QTable(m.num_cells);
-  if (m.num_values > 0) job.warm_start.values() = m.values;
+  // Validated: the precision is one of ours, and the table (if any) is of
+  // the batch's precision and the region's size.
+  job.precision = PrecisionFromWire(batch.precision).value_or(QPrecision::kFloat);
+  job.warm_start = GetTable(m, m.num_cells, job.precision).value_or(QTable(m.num_cells, job.precision));
   job.seed = static_cast<uint64_t>(m.seed);
   // Validated: the kind is one of ours.
   job.kind = LearnerKindFromWire(batch.kind).value_or(LearnerKind::kSingleAgent);
@@ -122,6 +141,9 @@ learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_vis
   m.entry_gaps = EncodeAscending(shard.entries);
   m.entry_bytes = static_cast<int32_t>(m.entry_gaps.size());
   m.values = shard.values;
+  m.num_values = static_cast<int32_t>(m.values.size());
+  m.wide_values = shard.wide_values;
+  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
   if (with_visits) m.visits = EncodeCounts(shard.visits);
   m.visit_bytes = static_cast<int32_t>(m.visits.size());
   m.start_cell = shard.start_cell;
@@ -137,6 +159,7 @@ LearnerShard ShardFromMessage(const learner_shard_t& m, int64_t round) {
   // The message was validated: the encodings decode.
   DecodeAscending(m.entry_gaps, m.num_entries, shard.entries);
   shard.values = m.values;
+  shard.wide_values = m.wide_values;
   if (m.visit_bytes > 0) {
     DecodeCounts(m.visits, m.num_entries, shard.visits);
   } else {

@@ -1,7 +1,7 @@
 #pragma once
 // Conversions between core/ values and messages. The encodings are exact
-// (floats travel as floats), which is what keeps distributed results equal to
-// in-process ones.
+// (floats travel as floats, the double tables of --semantics report as
+// doubles), which is what keeps distributed results equal to in-process ones.
 
 #include <optional>
 #include <string>
@@ -47,6 +47,40 @@ struct ReceivedJob {
   std::vector<uint32_t> attempts, successes;
 };
 Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index);
+
+// The wire's PRECISION_* of a table precision, and back (nullopt: unknown).
+int8_t PrecisionToWire(QPrecision precision);
+std::optional<QPrecision> PrecisionFromWire(int8_t wire);
+
+// A table into a message's (num_values, values, num_wide_values,
+// wide_values), by its precision (job_t, job_result_t).
+template <typename Message>
+void PutTable(const QTable& table, Message& m) {
+  m.values.clear();
+  m.wide_values.clear();
+  if (table.precision() == QPrecision::kFloat) {
+    m.values = table.values();
+  } else {
+    m.wide_values = table.wide_values();
+  }
+  m.num_values = static_cast<int32_t>(m.values.size());
+  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
+}
+// The table of `cells` cells and `precision` a (validated) message carries;
+// nullopt when it carries no such table (other size or precision).
+template <typename Message>
+std::optional<QTable> GetTable(const Message& m, int cells, QPrecision precision) {
+  const size_t size = static_cast<size_t>(cells) * kNumActions;
+  QTable table(cells, precision);
+  if (precision == QPrecision::kFloat) {
+    if (m.values.size() != size || !m.wide_values.empty()) return std::nullopt;
+    table.values() = m.values;
+  } else {
+    if (m.wide_values.size() != size || !m.values.empty()) return std::nullopt;
+    table.wide_values() = m.wide_values;
+  }
+  return table;
+}
 
 learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_visits);
 // Visits absent (equal averaging does not use them) become 1 each.

@@ -6,9 +6,10 @@ namespace dynapath::protocol {
 
 int64_t LargestMessageBytes(int64_t cells) {
   cells = std::clamp<int64_t>(cells, 1, kMaxGridCells);
-  // 2 x 41 bytes per cell for a batch, plus 1 MiB for headers, strings, the
-  // items of many small jobs and shards of small regions.
-  return 2 * 41 * cells + (int64_t{1} << 20);
+  // 2 x 73 bytes per cell for a batch (a code, 8 table values in double
+  // under --semantics report, two start counters), plus 1 MiB for headers,
+  // strings, the items of many small jobs and shards of small regions.
+  return 2 * 73 * cells + (int64_t{1} << 20);
 }
 
 FragmentLimits BusFragmentLimits(int64_t cells) {

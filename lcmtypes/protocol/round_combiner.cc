@@ -41,7 +41,7 @@ RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_r
   for (size_t i = 0; i < jobs_.size(); ++i) {
     position_[jobs_[i].index] = i;
     averagers_.push_back(std::make_unique<FederatedAverager>(
-        static_cast<int>(jobs_[i].shared.values().size()), jobs_[i].averaging));
+        static_cast<int>(jobs_[i].shared.size()), jobs_[i].averaging));
   }
   for (auto& [agent, owned] : items_) std::sort(owned.begin(), owned.end());
 }
@@ -82,11 +82,15 @@ std::string RoundCombiner::Mismatch(const shards_t& message) const {
   for (const learner_shard_t& shard : message.shards) {
     const Job& job = this->job(shard.job);
     DecodeAscending(shard.entry_gaps, shard.num_entries, entries);  // validated by the Bus
-    if (!entries.empty() && entries.back() >= job.shared.values().size()) {
+    if (!entries.empty() && entries.back() >= job.shared.size()) {
       return "a shard's entry lies outside job " + std::to_string(shard.job);
     }
     if (shard.start_cell >= 0 && job.stats.SlotOf(shard.start_cell) < 0) {
       return "a shard's start cell is not a start of job " + std::to_string(shard.job);
+    }
+    const bool wide = job.shared.precision() == QPrecision::kDouble;
+    if ((wide ? shard.num_wide_values : shard.num_values) != shard.num_entries) {
+      return "a shard's values are not of the precision of job " + std::to_string(shard.job);
     }
     if ((shard.visit_bytes > 0) !=
         (job.averaging == Averaging::kImportance && shard.num_entries > 0)) {
@@ -142,9 +146,12 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
     // Add() kept only messages whose shards fit the job (Mismatch: learners,
     // entries, start cells; the Bus validated sizes and finiteness), one per
     // learner, so the averager finds nothing malformed.
-    [[maybe_unused]] const Status combined =
-        averagers_[j]->Combine(shards, job.shared, job.stats, job_round.entries, job_round.values);
-    assert(combined.ok());
+    WithValueType(job.shared.precision(), [&]<typename V>(V*) {
+      [[maybe_unused]] const Status combined = averagers_[j]->Combine(
+          shards, job.shared, job.stats, job_round.entries,
+          ValuesOf<V>(job_round.values, job_round.wide_values));
+      assert(combined.ok());
+    });
     result.push_back(std::move(job_round));
   }
   pending_.erase(round_);

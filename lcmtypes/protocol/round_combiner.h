@@ -71,7 +71,8 @@ class RoundCombiner {
   struct JobRound {
     int index = 0;
     std::vector<uint32_t> entries;
-    std::vector<float> values;
+    std::vector<float> values;        // float tables
+    std::vector<double> wide_values;  // double tables
     int64_t steps = 0;
   };
   // Combines round() (RoundComplete() must hold) and moves to the next one.

@@ -14,8 +14,9 @@ namespace {
 
 bool Count(int32_t count, size_t size) { return count >= 0 && static_cast<size_t>(count) == size; }
 
-bool Finite(const std::vector<float>& values) {
-  for (float v : values) {
+template <typename V>
+bool Finite(const std::vector<V>& values) {
+  for (V v : values) {
     if (!std::isfinite(v)) return false;
   }
   return true;
@@ -88,6 +89,8 @@ std::string Validate(const job_batch_t& m) {
   if (m.bootstrap < 0 || m.bootstrap > 2 || m.averaging < 0 || m.averaging > 1) {
     return "bad bootstrap or averaging";
   }
+  const std::optional<QPrecision> precision = PrecisionFromWire(m.precision);
+  if (!precision) return "unknown table precision";
   // The ranges of core/learner_options.h.
 #define DYNAPATH_CHECK_OPTION(group, member, type, default_value, min, max) \
   if (!learner_option::InRange<type>(m.member, min, max)) return "bad " group " option " #member;
@@ -110,11 +113,17 @@ std::string Validate(const job_batch_t& m) {
       return "job cell count mismatch";
     }
     if (!Codes(job.codes)) return "bad cell code";
+    // The table travels in the batch's precision, or not at all (zeros).
+    const int32_t table_size = *precision == QPrecision::kFloat ? job.num_values
+                                                                : job.num_wide_values;
+    const int32_t other_size = *precision == QPrecision::kFloat ? job.num_wide_values
+                                                                : job.num_values;
     if (!Count(job.num_values, job.values.size()) ||
-        (job.num_values != 0 && Wide(job.num_values) != Wide(job.num_cells) * kNumActions)) {
+        !Count(job.num_wide_values, job.wide_values.size()) || other_size != 0 ||
+        (table_size != 0 && Wide(table_size) != Wide(job.num_cells) * kNumActions)) {
       return "job table size mismatch";
     }
-    if (!Finite(job.values)) return "job table not finite";
+    if (!Finite(job.values) || !Finite(job.wide_values)) return "job table not finite";
     if (job.start_round < 0) return "negative start round";
     if (!Count(job.num_starts, job.attempts.size()) ||
         job.successes.size() != job.attempts.size()) {
@@ -150,15 +159,22 @@ std::string Validate(const shards_t& m) {
     if (s.job < 0 || s.learner < 0 || s.steps < 0 || s.start_cell < -1) {
       return "negative field in a shard";
     }
-    if (!Count(s.num_entries, s.values.size()) || !Count(s.entry_bytes, s.entry_gaps.size()) ||
+    if (!Count(s.entry_bytes, s.entry_gaps.size()) ||
         !DecodeAscending(s.entry_gaps, s.num_entries, decoded)) {
       return "shard entries malformed";
+    }
+    // One value per entry, all float or all double.
+    if (!Count(s.num_values, s.values.size()) ||
+        !Count(s.num_wide_values, s.wide_values.size()) ||
+        (s.num_values != 0 && s.num_wide_values != 0) ||
+        Wide(s.num_values) + Wide(s.num_wide_values) != Wide(s.num_entries)) {
+      return "shard values malformed";
     }
     if (!Count(s.visit_bytes, s.visits.size()) ||
         (s.visit_bytes != 0 && !DecodeCounts(s.visits, s.num_entries, decoded))) {
       return "shard visit counts malformed";
     }
-    if (!Finite(s.values)) return "shard value not finite";
+    if (!Finite(s.values) || !Finite(s.wide_values)) return "shard value not finite";
   }
   return {};
 }
@@ -166,10 +182,12 @@ std::string Validate(const shards_t& m) {
 std::string Validate(const job_result_t& m) {
   if (m.batch_id < 0 || m.epoch < 0 || m.agent < 0 || m.job < 0) return "negative field";
   if (m.episodes_or_rounds < 0 || m.steps < 0) return "negative counts";
-  if (!Count(m.num_values, m.values.size()) || m.num_values % kNumActions != 0) {
+  if (!Count(m.num_values, m.values.size()) ||
+      !Count(m.num_wide_values, m.wide_values.size()) || m.num_values % kNumActions != 0 ||
+      m.num_wide_values % kNumActions != 0 || (m.num_values != 0 && m.num_wide_values != 0)) {
     return "table size mismatch";
   }
-  if (!Finite(m.values)) return "table not finite";
+  if (!Finite(m.values) || !Finite(m.wide_values)) return "table not finite";
   return {};
 }
 

@@ -177,8 +177,8 @@ TEST(FragmentAssembler, NacksExactlyTheMissingPiecesAfterAQuietPeriod) {
 }
 
 TEST(ProtocolLimits, CapsFollowTheGrid) {
-  EXPECT_LT(LargestMessageBytes(100 * 100), 2 * 1024 * 1024);
-  EXPECT_GT(LargestMessageBytes(100 * 100), 41 * 100 * 100);
+  EXPECT_LT(LargestMessageBytes(100 * 100), 3 * 1024 * 1024);
+  EXPECT_GT(LargestMessageBytes(100 * 100), 73 * 100 * 100);  // a batch of double tables
   const FragmentLimits limits = BusFragmentLimits(1000 * 1000);
   EXPECT_GE(limits.max_buffered_bytes, 2 * limits.max_message_bytes);
   EXPECT_EQ(LargestMessageBytes(int64_t{1} << 40), LargestMessageBytes(kMaxGridCells));

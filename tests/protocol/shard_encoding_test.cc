@@ -2,6 +2,9 @@
 // their compact encodings.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/validate.h"
 
@@ -43,6 +46,32 @@ TEST(ShardEncodingTest, RoundTripsWithVisits) {
   EXPECT_EQ(back.start_cell, shard.start_cell);
   EXPECT_EQ(back.reached_station, shard.reached_station);
   EXPECT_EQ(back.steps, shard.steps);
+}
+
+TEST(ShardEncodingTest, DoubleValuesRoundTripBitForBit) {
+  LearnerShard shard = Shard();
+  shard.wide_values = {0.1, -1.0 / 3.0, 3.0, 1e-300, 2.0, 0.0, -0.0};
+  shard.values.clear();
+  const learner_shard_t m = ShardToMessage(shard, 3, true);
+  EXPECT_EQ(m.num_values, 0);
+  EXPECT_EQ(m.num_wide_values, 7);
+  EXPECT_EQ(Validate(Wrap(m)), "");
+  const LearnerShard back = ShardFromMessage(m, 9);
+  EXPECT_TRUE(back.values.empty());
+  ASSERT_EQ(back.wide_values.size(), 7u);
+  EXPECT_EQ(0, std::memcmp(back.wide_values.data(), shard.wide_values.data(), 7 * sizeof(double)));
+  // Values in both types, or too few of one, are malformed.
+  learner_shard_t both = m;
+  both.values = {1.0f};
+  both.num_values = 1;
+  EXPECT_NE(Validate(Wrap(both)), "");
+  learner_shard_t short_of_one = m;
+  short_of_one.wide_values.pop_back();
+  short_of_one.num_wide_values = 6;
+  EXPECT_NE(Validate(Wrap(short_of_one)), "");
+  learner_shard_t nan = m;
+  nan.wide_values[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Validate(Wrap(nan)), "");
 }
 
 TEST(ShardEncodingTest, EqualAveragingOmitsVisits) {

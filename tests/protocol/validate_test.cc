@@ -140,5 +140,40 @@ TEST(Validate, LearnerOptionsRoundTripThroughTheWire) {
 #undef DYNAPATH_EXPECT_SAME
 }
 
+// --semantics report's double tables travel as doubles, bit for bit; a
+// table of the other precision, or an unknown precision, is refused.
+TEST(Validate, TablesTravelInTheBatchPrecision) {
+  for (const QPrecision precision : {QPrecision::kFloat, QPrecision::kDouble}) {
+    TrainingJob job;
+    job.node = 3;
+    job.region = Region{0, 0, 0, 1};
+    job.codes = {1, 1};
+    job.grid_rows = job.grid_cols = 10;
+    job.precision = precision;
+    job.warm_start = QTable(2, precision);
+    WithValueType(precision, [&]<typename V>(V*) {
+      for (size_t i = 0; i < job.warm_start.size(); ++i) {
+        job.warm_start.Values<V>()[i] = static_cast<V>(0.1) * static_cast<V>(i + 1);
+      }
+    });
+    job_batch_t batch{};
+    SetBatchOptions(LearnerConfig{}, batch);
+    AddJob(job, JobProgress{}, batch);
+    ASSERT_EQ(Validate(batch), "");
+    Result<ReceivedJob> received = JobFromBatch(batch, 0);
+    ASSERT_TRUE(received.ok()) << received.error().message;
+    EXPECT_EQ(received->job.precision, precision);
+    EXPECT_TRUE(received->job.warm_start == job.warm_start);
+
+    // The table in the other precision's field.
+    job_batch_t wrong = batch;
+    wrong.precision = precision == QPrecision::kFloat ? job_batch_t::PRECISION_DOUBLE
+                                                      : job_batch_t::PRECISION_FLOAT;
+    EXPECT_EQ(Validate(wrong), "job table size mismatch");
+    wrong.precision = 2;
+    EXPECT_EQ(Validate(wrong), "unknown table precision");
+  }
+}
+
 }  // namespace
 }  // namespace dynapath::protocol
