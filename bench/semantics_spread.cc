@@ -8,8 +8,10 @@
 // maze seed); stream k > 0 uses run seed = maze seed + k * 1000003, which
 // changes every learner's random numbers and nothing else.
 //
-// Usage: semantics_spread SIZE DIFFICULTY SEED APPROACH STREAMS [ours|report] [DETAIL_CSV]
+// Usage: semantics_spread SIZE DIFFICULTY SEED APPROACH STREAMS [ours|report|report-float] [DETAIL_CSV]
 //   e.g. semantics_spread 50 hard 102 fedAsynQ_ImAvg 7 report
+// report-float: the report code's rules with our float tables instead of its
+// double ones (not a run option: it separates what the precision does).
 // DETAIL_CSV, if given, receives every stream's per-step rows.
 
 #include <algorithm>
@@ -32,7 +34,7 @@ namespace {
 int Usage() {
   std::fprintf(stderr,
                "usage: semantics_spread SIZE easy|medium|hard SEED APPROACH STREAMS "
-               "[ours|report] [DETAIL_CSV]\n");
+               "[ours|report|report-float] [DETAIL_CSV]\n");
   return 2;
 }
 
@@ -72,7 +74,7 @@ int main(int argc, char** argv) {
   } else {
     return Usage();
   }
-  if (!size || !seed || !approach || !streams || (semantics != "ours" && semantics != "report")) {
+  if (!size || !seed || !approach || !streams || (semantics != "ours" && semantics != "report" && semantics != "report-float")) {
     return Usage();
   }
   std::ofstream detail;
@@ -96,7 +98,8 @@ int main(int argc, char** argv) {
   for (long k = 0; k < *streams; ++k) {
     PlannerOptions options;
     options.run_seed = static_cast<uint64_t>(*seed) + static_cast<uint64_t>(k) * 1000003u;
-    options.semantics = semantics == "report" ? Semantics::kReport : Semantics::kOurs;
+    options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
+    if (semantics == "report-float") options.table_precision = QPrecision::kFloat;
     const ApproachRun run = RunApproach(scenario, *approach, options, &trainer, labels);
     int trained = 0;
     for (const StepRecord& step : run.steps) {

@@ -26,9 +26,9 @@ std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
 StepDetails LearningPlanner::Initialize(const Grid& grid) {
   tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
   // The report's code keeps its tables in double (SPEC section 10).
-  root_ = std::make_unique<RootQTable>(
-      grid.rows(), grid.cols(),
+  const QPrecision precision = options_.table_precision.value_or(
       options_.semantics == Semantics::kReport ? QPrecision::kDouble : QPrecision::kFloat);
+  root_ = std::make_unique<RootQTable>(grid.rows(), grid.cols(), precision);
   training_count_.assign(static_cast<size_t>(tree_->node_count()), 0);
   strategy_ = spec_.make_strategy(*tree_, options_.thresholds);
   grid_ = &grid;

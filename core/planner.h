@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/approach.h"
@@ -18,9 +19,10 @@ namespace dynapath {
 
 // Whose learning semantics the learning approaches follow (docs/DECISIONS.md,
 // "Learning"). kReport reproduces the report's public code: the update's
-// bootstrap max over all 8 stored values (Bootstrap::kAllStored), and a
-// node other than the root trained for the first time starts from zeros
-// instead of the root table cut to its region.
+// bootstrap max over all 8 stored values (Bootstrap::kAllStored), a node
+// other than the root trained for the first time starts from zeros instead
+// of the root table cut to its region, a full replay buffer is emptied, and
+// the Q-tables hold doubles instead of floats.
 enum class Semantics { kOurs, kReport };
 
 struct PlannerOptions {
@@ -31,6 +33,10 @@ struct PlannerOptions {
   FedAsynQOptions federated;                 // averaging is set by the approach
   Bootstrap bootstrap = Bootstrap::kInGrid;  // see training_job.h (kOurs only)
   Semantics semantics = Semantics::kOurs;
+  // The tables' value type when not the semantics' own (float for kOurs,
+  // double for kReport): only for experiments that separate the report
+  // code's rules from its precision (bench/semantics_spread report-float).
+  std::optional<QPrecision> table_precision;
 };
 
 // What an initialisation or adaptation did (extra result columns).

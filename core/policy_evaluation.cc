@@ -4,34 +4,6 @@
 
 namespace dynapath {
 
-template <typename V>
-void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int& second) {
-  const int row = grid.RowOf(cell), col = grid.ColOf(cell);
-  best = -1;
-  second = -1;
-  for (int a = 0; a < kNumActions; ++a) {
-    if (!grid.InBounds(row + kActionRowOffset[a], col + kActionColOffset[a])) continue;
-    // ">=": a later action with an equal value ranks higher.
-    if (best < 0 || q[a] >= q[best]) {
-      second = best;
-      best = a;
-    } else if (second < 0 || q[a] >= q[second]) {
-      second = a;
-    }
-  }
-}
-
-template void TopTwoActions(const Grid&, int, const float*, int&, int&);
-template void TopTwoActions(const Grid&, int, const double*, int&, int&);
-
-void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best, int& second) {
-  if (table.precision() == QPrecision::kFloat) {
-    TopTwoActions(grid, cell, table.Row<float>(cell), best, second);
-  } else {
-    TopTwoActions(grid, cell, table.Row<double>(cell), best, second);
-  }
-}
-
 void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out) {
   const int n = grid.size();
   const int cols = grid.cols();

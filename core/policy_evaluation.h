@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "core/mdp.h"
 #include "core/q_table.h"
 #include "core/region.h"
 
@@ -58,10 +59,31 @@ PolicyScore ScoreGrid(const Grid& grid, const PolicyDepths& depths);
 // The two best in-grid actions of a cell by value, ties to the higher index
 // (SPEC section 4). Writes -1 for a missing second action (corner cells have
 // at least 3 in-grid actions, so never in practice).
-// `q`: the cell's 8 values.
+// `q`: the cell's 8 values. Inline: the policy evaluations call it per cell.
 template <typename V>
-void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int& second);
+inline void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int& second) {
+  const int row = grid.RowOf(cell), col = grid.ColOf(cell);
+  best = -1;
+  second = -1;
+  for (int a = 0; a < kNumActions; ++a) {
+    if (!grid.InBounds(row + kActionRowOffset[a], col + kActionColOffset[a])) continue;
+    // ">=": a later action with an equal value ranks higher.
+    if (best < 0 || q[a] >= q[best]) {
+      second = best;
+      best = a;
+    } else if (second < 0 || q[a] >= q[second]) {
+      second = a;
+    }
+  }
+}
 // The same for row `cell` of `table`, in the table's precision.
-void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best, int& second);
+inline void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best,
+                          int& second) {
+  if (table.precision() == QPrecision::kFloat) {
+    TopTwoActions(grid, cell, table.Row<float>(cell), best, second);
+  } else {
+    TopTwoActions(grid, cell, table.Row<double>(cell), best, second);
+  }
+}
 
 }  // namespace dynapath

@@ -11,9 +11,10 @@ drew into STUDY_DIR/figures; the figures the report shows are copied to
 docs/images/reproduction/. REPORT_STUDY_DIR is a study of hard 50x50 (seed
 52) and the edge case run with `--semantics report`; CSV is the output of
 `bench/like_for_like.sh --csv`. SPREAD_DIR holds the outputs of
-`bench/semantics_spread` (VARIANT = float) and of
-`bench/double_tables_experiment.sh` (VARIANT = double), named
-VARIANT_APPROACH_SEED.txt, for seeds 52 and 102. The report's figures, published and run on
+`bench/semantics_spread ... report` (VARIANT = double: `--semantics
+report`, whose tables are doubles as the report code's) and of
+`bench/semantics_spread ... report-float` (VARIANT = float: the same rules
+on float tables), named VARIANT_APPROACH_SEED.txt, for seeds 52 and 102. The report's figures, published and run on
 this machine, are read from docs/reference/. Standard library only (no
 pandas needed).
 """
@@ -229,8 +230,9 @@ def median(values):
 
 
 def spread_table(spread_dir, here_rows, seed):
-    """Ours under --semantics report over learner seed streams (float tables,
-    and double tables), against the report's code run here, for one maze."""
+    """Ours under --semantics report over learner seed streams (its double
+    tables, and the same rules on float tables), against the report's code
+    run here, for one maze."""
     here = {r["Approach"]: r for r in here_rows if r["Seed"] == seed}
     lines = ["| Approach | report's code run here (median of 3) | ours: streams | success "
              "min / median / max | path min / median / max | its median inside ours |",
@@ -240,8 +242,8 @@ def spread_table(spread_dir, here_rows, seed):
         if h is None:
             continue
         ref_s, ref_p = float(h["AvgSuccessRate"]), float(h["AvgPathLength"])
-        for variant, label in (("float", "`--semantics report`"),
-                               ("double", "same, double tables")):
+        for variant, label in (("double", "`--semantics report`"),
+                               ("float", "same rules, float tables")):
             path = os.path.join(spread_dir, f"{variant}_{approach}_{seed}.txt")
             if not os.path.exists(path):
                 continue
@@ -430,9 +432,10 @@ def main():
                      "`bench/semantics_spread` runs one approach on one maze with N learner "
                      "seed streams (stream 0 is `dynapath run`'s; stream k uses run seed = maze "
                      "seed + k * 1000003: every learner's random numbers change, the maze and "
-                     "changes do not). `bench/double_tables_experiment.sh` does the same with "
-                     "our Q-tables in `double`, as the report's code stores them (a scratch "
-                     "build; not a run option). The reference CSV has only the median of the "
+                     "changes do not). `--semantics report` keeps the tables in `double`, as "
+                     "the report's code does; `report-float` (a `semantics_spread` variant, not a "
+                     "run option) applies the same rules to our `float` tables, to show what "
+                     "the precision alone does. The reference CSV has only the median of the "
                      "report code's 3 runs per approach, so *inside* tests that median against "
                      "our min-max range.\n")
             for seed, name in (("52", "Hard 50x50, seed 52"),
