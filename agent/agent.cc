@@ -422,14 +422,11 @@ void Agent::PublishShards(const shards_t& shards, int64_t needs_round) {
 void Agent::OnShards(const shards_t& shards) {
   if (!combiner_ || shards.batch_id != batch_id_ || shards.epoch != epoch_) return;
   // The sender still lacks shards of an earlier round: ours of it got lost.
+  // That round alone: the coordinator keeps the later rounds it got
+  // (RoundCombiner's rounds_ahead), and asks again for any other it lacks.
   if (shards.needs_round < combiner_->round()) {
     for (const shards_t& sent : sent_) {
-      // The coordinator's request (no shards): every kept round from it on,
-      // in order, so that it catches up in one round trip.
-      if (sent.round == shards.needs_round ||
-          (shards.num_shards == 0 && sent.round > shards.needs_round)) {
-        PublishShards(sent, combiner_->round());
-      }
+      if (sent.round == shards.needs_round) PublishShards(sent, combiner_->round());
     }
   }
   if (shards.num_shards == 0) return;  // the coordinator's request: nothing to combine

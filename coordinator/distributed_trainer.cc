@@ -254,8 +254,10 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
                  batch.agents[static_cast<size_t>(k * agent_count / learners)]);
       }
     }
-    batch.combiner =
-        std::make_unique<protocol::RoundCombiner>(std::move(combined), batch.items, round);
+    // We only listen: keep the rounds the agents run past one we lack, so
+    // that they re-send that round alone (they keep kAgentKeptRounds).
+    batch.combiner = std::make_unique<protocol::RoundCombiner>(
+        std::move(combined), batch.items, round, protocol::kAgentKeptRounds - 1);
   } else {
     // Largest job first, each to the least loaded agent (by cells).
     std::vector<int> order;

@@ -97,9 +97,11 @@ BusCounters Bus::counters() const {
   c.nacks_sent = counters_nacks_sent_.load();
   c.nacks_received = counters_nacks_received_.load();
   c.pieces_repaired = counters_pieces_repaired_.load();
+  c.parity_sent = counters_parity_sent_.load();
   {
     std::lock_guard lock(const_cast<std::mutex&>(fragments_mutex_));
     c.partials_evicted = fragments_.evicted() + fragments_.expired();
+    c.pieces_rebuilt = fragments_.rebuilt();
     if (repair_rtt_measured_) c.repair_round_trip_ms = static_cast<int64_t>(repair_rtt_ms_);
   }
   return c;
@@ -118,6 +120,10 @@ std::string Bus::TrafficSummary() const {
                     std::to_string(c.nacks_sent) + " NACKs sent, " +
                     std::to_string(c.nacks_received) + " answered with " +
                     std::to_string(c.pieces_repaired) + " pieces, " +
+                    (c.parity_sent + c.pieces_rebuilt > 0
+                         ? std::to_string(c.parity_sent) + " parity pieces sent, " +
+                               std::to_string(c.pieces_rebuilt) + " pieces rebuilt from parity, "
+                         : std::string()) +
                     std::to_string(c.partials_evicted) + " partial messages dropped" +
                     (c.repair_round_trip_ms >= 0
                          ? ", repair round trip " + std::to_string(c.repair_round_trip_ms) + " ms"
@@ -187,17 +193,16 @@ void Bus::SendPieces(const SentMessage& message, const std::vector<uint8_t>* onl
   fragment.fingerprint = message.fingerprint;
   fragment.total_size = static_cast<int32_t>(message.bytes.size());
   fragment.count = message.count();
+  // Parity pieces go with every whole sending (not with NACK answers) of a
+  // message of two pieces or more.
+  const bool with_parity = only == nullptr && options_.parity_group >= 2 && fragment.count >= 2;
+  fragment.group_size = with_parity ? options_.parity_group : 0;
+  const int32_t groups = with_parity ? ParityGroups(fragment.count, fragment.group_size) : 0;
+  std::vector<std::vector<uint8_t>> parities(static_cast<size_t>(groups),
+                                             std::vector<uint8_t>(message.piece, 0));
   std::vector<uint8_t> encoded;
   size_t paced = 0;
-  for (int32_t i = 0; i < fragment.count; ++i) {
-    if (only != nullptr && !NackBit(*only, i)) continue;
-    const size_t begin = static_cast<size_t>(i) * static_cast<size_t>(message.piece);
-    const size_t end = std::min(message.bytes.size(), begin + static_cast<size_t>(message.piece));
-    fragment.index = i;
-    fragment.offset = static_cast<int32_t>(begin);
-    fragment.size = static_cast<int32_t>(end - begin);
-    fragment.data.assign(message.bytes.begin() + static_cast<ptrdiff_t>(begin),
-                         message.bytes.begin() + static_cast<ptrdiff_t>(end));
+  const auto send = [&] {
     encoded.resize(static_cast<size_t>(fragment.getEncodedSize()));
     fragment.encode(encoded.data(), 0, static_cast<int>(encoded.size()));
     if (paced >= kPaceBytes && options_.fragment_pause_us > 0) {
@@ -209,9 +214,33 @@ void Bus::SendPieces(const SentMessage& message, const std::vector<uint8_t>* onl
     if (repair) ++counters_pieces_repaired_;
     if (options_.drop_fragment && options_.drop_fragment(fragment, repair)) {
       ++counters_injected_drops_;
-      continue;
+      return;
     }
     PublishRaw(message.channel, encoded.data(), encoded.size());
+  };
+  for (int32_t i = 0; i < fragment.count; ++i) {
+    if (only != nullptr && !NackBit(*only, i)) continue;
+    const size_t begin = static_cast<size_t>(i) * static_cast<size_t>(message.piece);
+    const size_t end = std::min(message.bytes.size(), begin + static_cast<size_t>(message.piece));
+    fragment.index = i;
+    fragment.offset = static_cast<int32_t>(begin);
+    fragment.size = static_cast<int32_t>(end - begin);
+    fragment.data.assign(message.bytes.begin() + static_cast<ptrdiff_t>(begin),
+                         message.bytes.begin() + static_cast<ptrdiff_t>(end));
+    if (with_parity) {
+      std::vector<uint8_t>& parity = parities[static_cast<size_t>(i % groups)];
+      for (size_t j = 0; j < fragment.data.size(); ++j) parity[j] ^= fragment.data[j];
+    }
+    send();
+  }
+  fragment.parity = true;
+  fragment.offset = 0;
+  for (int32_t g = 0; g < groups; ++g) {
+    fragment.index = g;
+    fragment.data = std::move(parities[static_cast<size_t>(g)]);
+    fragment.size = static_cast<int32_t>(fragment.data.size());
+    ++counters_parity_sent_;
+    send();
   }
 }
 

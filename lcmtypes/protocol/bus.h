@@ -65,6 +65,11 @@ struct BusOptions {
   // is measured.
   bool repair = true;
   int nack_quiet_ms = 3;
+  // Forward repair: one XOR parity piece per `parity_group` data pieces of
+  // a fragmented message (interleaved groups, fragment_t.lcm), so that a
+  // receiver missing one piece of a group rebuilds it without a NACK round
+  // trip. 0: none. On for frame-sized pieces (a LAN: runtime/process_options).
+  int parity_group = 0;
   int max_nacks = 30;  // NACKs of a message without progress
   // What the sender keeps for repairs and id reuse.
   int64_t sent_store_bytes = int64_t{64} << 20;
@@ -100,6 +105,8 @@ struct BusCounters {
   int64_t nacks_sent = 0;
   int64_t nacks_received = 0;         // of messages this Bus sent
   int64_t pieces_repaired = 0;        // pieces re-sent for NACKs
+  int64_t parity_sent = 0;            // parity pieces sent (BusOptions::parity_group)
+  int64_t pieces_rebuilt = 0;         // received pieces rebuilt from parity pieces
   int64_t partials_evicted = 0;       // incomplete messages dropped for room or age
   int64_t repair_round_trip_ms = -1;  // smoothed NACK-to-repair time
 };
@@ -198,7 +205,7 @@ class Bus {
       counters_fragments_{0}, counters_injected_drops_{0}, counters_injected_duplicates_{0},
       counters_unauthenticated_{0}, counters_replayed_{0}, counters_fragments_sent_{0},
       counters_ids_reused_{0}, counters_nacks_sent_{0}, counters_nacks_received_{0},
-      counters_pieces_repaired_{0};
+      counters_pieces_repaired_{0}, counters_parity_sent_{0};
   int64_t last_warning_ms_ = -1000000;
   int64_t warnings_suppressed_ = 0;
 };

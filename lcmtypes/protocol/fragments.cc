@@ -92,8 +92,14 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
       partial.count != fragment.count) {
     return dropped("fragment_t inconsistent with its message");
   }
+  if (fragment.parity && partial.group_size != 0 && partial.group_size != fragment.group_size) {
+    return dropped("parity piece inconsistent with its message");
+  }
   partial.last_seen = now;
-  if (partial.pieces.count(fragment.index) != 0) return Outcome{};  // a re-sent piece
+  if ((fragment.parity ? partial.parities.count(fragment.index)
+                       : partial.pieces.count(fragment.index)) != 0) {
+    return Outcome{};  // a re-sent piece
+  }
   Outcome progress;
   if (partial.first_nack >= 0 && !partial.timed) {
     progress.repair_round_trip = now - partial.first_nack;
@@ -107,9 +113,18 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
     Erase(it);
     return dropped("fragment buffer full");
   }
-  partial.pieces.emplace(fragment.index, std::make_pair(fragment.offset, fragment.data));
   partial.held += cost;
   buffered_ += cost;
+  if (fragment.parity) {
+    partial.group_size = fragment.group_size;
+    partial.parities.emplace(fragment.index, fragment.data);
+    Rebuild(partial, fragment.index);
+  } else {
+    partial.pieces.emplace(fragment.index, std::make_pair(fragment.offset, fragment.data));
+    if (partial.group_size > 0) {
+      Rebuild(partial, fragment.index % ParityGroups(partial.count, partial.group_size));
+    }
+  }
   if (static_cast<int32_t>(partial.pieces.size()) < partial.count) return progress;
 
   // All pieces are there: they must tile the message exactly.
@@ -144,6 +159,39 @@ FragmentAssembler::Outcome FragmentAssembler::Add(const std::string& channel,
   outcome.kind = Outcome::Kind::kComplete;
   ++completed_count_;
   return outcome;
+}
+
+bool FragmentAssembler::Rebuild(Partial& partial, int32_t group) {
+  const auto parity = partial.parities.find(group);
+  if (parity == partial.parities.end()) return false;
+  const int32_t groups = ParityGroups(partial.count, partial.group_size);
+  int32_t missing = -1;
+  for (int64_t i = group; i < partial.count; i += groups) {
+    if (partial.pieces.count(static_cast<int32_t>(i)) != 0) continue;
+    if (missing >= 0) return false;  // two missing: only a NACK helps
+    missing = static_cast<int32_t>(i);
+  }
+  if (missing < 0) return false;
+  // Every data piece but the last holds as many bytes as the parity piece.
+  const std::vector<uint8_t>& sum = parity->second;
+  const int64_t piece = static_cast<int64_t>(sum.size());
+  const int64_t offset = static_cast<int64_t>(missing) * piece;
+  const int64_t size = std::min(piece, static_cast<int64_t>(partial.total_size) - offset);
+  const int64_t cost = size + kPieceOverhead;
+  if (size < 1 || buffered_ + cost > limits_.max_buffered_bytes) return false;
+  std::vector<uint8_t> bytes(sum.begin(), sum.begin() + size);
+  for (int64_t i = group; i < partial.count; i += groups) {
+    if (i == missing) continue;
+    const std::vector<uint8_t>& data = partial.pieces.at(static_cast<int32_t>(i)).second;
+    if (static_cast<int64_t>(data.size()) > piece) return false;  // not this layout
+    const size_t n = std::min(bytes.size(), data.size());
+    for (size_t j = 0; j < n; ++j) bytes[j] ^= data[j];
+  }
+  partial.pieces.emplace(missing, std::make_pair(static_cast<int32_t>(offset), std::move(bytes)));
+  partial.held += cost;
+  buffered_ += cost;
+  ++rebuilt_;
+  return true;
 }
 
 void FragmentAssembler::RememberCompleted(const Key& key) {

@@ -37,6 +37,12 @@ namespace dynapath::protocol {
 // than 8 bytes): which type it claims to be.
 int64_t PeekFingerprint(const uint8_t* data, int size);
 
+// Parity groups of a message of `count` data pieces with `group_size`
+// (>= 2) pieces per group: piece i is in group i % ParityGroups.
+inline int32_t ParityGroups(int32_t count, int32_t group_size) {
+  return static_cast<int32_t>((static_cast<int64_t>(count) + group_size - 1) / group_size);
+}
+
 struct FragmentLimits {
   int64_t max_message_bytes = 0;   // largest whole message accepted
   int64_t max_buffered_bytes = 0;  // all partial messages together
@@ -101,6 +107,8 @@ class FragmentAssembler {
   int64_t completed() const { return completed_count_; }
   // Partial messages of completed ids forgotten (stray repairs, duplicates).
   int64_t strays() const { return strays_; }
+  // Data pieces rebuilt from parity pieces (never sent again, never NACKed).
+  int64_t rebuilt() const { return rebuilt_; }
 
  private:
   struct Partial {
@@ -110,6 +118,10 @@ class FragmentAssembler {
     int64_t held = 0;  // bytes charged to the budget
     // index -> (offset, bytes)
     std::map<int32_t, std::pair<int32_t, std::vector<uint8_t>>> pieces;
+    // Parity pieces: group -> XOR of the group's pieces (all of
+    // piece_bytes); group_size 0 until the first parity piece.
+    std::map<int32_t, std::vector<uint8_t>> parities;
+    int32_t group_size = 0;
     int64_t first_seen = 0;
     int64_t last_seen = 0;
     bool after_complete = false;  // an id completed lately: never NACKed
@@ -121,6 +133,10 @@ class FragmentAssembler {
   using Key = std::pair<std::string, int64_t>;  // (channel, message id)
 
   void Erase(std::map<Key, Partial>::iterator it);
+  // Rebuilds the one missing data piece of `group` from its parity piece and
+  // the others, if exactly one is missing; false when the sizes do not fit
+  // (a sender's lie: nothing is added).
+  bool Rebuild(Partial& partial, int32_t group);
   // Evicts a partial message of a completed id, else the one least
   // recently added to (never `keep`).
   bool EvictOldest(const Key& keep);
@@ -132,6 +148,7 @@ class FragmentAssembler {
   int64_t evicted_ = 0;
   int64_t completed_count_ = 0;
   int64_t strays_ = 0;
+  int64_t rebuilt_ = 0;
   std::map<Key, Partial> partials_;
   std::set<Key> completed_;
   std::deque<Key> completed_order_;

@@ -33,8 +33,13 @@ Status RoundCombiner::CheckItems(const std::vector<Job>& jobs, const Items& item
   return Ok{};
 }
 
-RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round)
-    : jobs_(std::move(jobs)), items_(std::move(items)), round_(start_round) {
+RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round,
+                             int rounds_ahead, int64_t ahead_bytes)
+    : jobs_(std::move(jobs)),
+      items_(std::move(items)),
+      round_(start_round),
+      rounds_ahead_(std::max(1, rounds_ahead)),
+      ahead_bytes_(ahead_bytes) {
   // The caller checked the items (received ones with CheckItems; the
   // coordinator's are its own plan).
   assert(CheckItems(jobs_, items_).ok());
@@ -102,14 +107,22 @@ std::string RoundCombiner::Mismatch(const shards_t& message) const {
 
 RoundCombiner::Added RoundCombiner::Add(const shards_t& message, std::string* why) {
   if (message.round < round_) return Added::kPast;
-  if (message.round > round_ + 1) return Added::kFuture;
+  if (message.round > round_ + rounds_ahead_) return Added::kFuture;
   if (std::string mismatch = Mismatch(message); !mismatch.empty()) {
     if (why != nullptr) *why = std::move(mismatch);
     return Added::kInvalid;
   }
-  auto& by_agent = pending_[message.round];
-  if (by_agent.count(message.agent) > 0) return Added::kDuplicate;
-  by_agent.emplace(message.agent, message);
+  auto found = pending_.find(message.round);
+  if (found != pending_.end() && found->second.count(message.agent) > 0) {
+    return Added::kDuplicate;
+  }
+  if (message.round > round_ + 1) {
+    // Further ahead than an agent can be of another: kept within the cap.
+    const int64_t bytes = message.getEncodedSize();
+    if (pending_ahead_bytes_ + bytes > ahead_bytes_) return Added::kFuture;
+    pending_ahead_bytes_ += bytes;
+  }
+  pending_[message.round].emplace(message.agent, message);
   return Added::kStored;
 }
 
@@ -156,6 +169,12 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
   }
   pending_.erase(round_);
   ++round_;
+  // Round round_ + 1 is no longer charged to the cap.
+  if (auto next = pending_.find(round_ + 1); next != pending_.end()) {
+    for (const auto& [agent, message] : next->second) {
+      pending_ahead_bytes_ -= message.getEncodedSize();
+    }
+  }
   return result;
 }
 

@@ -48,8 +48,15 @@ class RoundCombiner {
   // Error unless every item names a learner of the jobs and every learner of
   // every job is hosted exactly once (received items are checked with it).
   static Status CheckItems(const std::vector<Job>& jobs, const Items& items);
-  // `items` must pass CheckItems.
-  RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round);
+  // `items` must pass CheckItems. `rounds_ahead`: how many rounds past
+  // round() are kept for later (at most `ahead_bytes` of them). An agent
+  // cannot run more than one round ahead of the slowest agent (each round
+  // starts from everyone's last one), so 1 suffices for agents; the
+  // coordinator, which only listens, may fall further behind when shards
+  // are lost on their way to it, and keeps what the agents sent meanwhile
+  // so that it asks again for the lost round alone.
+  RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_round, int rounds_ahead = 1,
+                int64_t ahead_bytes = int64_t{64} << 20);
 
   // The round being collected.
   int64_t round() const { return round_; }
@@ -94,8 +101,12 @@ class RoundCombiner {
   std::vector<std::unique_ptr<FederatedAverager>> averagers_;
   Items items_;
   int64_t round_ = 0;
-  // round -> agent -> its message (rounds round_ and round_ + 1 only).
+  int rounds_ahead_;
+  int64_t ahead_bytes_;
+  // round -> agent -> its message (rounds round_ .. round_ + rounds_ahead_),
+  // and their encoded bytes past round_.
   std::map<int64_t, std::map<int, shards_t>> pending_;
+  int64_t pending_ahead_bytes_ = 0;
 };
 
 }  // namespace dynapath::protocol

@@ -7,6 +7,7 @@
 #include "core/learner_options.h"
 #include "core/mdp.h"
 #include "lcmtypes/protocol/convert.h"
+#include "lcmtypes/protocol/fragments.h"
 #include "lcmtypes/protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -196,6 +197,11 @@ std::string Validate(const fragment_t& m) {
   if (m.total_size < 1 || m.offset < 0 || !Count(m.size, m.data.size()) ||
       static_cast<int64_t>(m.offset) + m.size > m.total_size) {
     return "bad fragment size";
+  }
+  if (m.group_size < 0 || m.group_size == 1) return "bad parity group size";
+  if (m.parity && (m.group_size == 0 || m.index >= ParityGroups(m.count, m.group_size) ||
+                   m.offset != 0)) {
+    return "bad parity piece";
   }
   return {};
 }

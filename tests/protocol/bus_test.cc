@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <lcm/lcm-cpp.hpp>
 #include <mutex>
@@ -215,6 +216,54 @@ TEST(BusTest, NackedPiecesAndOnlyThoseAreResent) {
       lcm, [&] { return false; }, std::chrono::milliseconds(200));
   EXPECT_EQ(receiver.counters().nacks_sent, 2);
   EXPECT_EQ(got.size(), 1u);
+}
+
+// Parity pieces (BusOptions::parity_group): a policy of 5 pieces with groups
+// of 2 makes 3 interleaved groups, {0, 3}, {1, 4} and {2}. Losing 0 and 4
+// (one per group) costs no NACK: both are rebuilt. Losing 0 and 3 (both of
+// one group) is rebuilt as far as it can be and NACKed for the rest.
+TEST(BusTest, ParityPiecesRebuildOneLostPiecePerGroup) {
+  for (const std::vector<int32_t>& lost :
+       {std::vector<int32_t>{0, 4}, std::vector<int32_t>{0, 3}}) {
+    lcm::LCM lcm("memq://");
+    BusOptions options;
+    options.fragment_above = 2000;
+    options.fragment_size = 1024;
+    options.parity_group = 2;
+    std::mutex mutex;
+    int parity_pieces = 0;
+    BusOptions lossy = options;
+    lossy.drop_fragment = [&](const fragment_t& f, bool repair) {
+      std::lock_guard lock(mutex);
+      if (f.parity) {
+        ++parity_pieces;
+        return false;
+      }
+      return !repair && std::find(lost.begin(), lost.end(), f.index) != lost.end();
+    };
+    Bus sender(lcm, "run1", lossy);
+    Bus receiver(lcm, "run1", options);
+    std::vector<policy_t> got;
+    receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t& m) { got.push_back(m); });
+    const policy_t sent = Policy("run1", 40);
+    sender.Publish(channel::kPolicy, sent);
+    Pump(
+        lcm, [&] { return !got.empty(); }, std::chrono::milliseconds(3000));
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].cells, sent.cells);
+    std::lock_guard lock(mutex);
+    EXPECT_EQ(parity_pieces, 3);
+    EXPECT_EQ(sender.counters().parity_sent, 3);
+    if (lost[1] == 4) {
+      EXPECT_EQ(receiver.counters().pieces_rebuilt, 2);
+      EXPECT_EQ(receiver.counters().nacks_sent, 0);
+      EXPECT_EQ(sender.counters().pieces_repaired, 0);
+    } else {
+      EXPECT_EQ(receiver.counters().nacks_sent, 1);
+      // One repair makes the group rebuildable; the NACK asked for both.
+      EXPECT_EQ(sender.counters().pieces_repaired, 2);
+    }
+  }
 }
 
 // A component's resend of the same bytes reuses the message id: its pieces

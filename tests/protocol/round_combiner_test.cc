@@ -176,6 +176,36 @@ TEST_F(RoundCombinerAddTest, KeepsThisRoundAndTheNextOnly) {
   EXPECT_EQ(combiner_.Missing(), std::vector<int>{2});
 }
 
+// The coordinator's combiner keeps rounds further ahead (rounds_ahead),
+// within a byte cap, and combines them in turn once the lost round arrives.
+TEST_F(RoundCombinerAddTest, KeepsRoundsFurtherAheadWithinTheByteCap) {
+  const int64_t bytes = Message(1, 5, {0}).getEncodedSize();
+  // Room for three messages past round 4 (rounds 5 and 6 here).
+  RoundCombiner ahead({CombinerJob(job_, model_)}, {{1, {{0, 0}}}, {2, {{0, 1}}}}, 3, 4,
+                      3 * bytes);
+  EXPECT_EQ(ahead.Add(Message(1, 8, {0})), RoundCombiner::Added::kFuture);  // beyond 3 + 4
+  for (int64_t round = 4; round <= 6; ++round) {
+    EXPECT_EQ(ahead.Add(Message(1, round, {0})), RoundCombiner::Added::kStored) << round;
+    EXPECT_EQ(ahead.Add(Message(2, round, {1})),
+              round == 6 ? RoundCombiner::Added::kFuture : RoundCombiner::Added::kStored)
+        << round;  // the fourth message past round 4 is over the cap
+  }
+  // Round 3, lost at first, arrives: rounds 3 to 5 combine at once.
+  EXPECT_EQ(ahead.Add(Message(1, 3, {0})), RoundCombiner::Added::kStored);
+  EXPECT_EQ(ahead.Add(Message(2, 3, {1})), RoundCombiner::Added::kStored);
+  int combined = 0;
+  while (ahead.RoundComplete()) {
+    ahead.Combine();
+    ++combined;
+  }
+  EXPECT_EQ(combined, 3);
+  EXPECT_EQ(ahead.round(), 6);
+  EXPECT_EQ(ahead.Missing(), std::vector<int>{2});
+  // Its cap freed, the round that did not fit is taken now.
+  EXPECT_EQ(ahead.Add(Message(2, 6, {1})), RoundCombiner::Added::kStored);
+  EXPECT_TRUE(ahead.RoundComplete());
+}
+
 TEST_F(RoundCombinerAddTest, RejectsMessagesThatDoNotFit) {
   std::string why;
   EXPECT_EQ(combiner_.Add(Message(1, 3, {1}), &why), RoundCombiner::Added::kInvalid);
