@@ -45,8 +45,13 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
   const int64_t start = protocol::SteadyMs();
   int64_t sent = -1000000;
   // Repeat the request until answered (requests and answers may be lost, and
-  // at start-up envsim may not listen yet): after 10 ms, doubling up to 250.
-  int64_t interval = 10;
+  // at start-up envsim may not listen yet): after two measured round trips
+  // + 5 ms (10 ms until one is measured, at least 10), doubling up to 250.
+  int64_t interval =
+      round_trip_ms_ < 0
+          ? 10
+          : std::clamp<int64_t>(static_cast<int64_t>(2 * round_trip_ms_) + 5, 10, 250);
+  int sends = 0;
   while (!grid_answer_ && !changes_answer_) {
     const int64_t now = protocol::SteadyMs();
     if (stop_ != nullptr && *stop_) throw std::runtime_error("interrupted");
@@ -54,6 +59,7 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
       if (sent >= 0) interval = std::min<int64_t>(250, 2 * interval);
       bus_.Publish(protocol::channel::kEnvRequest, request);
       sent = now;
+      ++sends;
     }
     const int64_t seen = envsim_seen_ms_;
     if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
@@ -63,6 +69,10 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
                                    : "the environment simulator is gone");
     }
     inbox_.RunFor(std::chrono::milliseconds(2));
+  }
+  if (sends == 1) {  // unambiguous: the answer is to the one request
+    const double sample = static_cast<double>(protocol::SteadyMs() - start);
+    round_trip_ms_ = round_trip_ms_ < 0 ? sample : 0.875 * round_trip_ms_ + 0.125 * sample;
   }
   want_pass_ = want_step_ = -1;
 }

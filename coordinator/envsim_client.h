@@ -38,6 +38,9 @@ class EnvSimClient : public StepSource {
   double timeout_seconds_;
   const std::atomic<bool>* stop_;
   int64_t next_request_ = 1;
+  // Smoothed time from a request to its answer, from requests answered
+  // before any repeat (Karn's rule); -1 until the first.
+  double round_trip_ms_ = -1.0;
   std::atomic<int64_t> envsim_seen_ms_{-1};
   std::optional<grid_t> first_;
   // The answer being waited for.

@@ -161,15 +161,23 @@ for row in "${rows[@]}"; do
         text="$text ❌"
       fi
     fi
-    if [ "$row" = delay20 ] && [ -n "${CLEAN_SECONDS[$column]:-}" ]; then
+    if { [ "$row" = delay20 ] || [ "$row" = reorder ]; } && [ -n "${CLEAN_SECONDS[$column]:-}" ]; then
       # The protocol's latency floor: every batch is a round trip (two
       # delayed hops: coordinator on a, agents on b and c) and every split
-      # round one hop, on top of the clean run's time.
+      # round one hop, on top of the clean run's time. A hop costs 20 ms
+      # under delay; under netem-style reordering (10 ms, 25% early) a
+      # message is late unless all its frames are early: at least 75% of
+      # 10 ms a hop (a lower bound: multi-frame messages are nearly always
+      # late).
+      hop=0.020
+      [ "$row" = reorder ] && hop=0.0075
       read -r batches rounds < <(sed -n 's/.*coordinator: \([0-9]*\) training batches, \([0-9]*\) federated rounds.*/\1 \2/p' \
         "${CLEAN_DIR[$column]}/coordinator.log" | tail -1)
       if [ -n "${batches:-}" ]; then
-        floor=$(awk -v c="${CLEAN_SECONDS[$column]}" -v b="$batches" -v r="$rounds" 'BEGIN { printf "%.1f", c + (2 * b + r) * 0.020 }')
-        text="$text; latency floor ≈ $floor s ($batches batches x 40 ms + $rounds split rounds x 20 ms)"
+        floor=$(awk -v c="${CLEAN_SECONDS[$column]}" -v b="$batches" -v r="$rounds" -v h="$hop" 'BEGIN { printf "%.1f", c + (2 * b + r) * h }')
+        hop_ms=$(awk -v h="$hop" 'BEGIN { printf "%g", h * 1000 }')
+        trip_ms=$(awk -v h="$hop" 'BEGIN { printf "%g", 2 * h * 1000 }')
+        text="$text; latency floor ≈ $floor s ($batches batches x $trip_ms ms + $rounds split rounds x $hop_ms ms)"
       fi
     fi
     CELL["$row,$column"]=$text
