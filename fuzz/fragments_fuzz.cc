@@ -3,6 +3,7 @@
 // the bytes it holds never exceed its budget, a completed message has
 // exactly its announced size, and the NACKs it asks for (selective repair)
 // name only pieces of partial messages, with a bitmap of their count.
+// Parity pieces (rebuilding a missing piece from them) are fuzzed alike.
 
 #include <algorithm>
 #include <cstdint>
@@ -39,8 +40,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fragment.message_id = *p++ % 8;
     fragment.fingerprint = *p++ % 2;
     now += *p++ % 16;
-    // Small fields mostly, any int32 sometimes.
-    const bool wide = (*p++ & 7) == 0;
+    // Small fields mostly, any int32 sometimes; parity pieces (groups of 0,
+    // 2, 3 or 4) a quarter of the time.
+    const uint8_t flags = *p++;
+    const bool wide = (flags & 7) == 0;
+    fragment.parity = (flags & 0x18) == 0x18;
+    fragment.group_size = (flags >> 5) & 3;
+    if (fragment.group_size == 1) fragment.group_size = 4;
     auto field = [&](int32_t small) { return wide ? Take32(p, end) : small; };
     fragment.total_size = field(*p % 64 + 1);
     fragment.count = field(end - p > 1 ? p[1] % 8 + 1 : 1);
