@@ -192,7 +192,12 @@ code=$?
 [ $code -eq 130 ] || fail "interrupted study exited $code, expected 130"
 [ "$(json "$k/manifest.json" 'm["status"]')" = interrupted ] || fail "manifest status after SIGINT"
 statuses=$(json "$k/manifest.json" '" ".join(c["status"] for c in m["configurations"])')
-[ "$statuses" = "done done done interrupted pending" ] || fail "statuses after SIGINT: $statuses"
+if [ "$statuses" != "done done done interrupted pending" ]; then
+  # Say why, so that a failure in CI can be understood from its log alone.
+  fail "statuses after SIGINT: $statuses; errors: $(json "$k/manifest.json" \
+    '"; ".join(c["name"] + ": " + c.get("error", "") for c in m["configurations"] if c["status"] == "failed")' 2>&1)"
+  grep -E "error|warn" "$k/study.log" | tail -20
+fi
 [ "$(wc -l <"$k/results.csv")" -eq $((approaches * 3 + 1)) ] || fail "results.csv after SIGINT: $(wc -l <"$k/results.csv") lines"
 find "$k" -name '*.tmp.*' | grep -q . && fail "temporary files left: $(find "$k" -name '*.tmp.*')"
 # The runs' ids hold the study's pid.

@@ -10,7 +10,9 @@
 #        [--rows LIST] [--columns LIST]
 #   --timeout: per run (default 150): a run still going then is stopped
 #              (SIGTERM) and reported as a hang, not waited on.
-#   --rows:    comma-separated subset of clean,dup5,delay20,loss1,loss2,loss5,reorder
+#   --rows:    comma-separated subset of clean,dup5,delay20,loss1,loss2,loss5,reorder,delay10
+#              (delay10: the reorder row's 10 ms without its early frames, to
+#              tell what the reordering costs from what its delay costs)
 #   --columns: comma-separated subset of h100auto,h100split,h50all
 #   --repeat N: run every cell N times and report the fastest (the machine
 #              may be busy; every run must be identical to --local)
@@ -24,7 +26,7 @@ LAN_BUILD=$(cd "${1:?usage: lan_matrix.sh BUILD_DIR [--update-docs] [--timeout S
 shift
 update_docs=0
 timeout_s=150
-rows_wanted=clean,dup5,delay20,loss1,loss2,loss5,reorder
+rows_wanted=clean,dup5,delay20,loss1,loss2,loss5,reorder,delay10
 columns_wanted=h100auto,h100split,h50all
 lost_host=1
 repeat=1
@@ -61,10 +63,11 @@ declare -A COLUMN_OPTIONS=(
   [h50all]="--size 50 --difficulty hard --approach all")
 declare -A ROW_NAME=(
   [clean]="none (clean LAN)" [dup5]="duplicate 5%" [delay20]="delay 20 ± 5 ms"
-  [loss1]="loss 1%" [loss2]="loss 2%" [loss5]="loss 5%" [reorder]="reorder (10 ms, 25% early)")
+  [loss1]="loss 1%" [loss2]="loss 2%" [loss5]="loss 5%" [reorder]="reorder (10 ms, 25% early)"
+  [delay10]="delay 10 ms (reorder's delay, no frame early)")
 declare -A ROW_SPEC=(
   [clean]=clean [dup5]=dup:5 [delay20]=delay:20:5 [loss1]=loss:1 [loss2]=loss:2 [loss5]=loss:5
-  [reorder]=reorder:10:25)
+  [reorder]=reorder:10:25 [delay10]=delay:10:0)
 # The issue's targets: slowdown against the clean LAN (delay: auto placement only).
 declare -A ROW_TARGET=([dup5]=1.1 [delay20]=2 [loss1]=1.5 [loss5]=3 [reorder]=1.5)
 
@@ -161,7 +164,8 @@ for row in "${rows[@]}"; do
         text="$text ❌"
       fi
     fi
-    if { [ "$row" = delay20 ] || [ "$row" = reorder ]; } && [ -n "${CLEAN_SECONDS[$column]:-}" ]; then
+    if { [ "$row" = delay20 ] || [ "$row" = reorder ] || [ "$row" = delay10 ]; } &&
+      [ -n "${CLEAN_SECONDS[$column]:-}" ]; then
       # The protocol's latency floor: every batch is a round trip (two
       # delayed hops: coordinator on a, agents on b and c) and every split
       # round one hop, on top of the clean run's time. A hop costs 20 ms
@@ -171,6 +175,7 @@ for row in "${rows[@]}"; do
       # late).
       hop=0.020
       [ "$row" = reorder ] && hop=0.0075
+      [ "$row" = delay10 ] && hop=0.010
       read -r batches rounds < <(sed -n 's/.*coordinator: \([0-9]*\) training batches, \([0-9]*\) federated rounds.*/\1 \2/p' \
         "${CLEAN_DIR[$column]}/coordinator.log" | tail -1)
       if [ -n "${batches:-}" ]; then
