@@ -72,8 +72,8 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)");
   group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: ours, or report (the report code's bootstrap and first "
-               "training; docs/DECISIONS.md)");
+               "learning semantics: ours, or report (the report code's bootstrap, first "
+               "training, replay buffer and double Q-tables; docs/DECISIONS.md)");
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
