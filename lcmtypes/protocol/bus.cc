@@ -195,7 +195,8 @@ void Bus::SendPieces(const SentMessage& message, const std::vector<uint8_t>* onl
   fragment.count = message.count();
   // Parity pieces go with every whole sending (not with NACK answers) of a
   // message of two pieces or more.
-  const bool with_parity = only == nullptr && options_.parity_group >= 2 && fragment.count >= 2;
+  const bool with_parity = only == nullptr && options_.parity_group >= 2 && fragment.count >= 2 &&
+                           (!options_.parity_after_loss || loss_seen_.load());
   fragment.group_size = with_parity ? options_.parity_group : 0;
   const int32_t groups = with_parity ? ParityGroups(fragment.count, fragment.group_size) : 0;
   std::vector<std::vector<uint8_t>> parities(static_cast<size_t>(groups),
@@ -254,6 +255,7 @@ void Bus::OnNack(const fragment_nack_t& nack) {
   if (!message) return;
   if (message->count() != nack.count) return Drop(nack.channel, "NACK of another piece count");
   ++counters_nacks_received_;
+  loss_seen_ = true;
   SendPieces(*message, &nack.missing, true);
 }
 
@@ -285,6 +287,7 @@ void Bus::RepairLoop() {
       message.bitmap_size = static_cast<int32_t>(nack.missing.size());
       message.missing = std::move(nack.missing);
       ++counters_nacks_sent_;
+      loss_seen_ = true;
       Publish(channel::kFragmentNack, message);
     }
   }

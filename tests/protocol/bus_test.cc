@@ -230,6 +230,7 @@ TEST(BusTest, ParityPiecesRebuildOneLostPiecePerGroup) {
     options.fragment_above = 2000;
     options.fragment_size = 1024;
     options.parity_group = 2;
+    options.parity_after_loss = false;  // from the first message
     std::mutex mutex;
     int parity_pieces = 0;
     BusOptions lossy = options;
@@ -264,6 +265,35 @@ TEST(BusTest, ParityPiecesRebuildOneLostPiecePerGroup) {
       EXPECT_EQ(sender.counters().pieces_repaired, 2);
     }
   }
+}
+
+// By default parity pieces start once the Bus has seen loss: none on a
+// clean link, then with every whole sending after the first NACK.
+TEST(BusTest, ParityPiecesStartOnceLossIsSeen) {
+  lcm::LCM lcm("memq://");
+  BusOptions options;
+  options.fragment_above = 2000;
+  options.fragment_size = 1024;
+  options.parity_group = 2;
+  int sending = 0;
+  BusOptions lossy = options;
+  lossy.drop_fragment = [&](const fragment_t& f, bool repair) {
+    return sending == 1 && !repair && !f.parity && f.index == 2;  // the second message loses 2
+  };
+  Bus sender(lcm, "run1", lossy);
+  Bus receiver(lcm, "run1", options);
+  int got = 0;
+  receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t&) { ++got; });
+  for (sending = 0; sending < 3; ++sending) {
+    sender.Publish(channel::kPolicy, Policy("run1", 40 + sending));
+    Pump(
+        lcm, [&] { return got > sending; }, std::chrono::milliseconds(3000));
+    ASSERT_EQ(got, sending + 1);
+    // Clean first message: no parity; the second was repaired by a NACK;
+    // the third carries parity pieces (3 groups of 5 pieces).
+    EXPECT_EQ(sender.counters().parity_sent, sending < 2 ? 0 : 3) << sending;
+  }
+  EXPECT_EQ(receiver.counters().nacks_sent, 1);
 }
 
 // A component's resend of the same bytes reuses the message id: its pieces
