@@ -196,7 +196,8 @@ void Bus::SendPieces(const SentMessage& message, const std::vector<uint8_t>* onl
   // Parity pieces go with every whole sending (not with NACK answers) of a
   // message of two pieces or more.
   const bool with_parity = only == nullptr && options_.parity_group >= 2 && fragment.count >= 2 &&
-                           (!options_.parity_after_loss || loss_seen_.load());
+                           (!options_.parity_after_loss ||
+                            SteadyMs() - last_loss_ms_.load() < options_.parity_hold_ms);
   fragment.group_size = with_parity ? options_.parity_group : 0;
   const int32_t groups = with_parity ? ParityGroups(fragment.count, fragment.group_size) : 0;
   std::vector<std::vector<uint8_t>> parities(static_cast<size_t>(groups),
@@ -255,7 +256,7 @@ void Bus::OnNack(const fragment_nack_t& nack) {
   if (!message) return;
   if (message->count() != nack.count) return Drop(nack.channel, "NACK of another piece count");
   ++counters_nacks_received_;
-  loss_seen_ = true;
+  last_loss_ms_ = SteadyMs();
   SendPieces(*message, &nack.missing, true);
 }
 
@@ -287,7 +288,7 @@ void Bus::RepairLoop() {
       message.bitmap_size = static_cast<int32_t>(nack.missing.size());
       message.missing = std::move(nack.missing);
       ++counters_nacks_sent_;
-      loss_seen_ = true;
+      last_loss_ms_ = SteadyMs();
       Publish(channel::kFragmentNack, message);
     }
   }

@@ -31,6 +31,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
@@ -70,10 +71,12 @@ struct BusOptions {
   // receiver missing one piece of a group rebuilds it without a NACK round
   // trip. 0: none. On for frame-sized pieces (a LAN: runtime/process_options).
   int parity_group = 0;
-  // Parity pieces only once this Bus has seen loss (a NACK sent or
-  // received): a clean LAN pays nothing for them (12.5% more frames cost
-  // split placement about 15% on a clean LAN).
+  // Parity pieces only while this Bus has seen loss lately (a NACK sent or
+  // received in the last parity_hold_ms): a clean LAN pays nothing for
+  // them (12.5% more frames cost split placement about 15% there), and a
+  // one-off NACK switches them on for a moment only.
   bool parity_after_loss = true;
+  int parity_hold_ms = 2000;
   int max_nacks = 30;  // NACKs of a message without progress
   // What the sender keeps for repairs and id reuse.
   int64_t sent_store_bytes = int64_t{64} << 20;
@@ -210,7 +213,8 @@ class Bus {
       counters_unauthenticated_{0}, counters_replayed_{0}, counters_fragments_sent_{0},
       counters_ids_reused_{0}, counters_nacks_sent_{0}, counters_nacks_received_{0},
       counters_pieces_repaired_{0}, counters_parity_sent_{0};
-  std::atomic<bool> loss_seen_{false};  // a NACK sent or received (parity_after_loss)
+  // When a NACK was last sent or received (parity_after_loss); none yet.
+  std::atomic<int64_t> last_loss_ms_{std::numeric_limits<int64_t>::min() / 2};
   int64_t last_warning_ms_ = -1000000;
   int64_t warnings_suppressed_ = 0;
 };

@@ -267,8 +267,9 @@ TEST(BusTest, ParityPiecesRebuildOneLostPiecePerGroup) {
   }
 }
 
-// By default parity pieces start once the Bus has seen loss: none on a
-// clean link, then with every whole sending after the first NACK.
+// By default parity pieces go out while the Bus has seen loss lately: none
+// on a clean link, then with every whole sending for parity_hold_ms after
+// a NACK.
 TEST(BusTest, ParityPiecesStartOnceLossIsSeen) {
   lcm::LCM lcm("memq://");
   BusOptions options;
