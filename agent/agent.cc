@@ -327,11 +327,10 @@ void Agent::ContinueSplit() {
       for (auto& job : split_jobs_) {
         if (job->index != job_round.index) continue;
         for (auto& worker : job->workers) {
-          if (worker->table().precision() == QPrecision::kFloat) {
-            worker->ApplyAverage(job_round.entries, job_round.values);
-          } else {
-            worker->ApplyAverage(job_round.entries, job_round.wide_values);
-          }
+          WithValueType(worker->table().precision(), [&]<typename V>(V*) {
+            worker->ApplyAverage(job_round.entries,
+                                 OfValueType<V>(job_round.values, job_round.wide_values));
+          });
         }
       }
     }

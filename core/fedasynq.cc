@@ -460,7 +460,7 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
   // touch e hold the shared value with no visits.
   const size_t learners = shards.size();
   std::vector<V>& shared_values = shared.Values<V>();
-  std::vector<V>& learner_values = ValuesOf<V>(learner_values_, learner_wide_values_);
+  std::vector<V>& learner_values = OfValueType<V>(learner_values_, learner_wide_values_);
   learner_values.resize(entries.size() * learners);
   // Equal averaging needs no visit counts.
   const bool weighted = averaging_ != Averaging::kEqual;

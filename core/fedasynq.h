@@ -47,26 +47,14 @@ struct LearnerShard {
   int64_t steps = 0;              // Q-learning steps taken
 };
 
-// The values of a shard (or of an average) in value type V.
-template <typename V>
-std::vector<V>& ValuesOf(std::vector<float>& values, std::vector<double>& wide_values) {
-  if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
-    return values;
-  } else {
-    return wide_values;
-  }
-}
+// The values of a shard in value type V.
 template <typename V>
 std::vector<V>& ShardValues(LearnerShard& shard) {
-  return ValuesOf<V>(shard.values, shard.wide_values);
+  return OfValueType<V>(shard.values, shard.wide_values);
 }
 template <typename V>
 const std::vector<V>& ShardValues(const LearnerShard& shard) {
-  if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
-    return shard.values;
-  } else {
-    return shard.wide_values;
-  }
+  return OfValueType<V>(shard.values, shard.wide_values);
 }
 
 // A set of table entries kept as a bitmap with one summary bit per 64-bit
@@ -203,11 +191,11 @@ class FedAsynQLearner {
                        bool revert, LearnerShard& shard);
   template <typename V>
   std::vector<V>& Originals() {
-    return ValuesOf<V>(originals_, wide_originals_);
+    return OfValueType<V>(originals_, wide_originals_);
   }
   template <typename V>
   std::vector<V>& TwinOriginals() {
-    return ValuesOf<V>(twin_originals_, twin_wide_originals_);
+    return OfValueType<V>(twin_originals_, twin_wide_originals_);
   }
 };
 

@@ -96,7 +96,7 @@ int WorkersPerJob(size_t jobs, int threads, int learners) {
 // Averages one round of `run` into its shared table and every worker's copy.
 void CombineRound(FederatedRun& run) {
   WithValueType(run.shared.precision(), [&run]<typename V>(V*) {
-    std::vector<V>& values = ValuesOf<V>(run.averaged_values, run.averaged_wide_values);
+    std::vector<V>& values = OfValueType<V>(run.averaged_values, run.averaged_wide_values);
     // The shards of our own learners on this job's model are well formed.
     [[maybe_unused]] const Status combined =
         run.averager->Combine(run.shards, run.shared, run.stats, run.averaged_entries, values);

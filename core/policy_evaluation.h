@@ -79,11 +79,9 @@ inline void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int
 // The same for row `cell` of `table`, in the table's precision.
 inline void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best,
                           int& second) {
-  if (table.precision() == QPrecision::kFloat) {
-    TopTwoActions(grid, cell, table.Row<float>(cell), best, second);
-  } else {
-    TopTwoActions(grid, cell, table.Row<double>(cell), best, second);
-  }
+  WithValueType(table.precision(), [&]<typename V>(V*) {
+    TopTwoActions(grid, cell, table.Row<V>(cell), best, second);
+  });
 }
 
 }  // namespace dynapath

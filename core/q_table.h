@@ -24,6 +24,17 @@ inline constexpr QPrecision kPrecisionOf = QPrecision::kFloat;
 template <>
 inline constexpr QPrecision kPrecisionOf<double> = QPrecision::kDouble;
 
+// Of a pair of float and double containers (a table's storage, a shard's
+// values, scratch), the one of value type V; const-ness follows the pair.
+template <typename V, typename Narrow, typename Wide>
+auto& OfValueType(Narrow& narrow, Wide& wide) {
+  if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
+    return narrow;
+  } else {
+    return wide;
+  }
+}
+
 class QTable {
  public:
   QTable() = default;
@@ -67,19 +78,13 @@ class QTable {
   // The storage of value type V, which must be the table's.
   template <typename V>
   std::vector<V>& Values() {
-    if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
-      return values();
-    } else {
-      return wide_values();
-    }
+    assert(precision_ == kPrecisionOf<V>);
+    return OfValueType<V>(values_, wide_values_);
   }
   template <typename V>
   const std::vector<V>& Values() const {
-    if constexpr (kPrecisionOf<V> == QPrecision::kFloat) {
-      return values();
-    } else {
-      return wide_values();
-    }
+    assert(precision_ == kPrecisionOf<V>);
+    return OfValueType<V>(values_, wide_values_);
   }
   template <typename V>
   V* Row(int cell) {

@@ -76,9 +76,7 @@ void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& ba
   batch.precision = PrecisionToWire(job.precision);
   const QTable& table = progress.table.cells() == 0 ? job.warm_start : progress.table;
   // An all-zero table (never trained) travels as nothing.
-  if (table.cells() != 0 && !table.AllZero()) PutTable(table, m);
-  m.num_values = static_cast<int32_t>(m.values.size());
-  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
+  if (table.cells() != 0 && !table.AllZero()) PutTable(table, m);  // else both counts stay 0
   m.attempts.assign(progress.attempts.begin(), progress.attempts.end());
   m.successes.assign(progress.successes.begin(), progress.successes.end());
   m.num_starts = static_cast<int32_t>(m.attempts.size());

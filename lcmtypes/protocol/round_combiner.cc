@@ -162,7 +162,7 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
     WithValueType(job.shared.precision(), [&]<typename V>(V*) {
       [[maybe_unused]] const Status combined = averagers_[j]->Combine(
           shards, job.shared, job.stats, job_round.entries,
-          ValuesOf<V>(job_round.values, job_round.wide_values));
+          OfValueType<V>(job_round.values, job_round.wide_values));
       assert(combined.ok());
     });
     result.push_back(std::move(job_round));
