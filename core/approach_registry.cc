@@ -14,10 +14,12 @@ DYNAPATH_APPROACHES(DYNAPATH_DECLARE_FACTORIES)
 
 namespace {
 
-// The "learner" column: no learner, or a LearnerKind enumerator.
+// The "learner" column: no learner, or a LearnerKind enumerator (one
+// constant per kind of core/training_job.h's list).
 constexpr std::optional<LearnerKind> kNoLearner = std::nullopt;
-constexpr std::optional<LearnerKind> kSingleAgent = LearnerKind::kSingleAgent;
-constexpr std::optional<LearnerKind> kFedAsynQ = LearnerKind::kFedAsynQ;
+#define DYNAPATH_LEARNER_COLUMN(kind) constexpr std::optional<LearnerKind> kind = LearnerKind::kind;
+DYNAPATH_LEARNER_KINDS(DYNAPATH_LEARNER_COLUMN)
+#undef DYNAPATH_LEARNER_COLUMN
 constexpr Averaging kEqual = Averaging::kEqual;
 constexpr Averaging kImportance = Averaging::kImportance;
 

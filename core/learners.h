@@ -9,8 +9,10 @@
 namespace dynapath {
 
 // Every learner kind (for the wire's round trip tests and listings).
-inline constexpr LearnerKind kAllLearnerKinds[] = {LearnerKind::kSingleAgent,
-                                                   LearnerKind::kFedAsynQ};
+#define DYNAPATH_LEARNER_KIND_VALUE(kind) LearnerKind::kind,
+inline constexpr LearnerKind kAllLearnerKinds[] = {
+    DYNAPATH_LEARNER_KINDS(DYNAPATH_LEARNER_KIND_VALUE)};
+#undef DYNAPATH_LEARNER_KIND_VALUE
 
 // Trains `job` whole with the learner of `job.kind`, in this thread.
 // `job` must pass CheckJob (core/training_job.h).

@@ -14,7 +14,15 @@
 
 namespace dynapath {
 
-enum class LearnerKind { kSingleAgent, kFedAsynQ };
+// THE list of learner kinds. The enum, kAllLearnerKinds (core/learners.h)
+// and the registry's learner column (core/approach_registry.cc) are expanded
+// from it, so none of them can miss a kind; what differs by kind is decided
+// by exhaustive switches (core/learners.h).
+#define DYNAPATH_LEARNER_KINDS(X) X(kSingleAgent) X(kFedAsynQ)
+
+#define DYNAPATH_LEARNER_KIND_ENUMERATOR(kind) kind,
+enum class LearnerKind { DYNAPATH_LEARNER_KINDS(DYNAPATH_LEARNER_KIND_ENUMERATOR) };
+#undef DYNAPATH_LEARNER_KIND_ENUMERATOR
 enum class Averaging { kEqual, kImportance };
 
 // Which actions of the next state the update's max_a' Q(s', a') ranges over.

@@ -21,6 +21,7 @@
 #include "dynapath/step_report_t.hpp"
 #include "envsim/command_line.h"
 #include "envsim/envsim.h"
+#include "launch/logger_drain.h"
 #include "launch/private_network.h"
 #include "lcmtypes/protocol/channels.h"
 #include "lcmtypes/protocol/dispatcher.h"
@@ -343,6 +344,14 @@ int LaunchProcesses(const DistributedRun& run) {
     for (const Child& child : children) any = any || (child.running && child.name != "lcm-logger");
     if (!any) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  for (const Child& child : children) {
+    if (child.running && child.name == "lcm-logger" &&
+        !WaitForLoggerToDrain(child.pid, run.log_file, std::chrono::milliseconds(300),
+                              std::chrono::milliseconds(5000))) {
+      spdlog::warn("lcm-logger still busy after 5 s; its last messages may be missing from {}",
+                   run.log_file);
+    }
   }
   StopAll(children, std::chrono::milliseconds(3000));
   if (!run.log_file.empty()) spdlog::info("recorded the run's messages in {}", run.log_file);

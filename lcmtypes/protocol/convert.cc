@@ -8,6 +8,24 @@
 
 namespace dynapath::protocol {
 
+namespace {
+
+// The enumerator of `all` whose wire value is `wire`.
+template <typename Enum, size_t N>
+std::optional<Enum> FromWire(int8_t wire, const Enum (&all)[N], int8_t (*to_wire)(Enum)) {
+  for (Enum value : all) {
+    if (to_wire(value) == wire) return value;
+  }
+  return std::nullopt;
+}
+
+constexpr QPrecision kAllPrecisions[] = {QPrecision::kFloat, QPrecision::kDouble};
+constexpr Bootstrap kAllBootstraps[] = {Bootstrap::kInGrid, Bootstrap::kInRegion,
+                                        Bootstrap::kAllStored};
+constexpr Averaging kAllAveragings[] = {Averaging::kEqual, Averaging::kImportance};
+
+}  // namespace
+
 int8_t LearnerKindToWire(LearnerKind kind) {
   switch (kind) {
     case LearnerKind::kSingleAgent:
@@ -19,10 +37,7 @@ int8_t LearnerKindToWire(LearnerKind kind) {
 }
 
 std::optional<LearnerKind> LearnerKindFromWire(int8_t wire) {
-  for (LearnerKind kind : kAllLearnerKinds) {
-    if (LearnerKindToWire(kind) == wire) return kind;
-  }
-  return std::nullopt;
+  return FromWire(wire, kAllLearnerKinds, &LearnerKindToWire);
 }
 
 int8_t PrecisionToWire(QPrecision precision) {
@@ -32,24 +47,49 @@ int8_t PrecisionToWire(QPrecision precision) {
     case QPrecision::kDouble:
       return job_batch_t::PRECISION_DOUBLE;
   }
-  std::abort();  // not an enumerator: a broken invariant, not input
+  std::abort();  // as above
 }
 
 std::optional<QPrecision> PrecisionFromWire(int8_t wire) {
-  for (QPrecision precision : {QPrecision::kFloat, QPrecision::kDouble}) {
-    if (PrecisionToWire(precision) == wire) return precision;
+  return FromWire(wire, kAllPrecisions, &PrecisionToWire);
+}
+
+// 0, 1, 2 as job_batch_t.lcm's comment says (it predates 2; the field is an
+// int8 either way, so the fingerprint is unchanged).
+int8_t BootstrapToWire(Bootstrap bootstrap) {
+  switch (bootstrap) {
+    case Bootstrap::kInGrid:
+      return 0;
+    case Bootstrap::kInRegion:
+      return 1;
+    case Bootstrap::kAllStored:
+      return 2;
   }
-  return std::nullopt;
+  std::abort();  // as above
+}
+
+std::optional<Bootstrap> BootstrapFromWire(int8_t wire) {
+  return FromWire(wire, kAllBootstraps, &BootstrapToWire);
+}
+
+int8_t AveragingToWire(Averaging averaging) {
+  switch (averaging) {
+    case Averaging::kEqual:
+      return 0;
+    case Averaging::kImportance:
+      return 1;
+  }
+  std::abort();  // as above
+}
+
+std::optional<Averaging> AveragingFromWire(int8_t wire) {
+  return FromWire(wire, kAllAveragings, &AveragingToWire);
 }
 
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
   batch.kind = LearnerKindToWire(config.kind);
-  // 0 in-grid, 1 in-region, 2 all stored (the .lcm comment predates 2; the
-  // field is an int8 either way, so the fingerprint is unchanged).
-  batch.bootstrap = static_cast<int8_t>(config.bootstrap == Bootstrap::kInGrid     ? 0
-                                        : config.bootstrap == Bootstrap::kInRegion ? 1
-                                                                                   : 2);
-  batch.averaging = config.federated.averaging == Averaging::kEqual ? 0 : 1;
+  batch.bootstrap = BootstrapToWire(config.bootstrap);
+  batch.averaging = AveragingToWire(config.federated.averaging);
   // Every option of core/learner_options.h to its field of the same name.
 #define DYNAPATH_SINGLE_AGENT_TO_WIRE(member, ...) batch.member = config.single_agent.member;
 #define DYNAPATH_FEDASYNQ_TO_WIRE(member, ...) batch.member = config.federated.member;
@@ -93,16 +133,25 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   job.codes.assign(m.codes.begin(), m.codes.end());
   job.grid_rows = m.grid_rows;
   job.grid_cols = m.grid_cols;
-  job.bootstrap = batch.bootstrap == 0   ? Bootstrap::kInGrid
-                  : batch.bootstrap == 1 ? Bootstrap::kInRegion
-                                         : Bootstrap::kAllStored;
-  // Validated: the precision is one of ours, and the table (if any) is of
-  // the batch's precision and the region's size.
-  job.precision = PrecisionFromWire(batch.precision).value_or(QPrecision::kFloat);
-  job.warm_start = GetTable(m, m.num_cells, job.precision).value_or(QTable(m.num_cells, job.precision));
+  // The header's enums: Validate has refused unknown values, and an
+  // unvalidated batch gets an error here, never a default.
+  const std::optional<LearnerKind> kind = LearnerKindFromWire(batch.kind);
+  const std::optional<Bootstrap> bootstrap = BootstrapFromWire(batch.bootstrap);
+  const std::optional<Averaging> averaging = AveragingFromWire(batch.averaging);
+  const std::optional<QPrecision> precision = PrecisionFromWire(batch.precision);
+  if (!kind || !bootstrap || !averaging || !precision) {
+    return Error{"job batch: unknown learner kind, bootstrap, averaging or table precision"};
+  }
+  job.kind = *kind;
+  job.bootstrap = *bootstrap;
+  job.federated.averaging = *averaging;
+  job.precision = *precision;
+  // No table (a never-trained region travels as nothing) means zeros;
+  // Validate has checked that a table present is of the batch's precision
+  // and the region's size.
+  job.warm_start =
+      GetTable(m, m.num_cells, job.precision).value_or(QTable(m.num_cells, job.precision));
   job.seed = static_cast<uint64_t>(m.seed);
-  // Validated: the kind is one of ours.
-  job.kind = LearnerKindFromWire(batch.kind).value_or(LearnerKind::kSingleAgent);
   // Every option of core/learner_options.h from its field of the same name.
 #define DYNAPATH_SINGLE_AGENT_FROM_WIRE(member, ...) job.single_agent.member = batch.member;
 #define DYNAPATH_FEDASYNQ_FROM_WIRE(member, ...) job.federated.member = batch.member;
@@ -110,7 +159,6 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_FROM_WIRE)
 #undef DYNAPATH_SINGLE_AGENT_FROM_WIRE
 #undef DYNAPATH_FEDASYNQ_FROM_WIRE
-  job.federated.averaging = batch.averaging == 0 ? Averaging::kEqual : Averaging::kImportance;
   if (Status checked = CheckJob(job); !checked) {
     return Error{"job " + std::to_string(index) + ": " + checked.error().message};
   }

@@ -28,10 +28,15 @@ struct JobProgress {
   std::vector<uint32_t> attempts, successes;  // empty: fresh statistics
 };
 
-// The wire's KIND_* of a learner kind, and back (nullopt: no learner has
-// that wire value).
-int8_t LearnerKindToWire(LearnerKind kind);
+// Each enum of a batch's header to its wire value, and back (nullopt: no
+// enumerator has that wire value). The ...ToWire functions are exhaustive
+// switches, so a new enumerator does not compile until it has a wire value.
+int8_t LearnerKindToWire(LearnerKind kind);  // job_batch_t::KIND_*
 std::optional<LearnerKind> LearnerKindFromWire(int8_t wire);
+int8_t BootstrapToWire(Bootstrap bootstrap);  // 0 in-grid, 1 in-region, 2 all stored
+std::optional<Bootstrap> BootstrapFromWire(int8_t wire);
+int8_t AveragingToWire(Averaging averaging);  // 0 equal, 1 importance
+std::optional<Averaging> AveragingFromWire(int8_t wire);
 
 // Fills the batch header (options) from `config`.
 void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch);
@@ -48,7 +53,7 @@ struct ReceivedJob {
 };
 Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index);
 
-// The wire's PRECISION_* of a table precision, and back (nullopt: unknown).
+// The wire's PRECISION_* of a table precision, and back (as above).
 int8_t PrecisionToWire(QPrecision precision);
 std::optional<QPrecision> PrecisionFromWire(int8_t wire);
 

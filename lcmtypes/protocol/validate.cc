@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/learner_options.h"
+#include "core/learners.h"
 #include "core/mdp.h"
 #include "lcmtypes/protocol/convert.h"
 #include "lcmtypes/protocol/fragments.h"
@@ -86,13 +87,14 @@ std::string Validate(const changes_t& m) {
 
 std::string Validate(const job_batch_t& m) {
   if (m.batch_id < 0 || m.epoch < 0) return "negative batch or epoch";
-  if (!LearnerKindFromWire(m.kind)) return "unknown learner kind";
-  if (m.bootstrap < 0 || m.bootstrap > 2 || m.averaging < 0 || m.averaging > 1) {
+  const std::optional<LearnerKind> kind = LearnerKindFromWire(m.kind);
+  if (!kind) return "unknown learner kind";
+  if (!BootstrapFromWire(m.bootstrap) || !AveragingFromWire(m.averaging)) {
     return "bad bootstrap or averaging";
   }
   const std::optional<QPrecision> precision = PrecisionFromWire(m.precision);
   if (!precision) return "unknown table precision";
-  // The ranges of core/learner_options.h.
+    // The ranges of core/learner_options.h.
 #define DYNAPATH_CHECK_OPTION(group, member, type, default_value, min, max) \
   if (!learner_option::InRange<type>(m.member, min, max)) return "bad " group " option " #member;
 #define DYNAPATH_CHECK_FEDASYNQ_OPTION(...) DYNAPATH_CHECK_OPTION("federated", __VA_ARGS__)
@@ -115,10 +117,10 @@ std::string Validate(const job_batch_t& m) {
     }
     if (!Codes(job.codes)) return "bad cell code";
     // The table travels in the batch's precision, or not at all (zeros).
-    const int32_t table_size = *precision == QPrecision::kFloat ? job.num_values
-                                                                : job.num_wide_values;
-    const int32_t other_size = *precision == QPrecision::kFloat ? job.num_wide_values
-                                                                : job.num_values;
+    const int32_t table_size =
+        *precision == QPrecision::kFloat ? job.num_values : job.num_wide_values;
+    const int32_t other_size =
+        *precision == QPrecision::kFloat ? job.num_wide_values : job.num_values;
     if (!Count(job.num_values, job.values.size()) ||
         !Count(job.num_wide_values, job.wide_values.size()) || other_size != 0 ||
         (table_size != 0 && Wide(table_size) != Wide(job.num_cells) * kNumActions)) {
@@ -145,6 +147,9 @@ std::string Validate(const job_batch_t& m) {
     if (m.item_learner[i] < -1 || m.item_learner[i] >= m.learners) {
       return "item learner out of range";
     }
+    // Only a learner that trains in rounds can be split over agents.
+    if (m.item_learner[i] >= 0 && !TrainsInRounds(*kind))
+      return "split item of a whole-job learner";
     if (m.item_agent[i] < 0) return "negative agent id";
   }
   return {};
@@ -165,8 +170,7 @@ std::string Validate(const shards_t& m) {
       return "shard entries malformed";
     }
     // One value per entry, all float or all double.
-    if (!Count(s.num_values, s.values.size()) ||
-        !Count(s.num_wide_values, s.wide_values.size()) ||
+    if (!Count(s.num_values, s.values.size()) || !Count(s.num_wide_values, s.wide_values.size()) ||
         (s.num_values != 0 && s.num_wide_values != 0) ||
         Wide(s.num_values) + Wide(s.num_wide_values) != Wide(s.num_entries)) {
       return "shard values malformed";
@@ -183,9 +187,9 @@ std::string Validate(const shards_t& m) {
 std::string Validate(const job_result_t& m) {
   if (m.batch_id < 0 || m.epoch < 0 || m.agent < 0 || m.job < 0) return "negative field";
   if (m.episodes_or_rounds < 0 || m.steps < 0) return "negative counts";
-  if (!Count(m.num_values, m.values.size()) ||
-      !Count(m.num_wide_values, m.wide_values.size()) || m.num_values % kNumActions != 0 ||
-      m.num_wide_values % kNumActions != 0 || (m.num_values != 0 && m.num_wide_values != 0)) {
+  if (!Count(m.num_values, m.values.size()) || !Count(m.num_wide_values, m.wide_values.size()) ||
+      m.num_values % kNumActions != 0 || m.num_wide_values % kNumActions != 0 ||
+      (m.num_values != 0 && m.num_wide_values != 0)) {
     return "table size mismatch";
   }
   if (!Finite(m.values) || !Finite(m.wide_values)) return "table not finite";
@@ -199,8 +203,8 @@ std::string Validate(const fragment_t& m) {
     return "bad fragment size";
   }
   if (m.group_size < 0 || m.group_size == 1) return "bad parity group size";
-  if (m.parity && (m.group_size == 0 || m.index >= ParityGroups(m.count, m.group_size) ||
-                   m.offset != 0)) {
+  if (m.parity &&
+      (m.group_size == 0 || m.index >= ParityGroups(m.count, m.group_size) || m.offset != 0)) {
     return "bad parity piece";
   }
   return {};

@@ -91,6 +91,56 @@ TEST(Validate, EveryLearnerKindTravelsAndNoOtherIsAccepted) {
   EXPECT_EQ(Validate(batch), "unknown learner kind");
 }
 
+TEST(Validate, EveryBootstrapAndAveragingTravelsAndNoOtherIsAccepted) {
+  job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+  for (Bootstrap bootstrap : {Bootstrap::kInGrid, Bootstrap::kInRegion, Bootstrap::kAllStored}) {
+    for (Averaging averaging : {Averaging::kEqual, Averaging::kImportance}) {
+      LearnerConfig config;
+      config.bootstrap = bootstrap;
+      config.federated.averaging = averaging;
+      SetBatchOptions(config, batch);
+      ASSERT_EQ(Validate(batch), "");
+      Result<ReceivedJob> received = JobFromBatch(batch, 0);
+      ASSERT_TRUE(received.ok()) << received.error().message;
+      EXPECT_EQ(received->job.bootstrap, bootstrap);
+      EXPECT_EQ(received->job.federated.averaging, averaging);
+    }
+  }
+  job_batch_t bad = batch;
+  bad.bootstrap = 3;
+  EXPECT_EQ(Validate(bad), "bad bootstrap or averaging");
+  bad = batch;
+  bad.averaging = 2;
+  EXPECT_EQ(Validate(bad), "bad bootstrap or averaging");
+}
+
+TEST(Validate, UnvalidatedHeaderEnumsAreAnErrorNotADefault) {
+  // JobFromBatch never guesses: a value Validate would refuse is an error
+  // there too (it used to fall back to single-agent / float).
+  for (auto spoil :
+       {+[](job_batch_t& b) { b.kind = 9; }, +[](job_batch_t& b) { b.bootstrap = -1; },
+        +[](job_batch_t& b) { b.averaging = 7; }, +[](job_batch_t& b) { b.precision = 5; }}) {
+    job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+    spoil(batch);
+    EXPECT_NE(Validate(batch), "");
+    EXPECT_FALSE(JobFromBatch(batch, 0).ok());
+  }
+}
+
+TEST(Validate, OnlyALearnerThatTrainsInRoundsIsSplit) {
+  job_batch_t batch = BatchWithJob(0, 1, 0, 2);
+  batch.num_items = 1;
+  batch.item_job = {0};
+  batch.item_learner = {0};  // learner 0 of job 0: a split item
+  batch.item_agent = {1};
+  batch.kind = LearnerKindToWire(LearnerKind::kFedAsynQ);
+  EXPECT_EQ(Validate(batch), "");
+  batch.kind = LearnerKindToWire(LearnerKind::kSingleAgent);
+  EXPECT_EQ(Validate(batch), "split item of a whole-job learner");
+  batch.item_learner = {-1};  // the whole job
+  EXPECT_EQ(Validate(batch), "");
+}
+
 TEST(Validate, EveryLearnerOptionOutsideItsRangeIsNamed) {
   job_batch_t good = BatchWithJob(0, 1, 0, 2);
   SetBatchOptions(LearnerConfig{}, good);  // the defaults are in range

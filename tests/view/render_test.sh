@@ -47,6 +47,19 @@ done
   pass "--cell 8 gives 160x186 frames" || fail "--cell 8: $("$info" "$work/small/A_Oracle/step_0000.png")"
 [ ! -e "$work/small/A_Oracle/policy.gif" ] && pass "--no-gif writes no GIF" || fail "--no-gif wrote a GIF"
 
+# 3b. A non-square MovingAI map (5 rows, 9 columns): frames 9 cells wide and
+# 5 high (16 px each) under a one-line header of 26 px, as its own GIF.
+map="$(dirname "$0")/../data/maps/wide-5-9.map"
+"$dynapath" netns -- "$dynapath" run --agents 1 --maze "$map" --stations 2 --movers 20% --seed 5 \
+  --approach "fedAsynQ_EqAvg" --steps 3 --log "$work/map.lcm" --out "$work/map_out" \
+  --log-level warn >/dev/null 2>"$work/map_run.log" || { cat "$work/map_run.log"; fail "logged map run"; }
+"$render" "$work/map.lcm" --out "$work/map_frames" --log-level warn || fail "render of a map run"
+map_sizes=$(for f in "$work/map_frames/fedAsynQ_EqAvg"/step_*.png; do "$info" "$f" || echo invalid; done | sort | uniq -c | tr -s ' ')
+[ "$map_sizes" = " 4 png 144 106" ] && pass "map run: 4 frames of 144x106 (9x5 cells)" ||
+  fail "map run frames: '$map_sizes'"
+[ "$("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")" = "gif 144 106 4" ] &&
+  pass "map run: GIF of 4 frames, 144x106" || fail "map run GIF: $("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")"
+
 # 4. Bad input: one line on stderr, exit 2 for usage, 1 for bad files.
 expect() {  # CODE WHAT CMD...
   local code=$1 what=$2

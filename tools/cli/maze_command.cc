@@ -85,7 +85,7 @@ int MazeCommand(const std::vector<std::string>& args) {
   std::printf("cells:           %d free, %d obstacles, %d stations\n", grid.Count(Cell::kFree),
               grid.Count(Cell::kObstacle), grid.Count(Cell::kStation));
   std::printf(
-      "quadtree:        %d levels, %d nodes, %d leaves (%d without a station), leaf limit %lld\n",
+      "quadtree:        %d levels, %d nodes, %d leaves (%d without a station), leaf limit %d\n",
       tree.level_count(), tree.node_count(), static_cast<int>(tree.leaves().size()),
       leaves_without_station, *leaf_limit);
   std::printf("optimum, step 0: success rate %g, average path length %g (%d of %d starts)\n",
