@@ -38,8 +38,8 @@ void AddQueued(const std::string& table, const std::set<unsigned long>& inodes, 
     std::istringstream row(line);
     std::string sl, local, remote, state, queues, timer, retransmits, uid, timeout;
     unsigned long inode = 0;
-    if (!(row >> sl >> local >> remote >> state >> queues >> timer >> retransmits >> uid >> timeout >>
-          inode)) {
+    if (!(row >> sl >> local >> remote >> state >> queues >> timer >> retransmits >> uid >>
+          timeout >> inode)) {
       continue;
     }
     if (inodes.count(inode) == 0) continue;
