@@ -76,16 +76,21 @@ Result<std::vector<int>> ParseStationsFile(std::string_view bytes, const Grid& g
     pos = end == std::string_view::npos ? bytes.size() : end + 1;
     ++number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    // Spaces and tabs separate and surround the two numbers, in any amount.
+    auto blank = [](char c) { return c == ' ' || c == '\t'; };
+    while (!line.empty() && blank(line.front())) line.remove_prefix(1);
+    while (!line.empty() && blank(line.back())) line.remove_suffix(1);
     if (line.empty() || line[0] == '#') continue;
     const std::string where = "line " + std::to_string(number) + ": ";
     int row = 0, col = 0;
-    const char* p = line.data();
     const char* stop = line.data() + line.size();
-    auto [after_row, e1] = std::from_chars(p, stop, row);
-    if (e1 != std::errc{} || after_row == stop || *after_row != ' ') {
+    auto [after_row, e1] = std::from_chars(line.data(), stop, row);
+    if (e1 != std::errc{} || after_row == stop || !blank(*after_row)) {
       return Error{where + "expected 'row col'"};
     }
-    auto [after_col, e2] = std::from_chars(after_row + 1, stop, col);
+    const char* col_start = after_row;
+    while (col_start != stop && blank(*col_start)) ++col_start;
+    auto [after_col, e2] = std::from_chars(col_start, stop, col);
     if (e2 != std::errc{} || after_col != stop) return Error{where + "expected 'row col'"};
     if (!grid.InBounds(row, col)) {
       return Error{where + "(" + std::to_string(row) + ", " + std::to_string(col) +

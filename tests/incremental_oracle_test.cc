@@ -9,6 +9,7 @@
 #include "core/bfs_oracle.h"
 #include "core/experiment.h"
 #include "core/local_trainer.h"
+#include "core/map_scenario.h"
 #include "core/scenario.h"
 #include "core/thread_pool.h"
 #include "tests/grid_test_support.h"
@@ -121,6 +122,40 @@ TEST(IncrementalOracleTest, SameFiguresAsBfsOracleOnReportScenarios) {
     ASSERT_EQ(bfs.steps.size(), incremental.steps.size());
     for (size_t t = 0; t < bfs.steps.size(); ++t) {
       EXPECT_EQ(bfs.steps[t].success_rate, incremental.steps[t].success_rate) << t;
+      EXPECT_EQ(bfs.steps[t].average_path_length, incremental.steps[t].average_path_length) << t;
+    }
+  }
+}
+
+// A rectangular map with static walls, where only movers move (issue 11):
+// the same figures as the BFS Oracle at every step.
+TEST(IncrementalOracleTest, SameFiguresAsBfsOracleOnARectangularMapWithMovers) {
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  for (const auto& [rows, cols, seed] : {std::tuple{23, 61, 3u}, std::tuple{57, 9, 8u}}) {
+    Grid grid(rows, cols);
+    for (int r = 2; r < rows; r += 4) {
+      for (int c = 0; c < cols; ++c) {
+        if ((c + r) % 7 != 0) grid.set(r, c, Cell::kObstacle);  // walls with gaps
+      }
+    }
+    CRandom random(seed);
+    ASSERT_TRUE(PlaceOnFreeCells(grid, 4, Cell::kStation, random).ok());
+    Result<std::vector<int>> movers =
+        PlaceOnFreeCells(grid, rows * cols / 20, Cell::kObstacle, random);
+    ASSERT_TRUE(movers.ok());
+    Scenario scenario{grid, GenerateMoverChanges(grid, *movers, 40, random)};
+    const ApproachRun bfs =
+        RunApproach(scenario, Approach::kBfsOracle, PlannerOptions{}, &trainer, {"x", "y"});
+    const ApproachRun incremental =
+        RunApproach(scenario, Approach::kIncrementalOracle, PlannerOptions{}, &trainer, {"x", "y"});
+    ASSERT_EQ(bfs.steps.size(), 41u);
+    EXPECT_GT(bfs.steps[0].success_rate, 0.0);  // the stations are reachable
+    EXPECT_NE(bfs.steps.front().average_path_length, bfs.steps.back().average_path_length);
+    ASSERT_EQ(bfs.steps.size(), incremental.steps.size());
+    for (size_t t = 0; t < bfs.steps.size(); ++t) {
+      EXPECT_EQ(bfs.steps[t].success_rate, incremental.steps[t].success_rate)
+          << rows << "x" << cols << " " << t;
       EXPECT_EQ(bfs.steps[t].average_path_length, incremental.steps[t].average_path_length) << t;
     }
   }

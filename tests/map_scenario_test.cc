@@ -48,12 +48,19 @@ TEST(MapScenarioTest, StationsFile) {
   Result<std::vector<int>> ok = ParseStationsFile("# stations\n0 0\r\n\n3 5\n", grid);
   ASSERT_TRUE(ok.ok()) << ok.error().message;
   EXPECT_EQ(*ok, (std::vector<int>{0, 23}));
+  // Any spaces and tabs around and between the numbers; indented comments.
+  Result<std::vector<int>> spaced =
+      ParseStationsFile("  # indented\n\t0\t 0  \n3   5\t\r\n \t\n", grid);
+  ASSERT_TRUE(spaced.ok()) << spaced.error().message;
+  EXPECT_EQ(*spaced, (std::vector<int>{0, 23}));
   const struct {
     const char* text;
     const char* error;
   } cases[] = {{"", "no station"},
                {"0\n", "line 1: expected 'row col'"},
                {"0 0 0\n", "line 1: expected 'row col'"},
+               {"0\t\n", "line 1: expected 'row col'"},
+               {"0,1\n", "line 1: expected 'row col'"},
                {"1 x\n", "line 1: expected 'row col'"},
                {"\n4 0\n", "line 2: (4, 0) is outside the 4x6 map"},
                {"2 3\n", "line 1: (2, 3) is an obstacle"},
