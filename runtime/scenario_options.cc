@@ -132,6 +132,22 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
   return setup;
 }
 
+// --stations N|P% on a loaded maze. A MovingAI map has no stations of its
+// own, so there a count that places none (0, 0%, a percentage rounding to
+// no cell) is an error of its own rather than "the map has no stations".
+Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom& random) {
+  Result<CellCount> count = ParseCellCount(text);
+  if (!count) return Error{"option --stations: " + count.error().message};
+  const int cells = count->Resolve(grid.Count(Cell::kFree));
+  if (movingai && cells == 0) {
+    return Error{"option --stations must place at least 1 station on a MovingAI map, got '" +
+                 text + "' (" + std::to_string(grid.Count(Cell::kFree)) + " free cells)"};
+  }
+  Result<std::vector<int>> placed = PlaceOnFreeCells(grid, cells, Cell::kStation, random);
+  if (!placed) return Error{"option --stations: " + placed.error().message};
+  return Ok{};
+}
+
 // Stations and movers of a loaded maze (issue 11), drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
 Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& random,
@@ -144,11 +160,7 @@ Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& 
     if (!stations) return stations.error();
     for (int cell : *stations) grid.set(cell, Cell::kStation);
   } else if (o.stations) {
-    Result<CellCount> count = ParseCellCount(*o.stations);
-    if (!count) return Error{"option --stations: " + count.error().message};
-    Result<std::vector<int>> placed =
-        PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kStation, random);
-    if (!placed) return Error{"option --stations: " + placed.error().message};
+    if (Status placed = PlaceStations(*o.stations, movingai, grid, random); !placed) return placed;
   }
   // A text maze without stations stays allowed (nothing reaches a station),
   // as before; a map without them is almost surely a forgotten option.
