@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "agent/agent.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
@@ -15,7 +16,7 @@ struct AgentCommandLine {
   runtime::ProcessOptions process;
   std::optional<long long> id;
   runtime::ThreadOptions threads;
-  runtime::WaitOptions wait;
+  runtime::WaitOptions wait{AgentOptions{}.startup_timeout_seconds};  // an embedded agent's
   runtime::LogOptions log;
 };
 void DeclareAgentCommandLine(runtime::OptionGroup& group, AgentCommandLine& options);

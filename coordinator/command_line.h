@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "coordinator/coordinator.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
@@ -12,12 +13,13 @@
 
 namespace dynapath::coordinator {
 
+// Defaults are CoordinatorOptions' (what an embedded run uses).
 struct CoordinatorCommandLine {
   runtime::ProcessOptions process;
   runtime::RunOptions run;
-  long long agents = 1;
-  runtime::WaitOptions wait;
-  long long give_up = 60;
+  long long agents = CoordinatorOptions{}.min_agents;
+  runtime::WaitOptions wait{CoordinatorOptions{}.agent_wait_seconds};
+  long long give_up = static_cast<long long>(CoordinatorOptions{}.give_up_seconds);
   runtime::LogOptions log;
 };
 void DeclareCoordinatorCommandLine(runtime::OptionGroup& group, CoordinatorCommandLine& options);

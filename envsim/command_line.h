@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "envsim/envsim.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
@@ -14,8 +15,9 @@ namespace dynapath::envsim {
 struct EnvSimCommandLine {
   runtime::ProcessOptions process;
   runtime::ScenarioOptions scenario;
-  double hz = 0.0;  // 0: lock-step
-  runtime::WaitOptions wait;
+  // Defaults are EnvSimOptions' (what an embedded run uses).
+  double hz = EnvSimOptions{}.hz;
+  runtime::WaitOptions wait{EnvSimOptions{}.startup_timeout_seconds};
   runtime::LogOptions log;
 };
 void DeclareEnvSimCommandLine(runtime::OptionGroup& group, EnvSimCommandLine& options);

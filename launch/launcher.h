@@ -28,7 +28,7 @@ struct DistributedRun {
   int threads_per_agent = 1;
   runtime::ScenarioOptions scenario;  // envsim's
   runtime::RunOptions run;            // the coordinator's
-  std::string log_level = "info";
+  std::string log_level = runtime::LogOptions{}.log_level;
   std::string log_file;  // --log: record with lcm-logger
   bool private_network = true;
   // Optional: called with the coordinator's step reports (its REPORT

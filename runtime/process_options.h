@@ -72,8 +72,12 @@ struct RunMode {
 Result<RunMode> ResolveMode(const ModeOptions& options, long long max_agents);
 
 // --wait: how long a process waits for the others of its run to appear.
+// Its default is the process library's own (CoordinatorOptions,
+// AgentOptions, EnvSimOptions: what an embedded run uses), handed in by
+// each process's command line, so the two cannot differ.
 struct WaitOptions {
-  long long wait = 60;
+  explicit WaitOptions(double default_seconds) : wait(static_cast<long long>(default_seconds)) {}
+  long long wait;
 };
 void DeclareWaitOptions(OptionGroup& group, WaitOptions& options);
 Result<double> ResolveWaitSeconds(const WaitOptions& options);

@@ -46,20 +46,29 @@ void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
   group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
 }
 
-Status CheckBootstrap(const std::string& text) {
-  if (text == "in-grid" || text == "in-region") return Ok{};
-  return Error{"must be in-grid or in-region, got '" + text + "'"};
+const WordTable<Bootstrap>& BootstrapWords() {
+  // kAllStored is the report semantics' own, not an option.
+  static const WordTable<Bootstrap> words(
+      {{"in-grid", Bootstrap::kInGrid}, {"in-region", Bootstrap::kInRegion}});
+  return words;
 }
 
-Status CheckSemantics(const std::string& text) {
-  if (text == "ours" || text == "report") return Ok{};
-  return Error{"must be ours or report, got '" + text + "'"};
+const WordTable<Semantics>& SemanticsWords() {
+  static const WordTable<Semantics> words(
+      {{"ours", Semantics::kOurs}, {"report", Semantics::kReport}});
+  return words;
 }
 
-Status CheckPlacement(const std::string& text) {
-  if (text == "auto" || text == "whole" || text == "split") return Ok{};
-  return Error{"must be auto, whole or split, got '" + text + "'"};
+const WordTable<Placement>& PlacementWords() {
+  static const WordTable<Placement> words({{"auto", Placement::kAuto},
+                                           {"whole", Placement::kWhole},
+                                           {"split", Placement::kSplit}});
+  return words;
 }
+
+Status CheckBootstrap(const std::string& text) { return BootstrapWords().Check(text); }
+Status CheckSemantics(const std::string& text) { return SemanticsWords().Check(text); }
+Status CheckPlacement(const std::string& text) { return PlacementWords().Check(text); }
 
 Result<int> ResolveLeafLimit(long long leaf_limit) {
   Result<long long> checked = InRange("leaf-limit", leaf_limit, 0, 1, kMaxLeafLimit);
@@ -70,16 +79,18 @@ Result<int> ResolveLeafLimit(long long leaf_limit) {
 void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   DeclareLeafLimitOption(group, o.leaf_limit);
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
-               "actions the Q-update's max ranges over: in-grid or in-region (docs/DECISIONS.md)");
+               "actions the Q-update's max ranges over: " + BootstrapWords().List() +
+                   " (docs/DECISIONS.md)");
   group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: ours, or report (the report code's bootstrap, first "
-               "training, replay buffer and double Q-tables; docs/DECISIONS.md)");
+               "learning semantics: " + SemanticsWords().List() +
+                   " (report: the report code's bootstrap, first training, replay buffer and "
+                   "double Q-tables; docs/DECISIONS.md)");
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
   group.Option("--placement", o.placement, "MODE",
-               "distributed runs: auto, whole or split (docs/DISTRIBUTED.md, Placement; results "
-               "are the same)");
+               "distributed runs: " + PlacementWords().List() +
+                   " (docs/DISTRIBUTED.md, Placement; results are the same)");
 }
 
 void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
@@ -98,28 +109,21 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   Result<int> leaf_limit = ResolveLeafLimit(o.leaf_limit);
   if (!leaf_limit) return leaf_limit.error();
   plan.options.leaf_limit = *leaf_limit;
-  const std::string& bootstrap = o.bootstrap;
-  if (Status status = CheckBootstrap(bootstrap); !status) {
-    return Error{"option --bootstrap " + status.error().message};
-  }
-  plan.options.bootstrap = bootstrap == "in-grid" ? Bootstrap::kInGrid : Bootstrap::kInRegion;
-  const std::string& semantics = o.semantics;
-  if (Status status = CheckSemantics(semantics); !status) {
-    return Error{"option --semantics " + status.error().message};
-  }
-  plan.options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
-  if (plan.options.semantics == Semantics::kReport && bootstrap != "in-grid") {
+  Result<Bootstrap> bootstrap = BootstrapWords().ParseOption("bootstrap", o.bootstrap);
+  if (!bootstrap) return bootstrap.error();
+  plan.options.bootstrap = *bootstrap;
+  Result<Semantics> semantics = SemanticsWords().ParseOption("semantics", o.semantics);
+  if (!semantics) return semantics.error();
+  plan.options.semantics = *semantics;
+  // The report's semantics bootstrap over all stored values (kAllStored).
+  if (*semantics == Semantics::kReport && *bootstrap != PlannerOptions{}.bootstrap) {
     return Error{"option --semantics report sets the bootstrap itself; leave --bootstrap out"};
   }
   plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
-  const std::string& placement = o.placement;
-  if (Status status = CheckPlacement(placement); !status) {
-    return Error{"option --placement " + status.error().message};
-  }
-  plan.placement = placement == "auto"    ? Placement::kAuto
-                   : placement == "whole" ? Placement::kWhole
-                                          : Placement::kSplit;
+  Result<Placement> placement = PlacementWords().ParseOption("placement", o.placement);
+  if (!placement) return placement.error();
+  plan.placement = *placement;
   return plan;
 }
 

@@ -11,6 +11,7 @@
 #include "core/results_csv.h"
 #include "runtime/option_group.h"
 #include "runtime/scenario_options.h"
+#include "runtime/word_table.h"
 
 namespace dynapath::runtime {
 
@@ -29,14 +30,21 @@ struct RunPlan {
   Placement placement = Placement::kAuto;
 };
 
-// The options of a run plan as given; ResolveRunOptions checks them.
+// The words of --bootstrap, --semantics and --placement (also a study
+// file's keys), each written once: help texts, checks and parses read them.
+const WordTable<Bootstrap>& BootstrapWords();
+const WordTable<Semantics>& SemanticsWords();
+const WordTable<Placement>& PlacementWords();
+
+// The options of a run plan as given; ResolveRunOptions checks them. Their
+// defaults are the run plan's and the planner's own, as words.
 struct RunOptions {
   std::string approach = "all";
-  std::string out = "results";
-  long long leaf_limit = QuadTree::kDefaultLeafLimit;
-  std::string bootstrap = "in-grid";
-  std::string semantics = "ours";
-  std::string placement = "auto";
+  std::string out = RunPlan{}.out_dir;
+  long long leaf_limit = PlannerOptions{}.leaf_limit;
+  std::string bootstrap = BootstrapWords().Name(PlannerOptions{}.bootstrap);
+  std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
+  std::string placement = PlacementWords().Name(RunPlan{}.placement);
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that

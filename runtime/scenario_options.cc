@@ -10,13 +10,27 @@
 #include "core/limits.h"
 #include "core/map_scenario.h"
 #include "core/movingai_map.h"
+#include "core/text_util.h"
 #include "lcmtypes/protocol/log_scenario.h"
 
 namespace dynapath::runtime {
 
 namespace {
 constexpr long long kDefaultSize = 20;
+constexpr Difficulty kDefaultDifficulty = Difficulty::kEasy;
 }  // namespace
+
+const WordTable<Difficulty>& DifficultyWords() {
+  // The result files' names ("Easy") in lower case, so the two cannot drift.
+  static const WordTable<Difficulty> words = [] {
+    std::vector<WordTable<Difficulty>::Word> list;
+    for (Difficulty difficulty : {Difficulty::kEasy, Difficulty::kMedium, Difficulty::kHard}) {
+      list.push_back({ToLower(DifficultyName(difficulty)), difficulty});
+    }
+    return WordTable<Difficulty>(std::move(list), WordTable<Difficulty>::Case::kIgnored);
+  }();
+  return words;
+}
 
 // "warehouse-10-20-10-2-1" for ".../warehouse-10-20-10-2-1.map": the file's
 // name without ".map", with characters that would break a CSV field replaced.
@@ -50,7 +64,8 @@ void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
   group.Option("--size", o.size, "N", "maze rows (and columns unless --cols)",
                std::to_string(kDefaultSize));
   group.Option("--cols", o.cols, "M", "maze columns, for rectangular mazes", "--size");
-  group.Option("--difficulty", o.difficulty, "D", "easy, medium or hard", "easy");
+  group.Option("--difficulty", o.difficulty, "D", DifficultyWords().List(),
+               DifficultyWords().Name(kDefaultDifficulty));
   DeclareSeedAndStepsOptions(group, o.seed, o.steps);
   group.Option("--maze", o.maze, "FILE",
                "load the maze from a file instead: a MovingAI map (.map, walls never move) "
@@ -117,6 +132,22 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
   return setup;
 }
 
+// --stations N|P% on a loaded maze. A MovingAI map has no stations of its
+// own, so there a count that places none (0, 0%, a percentage rounding to
+// no cell) is an error of its own rather than "the map has no stations".
+Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom& random) {
+  Result<CellCount> count = ParseCellCount(text);
+  if (!count) return Error{"option --stations: " + count.error().message};
+  const int cells = count->Resolve(grid.Count(Cell::kFree));
+  if (movingai && cells == 0) {
+    return Error{"option --stations must place at least 1 station on a MovingAI map, got '" +
+                 text + "' (" + std::to_string(grid.Count(Cell::kFree)) + " free cells)"};
+  }
+  Result<std::vector<int>> placed = PlaceOnFreeCells(grid, cells, Cell::kStation, random);
+  if (!placed) return Error{"option --stations: " + placed.error().message};
+  return Ok{};
+}
+
 // Stations and movers of a loaded maze (issue 11), drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
 Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& random,
@@ -129,11 +160,7 @@ Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& 
     if (!stations) return stations.error();
     for (int cell : *stations) grid.set(cell, Cell::kStation);
   } else if (o.stations) {
-    Result<CellCount> count = ParseCellCount(*o.stations);
-    if (!count) return Error{"option --stations: " + count.error().message};
-    Result<std::vector<int>> placed =
-        PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kStation, random);
-    if (!placed) return Error{"option --stations: " + placed.error().message};
+    if (Status placed = PlaceStations(*o.stations, movingai, grid, random); !placed) return placed;
   }
   // A text maze without stations stays allowed (nothing reaches a station),
   // as before; a map without them is almost surely a forgotten option.
@@ -160,13 +187,9 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
   if (o.replay) return ReplayScenario(o);
   constexpr long long kMaxSide = kMaxGridSide;
   ScenarioSetup setup;
-  std::optional<Difficulty> difficulty = Difficulty::kEasy;
-  if (o.difficulty) {
-    difficulty = ParseDifficulty(*o.difficulty);
-    if (!difficulty) {
-      return Error{"option --difficulty must be easy, medium or hard, got '" + *o.difficulty + "'"};
-    }
-  }
+  Result<Difficulty> difficulty = kDefaultDifficulty;
+  if (o.difficulty) difficulty = DifficultyWords().ParseOption("difficulty", *o.difficulty);
+  if (!difficulty) return difficulty.error();
   Result<long long> seed = InRange("seed", o.seed, ReportSeed(*difficulty), 0, kMaxSeed);
   if (!seed) return seed.error();
   setup.seed = static_cast<uint64_t>(*seed);
@@ -243,22 +266,33 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
   return setup;
 }
 
-void DeclareLogOptions(OptionGroup& group, LogOptions& options) {
-  group.Option("--log-level", options.log_level, "LEVEL", "trace, debug, info, warn, error or off");
+const WordTable<spdlog::level::level_enum>& LogLevelWords() {
+  using namespace spdlog::level;
+  // spdlog::level::from_str's spellings; its long and short aliases stay
+  // accepted without being offered.
+  static const WordTable<level_enum> words({{"trace", trace},
+                                            {"debug", debug},
+                                            {"info", info},
+                                            {"warn", warn},
+                                            {"error", err},
+                                            {"off", off},
+                                            {"warning", warn, false},
+                                            {"err", err, false},
+                                            {"critical", critical, false}});
+  return words;
 }
 
-Status CheckLogLevel(const std::string& text) {
-  if (spdlog::level::from_str(text) == spdlog::level::off && text != "off") {
-    return Error{"must be trace, debug, info, warn, error or off, got '" + text + "'"};
-  }
-  return Ok{};
+void DeclareLogOptions(OptionGroup& group, LogOptions& options) {
+  group.Option("--log-level", options.log_level, "LEVEL", LogLevelWords().List());
 }
+
+Status CheckLogLevel(const std::string& text) { return LogLevelWords().Check(text); }
 
 Status ApplyLogLevel(const LogOptions& options) {
-  if (Status status = CheckLogLevel(options.log_level); !status) {
-    return Error{"option --log-level " + status.error().message};
-  }
-  spdlog::set_level(spdlog::level::from_str(options.log_level));
+  Result<spdlog::level::level_enum> level =
+      LogLevelWords().ParseOption("log-level", options.log_level);
+  if (!level) return level.error();
+  spdlog::set_level(*level);
   return Ok{};
 }
 

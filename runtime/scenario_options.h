@@ -2,6 +2,8 @@
 // The options that choose a maze and its change sequence, shared by
 // `dynapath maze` and `dynapath run`.
 
+#include <spdlog/common.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,6 +11,7 @@
 #include "core/experiment.h"
 #include "core/scenario.h"
 #include "runtime/option_group.h"
+#include "runtime/word_table.h"
 
 namespace dynapath::runtime {
 
@@ -27,6 +30,8 @@ struct ScenarioOptions {
   bool allow_unreachable = false;
 };
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
+// The words of --difficulty, any case (the result files' names, lower case).
+const WordTable<Difficulty>& DifficultyWords();
 // Bounds of --seed (the C-library stream's 32-bit seed) and --steps, for
 // every command that takes them.
 inline constexpr long long kMaxSeed = 4294967295LL;
@@ -43,9 +48,11 @@ void DeclareSeedAndStepsOptions(OptionGroup& group, std::optional<long long>& se
                                 std::optional<long long>& steps);
 Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& options);
 
+// The words of --log-level: spdlog's names, of which the help lists six.
+const WordTable<spdlog::level::level_enum>& LogLevelWords();
 // --log-level, which sets spdlog's level.
 struct LogOptions {
-  std::string log_level = "info";
+  std::string log_level = LogLevelWords().Name(spdlog::level::info);
 };
 void DeclareLogOptions(OptionGroup& group, LogOptions& options);
 Status ApplyLogLevel(const LogOptions& options);

@@ -99,6 +99,9 @@ map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
     || fail "'$*' exited $code: $(cat "$work/err")"
 }
 map_error "has no stations" --maze "$map"
+# Issue 11: a count that places no station is named as such.
+map_error "option --stations must place at least 1 station" --maze "$map" --stations 0
+map_error "option --stations must place at least 1 station" --maze "$map" --stations 0%
 map_error "for loaded maps" --size 10 --movers 3
 map_error "option --movers" --maze "$map" --stations 2 --movers 1000
 printf 'type octile\nheight 2\nwidth 2\nmap\n..\n.?\n' >"$work/bad.map"

@@ -26,6 +26,7 @@ HOMONYMS = {
     "--run-id": (2, "the run a process belongs to; the run render and view show"),
     "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
     "--config": (2, "a CLI11 config file (run, the processes); experiment's TOML study file, read by toml++"),
+    "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
 }
 
 # The commands: how to run each one's --help, relative to the build directory.
@@ -34,11 +35,14 @@ COMMANDS = [
     ("dynapath run", ["tools/dynapath", "run"]),
     ("dynapath experiment", ["tools/dynapath", "experiment"]),
     ("dynapath secret", ["tools/dynapath", "secret"]),
+    ("dynapath netns", ["tools/dynapath", "netns"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),
     ("dynapath-coordinator", ["coordinator/dynapath-coordinator"]),
     ("dynapath-agent", ["agent/dynapath-agent"]),
+    # Built only with libnetfilter-queue (tools/CMakeLists.txt).
+    ("dynapath-lan-delay", ["tools/dynapath-lan-delay"]),
 ]
 
 DECLARATION = re.compile(

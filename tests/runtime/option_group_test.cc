@@ -190,5 +190,37 @@ TEST(OptionKindsTest, TheDeclarationRecordsEachKind) {
   EXPECT_EQ(kinds.at("leaf-limit"), ValueKind::kInteger);
 }
 
+// Issue 10: an enum option's words are one table; its list, check, parse
+// and default word come from it, with the case rules the options had.
+TEST(WordTableTest, ListCheckAndParseComeFromOneTable) {
+  EXPECT_EQ(PlacementWords().List(), "auto, whole or split");
+  EXPECT_EQ(CheckPlacement("whole").ok(), true);
+  EXPECT_EQ(CheckPlacement("x").error().message, "must be auto, whole or split, got 'x'");
+  EXPECT_EQ(CheckBootstrap("In-grid").error().message,
+            "must be in-grid or in-region, got 'In-grid'");  // exact case
+  EXPECT_EQ(SemanticsWords().Parse("report"), Semantics::kReport);
+  Result<Placement> bad = PlacementWords().ParseOption("placement", "none");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message, "option --placement must be auto, whole or split, got 'none'");
+}
+
+TEST(WordTableTest, DifficultyIgnoresCaseAndLogLevelKeepsSpdlogAliases) {
+  EXPECT_EQ(DifficultyWords().Parse("HaRd"), Difficulty::kHard);
+  EXPECT_EQ(DifficultyWords().List(), "easy, medium or hard");
+  EXPECT_EQ(CheckLogLevel("x").error().message,
+            "must be trace, debug, info, warn, error or off, got 'x'");
+  for (const char* alias : {"warning", "err", "critical"}) EXPECT_TRUE(CheckLogLevel(alias).ok());
+  EXPECT_FALSE(CheckLogLevel("Info").ok());
+}
+
+TEST(WordTableTest, DefaultsAreTheLibrariesValuesAsWords) {
+  const RunOptions run;
+  EXPECT_EQ(run.bootstrap, "in-grid");
+  EXPECT_EQ(run.semantics, "ours");
+  EXPECT_EQ(run.placement, "auto");
+  EXPECT_EQ(run.out, "results");
+  EXPECT_EQ(LogOptions{}.log_level, "info");
+}
+
 }  // namespace
 }  // namespace dynapath::runtime

@@ -33,6 +33,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/option_group.h"
+
 namespace {
 
 volatile sig_atomic_t g_stop = 0;
@@ -63,19 +65,31 @@ int64_t NowUs() {
       .count();
 }
 
-int Usage(const char* message) {
-  std::fprintf(stderr,
-               "dynapath-lan-delay: %s\n"
-               "usage: dynapath-lan-delay --queue N --delay MS [--jitter MS] [--early P]\n",
-               message);
-  return 2;
+// The options, with their bounds, on CLI11 as every command's (issue 10).
+// --queue and --delay are required, checked after parsing (CheckRequired):
+// CLI11's own check would come before, and hide, an unknown option's error.
+void DeclareOptions(CLI::App& app, Options& o) {
+  app.add_option("--queue", o.queue, "the NFQUEUE queue whose packets to hold (required)")
+      ->type_name("N")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--delay", o.delay_ms, "hold every packet this long (required)")
+      ->type_name("MS")
+      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--jitter", o.jitter_ms, "plus a uniform jitter in [-MS, +MS] (reorders)")
+      ->type_name("MS")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--early", o.early, "release a fraction P of the packets at once (overtaking)")
+      ->type_name("P")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
 }
 
-bool ParseNumber(const char* text, double low, double high, double& out) {
-  char* end = nullptr;
-  errno = 0;
-  out = std::strtod(text, &end);
-  return end != text && *end == '\0' && errno == 0 && out >= low && out <= high;
+// Exit code 2 with one line unless --queue and --delay were given, else -1.
+int CheckRequired(const CLI::App& app) {
+  if (app.count("--queue") > 0 && app.count("--delay") > 0) return -1;
+  std::fputs("dynapath-lan-delay: --queue and --delay are required (see --help)\n", stderr);
+  return 2;
 }
 
 int OnPacket(nfq_q_handle*, nfgenmsg*, nfq_data* data, void* arg) {
@@ -108,31 +122,15 @@ void ReleaseDue(State& state, int64_t now_us) {
 
 int main(int argc, char** argv) {
   State state;
-  bool have_queue = false, have_delay = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string name = argv[i];
-    if (name == "--help") {
-      Usage("holds the packets of an NFQUEUE queue (delay, jitter, reordering)");
-      return 0;
-    }
-    if (i + 1 >= argc) return Usage(("missing value of " + name).c_str());
-    double value = 0;
-    const char* text = argv[++i];
-    if (name == "--queue" && ParseNumber(text, 0, 65535, value)) {
-      state.options.queue = static_cast<int>(value);
-      have_queue = true;
-    } else if (name == "--delay" && ParseNumber(text, 0, 10000, value)) {
-      state.options.delay_ms = value;
-      have_delay = true;
-    } else if (name == "--jitter" && ParseNumber(text, 0, 10000, value)) {
-      state.options.jitter_ms = value;
-    } else if (name == "--early" && ParseNumber(text, 0, 1, value)) {
-      state.options.early = value;
-    } else {
-      return Usage(("bad option or value: " + name + " " + text).c_str());
-    }
+  CLI::App app("Holds the packets of an NFQUEUE queue for a while (delay, jitter, reordering).",
+               "dynapath-lan-delay");
+  DeclareOptions(app, state.options);
+  if (int code = dynapath::runtime::ParseCommandLine(app, {argv + 1, argv + argc},
+                                                     "dynapath-lan-delay");
+      code >= 0) {
+    return code;
   }
-  if (!have_queue || !have_delay) return Usage("--queue and --delay are required");
+  if (int code = CheckRequired(app); code >= 0) return code;
   uint64_t seed = 0;
   if (getrandom(&seed, sizeof seed, 0) != sizeof seed) seed = static_cast<uint64_t>(NowUs());
   state.rng.seed(seed);
