@@ -64,6 +64,40 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
 
+// Two maps of one study must be two files with two labels: a map's label
+// (runtime::MapLabel, its file name) names its run directory and its rows'
+// Difficulty column, so two maps named alike would overwrite each other's
+// runs and give identical result rows. Both paths exist (they were read).
+Status CheckDistinctMaps(const std::string& first, const std::string& second) {
+  namespace fs = std::filesystem;
+  if (first == second) return Error{"map " + second + " is given twice"};
+  std::error_code error;
+  if (fs::equivalent(first, second, error)) {
+    return Error{"maps " + first + " and " + second + " are the same file"};
+  }
+  const std::string label = runtime::MapLabel(first);
+  if (label == runtime::MapLabel(second)) {
+    return Error{"maps " + first + " and " + second + " have the same name '" + label +
+                 "' (their runs and result rows would be mixed up); rename one"};
+  }
+  return Ok{};
+}
+
+// A study file's relative map paths are relative to the file's folder, as
+// users expect of a config file (the map folder can travel with it); the
+// command line's stay relative to the working directory. `out` is not a
+// path to read, so it stays as given.
+std::string MapsRelativeToFile(const std::string& list, const std::string& file_name) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(file_name).parent_path();
+  if (folder.empty()) return list;  // the file is in the working directory
+  std::vector<std::string> paths = Split(list, ',');
+  for (std::string& path : paths) {
+    if (!path.empty() && fs::path(path).is_relative()) path = (folder / path).string();
+  }
+  return Join(paths, ",");
+}
+
 // The maps of a --maps list: files as given, folders as their .map files in
 // name order; each must exist and be a MovingAI map (read here, once, so a
 // study with a bad map fails before it starts).
@@ -92,8 +126,10 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
     if (!bytes) return Error{origin + ": " + bytes.error().message};
     Result<Grid> grid = ParseMovingAiMap(*bytes);
     if (!grid) return Error{origin + ": " + path + ": " + grid.error().message};
-    if (std::count(paths.begin(), paths.end(), path) > 1) {
-      return Error{origin + ": map " + path + " is given twice"};
+    for (const StudyOptions::Map& earlier : maps) {
+      if (Status distinct = CheckDistinctMaps(earlier.path, path); !distinct) {
+        return Error{origin + ": " + distinct.error().message};
+      }
     }
     maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols()});
   }
@@ -233,6 +269,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
     } else {
       text = ScalarText(value);
     }
+    if (key == "maps") text = MapsRelativeToFile(text, file.name);
     values[key] = OptionValue{text, origin};
   }
   return values;
