@@ -31,7 +31,7 @@ TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
   EXPECT_EQ(options->sizes, (std::vector<int>{20, 50, 100, 200, 300}));
   EXPECT_EQ(options->approaches, AllApproaches());
   EXPECT_TRUE(options->edge_case);
-  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
   EXPECT_EQ(options->threads, 4);
   EXPECT_EQ(options->out, "study");
 
@@ -128,23 +128,23 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->approaches,
             (std::vector<Approach>{Approach::kAStarStatic, Approach::kSingleAgent}));
   EXPECT_FALSE(options->edge_case);
-  EXPECT_EQ(options->mode, StudyMode::kAgents);
-  EXPECT_EQ(options->agents, 3);
-  EXPECT_EQ(options->leaf_limit, 10);
+  EXPECT_EQ(options->mode.kind, StudyMode::kAgents);
+  EXPECT_EQ(options->mode.agents, 3);
+  EXPECT_EQ(options->learner.leaf_limit, 10);
 
   // The command line wins; its mode replaces the file's.
   options = ResolveStudyOptions(
       MergeOptionValues(*values, Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
-  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
   EXPECT_EQ(options->sizes, (std::vector<int>{30}));
   EXPECT_EQ(options->out, "cli");
-  EXPECT_EQ(options->leaf_limit, 10);
+  EXPECT_EQ(options->learner.leaf_limit, 10);
 
   options = ResolveStudyOptions(MergeOptionValues(*values, Cli({{"embedded", "true"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
-  EXPECT_EQ(options->mode, StudyMode::kEmbedded);
-  EXPECT_EQ(options->agents, 1);
+  EXPECT_EQ(options->mode.kind, StudyMode::kEmbedded);
+  EXPECT_EQ(options->mode.agents, 1);
 }
 
 // Maps (issue 11): a folder gives its maps in name order, after any mazes;
