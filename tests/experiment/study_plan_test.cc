@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "tests/temp_path.h"
 
 namespace dynapath::cli {
 namespace {
@@ -27,7 +31,7 @@ TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
   EXPECT_EQ(options->sizes, (std::vector<int>{20, 50, 100, 200, 300}));
   EXPECT_EQ(options->approaches, AllApproaches());
   EXPECT_TRUE(options->edge_case);
-  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
   EXPECT_EQ(options->threads, 4);
   EXPECT_EQ(options->out, "study");
 
@@ -124,23 +128,23 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->approaches,
             (std::vector<Approach>{Approach::kAStarStatic, Approach::kSingleAgent}));
   EXPECT_FALSE(options->edge_case);
-  EXPECT_EQ(options->mode, StudyMode::kAgents);
-  EXPECT_EQ(options->agents, 3);
-  EXPECT_EQ(options->leaf_limit, 10);
+  EXPECT_EQ(options->mode.kind, StudyMode::kAgents);
+  EXPECT_EQ(options->mode.agents, 3);
+  EXPECT_EQ(options->learner.leaf_limit, 10);
 
   // The command line wins; its mode replaces the file's.
   options = ResolveStudyOptions(
       MergeOptionValues(*values, Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
-  EXPECT_EQ(options->mode, StudyMode::kLocal);
+  EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
   EXPECT_EQ(options->sizes, (std::vector<int>{30}));
   EXPECT_EQ(options->out, "cli");
-  EXPECT_EQ(options->leaf_limit, 10);
+  EXPECT_EQ(options->learner.leaf_limit, 10);
 
   options = ResolveStudyOptions(MergeOptionValues(*values, Cli({{"embedded", "true"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
-  EXPECT_EQ(options->mode, StudyMode::kEmbedded);
-  EXPECT_EQ(options->agents, 1);
+  EXPECT_EQ(options->mode.kind, StudyMode::kEmbedded);
+  EXPECT_EQ(options->mode.agents, 1);
 }
 
 // Maps (issue 11): a folder gives its maps in name order, after any mazes;
@@ -216,6 +220,76 @@ TEST(StudyPlanTest, BadMapOptions) {
     ASSERT_FALSE(options) << expected;
     EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
   }
+}
+
+// A MovingAI map of `rows` x `cols` free cells at `path` (its folder made).
+void WriteMap(const std::filesystem::path& path, int rows, int cols) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream out(path);
+  out << "type octile\nheight " << rows << "\nwidth " << cols << "\nmap\n";
+  for (int r = 0; r < rows; ++r) out << std::string(static_cast<size_t>(cols), '.') << "\n";
+}
+
+// Issue 11: two maps named alike would share runs/map_<name>_<seed> and the
+// Difficulty column (one map's results lost, two identical rows); one file
+// reached by two spellings would run twice. Both are refused, naming both.
+TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
+  namespace fs = std::filesystem;
+  const fs::path root = test_paths::UniqueTempPath("maps");
+  WriteMap(root / "a" / "x.map", 3, 7);
+  WriteMap(root / "b" / "x.map", 7, 3);
+  const std::string a = (root / "a").string(), b = (root / "b").string();
+  Result<StudyOptions> options = ResolveStudyOptions(Cli({{"maps", a + "," + b}}), 2);
+  ASSERT_FALSE(options);
+  EXPECT_EQ(options.error().message, "option --maps: maps " + a + "/x.map and " + b +
+                                         "/x.map have the same name 'x' (their runs and result "
+                                         "rows would be mixed up); rename one");
+
+  const std::string wide = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps/wide-5-9.map";
+  const std::string other_spelling =
+      std::string(DYNAPATH_TEST_DATA_DIR) + "/maps/../maps/./wide-5-9.map";
+  options = ResolveStudyOptions(Cli({{"maps", wide + "," + other_spelling}}), 2);
+  ASSERT_FALSE(options);
+  EXPECT_EQ(options.error().message,
+            "option --maps: maps " + wide + " and " + other_spelling + " are the same file");
+
+  // In a study file too, with its origin.
+  options = FromFile("maps = ['" + a + "/x.map', '" + b + "/x.map']\n");
+  ASSERT_FALSE(options);
+  EXPECT_EQ(options.error().message.rfind("s.toml:1: maps: maps " + a + "/x.map and ", 0), 0u)
+      << options.error().message;
+  fs::remove_all(root);
+}
+
+// Issue 11: a study file's relative map paths are relative to its folder;
+// the command line's to the working directory (the tests run in the build
+// tree, which has no maps/ folder).
+TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
+  const std::string data = DYNAPATH_TEST_DATA_DIR;
+  Result<ConfigFile> file = ParseConfigText(
+      "maps = ['maps/wide-5-9.map', '" + data + "/maps/maze-25-61-1.map']\n", data + "/s.toml");
+  ASSERT_TRUE(file) << file.error().message;
+  Result<OptionValues> values = ConfigOptionValues(*file);
+  ASSERT_TRUE(values) << values.error().message;
+  EXPECT_EQ(values->at("maps").text,
+            data + "/maps/wide-5-9.map," + data + "/maps/maze-25-61-1.map");  // absolute: kept
+  Result<StudyOptions> options = ResolveStudyOptions(*values, 2);
+  ASSERT_TRUE(options) << options.error().message;
+  ASSERT_EQ(options->maps.size(), 2u);
+  EXPECT_EQ(options->maps[0].path, data + "/maps/wide-5-9.map");
+  EXPECT_EQ(options->maps[0].rows, 5);
+
+  // A file in the working directory: its paths stay as written.
+  file = ParseConfigText("maps = 'maps/wide-5-9.map'\n", "s.toml");
+  ASSERT_TRUE(file);
+  values = ConfigOptionValues(*file);
+  ASSERT_TRUE(values);
+  EXPECT_EQ(values->at("maps").text, "maps/wide-5-9.map");
+  // The command line's relative paths are the working directory's.
+  options = ResolveStudyOptions(Cli({{"maps", "maps/wide-5-9.map"}}), 2);
+  ASSERT_FALSE(options);
+  EXPECT_EQ(options.error().message.rfind("option --maps: maps/wide-5-9.map: cannot", 0), 0u)
+      << options.error().message;
 }
 
 TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {

@@ -175,11 +175,11 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   runtime::MakeRunSecret(run.process);  // a new secret for each run of the study
   run.process.bus.max_grid_cells =
       static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
-  run.agents = session.options.agents;
-  run.threads_per_agent = std::max(1, session.options.threads / session.options.agents);
+  run.agents = session.options.mode.agents;
+  run.threads_per_agent = std::max(1, session.options.threads / session.options.mode.agents);
   run.scenario = scenario;
   run.run = run_options;
-  run.log_level = session.options.log_level;
+  run.log_level = session.options.log.log_level;
   run.child_stderr = session.log_fd;
   run.on_step = [&display, approaches](const launch::StepReport& report) {
     display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
@@ -480,7 +480,7 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   ProgressDisplay display(stderr, terminal);
   const std::string log_path = (out / "study.log").string();
   Result<std::shared_ptr<spdlog::logger>> logger =
-      StudyLogger(log_path, spdlog::level::from_str(options.log_level), display);
+      StudyLogger(log_path, spdlog::level::from_str(options.log.log_level), display);
   if (!logger) return Failure(logger.error().message);
   spdlog::set_default_logger(*logger);
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
@@ -493,7 +493,7 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   // --agents: one private network for the whole study, entered while this
   // process still has a single thread (no thread has been started so far;
   // the manifest, which runs git, comes after: children are fine).
-  StudyMode mode = options.mode;
+  StudyMode mode = options.mode.kind;
   if (mode == StudyMode::kAgents) {
     const launch::ProcessNetwork network = launch::EnterProcessNetwork(options.lcm_url);
     if (network == launch::ProcessNetwork::kNone) mode = StudyMode::kEmbedded;

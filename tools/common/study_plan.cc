@@ -3,10 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 
 #include "core/experiment.h"
@@ -41,19 +39,23 @@ std::string ScalarText(const ConfigValue& value) {
   return "";
 }
 
-Result<long long> ParseInteger(const OptionValue& value, long long min, long long max) {
-  const std::string& text = value.text;
-  char* end = nullptr;
-  errno = 0;
-  const long long number = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE) {
-    return Error{value.origin + ": needs an integer, got '" + text + "'"};
+// The report's study: the defaults of --sizes, --difficulties and
+// --approaches, shown in --help and resolved like given values.
+constexpr const char* kDefaultSizes = "20,50,100,200,300";
+constexpr const char* kDefaultDifficulties = "easy,medium,hard";
+constexpr const char* kAllApproaches = "all";
+
+// One item of --sizes, a decimal integer from 2 to kMaxSize, '+' allowed (a
+// maze size is the study's own option: `dynapath run` takes --size N alone).
+std::optional<int> SizeOf(std::string_view item) {
+  if (!item.empty() && item.front() == '+') item.remove_prefix(1);
+  int size = 0;
+  const char* end = item.data() + item.size();
+  const auto [last, error] = std::from_chars(item.data(), end, size);
+  if (item.empty() || error != std::errc() || last != end || size < 2 || size > kMaxSize) {
+    return std::nullopt;
   }
-  if (number < min || number > max) {
-    return Error{value.origin + ": must be between " + std::to_string(min) + " and " +
-                 std::to_string(max) + ", got " + text};
-  }
-  return number;
+  return size;
 }
 
 std::string Join(const std::vector<std::string>& pieces, const std::string& separator) {
@@ -63,6 +65,40 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 }
 
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
+
+// Two maps of one study must be two files with two labels: a map's label
+// (runtime::MapLabel, its file name) names its run directory and its rows'
+// Difficulty column, so two maps named alike would overwrite each other's
+// runs and give identical result rows. Both paths exist (they were read).
+Status CheckDistinctMaps(const std::string& first, const std::string& second) {
+  namespace fs = std::filesystem;
+  if (first == second) return Error{"map " + second + " is given twice"};
+  std::error_code error;
+  if (fs::equivalent(first, second, error)) {
+    return Error{"maps " + first + " and " + second + " are the same file"};
+  }
+  const std::string label = runtime::MapLabel(first);
+  if (label == runtime::MapLabel(second)) {
+    return Error{"maps " + first + " and " + second + " have the same name '" + label +
+                 "' (their runs and result rows would be mixed up); rename one"};
+  }
+  return Ok{};
+}
+
+// A study file's relative map paths are relative to the file's folder, as
+// users expect of a config file (the map folder can travel with it); the
+// command line's stay relative to the working directory. `out` is not a
+// path to read, so it stays as given.
+std::string MapsRelativeToFile(const std::string& list, const std::string& file_name) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(file_name).parent_path();
+  if (folder.empty()) return list;  // the file is in the working directory
+  std::vector<std::string> paths = Split(list, ',');
+  for (std::string& path : paths) {
+    if (!path.empty() && fs::path(path).is_relative()) path = (folder / path).string();
+  }
+  return Join(paths, ",");
+}
 
 // The maps of a --maps list: files as given, folders as their .map files in
 // name order; each must exist and be a MovingAI map (read here, once, so a
@@ -92,8 +128,10 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
     if (!bytes) return Error{origin + ": " + bytes.error().message};
     Result<Grid> grid = ParseMovingAiMap(*bytes);
     if (!grid) return Error{origin + ": " + path + ": " + grid.error().message};
-    if (std::count(paths.begin(), paths.end(), path) > 1) {
-      return Error{origin + ": map " + path + " is given twice"};
+    for (const StudyOptions::Map& earlier : maps) {
+      if (Status distinct = CheckDistinctMaps(earlier.path, path); !distinct) {
+        return Error{origin + ": " + distinct.error().message};
+      }
     }
     maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols()});
   }
@@ -117,18 +155,19 @@ std::string StudyModeName(StudyMode mode) {
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   using runtime::ValueKind;
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
-             "comma-separated maze sizes (rows = columns, at least 2)", "20,50,100,200,300");
+             "comma-separated maze sizes (rows = columns, at least 2)", kDefaultSizes);
   group.List("--difficulties", o.difficulties, ValueKind::kStringList, "LIST",
-             "comma-separated difficulties: easy, medium, hard", "easy,medium,hard");
+             "comma-separated difficulties: easy, medium, hard", kDefaultDifficulties);
   group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
-             "comma-separated approaches: " + ApproachNamesText() + "; or all", "all");
+             "comma-separated approaches: " + ApproachNamesText() + "; or all", kAllApproaches);
   group.Flag("--edge-case", o.edge_case,
              "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
   group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");
   group.List("--maps", o.maps, ValueKind::kStringList, "LIST",
              "comma-separated MovingAI maps (.map files, or folders of them) to run after the "
-             "mazes, each with --stations (default 0.5%) and --movers (default 2%); with "
-             "--maps, --sizes and the edge case default to none",
+             "mazes, each with --stations (default " +
+                 std::string(kDefaultStations) + ") and --movers (default " + kDefaultMovers +
+                 "); with --maps, --sizes and the edge case default to none",
              "none");
   runtime::DeclareMapPopulationOptions(group, o.stations, o.movers);
   runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
@@ -138,7 +177,7 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   runtime::DeclareThreadOptions(group, o.threads);
   runtime::DeclareLcmUrlOption(group, o.lcm_url);
   runtime::DeclareLogOptions(group, o.log);
-  group.Option("--out", o.out, "DIR", "study directory", "study");
+  group.Option("--out", o.out, "DIR", "study directory", kDefaultStudyDir);
 }
 
 const runtime::OptionKinds& StudyOptionKinds() {
@@ -233,6 +272,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
     } else {
       text = ScalarText(value);
     }
+    if (key == "maps") text = MapsRelativeToFile(text, file.name);
     values[key] = OptionValue{text, origin};
   }
   return values;
@@ -249,184 +289,242 @@ OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& com
   return merged;
 }
 
-Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads) {
-  StudyOptions options;
-  auto find = [&](const std::string& name) -> const OptionValue* {
-    const auto it = values.find(name);
-    return it == values.end() ? nullptr : &it->second;
-  };
-  auto list = [&](const OptionValue& value) -> Result<std::vector<std::string>> {
-    std::vector<std::string> pieces = Split(value.text, ',');
-    if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
-    for (const std::string& piece : pieces) {
-      if (piece.empty()) return Error{value.origin + ": empty item in '" + value.text + "'"};
-    }
-    return pieces;
-  };
+namespace {
 
-  if (const OptionValue* maps = find("maps")) {
-    Result<std::vector<std::string>> items = list(*maps);
+// The command-line words of one option value: "--NAME=TEXT" (so a value
+// starting with '-' stays a value), "--NAME" "" for an empty one, a
+// boolean's flag (edge-case = false: --no-edge-case; local or embedded =
+// false: none).
+Result<std::vector<std::string>> ArgumentsOf(const std::string& name, const OptionValue& value) {
+  const runtime::OptionKinds& kinds = StudyOptionKinds();
+  const auto kind = kinds.find(name);
+  if (kind == kinds.end()) return Error{value.origin + ": not an option of a study"};
+  if (kind->second != runtime::ValueKind::kBoolean) {
+    if (value.text.empty()) return std::vector<std::string>{"--" + name, ""};
+    return std::vector<std::string>{"--" + name + "=" + value.text};
+  }
+  if (value.text != "true" && value.text != "false") {
+    return Error{value.origin + ": must be true or false, got '" + value.text + "'"};
+  }
+  if (value.text == "true") return std::vector<std::string>{"--" + name};
+  if (name == "edge-case") return std::vector<std::string>{"--no-edge-case"};
+  return std::vector<std::string>{};
+}
+
+// The values converted by CLI11 into the struct the study declares its
+// options with, exactly as it converts a command line: the defaults are
+// that struct's (the runtime groups' own), and every value is converted by
+// the same code whichever source it came from. One value at a time, so a
+// value CLI11 cannot convert (only an integer can fail) names its origin.
+Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
+  StudyCommandLine given;
+  for (const auto& [name, value] : values) {
+    Result<std::vector<std::string>> arguments = ArgumentsOf(name, value);
+    if (!arguments) return arguments.error();
+    CLI::App app;
+    runtime::OptionGroup group(app);
+    DeclareStudyCommandLine(group, given);
+    std::reverse(arguments->begin(), arguments->end());  // CLI11 takes them last first
+    try {
+      app.parse(*arguments);
+    } catch (const CLI::ParseError&) {
+      return Error{value.origin + ": needs an integer, got '" + value.text + "'"};
+    }
+  }
+  return given;
+}
+
+// The given option values, converted, and where each came from.
+class GivenOptions {
+ public:
+  GivenOptions(const OptionValues& values, StudyCommandLine converted)
+      : values_(values), converted_(std::move(converted)) {}
+
+  const StudyCommandLine& operator*() const { return converted_; }
+  const StudyCommandLine* operator->() const { return &converted_; }
+  // The value of option `name` as given, or null.
+  const OptionValue* Find(const std::string& name) const {
+    const auto it = values_.find(name);
+    return it == values_.end() ? nullptr : &it->second;
+  }
+  // A runtime check's error, "option --NAME must be ...", as "ORIGIN: must
+  // be ..." for the value it names (`name` when it names none), so that a
+  // study file's value is reported with its line.
+  Error Located(const Error& error, const std::string& name) const {
+    static const std::string kPrefix = "option --";
+    std::string option = name, message = error.message;
+    if (message.rfind(kPrefix, 0) == 0) {
+      const size_t end = std::min(message.find(' ', kPrefix.size()), message.size());
+      option = message.substr(kPrefix.size(), end - kPrefix.size());
+      message = message.substr(std::min(end + 1, message.size()));
+    }
+    const OptionValue* value = Find(option);
+    return Error{(value ? value->origin : kPrefix + option) + ": " + message};
+  }
+
+ private:
+  const OptionValues& values_;
+  StudyCommandLine converted_;
+};
+
+// The items of a comma-separated list, none empty.
+Result<std::vector<std::string>> ListItems(const OptionValue& value) {
+  std::vector<std::string> pieces = Split(value.text, ',');
+  if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
+  for (const std::string& piece : pieces) {
+    if (piece.empty()) return Error{value.origin + ": empty item in '" + value.text + "'"};
+  }
+  return pieces;
+}
+
+// --stations or --movers (`text`, the option `name`): N or P% of a map's
+// free cells, so only with maps.
+Status ResolveCellCount(const GivenOptions& given, const std::string& name,
+                        const std::optional<std::string>& text, const StudyOptions& options,
+                        std::string& resolved) {
+  if (!text) return Ok{};
+  const std::string& origin = given.Find(name)->origin;
+  if (options.maps.empty()) return Error{origin + ": needs maps"};
+  Result<CellCount> count = ParseCellCount(*text);
+  if (!count) return Error{origin + ": " + count.error().message};
+  resolved = *text;
+  return Ok{};
+}
+
+// --maps, and the --stations and --movers every map gets.
+Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
+  if (const OptionValue* maps = given.Find("maps")) {
+    Result<std::vector<std::string>> items = ListItems(*maps);
     if (!items) return items.error();
     Result<std::vector<StudyOptions::Map>> read = ExpandMapList(*items, maps->origin);
     if (!read) return read.error();
-    options.maps = *read;
+    options.maps = std::move(*read);
   }
-  for (const char* name : {"stations", "movers"}) {
-    const OptionValue* value = find(name);
-    if (!value) continue;
-    if (options.maps.empty()) return Error{value->origin + ": needs maps"};
-    Result<CellCount> count = ParseCellCount(value->text);
-    if (!count) return Error{value->origin + ": " + count.error().message};
-    (std::string(name) == "stations" ? options.stations : options.movers) = value->text;
+  Status stations = ResolveCellCount(given, "stations", given->stations, options, options.stations);
+  if (!stations) return stations;
+  return ResolveCellCount(given, "movers", given->movers, options, options.movers);
+}
+
+// --sizes (none by default with maps) and --difficulties.
+Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
+  const OptionValue default_sizes{kDefaultSizes, "default sizes"};
+  const OptionValue* sizes = given.Find("sizes");
+  if (!sizes && options.maps.empty()) sizes = &default_sizes;
+  if (sizes) {
+    Result<std::vector<std::string>> items = ListItems(*sizes);
+    if (!items) return items.error();
+    for (const std::string& item : *items) {
+      const std::optional<int> size = SizeOf(item);
+      if (!size) {
+        return Error{sizes->origin + ": size '" + item + "' is not an integer from 2 to " +
+                     std::to_string(kMaxSize)};
+      }
+      if (std::count(options.sizes.begin(), options.sizes.end(), *size) > 0) {
+        return Error{sizes->origin + ": size " + item + " is given twice"};
+      }
+      options.sizes.push_back(*size);
+    }
   }
 
-  // With maps, the generated mazes and the edge case are opt-in.
-  const OptionValue default_sizes{options.maps.empty() ? "20,50,100,200,300" : "", "default sizes"};
-  const OptionValue* sizes = find("sizes");
-  if (!options.maps.empty()) options.edge_case = false;
-  Result<std::vector<std::string>> size_items =
-      sizes || options.maps.empty() ? list(sizes ? *sizes : default_sizes)
-                                    : Result<std::vector<std::string>>(std::vector<std::string>{});
-  if (!size_items) return size_items.error();
-  for (const std::string& item : *size_items) {
-    Result<long long> size = ParseInteger(OptionValue{item, ""}, 2, kMaxSize);
-    if (!size) {
-      return Error{(sizes ? *sizes : default_sizes).origin + ": size '" + item +
-                   "' is not an integer from 2 to " + std::to_string(kMaxSize)};
-    }
-    if (std::find(options.sizes.begin(), options.sizes.end(), *size) != options.sizes.end()) {
-      return Error{(sizes ? *sizes : default_sizes).origin + ": size " + item + " is given twice"};
-    }
-    options.sizes.push_back(static_cast<int>(*size));
-  }
-
-  const OptionValue default_difficulties{"easy,medium,hard", "default difficulties"};
-  const OptionValue& difficulties =
-      find("difficulties") ? *find("difficulties") : default_difficulties;
-  Result<std::vector<std::string>> difficulty_items = list(difficulties);
-  if (!difficulty_items) return difficulty_items.error();
-  for (const std::string& item : *difficulty_items) {
+  const OptionValue default_difficulties{kDefaultDifficulties, "default difficulties"};
+  const OptionValue* given_difficulties = given.Find("difficulties");
+  const OptionValue& difficulties = given_difficulties ? *given_difficulties : default_difficulties;
+  Result<std::vector<std::string>> items = ListItems(difficulties);
+  if (!items) return items.error();
+  for (const std::string& item : *items) {
     const std::optional<Difficulty> difficulty = ParseDifficulty(item);
     if (!difficulty) {
       return Error{difficulties.origin + ": unknown difficulty '" + item +
                    "' (expected easy, medium or hard)"};
     }
-    if (std::find(options.difficulties.begin(), options.difficulties.end(), *difficulty) !=
-        options.difficulties.end()) {
+    if (std::count(options.difficulties.begin(), options.difficulties.end(), *difficulty) > 0) {
       return Error{difficulties.origin + ": difficulty " + item + " is given twice"};
     }
     options.difficulties.push_back(*difficulty);
   }
+  return Ok{};
+}
 
-  if (const OptionValue* approaches = find("approaches")) {
-    if (Trim(approaches->text).empty()) return Error{approaches->origin + ": the list is empty"};
-    Result<std::vector<Approach>> parsed = ParseApproachList(approaches->text);
-    if (!parsed) return Error{approaches->origin + ": " + parsed.error().message};
-    options.approaches = *parsed;
-  } else {
-    options.approaches = AllApproaches();
-  }
+// --approaches, the edge case (off by default with maps), --seed, --steps.
+Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
+  const OptionValue all{kAllApproaches, "default approaches"};
+  const OptionValue* approaches = given.Find("approaches");
+  if (!approaches) approaches = &all;
+  if (Trim(approaches->text).empty()) return Error{approaches->origin + ": the list is empty"};
+  Result<std::vector<Approach>> parsed = ParseApproachList(approaches->text);
+  if (!parsed) return Error{approaches->origin + ": " + parsed.error().message};
+  options.approaches = std::move(*parsed);
 
-  if (const OptionValue* edge = find("edge-case")) {
-    if (edge->text != "true" && edge->text != "false") {
-      return Error{edge->origin + ": must be true or false, got '" + edge->text + "'"};
-    }
-    options.edge_case = edge->text == "true";
-  }
-  if (const OptionValue* seed = find("seed")) {
-    Result<long long> value = ParseInteger(*seed, 0, runtime::kMaxSeed);
-    if (!value) return value.error();
-    options.seed = static_cast<unsigned>(*value);
-  }
-  if (const OptionValue* steps = find("steps")) {
-    Result<long long> value = ParseInteger(*steps, 0, runtime::kMaxSteps);
-    if (!value) return value.error();
-    options.steps = static_cast<int>(*value);
-  }
-  if (const OptionValue* leaf = find("leaf-limit")) {
-    Result<long long> value = ParseInteger(*leaf, 1, runtime::kMaxLeafLimit);
-    if (!value) return value.error();
-    options.leaf_limit = static_cast<int>(*value);
-  }
-  if (const OptionValue* bootstrap = find("bootstrap")) {
-    if (Status status = runtime::CheckBootstrap(bootstrap->text); !status) {
-      return Error{bootstrap->origin + ": " + status.error().message};
-    }
-    options.bootstrap = bootstrap->text;
-  }
-  if (const OptionValue* semantics = find("semantics")) {
-    if (Status status = runtime::CheckSemantics(semantics->text); !status) {
-      return Error{semantics->origin + ": " + status.error().message};
-    }
-    if (semantics->text == "report" && options.bootstrap != "in-grid") {
-      return Error{semantics->origin + ": report sets the bootstrap itself; leave bootstrap out"};
-    }
-    options.semantics = semantics->text;
-  }
-  if (const OptionValue* placement = find("placement")) {
-    if (Status status = runtime::CheckPlacement(placement->text); !status) {
-      return Error{placement->origin + ": " + status.error().message};
-    }
-    options.placement = placement->text;
-  }
+  options.edge_case = given->edge_case || (options.maps.empty() && !given->no_edge_case);
+  // The bounds `dynapath run` puts on them (runtime::ResolveScenario), which
+  // has no resolver of these two alone: checked here for every maze at once.
+  Result<long long> seed = runtime::InRange("seed", given->seed, 0, 0, runtime::kMaxSeed);
+  if (!seed) return given.Located(seed.error(), "seed");
+  Result<long long> steps = runtime::InRange("steps", given->steps, 0, 0, runtime::kMaxSteps);
+  if (!steps) return given.Located(steps.error(), "steps");
+  if (given->seed) options.seed = static_cast<unsigned>(*seed);
+  if (given->steps) options.steps = static_cast<int>(*steps);
+  return Ok{};
+}
 
-  // The mode, as `dynapath run` takes it: --embedded may come with --agents N.
-  const OptionValue* local = find("local");
-  const OptionValue* agents = find("agents");
-  const OptionValue* embedded = find("embedded");
-  // runtime::ResolveMode decides, as for `dynapath run`; the study only
-  // names where the offending value came from.
-  runtime::ModeOptions given_mode;
-  given_mode.local = local != nullptr;
-  given_mode.embedded = embedded != nullptr;
-  if (agents) {
-    Result<long long> value = ParseInteger(*agents, 1, runtime::kMaxAgents);
-    if (!value) return value.error();
-    given_mode.agents = *value;
+// --out, and the learner options and --placement, checked by `dynapath
+// run`'s own ResolveRunOptions.
+Status ResolveLearner(const GivenOptions& given, StudyOptions& options) {
+  options.out = given->out.value_or(kDefaultStudyDir);
+  runtime::RunOptions run = given->learner;
+  run.out = options.out;  // a directory too, with the same rule
+  if (Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run); !plan) {
+    return given.Located(plan.error(), "");
   }
-  Result<runtime::RunMode> mode = runtime::ResolveMode(given_mode, runtime::kMaxAgents);
-  if (!mode)
-    return Error{(local    ? local
-                  : agents ? agents
-                           : embedded)
-                     ->origin +
-                 ": " + mode.error().message};
-  options.agents = mode->agents;
-  switch (mode->kind) {
-    case runtime::RunMode::kLocal:
-      options.mode = StudyMode::kLocal;
-      break;
-    case runtime::RunMode::kAgents:
-      options.mode = StudyMode::kAgents;
-      break;
-    case runtime::RunMode::kEmbedded:
-      options.mode = StudyMode::kEmbedded;
-      break;
-  }
+  options.learner = given->learner;
+  return Ok{};
+}
 
-  if (const OptionValue* threads = find("threads")) {
-    Result<long long> value = ParseInteger(*threads, 1, runtime::kMaxThreads);
-    if (!value) return value.error();
-    options.threads = static_cast<int>(*value);
-  } else {
-    options.threads = std::max(1, hardware_threads);
+// The mode (runtime::ResolveMode, as `dynapath run`), --threads (the
+// machine's `hardware_threads` by default), --log-level, --lcm-url.
+Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOptions& options) {
+  Result<runtime::RunMode> mode = runtime::ResolveMode(given->mode, runtime::kMaxAgents);
+  if (!mode) {
+    const char* mode_option = given->mode.local    ? "local"
+                              : given->mode.agents ? "agents"
+                                                   : "embedded";
+    return given.Located(mode.error(), mode_option);
   }
-  if (const OptionValue* level = find("log-level")) {
-    if (Status status = runtime::CheckLogLevel(level->text); !status) {
-      return Error{level->origin + ": " + status.error().message};
-    }
-    options.log_level = level->text;
+  options.mode = *mode;
+  options.threads = std::max(1, hardware_threads);
+  if (given->threads.threads) {
+    Result<int> threads = runtime::ResolveThreads(given->threads);
+    if (!threads) return given.Located(threads.error(), "threads");
+    options.threads = *threads;
   }
-  if (const OptionValue* url = find("lcm-url")) {
-    if (options.mode != StudyMode::kAgents) {
+  if (Status status = runtime::CheckLogLevel(given->log.log_level); !status) {
+    return given.Located(status.error(), "log-level");
+  }
+  options.log = given->log;
+  if (const OptionValue* url = given.Find("lcm-url")) {
+    if (options.mode.kind != StudyMode::kAgents) {
       return Error{url->origin + ": an LCM URL needs --agents N (processes)"};
     }
-    if (url->text.empty()) return Error{url->origin + ": must not be empty"};
-    options.lcm_url = url->text;
+    if (given->lcm_url.empty()) return Error{url->origin + ": must not be empty"};
+    options.lcm_url = given->lcm_url;
   }
-  if (const OptionValue* out = find("out")) {
-    if (out->text.empty()) return Error{out->origin + ": must not be empty"};
-    options.out = out->text;
+  return Ok{};
+}
+
+}  // namespace
+
+Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads) {
+  Result<StudyCommandLine> converted = ConvertOptionValues(values);
+  if (!converted) return converted.error();
+  const GivenOptions given(values, std::move(*converted));
+  StudyOptions options;
+  // The maps first: with maps, sizes and the edge case default to none.
+  if (Status status = ResolveMaps(given, options); !status) return status.error();
+  if (Status status = ResolveMazes(given, options); !status) return status.error();
+  if (Status status = ResolveRuns(given, options); !status) return status.error();
+  if (Status status = ResolveLearner(given, options); !status) return status.error();
+  if (Status status = ResolveExecution(given, hardware_threads, options); !status) {
+    return status.error();
   }
   return options;
 }
@@ -526,13 +624,9 @@ runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configurati
 runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir) {
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  runtime::RunOptions run;
+  runtime::RunOptions run = options.learner;
   run.approach = Join(names, ",");
   run.out = out_dir;
-  run.leaf_limit = options.leaf_limit;
-  run.bootstrap = options.bootstrap;
-  run.semantics = options.semantics;
-  run.placement = options.placement;
   return run;
 }
 
@@ -549,11 +643,13 @@ Json StudyIdentityJson(const StudyOptions& options) {
   json["edge_case"] = options.edge_case;
   json["seed"] = options.seed ? Json(*options.seed) : Json();
   json["steps"] = options.steps ? Json(*options.steps) : Json();
-  json["leaf_limit"] = options.leaf_limit;
-  json["bootstrap"] = options.bootstrap;
+  json["leaf_limit"] = options.learner.leaf_limit;
+  json["bootstrap"] = options.learner.bootstrap;
   // Only when not the default, so the identity of earlier studies (which had
   // no such option) stays the same and they can still be resumed.
-  if (options.semantics != "ours") json["semantics"] = options.semantics;
+  if (options.learner.semantics != runtime::RunOptions().semantics) {
+    json["semantics"] = options.learner.semantics;
+  }
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
     for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);
@@ -565,12 +661,13 @@ Json StudyIdentityJson(const StudyOptions& options) {
 
 Json ExecutionJson(const StudyOptions& options) {
   Json json = Json::object();
-  json["mode"] = StudyModeName(options.mode);
-  json["agents"] = options.mode == StudyMode::kLocal ? Json() : Json(options.agents);
-  json["placement"] = options.mode == StudyMode::kLocal ? Json() : Json(options.placement);
+  const bool local = options.mode.kind == StudyMode::kLocal;
+  json["mode"] = StudyModeName(options.mode.kind);
+  json["agents"] = local ? Json() : Json(options.mode.agents);
+  json["placement"] = local ? Json() : Json(options.learner.placement);
   json["threads"] = options.threads;
   json["lcm_url"] = options.lcm_url.empty() ? Json() : Json(options.lcm_url);
-  json["log_level"] = options.log_level;
+  json["log_level"] = options.log.log_level;
   json["out"] = options.out;
   return json;
 }

@@ -20,9 +20,17 @@
 
 namespace dynapath::cli {
 
-enum class StudyMode { kLocal, kAgents, kEmbedded };
+// How each configuration of a study runs: runtime::RunMode's kinds, as
+// runtime::ResolveMode decides them for `dynapath run`.
+using StudyMode = runtime::RunMode::Kind;
 // "local", "agents", "embedded".
 std::string StudyModeName(StudyMode mode);
+
+// Defaults of the study's own options, written once: StudyOptions and the
+// --help text (DeclareStudyCommandLine) take them from here.
+inline constexpr const char* kDefaultStations = "0.5%";
+inline constexpr const char* kDefaultMovers = "2%";
+inline constexpr const char* kDefaultStudyDir = "study";
 
 struct StudyOptions {
   // What the study computes: a study is resumed only with the same values.
@@ -38,21 +46,20 @@ struct StudyOptions {
     int rows = 0, cols = 0;  // read once, when the options are resolved
   };
   std::vector<Map> maps;
-  std::string stations = "0.5%";
-  std::string movers = "2%";
+  std::string stations = kDefaultStations;
+  std::string movers = kDefaultMovers;
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
-  int leaf_limit = 20;
-  std::string bootstrap = "in-grid";
-  std::string semantics = "ours";  // or "report"
+  // leaf_limit, bootstrap, semantics and placement, with `dynapath run`'s
+  // defaults and checks; approach and out are each configuration's
+  // (RunOptionsOf).
+  runtime::RunOptions learner;
   // How it runs; may change from one session of a study to the next.
-  StudyMode mode = StudyMode::kLocal;
-  int agents = 1;
-  int threads = 1;
-  std::string placement = "auto";  // distributed modes: auto, whole or split
-  std::string log_level = "info";
+  runtime::RunMode mode;  // kind and agents
+  int threads = 1;        // ResolveStudyOptions: --threads or the hardware's
+  runtime::LogOptions log;
   std::string lcm_url;
-  std::string out = "study";
+  std::string out = kDefaultStudyDir;
 };
 
 // One option value and where it came from, for error messages:
@@ -62,7 +69,10 @@ struct OptionValue {
   std::string origin;
 };
 // By option name ("sizes", "edge-case", ...). Lists are comma-separated
-// text, as on the command line; booleans are "true" or "false".
+// text, as on the command line; booleans are "true" or "false". The words
+// as given are where a study file and the command line meet (one rule,
+// MergeOptionValues); CLI11 converts the merged words once, with the
+// declaration below (ResolveStudyOptions).
 using OptionValues = std::map<std::string, OptionValue>;
 
 // The study's options as given, declared once on CLI11
@@ -90,13 +100,16 @@ OptionValues GivenOptionValues(const CLI::App& app);
 
 // The entries of a config file as option values; unknown keys and values of
 // the wrong type are errors naming the line. `local = false`,
-// `embedded = false` set nothing.
+// `embedded = false` set nothing. Relative `maps` paths are made relative
+// to the file's folder.
 Result<OptionValues> ConfigOptionValues(const ConfigFile& file);
 // The file's values overridden by the command line's. A mode given on the
 // command line (--local, --agents, --embedded) replaces the file's mode.
 OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& command_line);
-// Checks and converts every value (one error naming its origin);
-// `hardware_threads` is the default of --threads.
+// Converts every value with the declaration (so unset options keep the
+// declared structs' defaults) and checks it, with `dynapath run`'s own
+// checks where the option is one of run's; the first error names the
+// value's origin. `hardware_threads` is the default of --threads.
 Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads);
 
 // One maze of the study.
