@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
+
 #include "core/rng.h"
 #include "tests/view/image_decoders.h"
 #include "tests/view/policy_test_support.h"
@@ -23,62 +25,72 @@ RgbImage Pattern(int width, int height, int seed) {
   return image;
 }
 
-// Wraps `indices` (w x h of them), LZW-coded by our encoder, in a one-frame
-// GIF whose palette maps index i to grey level i, and decodes it with giflib.
-void ExpectLzwRoundTrip(const std::vector<uint8_t>& indices, int min_code_size) {
-  size_t width = 1;
-  while (indices.size() / width > 65535 || indices.size() % width != 0) ++width;
-  ASSERT_LE(width, 65535u) << "choose a test length with a factorisation that fits a GIF";
-  const size_t height = indices.size() / width;
-  std::vector<uint8_t> file = {'G', 'I', 'F', '8', '9', 'a'};
-  auto put16 = [&file](size_t v) { file.insert(file.end(), {uint8_t(v & 0xff), uint8_t(v >> 8)}); };
-  put16(width);
-  put16(height);
-  file.insert(file.end(), {static_cast<uint8_t>(0x80 | (min_code_size - 1)), 0, 0});
-  for (int i = 0; i < (1 << min_code_size); ++i) file.insert(file.end(), 3, uint8_t(i));
-  file.push_back(0x2c);
-  put16(0);
-  put16(0);
-  put16(width);
-  put16(height);
-  file.push_back(0);
-  file.push_back(static_cast<uint8_t>(min_code_size));
-  const std::vector<uint8_t> coded = LzwEncode(indices, min_code_size);
-  for (size_t at = 0; at < coded.size(); at += 255) {
-    const size_t n = std::min<size_t>(255, coded.size() - at);
-    file.push_back(static_cast<uint8_t>(n));
-    file.insert(file.end(), coded.begin() + at, coded.begin() + at + n);
+// The file's structure as giflib reads it (DGifSlurp, no compositing): each
+// frame's rectangle, graphic control block and colour indices, and the
+// extension blocks before the first frame.
+struct RawFrame {
+  int left = 0, top = 0, width = 0, height = 0;
+  bool interlaced = false, local_colours = false;
+  GraphicsControlBlock control{};
+  std::vector<uint8_t> indices;
+};
+struct RawGif {
+  std::string error;
+  int colour_resolution = 0, background = -1, table_size = 0;
+  std::vector<RawFrame> frames;
+  std::vector<std::vector<uint8_t>> first_extensions;  // function code, then the bytes
+  int extensions_after_first = 0;  // application or comment blocks on later frames
+};
+
+RawGif ReadRaw(const std::vector<uint8_t>& file) {
+  RawGif raw;
+  testing::gif_internal::Source source{&file};
+  int error = 0;
+  GifFileType* gif = DGifOpen(&source, testing::gif_internal::Read, &error);
+  if (gif == nullptr) {
+    raw.error = GifErrorString(error);
+    return raw;
   }
-  file.push_back(0);
-  file.push_back(0x3b);
-  const testing::DecodedGif gif = testing::DecodeGif(file);
-  ASSERT_EQ(gif.error, "");
-  ASSERT_EQ(gif.frames.size(), 1u);
-  std::vector<uint8_t> decoded;
-  for (size_t i = 0; i < indices.size(); ++i) decoded.push_back(gif.frames[0][3 * i]);
-  EXPECT_EQ(decoded, indices);
+  if (DGifSlurp(gif) != GIF_OK) {
+    raw.error = GifErrorString(gif->Error);
+    DGifCloseFile(gif, &error);
+    return raw;
+  }
+  raw.colour_resolution = gif->SColorResolution;
+  raw.background = gif->SBackGroundColor;
+  raw.table_size = gif->SColorMap != nullptr ? gif->SColorMap->ColorCount : 0;
+  for (int f = 0; f < gif->ImageCount; ++f) {
+    const SavedImage& image = gif->SavedImages[f];
+    RawFrame frame;
+    frame.left = image.ImageDesc.Left, frame.top = image.ImageDesc.Top;
+    frame.width = image.ImageDesc.Width, frame.height = image.ImageDesc.Height;
+    frame.interlaced = image.ImageDesc.Interlace;
+    frame.local_colours = image.ImageDesc.ColorMap != nullptr;
+    frame.control.TransparentColor = -2;  // "no graphic control extension"
+    DGifSavedExtensionToGCB(gif, f, &frame.control);
+    frame.indices.assign(image.RasterBits,
+                         image.RasterBits + static_cast<size_t>(frame.width) * frame.height);
+    for (int e = 0; e < image.ExtensionBlockCount; ++e) {
+      const ExtensionBlock& block = image.ExtensionBlocks[e];
+      if (block.Function == GRAPHICS_EXT_FUNC_CODE) continue;
+      if (f > 0) {
+        ++raw.extensions_after_first;
+        continue;
+      }
+      std::vector<uint8_t> bytes = {static_cast<uint8_t>(block.Function)};
+      bytes.insert(bytes.end(), block.Bytes, block.Bytes + block.ByteCount);
+      raw.first_extensions.push_back(bytes);
+    }
+    raw.frames.push_back(frame);
+  }
+  DGifCloseFile(gif, &error);
+  return raw;
 }
 
-TEST(Lzw, RoundTrips) {
-  ExpectLzwRoundTrip({1}, 2);
-  ExpectLzwRoundTrip({0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, 2);
-  ExpectLzwRoundTrip({3, 1, 3, 1, 3, 1, 2, 2, 2, 0}, 2);
-  for (int bits : {2, 4, 8}) {
-    SCOPED_TRACE("min code size " + std::to_string(bits));
-    Rng rng(42 + bits);
-    // Random data fills the 4096-code table many times (clear codes).
-    std::vector<uint8_t> random(200000);
-    for (uint8_t& v : random) v = static_cast<uint8_t>(rng.Uniform() * (1 << bits));
-    ExpectLzwRoundTrip(random, bits);
-    // Long runs: the longest strings, and code widths that grow to 12 bits.
-    std::vector<uint8_t> runs;
-    for (int i = 0; i < 300000; ++i) runs.push_back(static_cast<uint8_t>((i / 1000) % (1 << bits)));
-    ExpectLzwRoundTrip(runs, bits);
-    // Few symbols, structured: what policy pictures look like.
-    std::vector<uint8_t> stripes;
-    for (int i = 0; i < 100000; ++i) stripes.push_back(static_cast<uint8_t>((i % 17 < 3) ? 1 : 0));
-    ExpectLzwRoundTrip(stripes, bits);
-  }
+std::vector<uint8_t> Bytes(std::initializer_list<int> values) {
+  std::vector<uint8_t> bytes;
+  for (int v : values) bytes.push_back(static_cast<uint8_t>(v));
+  return bytes;
 }
 
 TEST(GifWriter, HeaderLoopAndFrames) {
@@ -108,6 +120,159 @@ TEST(GifWriter, HeaderLoopAndFrames) {
     EXPECT_EQ(gif.palette[3 * i + 1], kPalette[i].g);
     EXPECT_EQ(gif.palette[3 * i + 2], kPalette[i].b);
   }
+
+  // The file's structure: a table of 8 (5 colours and "unchanged"), the
+  // loop extension once before the first frame, then the frames. Frames 1
+  // and 3 change every pixel (whole rectangle, nothing transparent); frame
+  // 2 repeats frame 1 (one transparent pixel).
+  const RawGif raw = ReadRaw(file);
+  ASSERT_EQ(raw.error, "");
+  EXPECT_EQ(raw.table_size, 8);
+  EXPECT_EQ(raw.colour_resolution, 8);
+  EXPECT_EQ(raw.background, 0);
+  const std::vector<std::vector<uint8_t>> loop = {
+      Bytes({APPLICATION_EXT_FUNC_CODE, 'N', 'E', 'T', 'S', 'C', 'A', 'P', 'E', '2', '.', '0'}),
+      Bytes({CONTINUE_EXT_FUNC_CODE, 1, 0, 0})};
+  EXPECT_EQ(raw.first_extensions, loop);
+  EXPECT_EQ(raw.extensions_after_first, 0);
+  ASSERT_EQ(raw.frames.size(), 4u);
+  auto pattern_indices = [](int seed) {
+    std::vector<uint8_t> indices;
+    for (int y = 0; y < 7; ++y) {
+      for (int x = 0; x < 13; ++x)
+        indices.push_back(static_cast<uint8_t>((x / 3 + y / 2 + seed) % 5));
+    }
+    return indices;
+  };
+  const int left[] = {0, 0, 0, 0}, width[] = {13, 13, 1, 13}, height[] = {7, 7, 1, 7};
+  const int transparent[] = {NO_TRANSPARENT_COLOR, 5, 5, 5};
+  const std::vector<uint8_t> indices[] = {
+      pattern_indices(0), pattern_indices(1), {5}, pattern_indices(3)};
+  for (size_t i = 0; i < raw.frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const RawFrame& frame = raw.frames[i];
+    EXPECT_EQ(frame.left, left[i]);
+    EXPECT_EQ(frame.top, 0);
+    EXPECT_EQ(frame.width, width[i]);
+    EXPECT_EQ(frame.height, height[i]);
+    EXPECT_FALSE(frame.interlaced);
+    EXPECT_FALSE(frame.local_colours);
+    EXPECT_EQ(frame.control.DisposalMode, DISPOSE_DO_NOT);
+    EXPECT_FALSE(frame.control.UserInputFlag);
+    EXPECT_EQ(frame.control.DelayTime, 10);
+    EXPECT_EQ(frame.control.TransparentColor, transparent[i]);
+    EXPECT_EQ(frame.indices, indices[i]);
+  }
+}
+
+TEST(GifWriter, StoresTheChangedRectangleWithUnchangedPixelsTransparent) {
+  // 10x8 black; then (3,2) red and (6,4) green; then (3,2) black again.
+  std::vector<RgbImage> frames(3, RgbImage(10, 8, kPalette[0]));
+  frames[1].Set(3, 2, kPalette[1]);
+  frames[1].Set(6, 4, kPalette[2]);
+  frames[2].Set(6, 4, kPalette[2]);
+  GifEncoder encoder(10, 8, kPalette, 0);
+  const int delays_ms[] = {250, 1000, 54};
+  for (size_t i = 0; i < frames.size(); ++i) {
+    ASSERT_TRUE(encoder.AddFrame(frames[i], delays_ms[i]).ok());
+  }
+  const std::vector<uint8_t> file = encoder.Finish();
+
+  const testing::DecodedGif gif = testing::DecodeGif(file);
+  ASSERT_EQ(gif.error, "");
+  ASSERT_EQ(gif.frames.size(), 3u);
+  for (size_t i = 0; i < frames.size(); ++i) EXPECT_EQ(gif.frames[i], frames[i].bytes());
+  EXPECT_EQ(gif.delays_cs, (std::vector<int>{25, 100, 5}));
+
+  const RawGif raw = ReadRaw(file);
+  ASSERT_EQ(raw.error, "");
+  ASSERT_EQ(raw.frames.size(), 3u);
+  const RawFrame& first = raw.frames[0];
+  EXPECT_EQ(std::vector<int>({first.left, first.top, first.width, first.height}),
+            std::vector<int>({0, 0, 10, 8}));
+  EXPECT_EQ(first.control.TransparentColor, NO_TRANSPARENT_COLOR);
+  EXPECT_EQ(first.indices, std::vector<uint8_t>(80, 0));
+  // Columns 3..6, rows 2..4: red at the top left, green at the bottom right.
+  const RawFrame& second = raw.frames[1];
+  EXPECT_EQ(std::vector<int>({second.left, second.top, second.width, second.height}),
+            std::vector<int>({3, 2, 4, 3}));
+  EXPECT_EQ(second.control.TransparentColor, 5);
+  EXPECT_EQ(second.indices, Bytes({1, 5, 5, 5,  //
+                                   5, 5, 5, 5,  //
+                                   5, 5, 5, 2}));
+  const RawFrame& third = raw.frames[2];
+  EXPECT_EQ(std::vector<int>({third.left, third.top, third.width, third.height}),
+            std::vector<int>({3, 2, 1, 1}));
+  EXPECT_EQ(third.control.TransparentColor, 5);
+  EXPECT_EQ(third.indices, Bytes({0}));
+  for (const RawFrame& frame : raw.frames) EXPECT_EQ(frame.control.DisposalMode, DISPOSE_DO_NOT);
+}
+
+TEST(GifWriter, FullPaletteHasNoTransparentIndex) {
+  // 256 colours leave no index for "unchanged": later frames store their
+  // changed rectangle with every pixel's own index. Random pixels fill
+  // giflib's 4096-code LZW table many times.
+  std::vector<Rgb> palette;
+  for (int i = 0; i < 256; ++i) {
+    palette.push_back(
+        Rgb{static_cast<uint8_t>(i), static_cast<uint8_t>(255 - i), static_cast<uint8_t>(i * 7)});
+  }
+  Rng rng(7);
+  const int width = 300, height = 200;
+  std::vector<uint8_t> indices(static_cast<size_t>(width) * height);
+  for (uint8_t& v : indices) v = static_cast<uint8_t>(rng.Uniform() * 256);
+  RgbImage first(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) first.Set(x, y, palette[indices[y * width + x]]);
+  }
+  RgbImage second = first;
+  second.Set(40, 30, palette[(indices[30 * width + 40] + 1) % 256]);
+  second.Set(299, 31, palette[(indices[31 * width + 299] + 1) % 256]);
+  GifEncoder encoder(width, height, palette);
+  ASSERT_TRUE(encoder.AddFrame(first, 100).ok());
+  ASSERT_TRUE(encoder.AddFrame(second, 100).ok());
+  const std::vector<uint8_t> file = encoder.Finish();
+
+  const testing::DecodedGif gif = testing::DecodeGif(file);
+  ASSERT_EQ(gif.error, "");
+  ASSERT_EQ(gif.frames.size(), 2u);
+  EXPECT_EQ(gif.frames[0], first.bytes());
+  EXPECT_EQ(gif.frames[1], second.bytes());
+  const RawGif raw = ReadRaw(file);
+  ASSERT_EQ(raw.error, "");
+  EXPECT_EQ(raw.table_size, 256);
+  ASSERT_EQ(raw.frames.size(), 2u);
+  EXPECT_EQ(raw.frames[0].indices, indices);
+  const RawFrame& changed = raw.frames[1];
+  EXPECT_EQ(std::vector<int>({changed.left, changed.top, changed.width, changed.height}),
+            std::vector<int>({40, 30, 260, 2}));
+  EXPECT_EQ(changed.control.TransparentColor, NO_TRANSPARENT_COLOR);
+  std::vector<uint8_t> expected;
+  for (int y = 30; y < 32; ++y) {
+    for (int x = 40; x < 300; ++x) expected.push_back(indices[y * width + x]);
+  }
+  expected[0] = static_cast<uint8_t>(expected[0] + 1);
+  expected.back() = static_cast<uint8_t>(expected.back() + 1);
+  EXPECT_EQ(changed.indices, expected);
+}
+
+TEST(GifWriter, LoopCountIsLittleEndian) {
+  GifEncoder encoder(2, 2, kPalette, 1000);
+  ASSERT_TRUE(encoder.AddFrame(RgbImage(2, 2), 100).ok());
+  const RawGif raw = ReadRaw(encoder.Finish());
+  ASSERT_EQ(raw.error, "");
+  ASSERT_EQ(raw.first_extensions.size(), 2u);
+  EXPECT_EQ(raw.first_extensions[1], Bytes({CONTINUE_EXT_FUNC_CODE, 1, 0xe8, 0x03}));
+}
+
+TEST(GifWriter, NoFramesAfterFinish) {
+  GifEncoder encoder(3, 3, kPalette);
+  ASSERT_TRUE(encoder.AddFrame(RgbImage(3, 3), 100).ok());
+  const std::vector<uint8_t> file = encoder.Finish();
+  EXPECT_EQ(testing::DecodeGif(file).frames.size(), 1u);
+  EXPECT_FALSE(encoder.AddFrame(RgbImage(3, 3), 100).ok());
+  EXPECT_EQ(encoder.frames(), 1);
+  EXPECT_TRUE(encoder.Finish().empty());
 }
 
 TEST(GifWriter, DelaysAndNearestColours) {
@@ -135,6 +300,12 @@ TEST(GifWriter, RejectsFramesOfAnotherSize) {
   GifEncoder encoder(5, 5, kPalette);
   EXPECT_FALSE(encoder.AddFrame(RgbImage(5, 6), 100).ok());
   EXPECT_EQ(encoder.frames(), 0);
+  // The encoder goes on with frames of the right size.
+  ASSERT_TRUE(encoder.AddFrame(RgbImage(5, 5, kPalette[3]), 100).ok());
+  const testing::DecodedGif gif = testing::DecodeGif(encoder.Finish());
+  ASSERT_EQ(gif.error, "");
+  ASSERT_EQ(gif.frames.size(), 1u);
+  EXPECT_EQ(gif.frames[0], RgbImage(5, 5, kPalette[3]).bytes());
 }
 
 TEST(GifWriter, PolicyPicturesAreExact) {
