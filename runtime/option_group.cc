@@ -47,6 +47,29 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
   Put(key, *quoted);
 }
 
+namespace {
+
+// CLI11 reads "010" as octal and "0x10" as hexadecimal; a size, a seed or a
+// step count typed with a leading zero means the decimal number. Integers
+// are decimal digits with an optional sign, leading zeros dropped.
+const CLI::Validator& DecimalInteger() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        const size_t digits = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+        if (digits == text.size() ||
+            text.find_first_not_of("0123456789", digits) != std::string::npos) {
+          return "needs a decimal number, got '" + text + "'";
+        }
+        const size_t first = text.find_first_not_of('0', digits);
+        text = text.substr(0, digits) + (first == std::string::npos ? "0" : text.substr(first));
+        return {};
+      },
+      "");
+  return validator;
+}
+
+}  // namespace
+
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
 }
@@ -78,7 +101,8 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
     return;
   }
   Record(name, ValueKind::kInteger);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->transform(DecimalInteger());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -86,7 +110,10 @@ void OptionGroup::Option(const std::string& name, long long& value, const std::s
                          const std::string& help) {
   if (writer_ != nullptr) return writer_->Put(Key(name), std::to_string(value));
   Record(name, ValueKind::kInteger);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->transform(DecimalInteger());
 }
 
 void OptionGroup::Option(const std::string& name, double& value, const std::string& value_name,
@@ -166,6 +193,14 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     if (name != std::string::npos && equals != std::string::npos) {
       return usage_error("option " + what.substr(name, equals - name) + " needs a number, got '" +
                          what.substr(equals + 3) + "'");
+    }
+    return usage_error(what);
+  } catch (const CLI::ValidationError& error) {
+    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger).
+    const std::string what = error.what();
+    const size_t colon = what.find(": ");
+    if (what.rfind("--", 0) == 0 && colon != std::string::npos) {
+      return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);
   } catch (const CLI::ConfigError& error) {

@@ -140,7 +140,10 @@ TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
   const std::pair<std::vector<std::string>, std::string> cases[] = {
       {{"--sise", "20"}, "unknown option --sise"},
       {{"--out"}, "option --out needs a value"},
-      {{"--size", "abc"}, "option --size needs a number, got 'abc'"},
+      {{"--size", "abc"}, "option --size needs a decimal number, got 'abc'"},
+      // CLI11 alone would read these as hexadecimal and octal (16 and 8).
+      {{"--size", "0x10"}, "option --size needs a decimal number, got '0x10'"},
+      {{"--seed", "1e3"}, "option --seed needs a decimal number, got '1e3'"},
       {{"stray"}, "unexpected argument 'stray'"},
   };
   for (const auto& [args, expected] : cases) {
@@ -154,6 +157,17 @@ TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
     EXPECT_EQ(error.rfind("test: " + expected, 0), 0u) << error;
     EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << error;
   }
+}
+
+TEST(ParseCommandLineTest, IntegersAreDecimalWithLeadingZeros) {
+  CLI::App app;
+  OptionGroup group(app);
+  Everything options;
+  Declare(group, options);
+  ASSERT_EQ(ParseCommandLine(app, {"--size", "020", "--seed", "010", "--steps", "+7"}, "test"), -1);
+  EXPECT_EQ(options.scenario.size, 20ll);  // not octal 16
+  EXPECT_EQ(options.scenario.seed, 10ll);
+  EXPECT_EQ(options.scenario.steps, 7ll);
 }
 
 TEST_F(OptionGroupTest, AnUnknownConfigKeyIsAnError) {
