@@ -30,9 +30,9 @@ std::string DifficultyName(Difficulty difficulty) {
 
 std::optional<Difficulty> ParseDifficulty(const std::string& text) {
   const std::string lower = ToLower(text);
-  if (lower == "easy") return Difficulty::kEasy;
-  if (lower == "medium") return Difficulty::kMedium;
-  if (lower == "hard") return Difficulty::kHard;
+  for (Difficulty difficulty : kAllDifficulties) {
+    if (ToLower(DifficultyName(difficulty)) == lower) return difficulty;
+  }
   return std::nullopt;
 }
 

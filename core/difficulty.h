@@ -7,6 +7,8 @@
 namespace dynapath {
 
 enum class Difficulty { kEasy = 0, kMedium = 1, kHard = 2 };
+inline constexpr Difficulty kAllDifficulties[] = {Difficulty::kEasy, Difficulty::kMedium,
+                                                  Difficulty::kHard};
 
 struct CellProbabilities {
   double free;
@@ -19,7 +21,7 @@ CellProbabilities ProbabilitiesOf(Difficulty difficulty);
 // "Easy", "Medium", "Hard": the spelling of the result files.
 std::string DifficultyName(Difficulty difficulty);
 
-// Case-insensitive parse of "easy", "medium", "hard".
+// Case-insensitive parse of a DifficultyName ("easy", "medium", "hard").
 std::optional<Difficulty> ParseDifficulty(const std::string& text);
 
 // The report's seed for a difficulty: 50 + its index (50, 51, 52).

@@ -47,11 +47,8 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
   Put(key, *quoted);
 }
 
-namespace {
-
-// CLI11 reads "010" as octal and "0x10" as hexadecimal; a size, a seed or a
-// step count typed with a leading zero means the decimal number. Integers
-// are decimal digits with an optional sign, leading zeros dropped.
+// A size, a seed or a step count typed with a leading zero means the
+// decimal number.
 const CLI::Validator& DecimalInteger() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {
@@ -67,8 +64,6 @@ const CLI::Validator& DecimalInteger() {
       "");
   return validator;
 }
-
-}  // namespace
 
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
@@ -196,10 +191,13 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     }
     return usage_error(what);
   } catch (const CLI::ValidationError& error) {
-    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger).
+    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger),
+    // worded like a conversion error; other validators' text (a Range's
+    // "Value 9 not in range 0 to 5") as CLI11 gives it.
     const std::string what = error.what();
     const size_t colon = what.find(": ");
-    if (what.rfind("--", 0) == 0 && colon != std::string::npos) {
+    if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
+        what.compare(colon + 2, 22, "needs a decimal number") == 0) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

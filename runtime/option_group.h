@@ -86,6 +86,12 @@ class OptionGroup {
 Result<long long> InRange(const std::string& name, std::optional<long long> value,
                           long long fallback, long long min, long long max);
 
+// CLI11 alone reads "010" as octal and "0x10" as hexadecimal; this transform
+// makes an integer option decimal: digits with an optional sign, leading
+// zeros dropped, anything else "needs a decimal number, got 'TEXT'". Every
+// integer option of an OptionGroup has it.
+const CLI::Validator& DecimalInteger();
+
 // The project's way of parsing a command line on CLI11: --help prints the
 // help and returns 0; a bad option prints "PROGRAM: MESSAGE" (one line) and
 // returns 2. Returns -1 to go on. `args` excludes the program name.

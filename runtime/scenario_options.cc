@@ -24,7 +24,7 @@ const WordTable<Difficulty>& DifficultyWords() {
   // The result files' names ("Easy") in lower case, so the two cannot drift.
   static const WordTable<Difficulty> words = [] {
     std::vector<WordTable<Difficulty>::Word> list;
-    for (Difficulty difficulty : {Difficulty::kEasy, Difficulty::kMedium, Difficulty::kHard}) {
+    for (Difficulty difficulty : kAllDifficulties) {
       list.push_back({ToLower(DifficultyName(difficulty)), difficulty});
     }
     return WordTable<Difficulty>(std::move(list), WordTable<Difficulty>::Case::kIgnored);
@@ -140,8 +140,8 @@ Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom
   if (!count) return Error{"option --stations: " + count.error().message};
   const int cells = count->Resolve(grid.Count(Cell::kFree));
   if (movingai && cells == 0) {
-    return Error{"option --stations must place at least 1 station on a MovingAI map, got '" +
-                 text + "' (" + std::to_string(grid.Count(Cell::kFree)) + " free cells)"};
+    return Error{"option --stations must place at least 1 station on a MovingAI map, got '" + text +
+                 "' (" + std::to_string(grid.Count(Cell::kFree)) + " free cells)"};
   }
   Result<std::vector<int>> placed = PlaceOnFreeCells(grid, cells, Cell::kStation, random);
   if (!placed) return Error{"option --stations: " + placed.error().message};

@@ -157,7 +157,8 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
              "comma-separated maze sizes (rows = columns, at least 2)", kDefaultSizes);
   group.List("--difficulties", o.difficulties, ValueKind::kStringList, "LIST",
-             "comma-separated difficulties: easy, medium, hard", kDefaultDifficulties);
+             "comma-separated difficulties: " + runtime::DifficultyWords().List(),
+             kDefaultDifficulties);
   group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
              "comma-separated approaches: " + ApproachNamesText() + "; or all", kAllApproaches);
   group.Flag("--edge-case", o.edge_case,
@@ -432,10 +433,10 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
   Result<std::vector<std::string>> items = ListItems(difficulties);
   if (!items) return items.error();
   for (const std::string& item : *items) {
-    const std::optional<Difficulty> difficulty = ParseDifficulty(item);
+    const std::optional<Difficulty> difficulty = runtime::DifficultyWords().Parse(item);
     if (!difficulty) {
-      return Error{difficulties.origin + ": unknown difficulty '" + item +
-                   "' (expected easy, medium or hard)"};
+      return Error{difficulties.origin + ": unknown difficulty '" + item + "' (expected " +
+                   runtime::DifficultyWords().List() + ")"};
     }
     if (std::count(options.difficulties.begin(), options.difficulties.end(), *difficulty) > 0) {
       return Error{difficulties.origin + ": difficulty " + item + " is given twice"};

@@ -71,6 +71,7 @@ int64_t NowUs() {
 void DeclareOptions(CLI::App& app, Options& o) {
   app.add_option("--queue", o.queue, "the NFQUEUE queue whose packets to hold (required)")
       ->type_name("N")
+      ->transform(dynapath::runtime::DecimalInteger())
       ->check(CLI::Range(0, 65535));
   app.add_option("--delay", o.delay_ms, "hold every packet this long (required)")
       ->type_name("MS")
@@ -125,8 +126,8 @@ int main(int argc, char** argv) {
   CLI::App app("Holds the packets of an NFQUEUE queue for a while (delay, jitter, reordering).",
                "dynapath-lan-delay");
   DeclareOptions(app, state.options);
-  if (int code = dynapath::runtime::ParseCommandLine(app, {argv + 1, argv + argc},
-                                                     "dynapath-lan-delay");
+  if (int code =
+          dynapath::runtime::ParseCommandLine(app, {argv + 1, argv + argc}, "dynapath-lan-delay");
       code >= 0) {
     return code;
   }
