@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scale figures of docs/PERFORMANCE.md (issue 11): the report's hard
+# Scale figures of docs/PERFORMANCE.md: the report's hard
 # 1000x1000 maze with fedAsynQ_EqAvg in every mode: initial training time
 # (results.csv InitialTime), peak RSS of the largest process and CPU time
 # of the whole run (GNU time), for --local, --agents 2 and --embedded.

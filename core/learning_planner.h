@@ -41,7 +41,7 @@ class LearningPlanner : public Planner, private TrainingContext {
   std::unique_ptr<RetrainingStrategy> strategy_;
   std::vector<int64_t> training_count_;  // per node, for job seeds
   // The evaluation behind the success rates, repaired where cells changed
-  // or regions were retrained (issue 11) instead of redone every query.
+  // or regions were retrained instead of redone every query.
   IncrementalPolicyEvaluation evaluation_;
 };
 

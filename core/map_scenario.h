@@ -1,5 +1,5 @@
 #pragma once
-// Scenarios on loaded maps (issue 11): stations placed on a map that has
+// Scenarios on loaded maps: stations placed on a map that has
 // none, and moving obstacles ("movers") among static walls. Everything is
 // drawn from one C-library stream seeded with the run's seed, so a seed
 // gives the same stations, movers and moves in every mode.

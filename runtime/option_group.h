@@ -1,5 +1,5 @@
 #pragma once
-// Where a group of options is declared once (issue 10): each group (scenario,
+// Where a group of options is declared once: each group (scenario,
 // run plan, process, ...) has one function `DeclareXOptions(OptionGroup&,
 // XOptions&)` that names each option with its value name, help text and
 // default. The same declaration serves two purposes:

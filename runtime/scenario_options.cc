@@ -148,7 +148,7 @@ Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom
   return Ok{};
 }
 
-// Stations and movers of a loaded maze (issue 11), drawn from `random`;
+// Stations and movers of a loaded maze, drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
 Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& random,
                   std::optional<std::vector<int>>& movers) {

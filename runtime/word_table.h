@@ -1,5 +1,5 @@
 #pragma once
-// The words an enum option accepts, written once (issue 10): one table per
+// The words an enum option accepts, written once: one table per
 // enum maps each word to its value, and the option's help text, its check
 // ("must be a, b or c, got 'x'"), its parse and the word of its default are
 // all read from the table, so adding or renaming a value is one line.

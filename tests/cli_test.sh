@@ -32,7 +32,7 @@ expect_usage_error "needs a value" run --out
 expect_usage_error "missing.txt" run --maze "$work/missing.txt"
 printf '..x\n...\n' >"$work/bad_maze.txt"
 expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"
-# Issue 9: grid limits are the protocol's (4096) everywhere, checked first;
+# Grid limits are the protocol's (4096) everywhere, checked first;
 # a maze without a reachable station and a directory as --maze are errors.
 expect_usage_error "--size" run --agents 2 --size 5000 --steps 1
 expect_usage_error "--size" run --local --size 4097
@@ -72,7 +72,7 @@ cut -d, -f1-5,7- "$work/b/results_detailed.csv" >"$work/b.detail"
 cmp -s "$work/a.detail" "$work/b.detail" || fail "saved maze/changes or thread count changed the results"
 ls "$work/a" | grep -q tmp && fail "temporary file left behind"
 
-# MovingAI maps (issue 11): a non-square map with seeded stations and movers;
+# MovingAI maps: a non-square map with seeded stations and movers;
 # saving the scenario (text maze + change file) and loading it gives the same
 # results; the Incremental Oracle equals the BFS Oracle at every step.
 map="$(dirname "$0")/data/maps/wide-5-9.map"
@@ -99,7 +99,7 @@ map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
     || fail "'$*' exited $code: $(cat "$work/err")"
 }
 map_error "has no stations" --maze "$map"
-# Issue 11: a count that places no station is named as such.
+# A count that places no station is named as such.
 map_error "option --stations must place at least 1 station" --maze "$map" --stations 0
 map_error "option --stations must place at least 1 station" --maze "$map" --stations 0%
 map_error "for loaded maps" --size 10 --movers 3

@@ -173,7 +173,7 @@ same_results "$work/logged" "$work/replayed" "--replay of a --log"
   --log-level warn >/dev/null 2>&1 || fail "--replay with agents"
 same_results "$work/logged" "$work/replayed2" "--replay of a --log with 2 agents"
 
-# A MovingAI map with movers (issue 11): logged with 2 agents, replayed locally.
+# A MovingAI map with movers: logged with 2 agents, replayed locally.
 map=(--maze "$(dirname "$0")/data/maps/wide-5-9.map" --stations 2 --movers 20% --steps 8)
 "$dynapath" run --agents 2 "${map[@]}" "${replay[@]}" --log "$work/map.lcm" --out "$work/map_logged" \
   --log-level warn >/dev/null 2>&1 || fail "logged map run"

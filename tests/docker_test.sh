@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Docker end to end (issue 9, item 7): builds the image from this source tree,
+# Docker end to end: builds the image from this source tree,
 # runs envsim, coordinator and three agent containers with
 # docker/compose.yaml in the compose project's private network (envsim on the
 # project's internal bridge, the others in envsim's network namespace), with

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The hostile-network test of issue 9: a garbage publisher without the run's
+# The hostile-network test: a garbage publisher without the run's
 # secret (tests/lcm_garbage.cc `hostile`: random bytes, right-type random
 # bodies, huge announced counts, fragment floods, forged heartbeats and
 # trailers, replays of the run's own messages) runs beside

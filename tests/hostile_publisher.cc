@@ -1,4 +1,4 @@
-// Test tool: the attacks of issue 9's table, published on a run's channels
+// Test tool: the attacks of the hostile-network table (docs/RELIABILITY.md), published on a run's channels
 // from inside its private network. Usage:
 //   hostile_publisher RUN_ID SECONDS MODE [LCM_URL]
 // MODE:

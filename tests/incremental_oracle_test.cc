@@ -127,7 +127,7 @@ TEST(IncrementalOracleTest, SameFiguresAsBfsOracleOnReportScenarios) {
   }
 }
 
-// A rectangular map with static walls, where only movers move (issue 11):
+// A rectangular map with static walls, where only movers move:
 // the same figures as the BFS Oracle at every step.
 TEST(IncrementalOracleTest, SameFiguresAsBfsOracleOnARectangularMapWithMovers) {
   ThreadPool pool(1);

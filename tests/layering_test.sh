@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The layers point one way (issue 10, item 3; docs/DECISIONS.md "Layers"):
+# The layers point one way (docs/DECISIONS.md "Layers"):
 #   core/ <- lcmtypes/ (protocol glue) <- runtime/ <- envsim/ coordinator/
 #   agent/ (the processes) <- launch/ <- tools/ (the applications)
 # Fails when a source file of a layer includes a project header of a layer

@@ -5,7 +5,7 @@
 // valid message of another run.
 //
 // `hostile` adds what an attacker on the run's network without its secret
-// would send (issue 9): well-formed messages of this run whose array counts
+// would send (the hostile-network table, docs/RELIABILITY.md): well-formed messages of this run whose array counts
 // announce 2^29 to 2^31-1 elements, floods of one-byte fragment_t pieces
 // announcing 256 MB messages, forged heartbeats of this run (an agent 7 that
 // does not exist, a coordinator that says it failed), messages with a forged

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The options table (issue 10): for every command-line option, the one place
+"""The options table: for every command-line option, the one place
 it is declared and the commands that take it.
 
 Declarations are found in the sources (OptionGroup::Option/List/Flag and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every wait bounded, every process stoppable (issue 13, item 4), with the
+# Every wait bounded, every process stoppable, with the
 # real processes started by hand in a private network (ctest runs this with
 # `dynapath netns --`):
 #   1. the coordinator answers SIGTERM within a second while waiting for

@@ -147,7 +147,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->mode.agents, 1);
 }
 
-// Maps (issue 11): a folder gives its maps in name order, after any mazes;
+// Maps: a folder gives its maps in name order, after any mazes;
 // with maps, sizes and the edge case default to none; each map run is the
 // `dynapath run --maze` of its path with the study's stations and movers.
 TEST(StudyPlanTest, MapsFromFilesAndFolders) {
@@ -230,7 +230,7 @@ void WriteMap(const std::filesystem::path& path, int rows, int cols) {
   for (int r = 0; r < rows; ++r) out << std::string(static_cast<size_t>(cols), '.') << "\n";
 }
 
-// Issue 11: two maps named alike would share runs/map_<name>_<seed> and the
+// Two maps named alike would share runs/map_<name>_<seed> and the
 // Difficulty column (one map's results lost, two identical rows); one file
 // reached by two spellings would run twice. Both are refused, naming both.
 TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
@@ -261,7 +261,7 @@ TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
   fs::remove_all(root);
 }
 
-// Issue 11: a study file's relative map paths are relative to its folder;
+// A study file's relative map paths are relative to its folder;
 // the command line's to the working directory (the tests run in the build
 // tree, which has no maps/ folder).
 TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {

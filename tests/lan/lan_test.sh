@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The simulated three-host LAN (tools/lan/lan_lib.sh, issue 13) in the test
+# The simulated three-host LAN (tools/lan/lan_lib.sh) in the test
 # suite: envsim and coordinator on host a, one agent on b and one on c, all
 # started by hand with --run-id and --lcm-url 'udpm://...?ttl=1', under
 # impairments; every run must give the results of `dynapath run --local`.

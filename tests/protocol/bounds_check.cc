@@ -148,7 +148,7 @@ TEST(BoundsCheck, HugeCountsAndLengthsAreRejectedWithoutLargeAllocations) {
   EXPECT_GT(fields_crafted, 300);
 }
 
-// Row 1 of issue 9: a 61-byte job_result_t announcing 2^29 floats made LCM's
+// Row 1 of the hostile-network table (docs/RELIABILITY.md): a 61-byte job_result_t announcing 2^29 floats made LCM's
 // decoder compute a negative byte count and read out of bounds.
 TEST(BoundsCheck, TheJobResultOfIssue9) {
   const schema::Type& schema = *FindSchemaType("job_result_t");

@@ -1,4 +1,4 @@
-// The option declarations of runtime/ (issue 10): a struct written as a
+// The option declarations of runtime/: a struct written as a
 // config file by its declaration reads back the same through CLI11, values
 // a config cannot carry are refused, and bad command lines give one error.
 
@@ -204,7 +204,7 @@ TEST(OptionKindsTest, TheDeclarationRecordsEachKind) {
   EXPECT_EQ(kinds.at("leaf-limit"), ValueKind::kInteger);
 }
 
-// Issue 10: an enum option's words are one table; its list, check, parse
+// An enum option's words are one table; its list, check, parse
 // and default word come from it, with the case rules the options had.
 TEST(WordTableTest, ListCheckAndParseComeFromOneTable) {
   EXPECT_EQ(PlacementWords().List(), "auto, whole or split");

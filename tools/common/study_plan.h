@@ -38,7 +38,7 @@ struct StudyOptions {
   std::vector<Difficulty> difficulties;
   std::vector<Approach> approaches;
   bool edge_case = true;
-  // MovingAI maps (issue 11), after the generated mazes: their paths, in
+  // MovingAI maps, after the generated mazes: their paths, in
   // order (a folder gives its .map files, sorted), with the stations and
   // movers every map gets (N or P% of its free cells, from the seed).
   struct Map {

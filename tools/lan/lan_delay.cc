@@ -65,7 +65,7 @@ int64_t NowUs() {
       .count();
 }
 
-// The options, with their bounds, on CLI11 as every command's (issue 10).
+// The options, with their bounds, on CLI11 as every command's.
 // --queue and --delay are required, checked after parsing (CheckRequired):
 // CLI11's own check would come before, and hide, an unknown option's error.
 void DeclareOptions(CLI::App& app, Options& o) {

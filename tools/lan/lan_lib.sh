@@ -1,5 +1,5 @@
 # shellcheck shell=bash
-# The simulated three-host LAN (issue 13), sourced by tools/lan/lan.sh,
+# The simulated three-host LAN, sourced by tools/lan/lan.sh,
 # tools/lan/lan_matrix.sh and tests/lan/lan_test.sh.
 #
 # Layout: inside one user + network namespace (the "outer" one, made by

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The table of issue 13, rerun on the simulated three-host LAN
+# The impairment table (docs/NETWORKING.md), rerun on the simulated three-host LAN
 # (tools/lan/lan_lib.sh): every impairment against three workloads, each run
 # compared with `dynapath run --local` and timed against the same LAN without
 # impairment, plus the lost-host cases. Prints a markdown table; with

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Retries rows 1-4 and 6 of issue 9's table: a distributed run with an
-# attacker publishing on its channels in the same private network, compared
+# Reruns rows 1-4 and 6 of the hostile-network table (docs/RELIABILITY.md):
+# a distributed run with an attacker publishing on its channels in the same private network, compared
 # with --local, with each process's peak resident memory (VmHWM, sampled).
 # Run inside a private network:
-#   build/tools/dynapath netns -- tools/dev/retry_issue9.sh build OUTDIR MODE SECONDS [run options]
+#   build/tools/dynapath netns -- tools/dev/hostile_network_run.sh build OUTDIR MODE SECONDS [run options]
 # MODE: counts, fragments, mix or regions (tests/hostile_publisher.cc).
 set -uo pipefail
 build=$1 out=$2 mode=$3 seconds=$4
