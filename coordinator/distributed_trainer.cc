@@ -47,6 +47,10 @@ struct DistributedTrainer::Batch {
   // lack (0: not waiting), and how many reassignments that caused in a row.
   int64_t stuck_since_ms = 0;
   int stalls = 0;
+  // Repeats of this epoch's batch since its last progress: each doubles the
+  // wait before the next (RepeatIntervalMs), so agents that are merely busy
+  // are not flooded with copies they must decode.
+  int repeats_since_progress = 0;
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
   // Split: the round last asked of the agents (RequestRound) and when.
@@ -197,6 +201,7 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   Batch& batch = *batch_;
   ++batch.epoch;
   if (batch.epoch > 0) ++traffic_.epochs;
+  batch.repeats_since_progress = 0;
   batch.agents = std::move(agents);
   batch.items.clear();
 
@@ -318,6 +323,7 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   batch.last_progress_ms = AgentRegistry::NowMs();
   batch.stuck_since_ms = 0;
   batch.stalls = 0;
+  batch.repeats_since_progress = 0;
   while (batch.combiner->RoundComplete()) {
     for (const protocol::RoundCombiner::JobRound& job_round : batch.combiner->Combine()) {
       batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
@@ -369,6 +375,7 @@ void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
   batch.last_progress_ms = AgentRegistry::NowMs();
   batch.stuck_since_ms = 0;
   batch.stalls = 0;
+  batch.repeats_since_progress = 0;
 }
 
 void DistributedTrainer::CheckAgents() {
@@ -471,13 +478,16 @@ void DistributedTrainer::CheckAgents() {
   // their gaps are detected by the lack of progress itself.
   // Split rounds: a gap is a round without progress beyond a round's work
   // plus the repeat interval of whole jobs (reordering is not loss).
-  const int64_t interval =
+  const int64_t first_interval =
       batch.split ? std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
                              ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))
                   : ResendIntervalMs();
-  if ((resend && now - batch.stuck_since_ms >= interval && now - batch.last_send_ms > interval) ||
+  const int64_t interval = RepeatIntervalMs(first_interval, batch.repeats_since_progress);
+  if ((resend && now - batch.stuck_since_ms >= first_interval &&
+       now - batch.last_send_ms > interval) ||
       (stalled && now - batch.last_send_ms > interval)) {
     ++traffic_.resends;
+    ++batch.repeats_since_progress;
     batch.repeated = true;
     PublishBatch();  // agents answer a repeat by re-sending what they sent
   }
@@ -502,6 +512,19 @@ int64_t DistributedTrainer::ResendIntervalMs() const {
   const double cap = options_.resend_seconds * 1000;
   if (round_trip_ms_ < 0) return static_cast<int64_t>(cap);
   return static_cast<int64_t>(std::clamp(2 * round_trip_ms_ + 20.0, 30.0, cap));
+}
+
+int64_t RepeatIntervalMs(int64_t first_interval_ms, int repeats_since_progress) {
+  // Exponential backoff, as TCP's retransmission timer: a batch repeated
+  // without progress is more likely late (its agents busy, a slow host, a
+  // sanitizer build) than lost again. Measured under ASan with learners
+  // split: repeats every 30 ms kept busy agents decoding 64 KB copies,
+  // 7,214 repeats in one run, until the batch stalled and was reassigned.
+  // Capped at kMaxRepeatIntervalMs so that a real loss is still repaired
+  // well before the stall bound (stall_seconds, 5 s by default).
+  const int doublings = std::min(repeats_since_progress, 6);
+  const int64_t grown = first_interval_ms << doublings;
+  return std::max(first_interval_ms, std::min(grown, kMaxRepeatIntervalMs));
 }
 
 void DistributedTrainer::OnStall(const std::vector<int>& owing) {

@@ -51,6 +51,13 @@
 
 namespace dynapath::coordinator {
 
+// The longest wait between two repeats of a batch that makes no progress.
+inline constexpr int64_t kMaxRepeatIntervalMs = 1000;
+// The wait before the next repeat of a batch already repeated
+// repeats_since_progress times without progress: first_interval_ms doubled
+// each time, capped at kMaxRepeatIntervalMs (never below first_interval_ms).
+int64_t RepeatIntervalMs(int64_t first_interval_ms, int repeats_since_progress);
+
 struct DistributedTrainerOptions {
   // How long to wait for at least one live agent before a batch fails.
   double agent_wait_seconds = 60.0;

@@ -19,6 +19,7 @@
 
 #include "agent/agent.h"
 #include "coordinator/coordinator.h"
+#include "coordinator/distributed_trainer.h"
 #include "core/scenario.h"
 #include "core/text_util.h"
 #include "dynapath/fragment_t.hpp"
@@ -223,3 +224,19 @@ TEST_F(EmbeddedRunTest, SplitWorkOfAnAgentThatStopsIsReassigned) {
 
 }  // namespace
 }  // namespace dynapath
+
+// The wait between repeats of a batch without progress doubles per repeat
+// from the first interval, up to kMaxRepeatIntervalMs, and never drops below
+// the first interval (a first interval above the cap stays as it is).
+TEST(RepeatIntervalTest, DoublesPerRepeatUpToTheCap) {
+  using dynapath::coordinator::kMaxRepeatIntervalMs;
+  using dynapath::coordinator::RepeatIntervalMs;
+  EXPECT_EQ(RepeatIntervalMs(30, 0), 30);
+  EXPECT_EQ(RepeatIntervalMs(30, 1), 60);
+  EXPECT_EQ(RepeatIntervalMs(30, 2), 120);
+  EXPECT_EQ(RepeatIntervalMs(30, 5), 960);
+  EXPECT_EQ(RepeatIntervalMs(30, 6), kMaxRepeatIntervalMs);
+  EXPECT_EQ(RepeatIntervalMs(30, 1000000), kMaxRepeatIntervalMs);
+  EXPECT_EQ(RepeatIntervalMs(200, 3), kMaxRepeatIntervalMs);
+  EXPECT_EQ(RepeatIntervalMs(1500, 4), 1500);
+}
