@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Reruns rows 1-4 and 6 of the hostile-network table (docs/RELIABILITY.md):
-# a distributed run with an attacker publishing on its channels in the same private network, compared
+# a distributed run with an attacker publishing on its channels in the same
+# private network, compared
 # with --local, with each process's peak resident memory (VmHWM, sampled).
 # Run inside a private network:
 #   build/tools/dynapath netns -- tools/dev/hostile_network_run.sh build OUTDIR MODE SECONDS [run options]
