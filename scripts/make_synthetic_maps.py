@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes synthetic maps in the MovingAI format (type octile) for docs/MAPS.md.
+"""Writes synthetic maps in the MovingAI format (type octile) for docs/howto/MAPS.md.
 
 Real MovingAI maps are not available offline here, so these imitate the kinds
 of the benchmark: `city` (street grid with irregular blocks), `maze`
