@@ -4,7 +4,7 @@
 // derived from its line: the Approach enumerator, its result-file name, its
 // planner, and for learning approaches the learner and the retraining
 // strategy (core/approach_registry.h). Adding an approach is one module
-// defining its factory plus one line here (docs/DECISIONS.md, "Adding an
+// defining its factory plus one line here (CONTRIBUTING.md, "Adding an
 // approach").
 //
 // Columns: enumerator, result-file name, planner factory, learner (kNoLearner

@@ -1,8 +1,8 @@
 #pragma once
 // What differs by learner kind, each as an exhaustive switch (a new
 // LearnerKind fails to compile until every one handles it; the build has
-// -Werror=switch). Adding a learner: docs/DECISIONS.md, "Adding an approach
-// or a learner".
+// -Werror=switch). Adding a learner: CONTRIBUTING.md, "Adding a
+// learner".
 
 #include "core/training_job.h"
 
