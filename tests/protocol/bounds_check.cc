@@ -148,9 +148,10 @@ TEST(BoundsCheck, HugeCountsAndLengthsAreRejectedWithoutLargeAllocations) {
   EXPECT_GT(fields_crafted, 300);
 }
 
-// Row 1 of the hostile-network table (docs/RELIABILITY.md): a 61-byte job_result_t announcing 2^29 floats made LCM's
-// decoder compute a negative byte count and read out of bounds.
-TEST(BoundsCheck, TheJobResultOfIssue9) {
+// Row 1 of the hostile-network table (docs/RELIABILITY.md): a 61-byte
+// job_result_t announcing 2^29 floats made LCM's decoder compute a negative
+// byte count and read out of bounds.
+TEST(BoundsCheck, TheSixtyOneByteJobResult) {
   const schema::Type& schema = *FindSchemaType("job_result_t");
   int values_field = -1;
   for (int f = 0; f < schema.num_fields; ++f) {

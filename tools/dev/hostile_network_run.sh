@@ -10,7 +10,7 @@ set -uo pipefail
 build=$1 out=$2 mode=$3 seconds=$4
 shift 4
 url="udpm://239.255.76.67:7667?ttl=0"
-run=issue9-$mode
+run=hostile-$mode
 mkdir -p "$out"
 source "$(dirname "$0")/../../tests/result_files.sh"
 
