@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <exception>
 
 #include "coordinator/envsim_client.h"
 #include "dynapath/policy_t.hpp"
@@ -87,7 +87,6 @@ void Coordinator::PublishStep(const StepView& view, int pass) {
 
 int Coordinator::Run(const std::atomic<bool>& stop) {
   std::atomic<int> state{heartbeat_t::STATE_RUNNING};
-  std::string failure;
   heartbeat_t base{};
   base.role = heartbeat_t::ROLE_COORDINATOR;
   base.batch_id = -1;
@@ -99,49 +98,17 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
 
   // Every wait of the trainer (agents, outstanding batches) watches `stop`.
   trainer_.set_stop(&stop);
-  int exit_code = 0;
+  Status status = Ok{};
   try {
-    const int64_t start = protocol::SteadyMs();
-    while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
-      if (stop) throw std::runtime_error("interrupted");
-      if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
-        throw std::runtime_error("only " + std::to_string(agents_.Live().size()) + " of " +
-                                 std::to_string(options_.min_agents) + " agents appeared within " +
-                                 std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
-                                 " s");
-      }
-      inbox_.RunFor(std::chrono::milliseconds(50));
-    }
-    std::string ids;
-    for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
-    spdlog::info("coordinator: agents{} alive", ids);
-
-    EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, &stop);
-    const grid_t& maze = envsim.Connect(options_.agent_wait_seconds);
-    runtime::RunPlan plan = options_.plan;
-    plan.options.run_seed = static_cast<uint64_t>(maze.seed);
-    const RunLabels labels{maze.size_label, maze.difficulty};
-    spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
-                 labels.difficulty_label, maze.source, maze.total_steps, plan.approaches.size());
-    Result<std::vector<ApproachRun>> runs =
-        runtime::RunApproaches(envsim, trainer_, plan, labels, [&](const StepView& view) {
-          if (stop) throw std::runtime_error("interrupted");
-          PublishStep(view, view.pass);
-        });
-    if (!runs) throw std::runtime_error(runs.error().message);
-    const TrafficStats& t = trainer_.traffic();
-    spdlog::info(
-        "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
-        "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress, {} split "
-        "batches run whole); {} split rounds asked for again; round trip {:.1f} ms",
-        t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
-        t.epochs, t.stalls, t.split_fallbacks, t.round_requests, t.round_trip_ms);
-    spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
-    spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
-                 plan.out_dir);
+    status = RunExperiment(stop);
+  } catch (const std::exception& e) {  // a broken invariant
+    status = Error::Internal(e.what());
+  }
+  int exit_code = 0;
+  if (status) {
     state = heartbeat_t::STATE_FINISHED;
-  } catch (const std::exception& e) {
-    spdlog::error("coordinator: {}", e.what());
+  } else {
+    spdlog::error("coordinator: {}", status.error().message);
     spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
     state = heartbeat_t::STATE_FAILED;
     exit_code = 1;
@@ -153,6 +120,47 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   return exit_code;
+}
+
+Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
+  const int64_t start = protocol::SteadyMs();
+  while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
+    if (stop) return Error::Cancelled();
+    if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
+      return Error::Unavailable("only " + std::to_string(agents_.Live().size()) + " of " +
+                                std::to_string(options_.min_agents) + " agents appeared within " +
+                                std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
+                                " s");
+    }
+    inbox_.RunFor(std::chrono::milliseconds(50));
+  }
+  std::string ids;
+  for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
+  spdlog::info("coordinator: agents{} alive", ids);
+
+  EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, &stop);
+  const grid_t* maze = envsim.Connect(options_.agent_wait_seconds);
+  if (maze == nullptr) return envsim.status();
+  runtime::RunPlan plan = options_.plan;
+  plan.options.run_seed = static_cast<uint64_t>(maze->seed);
+  const RunLabels labels{maze->size_label, maze->difficulty};
+  spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
+               labels.difficulty_label, maze->source, maze->total_steps, plan.approaches.size());
+  Result<std::vector<ApproachRun>> runs = runtime::RunApproaches(
+      envsim, trainer_, plan, labels,
+      [&](const StepView& view) { PublishStep(view, view.pass); }, &stop);
+  if (!runs) return runs.error();
+  const TrafficStats& t = trainer_.traffic();
+  spdlog::info(
+      "coordinator: {} training batches, {} federated rounds; out {} messages / {} bytes, in {} "
+      "messages / {} bytes; {} resends, {} reassignments ({} for lack of progress, {} split "
+      "batches run whole); {} split rounds asked for again; round trip {:.1f} ms",
+      t.batches, t.rounds, t.messages_out, t.bytes_out, t.messages_in, t.bytes_in, t.resends,
+      t.epochs, t.stalls, t.split_fallbacks, t.round_requests, t.round_trip_ms);
+  spdlog::info("coordinator: messages {}", bus_.TrafficSummary());
+  spdlog::info("coordinator: wrote {}/results.csv and {}/results_detailed.csv", plan.out_dir,
+               plan.out_dir);
+  return Ok{};
 }
 
 }  // namespace dynapath::coordinator

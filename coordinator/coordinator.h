@@ -31,12 +31,16 @@ struct CoordinatorOptions {
 class Coordinator {
  public:
   Coordinator(protocol::Bus& bus, CoordinatorOptions options);
-  // Runs the whole experiment. Returns 0 on success, 1 on failure (logged).
+  // Runs the whole experiment. Returns 0 on success, 1 on failure (logged;
+  // being stopped is one).
   int Run(const std::atomic<bool>& stop);
   const TrafficStats& traffic() const { return trainer_.traffic(); }
 
  private:
   void PublishStep(const StepView& view, int pass);
+  // Run's work: Ok when the experiment ran to its end, else why not
+  // (kCancelled when `stop` was set).
+  Status RunExperiment(const std::atomic<bool>& stop);
 
   protocol::Bus& bus_;
   CoordinatorOptions options_;

@@ -117,8 +117,9 @@ DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbo
 
 DistributedTrainer::~DistributedTrainer() = default;
 
-void DistributedTrainer::ThrowIfStopped() const {
-  if (options_.stop != nullptr && options_.stop->load()) throw std::runtime_error("interrupted");
+bool DistributedTrainer::Going() {
+  if (status_ && options_.stop != nullptr && options_.stop->load()) status_ = Error::Cancelled();
+  return status_.ok();
 }
 
 std::vector<int> DistributedTrainer::LiveAgents() const {
@@ -136,14 +137,15 @@ std::vector<int> DistributedTrainer::WaitForAgents() {
   const int64_t start = AgentRegistry::NowMs();
   bool warned = false;
   while (true) {
-    ThrowIfStopped();
+    if (!Going()) return {};
     std::vector<int> ids = LiveAgents();
     if (!ids.empty()) return ids;
     const int64_t waited = AgentRegistry::NowMs() - start;
     if (static_cast<double>(waited) > options_.agent_wait_seconds * 1000) {
-      throw std::runtime_error("no agent process alive for " +
-                               std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
-                               " s; cannot train");
+      status_ = Error::Unavailable("no agent process alive for " +
+                                   std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
+                                   " s; cannot train");
+      return {};
     }
     if (!warned && waited > 1000) {
       spdlog::warn("no live agent; waiting up to {:.0f} s for one", options_.agent_wait_seconds);
@@ -157,6 +159,7 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
                                         const std::vector<uint64_t>& seeds,
                                         const LearnerConfig& config, const QuadTree& tree,
                                         const Grid& grid, RootQTable& root) {
+  if (!status_) return {};  // failed or stopped before: the run is ending
   batch_ = std::make_unique<Batch>();
   Batch& batch = *batch_;
   batch.id = next_batch_id_++;
@@ -169,12 +172,17 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   }
   ++traffic_.batches;
   std::vector<int> agents = WaitForAgents();
-  batch.split = ShouldSplit(batch, agents.size());
-  StartEpoch(std::move(agents));
-  while (!Done()) {
-    ThrowIfStopped();
+  if (!agents.empty()) {
+    batch.split = ShouldSplit(batch, agents.size());
+    StartEpoch(std::move(agents));
+  }
+  while (status_ && !Done() && Going()) {
     inbox_.RunFor(Ms(20));
     CheckAgents();
+  }
+  if (!status_) {  // nothing is committed: the run ends with status()
+    batch_.reset();
+    return {};
   }
 
   TrainingStats stats;
@@ -456,6 +464,7 @@ void DistributedTrainer::CheckAgents() {
   if (restart) {
     std::vector<int> live = LiveAgents();
     if (live.empty()) live = WaitForAgents();
+    if (live.empty()) return;  // status_ says why
     batch.stuck_since_ms = 0;
     StartEpoch(std::move(live));
     return;
@@ -548,17 +557,19 @@ void DistributedTrainer::OnStall(const std::vector<int>& owing) {
   }
   const double waited = static_cast<double>(now - batch.stuck_since_ms) / 1000.0;
   if (batch.stalls > options_.max_stalls) {
-    throw std::runtime_error(
+    status_ = Error::Unavailable(
         "training batch " + std::to_string(batch.id) + " made no progress for " +
         std::to_string(static_cast<int>(batch.stalls * options_.stall_seconds)) + " s in " +
         std::to_string(batch.stalls) + " attempts although its agents are alive (" + who +
         "): their messages are being lost");
+    return;
   }
   for (int agent : owing) {
     avoid_until_ms_[agent] = now + static_cast<int64_t>(options_.avoid_seconds * 1000);
   }
   std::vector<int> live = LiveAgents();
   if (live.empty()) live = WaitForAgents();
+  if (live.empty()) return;  // status_ says why
   std::string to;
   for (int agent : live) to += (to.empty() ? "" : ",") + std::to_string(agent);
   spdlog::warn(

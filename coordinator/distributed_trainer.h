@@ -83,8 +83,8 @@ struct DistributedTrainerOptions {
   double stall_seconds = 5.0;
   int max_stalls = 11;  // the coordinator's --give-up 60 s
   double avoid_seconds = 30.0;
-  // When set and true, Train gives up at once ("interrupted"): every wait
-  // checks it at least every 50 ms.
+  // When set and true, Train gives up at once (status() kCancelled): every
+  // wait checks it at least every 50 ms.
   const std::atomic<bool>* stop = nullptr;
 };
 
@@ -114,12 +114,14 @@ class DistributedTrainer : public Trainer {
                      DistributedTrainerOptions options = {});
   ~DistributedTrainer() override;
 
-  // Throws std::runtime_error when no agent is left for longer than
-  // agent_wait_seconds.
+  // Once status() has failed (stopped: kCancelled; no agent left for longer
+  // than agent_wait_seconds, or a batch that cannot make progress:
+  // kUnavailable), returns at once and commits nothing.
   TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
                       const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
                       RootQTable& root) override;
 
+  Status status() const override { return status_; }
   const TrafficStats& traffic() const { return traffic_; }
   // The flag Train watches (see DistributedTrainerOptions::stop).
   void set_stop(const std::atomic<bool>* stop) { options_.stop = stop; }
@@ -145,7 +147,8 @@ class DistributedTrainer : public Trainer {
   std::vector<int> LiveAgents() const;  // live, preferring those not avoided
   void SampleRoundTrip(const AgentInfo& info);
   int64_t ResendIntervalMs() const;
-  void ThrowIfStopped() const;
+  // False once status_ has failed; sets it to kCancelled when `stop` is set.
+  bool Going();
   bool Done() const;
 
   protocol::Bus& bus_;
@@ -158,6 +161,7 @@ class DistributedTrainer : public Trainer {
   bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
   double round_trip_ms_ = -1;              // smoothed, over all agents
   TrafficStats traffic_;
+  Status status_ = Ok{};
 };
 
 }  // namespace dynapath::coordinator

@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/step_request_t.hpp"
@@ -32,7 +31,8 @@ EnvSimClient::EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double ti
   });
 }
 
-void EnvSimClient::Request(int pass, int t, double startup_seconds) {
+bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
+  if (!status_) return false;
   want_pass_ = pass;
   want_step_ = t;
   grid_answer_.reset();
@@ -54,7 +54,10 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
   int sends = 0;
   while (!grid_answer_ && !changes_answer_) {
     const int64_t now = protocol::SteadyMs();
-    if (stop_ != nullptr && *stop_) throw std::runtime_error("interrupted");
+    if (stop_ != nullptr && *stop_) {
+      status_ = Error::Cancelled();
+      return false;
+    }
     if (now - sent >= interval) {
       if (sent >= 0) interval = std::min<int64_t>(250, 2 * interval);
       bus_.Publish(protocol::channel::kEnvRequest, request);
@@ -64,9 +67,10 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
     const int64_t seen = envsim_seen_ms_;
     if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
                  : static_cast<double>(now - seen) > timeout_seconds_ * 1000) {
-      throw std::runtime_error(seen < 0
-                                   ? "no environment simulator answered for run " + bus_.run_id()
-                                   : "the environment simulator is gone");
+      status_ = Error::Unavailable(seen < 0 ? "no environment simulator answered for run " +
+                                                  bus_.run_id()
+                                            : "the environment simulator is gone");
+      return false;
     }
     inbox_.RunFor(std::chrono::milliseconds(2));
   }
@@ -75,30 +79,35 @@ void EnvSimClient::Request(int pass, int t, double startup_seconds) {
     round_trip_ms_ = round_trip_ms_ < 0 ? sample : 0.875 * round_trip_ms_ + 0.125 * sample;
   }
   want_pass_ = want_step_ = -1;
+  return true;
 }
 
-const grid_t& EnvSimClient::Connect(double startup_seconds) {
-  Request(0, 0, startup_seconds);
+const grid_t* EnvSimClient::Connect(double startup_seconds) {
+  if (!Request(0, 0, startup_seconds)) return nullptr;
   first_ = *grid_answer_;
-  return *first_;
+  return &*first_;
 }
 
 Grid EnvSimClient::Initial(int pass) {
-  Request(pass, 0, timeout_seconds_);
+  if (!Request(pass, 0, timeout_seconds_)) return Grid();
   const grid_t& grid = *grid_answer_;
   if (grid.rows != first_->rows || grid.cols != first_->cols ||
       grid.total_steps != first_->total_steps || grid.cells != first_->cells) {
-    throw std::runtime_error("the environment simulator sent a different maze for pass " +
+    status_ = Error::Corrupt("the environment simulator sent a different maze for pass " +
                              std::to_string(pass));
+    return Grid();
   }
   return protocol::GridFromMessage(grid);
 }
 
 ChangeStep EnvSimClient::Changes(int pass, int t) {
-  Request(pass, t, timeout_seconds_);
+  if (!Request(pass, t, timeout_seconds_)) return {};
   Result<ChangeStep> step =
       protocol::ChangesFromMessage(*changes_answer_, first_->rows, first_->cols);
-  if (!step) throw std::runtime_error(step.error().message);
+  if (!step) {
+    status_ = step.error();
+    return {};
+  }
   return *step;
 }
 

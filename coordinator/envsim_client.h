@@ -17,21 +17,25 @@ namespace dynapath::coordinator {
 
 class EnvSimClient : public StepSource {
  public:
-  // `stop` (may be null) aborts waits with std::runtime_error.
+  // `stop` (may be null) aborts waits: status() is then kCancelled.
   EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
                const std::atomic<bool>* stop);
 
   // Fetches the maze of pass 0 (waiting up to `startup_seconds` for envsim):
-  // the run's size, labels and seed.
-  const grid_t& Connect(double startup_seconds);
+  // the run's size, labels and seed; null when status() failed.
+  const grid_t* Connect(double startup_seconds);
 
   int total_steps() const override { return first_ ? first_->total_steps : 0; }
   Grid Initial(int pass) override;
   ChangeStep Changes(int pass, int t) override;
+  // kCancelled (stopped), kUnavailable (envsim silent or gone) or kCorrupt
+  // (an answer that does not fit the run); Ok before any failure.
+  Status status() const override { return status_; }
 
  private:
-  // Publishes the request and waits for its answer (either message kind).
-  void Request(int pass, int t, double startup_seconds);
+  // Publishes the request and waits for its answer (either message kind);
+  // false (status_ says why) when there is none.
+  bool Request(int pass, int t, double startup_seconds);
 
   protocol::Bus& bus_;
   protocol::Inbox& inbox_;
@@ -47,6 +51,7 @@ class EnvSimClient : public StepSource {
   int want_pass_ = -1, want_step_ = -1;
   std::optional<grid_t> grid_answer_;
   std::optional<changes_t> changes_answer_;
+  Status status_ = Ok{};
 };
 
 }  // namespace dynapath::coordinator

@@ -29,18 +29,18 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
   int version = 0;
   long long file_rows = 0, file_cols = 0, steps = 0;
   if (!(in >> magic >> version >> file_rows >> file_cols >> steps) || magic != "dynapath-changes") {
-    return Error{
-        "not a change file (expected a 'dynapath-changes 1 <rows> <cols> <steps>' header)"};
+    return Error::Corrupt(
+        "not a change file (expected a 'dynapath-changes 1 <rows> <cols> <steps>' header)");
   }
-  if (version != 1) return Error{"unsupported change-file version " + std::to_string(version)};
+  if (version != 1) return Error::Corrupt("unsupported change-file version " + std::to_string(version));
   if (file_rows != rows || file_cols != cols) {
-    return Error{"the change file is for a " + std::to_string(file_rows) + "x" +
+    return Error::Corrupt("the change file is for a " + std::to_string(file_rows) + "x" +
                  std::to_string(file_cols) + " maze, the maze is " + std::to_string(rows) + "x" +
-                 std::to_string(cols)};
+                 std::to_string(cols));
   }
   constexpr long long kMaxSteps = 1'000'000;
   if (steps < 0 || steps > kMaxSteps)
-    return Error{"bad number of time steps " + std::to_string(steps)};
+    return Error::Corrupt("bad number of time steps " + std::to_string(steps));
   const long long cells = static_cast<long long>(rows) * cols;
   ChangeSequence sequence;
   sequence.steps.resize(static_cast<size_t>(steps));
@@ -48,30 +48,30 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
     ChangeStep& step = sequence.steps[static_cast<size_t>(t)];
     long long count = 0;
     if (!(in >> step.requested_moves >> count)) {
-      return Error{"time step " + std::to_string(t + 1) + ": missing or bad counts"};
+      return Error::Corrupt("time step " + std::to_string(t + 1) + ": missing or bad counts");
     }
     if (step.requested_moves < 0 || count < 0 || count > 2 * cells) {
-      return Error{"time step " + std::to_string(t + 1) + ": bad counts"};
+      return Error::Corrupt("time step " + std::to_string(t + 1) + ": bad counts");
     }
     step.changes.resize(static_cast<size_t>(count));
     for (CellChange& change : step.changes) {
       long long cell = 0;
       int code = 0;
-      if (!(in >> cell >> code)) return Error{"time step " + std::to_string(t + 1) + ": truncated"};
+      if (!(in >> cell >> code)) return Error::Corrupt("time step " + std::to_string(t + 1) + ": truncated");
       if (cell < 0 || cell >= cells) {
-        return Error{"time step " + std::to_string(t + 1) + ": cell " + std::to_string(cell) +
-                     " outside the maze"};
+        return Error::Corrupt("time step " + std::to_string(t + 1) + ": cell " + std::to_string(cell) +
+                     " outside the maze");
       }
       if (code < 0 || code > 2) {
-        return Error{"time step " + std::to_string(t + 1) + ": bad cell code " +
-                     std::to_string(code)};
+        return Error::Corrupt("time step " + std::to_string(t + 1) + ": bad cell code " +
+                     std::to_string(code));
       }
       change.cell = static_cast<int>(cell);
       change.code = static_cast<Cell>(code);
     }
   }
   std::string trailing;
-  if (in >> trailing) return Error{"unexpected data after the last time step"};
+  if (in >> trailing) return Error::Corrupt("unexpected data after the last time step");
   return sequence;
 }
 
@@ -83,7 +83,7 @@ Result<ChangeSequence> LoadChanges(const std::string& path, int rows, int cols) 
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
   Result<ChangeSequence> sequence = ChangesFromText(*text, rows, cols);
-  if (!sequence) return Error{path + ": " + sequence.error().message};
+  if (!sequence) return sequence.error().Prefixed(path + ": ");
   return sequence;
 }
 

@@ -65,17 +65,22 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
   run.difficulty_label = labels.difficulty_label;
   const int total_steps = source.total_steps();
   std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
+  // A failed source or trainer ends the run (its status tells the caller).
+  auto failed = [&] { return !source.status() || (trainer != nullptr && !trainer->status()); };
 
   Grid grid = source.Initial(pass);
+  if (failed()) return run;
   double start = clock();
   StepDetails details = planner->Initialize(grid);
   run.initial_seconds = clock() - start;
+  if (failed()) return run;
   run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
   if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
 
   std::vector<int> changed_cells;
   for (int t = 1; t <= total_steps; ++t) {
     const ChangeStep step = source.Changes(pass, t);
+    if (failed()) return run;
     ApplyChanges(step, grid);
     changed_cells.clear();
     for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
@@ -83,6 +88,7 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
     start = clock();
     details = planner->Adapt(grid, changed_cells);
     const double seconds = timed ? clock() - start : 0.0;
+    if (failed()) return run;
     run.steps.push_back(Score(*planner, grid, t, step.requested_moves, seconds, details));
     if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
   }

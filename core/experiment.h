@@ -14,8 +14,9 @@ namespace dynapath {
 
 // Where a run's maze and change sequence come from, one time step at a time:
 // a Scenario in memory, or the environment simulator over LCM. Every
-// approach is one pass over the same sequence. May throw std::runtime_error
-// when the source fails (e.g. the simulator is gone).
+// approach is one pass over the same sequence. A source that fails (the
+// simulator is gone, the run is stopped) says so in status(), as leveldb's
+// iterators do, and returns empty values from then on.
 class StepSource {
  public:
   virtual ~StepSource() = default;
@@ -24,6 +25,8 @@ class StepSource {
   virtual Grid Initial(int pass) = 0;
   // The changes of time step `t` (1..total_steps()) of pass `pass`.
   virtual ChangeStep Changes(int pass, int t) = 0;
+  // Ok, or why the source failed (kCancelled when the run was stopped).
+  virtual Status status() const { return Ok{}; }
 };
 
 class ScenarioStepSource : public StepSource {
@@ -88,6 +91,8 @@ ApproachRun RunApproach(const Scenario& scenario, Approach approach, const Plann
                         Trainer* trainer, const RunLabels& labels,
                         const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
 // The same over any source; `pass` tells the source which pass this is.
+// When the source's or the trainer's status() fails, the run ends early
+// with the steps so far: the caller checks them (runtime::RunApproaches).
 ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
                         const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
                         const Clock& clock = SteadyClock(), const StepCallback& on_step = {});

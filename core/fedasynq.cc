@@ -427,26 +427,26 @@ Status FederatedAverager::Combine(const std::vector<LearnerShard>& shards, QTabl
                                   std::vector<V>& values) {
   // Validate everything before changing anything.
   if (shared.precision() != kPrecisionOf<V>) {
-    return Error{"FederatedAverager: table precision mismatch"};
+    return Error::Corrupt("FederatedAverager: table precision mismatch");
   }
   if (static_cast<int64_t>(shared.size()) != table_entries_) {
-    return Error{"FederatedAverager: table size mismatch"};
+    return Error::Corrupt("FederatedAverager: table size mismatch");
   }
   for (size_t k = 0; k < shards.size(); ++k) {
     const LearnerShard& shard = shards[k];
     const std::vector<V>& shard_values = ShardValues<V>(shard);
     if (shard.learner != static_cast<int>(k) || shard_values.size() != shard.entries.size() ||
         shard.visits.size() != shard.entries.size()) {
-      return Error{"FederatedAverager: malformed shard"};
+      return Error::Corrupt("FederatedAverager: malformed shard");
     }
     for (size_t j = 0; j < shard.entries.size(); ++j) {
       if (shard.entries[j] >= static_cast<uint32_t>(table_entries_) ||
           !std::isfinite(shard_values[j])) {
-        return Error{"FederatedAverager: shard entry out of range or not finite"};
+        return Error::Corrupt("FederatedAverager: shard entry out of range or not finite");
       }
     }
     if (shard.start_cell >= 0 && stats.SlotOf(shard.start_cell) < 0) {
-      return Error{"FederatedAverager: shard start is not a start cell"};
+      return Error::Corrupt("FederatedAverager: shard start is not a start cell");
     }
   }
 

@@ -51,21 +51,21 @@ Result<Grid> GridFromText(const std::string& text) {
     for (size_t i = 0; i < line.size(); ++i) {
       const char ch = line[i];
       if (ch != '#' && ch != '.' && ch != 'C') {
-        return Error{"line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
+        return Error::Corrupt("line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
                      ": unexpected character '" + std::string(1, ch) +
-                     "' (expected '#', '.' or 'C')"};
+                     "' (expected '#', '.' or 'C')");
       }
     }
     if (!lines.empty() && line.size() != lines.front().size()) {
-      return Error{"line " + std::to_string(line_number) + " has " + std::to_string(line.size()) +
-                   " cells, the first row has " + std::to_string(lines.front().size())};
+      return Error::Corrupt("line " + std::to_string(line_number) + " has " + std::to_string(line.size()) +
+                   " cells, the first row has " + std::to_string(lines.front().size()));
     }
     lines.push_back(line);
   }
-  if (lines.empty()) return Error{"the maze has no rows"};
+  if (lines.empty()) return Error::Corrupt("the maze has no rows");
   constexpr size_t kMaxSide = kMaxGridSide;
   if (lines.size() > kMaxSide || lines.front().size() > kMaxSide) {
-    return Error{"the maze is larger than " + std::to_string(kMaxGridSide) + " cells on a side"};
+    return Error::Corrupt("the maze is larger than " + std::to_string(kMaxGridSide) + " cells on a side");
   }
   Grid grid(static_cast<int>(lines.size()), static_cast<int>(lines.front().size()));
   for (int r = 0; r < grid.rows(); ++r) {
@@ -85,7 +85,7 @@ Result<Grid> LoadGrid(const std::string& path) {
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
   Result<Grid> grid = GridFromText(*text);
-  if (!grid) return Error{path + ": " + grid.error().message};
+  if (!grid) return grid.error().Prefixed(path + ": ");
   return grid;
 }
 

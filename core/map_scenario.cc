@@ -86,27 +86,27 @@ Result<std::vector<int>> ParseStationsFile(std::string_view bytes, const Grid& g
     const char* stop = line.data() + line.size();
     auto [after_row, e1] = std::from_chars(line.data(), stop, row);
     if (e1 != std::errc{} || after_row == stop || !blank(*after_row)) {
-      return Error{where + "expected 'row col'"};
+      return Error::Corrupt(where + "expected 'row col'");
     }
     const char* col_start = after_row;
     while (col_start != stop && blank(*col_start)) ++col_start;
     auto [after_col, e2] = std::from_chars(col_start, stop, col);
-    if (e2 != std::errc{} || after_col != stop) return Error{where + "expected 'row col'"};
+    if (e2 != std::errc{} || after_col != stop) return Error::Corrupt(where + "expected 'row col'");
     if (!grid.InBounds(row, col)) {
-      return Error{where + "(" + std::to_string(row) + ", " + std::to_string(col) +
+      return Error::Corrupt(where + "(" + std::to_string(row) + ", " + std::to_string(col) +
                    ") is outside the " + std::to_string(grid.rows()) + "x" +
-                   std::to_string(grid.cols()) + " map"};
+                   std::to_string(grid.cols()) + " map");
     }
     const int cell = grid.Index(row, col);
     if (grid.at(cell) == Cell::kObstacle) {
-      return Error{where + "(" + std::to_string(row) + ", " + std::to_string(col) +
-                   ") is an obstacle"};
+      return Error::Corrupt(where + "(" + std::to_string(row) + ", " + std::to_string(col) +
+                   ") is an obstacle");
     }
-    if (seen[cell]) return Error{where + "station given twice"};
+    if (seen[cell]) return Error::Corrupt(where + "station given twice");
     seen[cell] = 1;
     stations.push_back(cell);
   }
-  if (stations.empty()) return Error{"no station in the station file"};
+  if (stations.empty()) return Error::Corrupt("no station in the station file");
   return stations;
 }
 
@@ -114,7 +114,7 @@ Result<std::vector<int>> LoadStationsFile(const std::string& path, const Grid& g
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
   Result<std::vector<int>> stations = ParseStationsFile(*text, grid);
-  if (!stations) return Error{path + ": " + stations.error().message};
+  if (!stations) return stations.error().Prefixed(path + ": ");
   return stations;
 }
 

@@ -33,14 +33,14 @@ class Lines {
 };
 
 Error LineError(int line, const std::string& message) {
-  return Error{"line " + std::to_string(line) + ": " + message};
+  return Error::Corrupt("line " + std::to_string(line) + ": " + message);
 }
 
 // "<key> <number>" with 1 <= number <= kMaxSide.
 Result<int> SideLine(Lines& lines, std::string_view key) {
   std::string_view line;
   if (!lines.Next(line)) {
-    return Error{"the header ends before '" + std::string(key) + " N'"};
+    return Error::Corrupt("the header ends before '" + std::string(key) + " N'");
   }
   const std::string expected =
       "expected '" + std::string(key) + " N' with 1 <= N <= " + std::to_string(kMaxSide);
@@ -66,7 +66,7 @@ Result<Grid> ParseMovingAiMap(std::string_view bytes) {
   Lines lines(bytes);
   std::string_view line;
   if (!lines.Next(line) || line != "type octile") {
-    return Error{"line 1: expected 'type octile' (a MovingAI map)"};
+    return Error::Corrupt("line 1: expected 'type octile' (a MovingAI map)");
   }
   Result<int> height = SideLine(lines, "height");
   if (!height) return height.error();
@@ -77,14 +77,14 @@ Result<Grid> ParseMovingAiMap(std::string_view bytes) {
   }
   // Every row needs `width` bytes: refuse a short file before allocating.
   if (bytes.size() < static_cast<size_t>(*height) * static_cast<size_t>(*width)) {
-    return Error{"the file is too short for a " + std::to_string(*height) + "x" +
-                 std::to_string(*width) + " map"};
+    return Error::Corrupt("the file is too short for a " + std::to_string(*height) + "x" +
+                 std::to_string(*width) + " map");
   }
   Grid grid(*height, *width);
   for (int r = 0; r < *height; ++r) {
     if (!lines.Next(line)) {
-      return Error{"the map ends after " + std::to_string(r) + " of its " +
-                   std::to_string(*height) + " rows"};
+      return Error::Corrupt("the map ends after " + std::to_string(r) + " of its " +
+                   std::to_string(*height) + " rows");
     }
     if (line.size() != static_cast<size_t>(*width)) {
       return LineError(lines.number(), "a row of " + std::to_string(line.size()) +
@@ -126,7 +126,7 @@ Result<Grid> LoadMazeFile(const std::string& path, bool* movingai) {
   if (!text) return text.error();
   if (movingai) *movingai = LooksLikeMovingAiMap(*text);
   Result<Grid> grid = LooksLikeMovingAiMap(*text) ? ParseMovingAiMap(*text) : GridFromText(*text);
-  if (!grid) return Error{path + ": " + grid.error().message};
+  if (!grid) return grid.error().Prefixed(path + ": ");
   return grid;
 }
 

@@ -49,7 +49,7 @@ std::string SummaryResultsCsv(const std::vector<ApproachRun>& runs) {
 Status WriteResultFiles(const std::vector<ApproachRun>& runs, const std::string& directory) {
   std::error_code error;
   std::filesystem::create_directories(directory, error);
-  if (error) return Error{directory + ": cannot create directory: " + error.message()};
+  if (error) return Error::Io(directory + ": cannot create directory: " + error.message());
   Status status =
       WriteTextFileAtomically(directory + "/results_detailed.csv", DetailedResultsCsv(runs));
   if (!status) return status;

@@ -14,13 +14,16 @@ namespace dynapath {
 Result<std::string> ReadTextFile(const std::string& path) {
   struct stat info {};
   if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
-    return Error{path + ": is a directory, not a file"};
+    return Error::Io(path + ": is a directory, not a file");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path + ": cannot open for reading: " + std::strerror(errno)};
+  if (!in) {
+    const int error = errno;
+    return Error::File(error, path + ": cannot open for reading: " + std::strerror(error));
+  }
   std::ostringstream contents;
   contents << in.rdbuf();
-  if (in.bad()) return Error{path + ": read error"};
+  if (in.bad()) return Error::Io(path + ": read error");
   return contents.str();
 }
 
@@ -28,18 +31,18 @@ Status WriteFileAtomically(const std::string& path, std::string_view contents) {
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) return Error{path + ": cannot open for writing: " + std::strerror(errno)};
+    if (!out) return Error::Io(path + ": cannot open for writing: " + std::strerror(errno));
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     out.flush();
     if (!out) {
       std::remove(temporary.c_str());
-      return Error{path + ": write error"};
+      return Error::Io(path + ": write error");
     }
   }
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
     std::remove(temporary.c_str());
-    return Error{path + ": cannot rename into place: " + reason};
+    return Error::Io(path + ": cannot rename into place: " + reason);
   }
   return Ok{};
 }

@@ -9,6 +9,7 @@
 #include "core/grid.h"
 #include "core/q_table.h"
 #include "core/quadtree.h"
+#include "core/result.h"
 #include "core/training_job.h"
 
 namespace dynapath {
@@ -37,6 +38,11 @@ class Trainer {
   virtual TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
                               const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
                               RootQTable& root) = 0;
+
+  // Ok, or why the trainer has failed (e.g. kCancelled: the run was
+  // stopped). Once failed it stays so, and Train commits nothing: the
+  // runner ends the approach (RunApproach) and returns this status.
+  virtual Status status() const { return Ok{}; }
 };
 
 // Builds the self-contained job of one node.

@@ -9,13 +9,13 @@ namespace dynapath {
 
 Status CheckJob(const TrainingJob& job) {
   if (static_cast<int>(job.codes.size()) != job.region.cells()) {
-    return Error{"training job: cell codes do not match the region"};
+    return Error::Corrupt("training job: cell codes do not match the region");
   }
   if (job.warm_start.cells() != 0 && job.warm_start.cells() != job.region.cells()) {
-    return Error{"training job: warm start does not match the region"};
+    return Error::Corrupt("training job: warm start does not match the region");
   }
   if (job.warm_start.cells() != 0 && job.warm_start.precision() != job.precision) {
-    return Error{"training job: warm start is not of the job's precision"};
+    return Error::Corrupt("training job: warm start is not of the job's precision");
   }
   return Ok{};
 }

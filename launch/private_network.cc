@@ -21,11 +21,11 @@ namespace dynapath::launch {
 namespace {
 
 Error CreateError(const std::string& detail) {
-  return Error{"cannot create a private network namespace: " + detail};
+  return Error::Unavailable("cannot create a private network namespace: " + detail);
 }
 
 Error SetUpError(const std::string& detail) {
-  return Error{"cannot set up the private network: " + detail};
+  return Error::Unavailable("cannot set up the private network: " + detail);
 }
 
 std::string ErrnoText(int error) { return std::strerror(error); }
@@ -59,12 +59,15 @@ int ThreadCount() {
 // The id map files must be written with a single write() call.
 Status WriteProcFile(const char* path, const std::string& text) {
   const int fd = open(path, O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return Error{std::string("open ") + path + ": " + ErrnoText(errno)};
+  if (fd < 0) {
+    const int error = errno;
+    return Error::File(error, std::string("open ") + path + ": " + ErrnoText(error));
+  }
   FdCloser closer(fd);
   const ssize_t written = write(fd, text.data(), text.size());
-  if (written < 0) return Error{std::string("write ") + path + ": " + ErrnoText(errno)};
+  if (written < 0) return Error::Io(std::string("write ") + path + ": " + ErrnoText(errno));
   if (static_cast<size_t>(written) != text.size()) {
-    return Error{std::string("write ") + path + ": short write"};
+    return Error::Io(std::string("write ") + path + ": short write");
   }
   return Ok{};
 }
@@ -199,7 +202,7 @@ Status TryInChild() {
   }
   if (message == kTrialSucceeded) return Ok{};
   if (message.empty()) return CreateError("the trial in a child process died");
-  return Error{message};
+  return Error::Unavailable(message);
 }
 
 }  // namespace

@@ -32,8 +32,9 @@ void ConfigWriter::Put(const std::string& key, const std::string& toml_value) {
 Status ConfigWriter::status() const {
   if (!unwritable_.empty()) {
     return Error{"option --" + unwritable_ +
-                 ": a value holding both ' and \" or a line break cannot be handed to a child "
-                 "process"};
+                     ": a value holding both ' and \" or a line break cannot be handed to a child "
+                     "process",
+                 Error::Code::kInvalidArgument, unwritable_};
   }
   return Ok{};
 }
@@ -145,8 +146,8 @@ Result<long long> InRange(const std::string& name, std::optional<long long> valu
   if (!value) return fallback;  // a default is right by construction
   const long long given = *value;
   if (given < min || given > max) {
-    return Error{"option --" + name + " must be between " + std::to_string(min) + " and " +
-                 std::to_string(max) + ", got " + std::to_string(given)};
+    return Error::Option(name, "must be between " + std::to_string(min) + " and " +
+                                   std::to_string(max) + ", got " + std::to_string(given));
   }
   return given;
 }

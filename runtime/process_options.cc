@@ -53,8 +53,7 @@ constexpr int kLanParityGroup = 8;
 
 Result<double> CheckProbability(const std::string& name, double value) {
   if (!(value >= 0.0 && value < 1.0)) {
-    return Error{"option --" + name + " must be a probability in [0, 1), got " +
-                 fmt::format("{}", value)};
+    return Error::Option(name, "must be a probability in [0, 1), got " + fmt::format("{}", value));
   }
   return value;
 }
@@ -65,7 +64,7 @@ Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& o, bool run_id_
   if (o.run_id) {
     setup.run_id = *o.run_id;
   } else if (run_id_required) {
-    return Error{"option --run-id is required"};
+    return Error::Option("run-id", "is required");
   } else {
     setup.run_id = protocol::NewRunId();
   }
@@ -85,16 +84,16 @@ Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& o, bool run_id_
     // The launcher's pipe (/dev/fd/N): read once, now drained.
     CloseInheritedFd(path);
     Result<protocol::RunKey> key = protocol::KeyFromSecretText(*text);
-    if (!key) return Error{"secret file " + path + ": " + key.error().message};
+    if (!key) return key.error().Prefixed("secret file " + path + ": ");
     setup.secret = std::move(*text);
     setup.bus.key = *key;
   } else if (o.insecure) {
     setup.bus.key = protocol::InsecureKey();
   } else if (run_id_required) {
-    return Error{
-        "option --secret-file PATH is required: the run's secret, the same file for every "
-        "process of the run (make one with `dynapath secret PATH`), or --insecure to run "
-        "without one"};
+    return Error::Option("secret-file",
+                         "PATH is required: the run's secret, the same file for every process of "
+                         "the run (make one with `dynapath secret PATH`), or --insecure to run "
+                         "without one");
   } else {
     MakeRunSecret(setup);
   }

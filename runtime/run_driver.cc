@@ -40,6 +40,33 @@ class ProgressLog {
   double last_ = 0.0;
 };
 
+// `source` until `stop` (may be null) is set; from then on it fails with
+// kCancelled.
+class StoppableSource : public StepSource {
+ public:
+  StoppableSource(StepSource& source, const std::atomic<bool>* stop)
+      : source_(source), stop_(stop) {}
+
+  int total_steps() const override { return source_.total_steps(); }
+  Grid Initial(int pass) override { return Stopped() ? Grid() : source_.Initial(pass); }
+  ChangeStep Changes(int pass, int t) override {
+    return Stopped() ? ChangeStep{} : source_.Changes(pass, t);
+  }
+  Status status() const override {
+    if (stopped_) return Error::Cancelled();
+    return source_.status();
+  }
+  bool Stopped() {
+    stopped_ = stopped_ || (stop_ != nullptr && stop_->load());
+    return stopped_;
+  }
+
+ private:
+  StepSource& source_;
+  const std::atomic<bool>* stop_;
+  bool stopped_ = false;
+};
+
 }  // namespace
 
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
@@ -117,10 +144,10 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   plan.options.semantics = *semantics;
   // The report's semantics bootstrap over all stored values (kAllStored).
   if (*semantics == Semantics::kReport && *bootstrap != PlannerOptions{}.bootstrap) {
-    return Error{"option --semantics report sets the bootstrap itself; leave --bootstrap out"};
+    return Error::Option("semantics", "report sets the bootstrap itself; leave --bootstrap out");
   }
   plan.out_dir = o.out;
-  if (plan.out_dir.empty()) return Error{"option --out must not be empty"};
+  if (plan.out_dir.empty()) return Error::Option("out", "must not be empty");
   Result<Placement> placement = PlacementWords().ParseOption("placement", o.placement);
   if (!placement) return placement.error();
   plan.placement = *placement;
@@ -129,7 +156,9 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
 
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
-                                               const StepCallback& extra) {
+                                               const StepCallback& extra,
+                                               const std::atomic<bool>* stop) {
+  StoppableSource stoppable(source, stop);
   std::vector<ApproachRun> runs;
   int pass = 0;
   for (Approach approach : plan.approaches) {
@@ -138,8 +167,12 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       progress(view);
       if (extra) extra(view);
     };
-    runs.push_back(RunApproach(source, pass++, approach, plan.options, &trainer, labels,
+    runs.push_back(RunApproach(stoppable, pass++, approach, plan.options, &trainer, labels,
                                SteadyClock(), on_step));
+    // A run cut short by its source or trainer is not written.
+    stoppable.Stopped();
+    if (Status status = stoppable.status(); !status) return status.error();
+    if (Status status = trainer.status(); !status) return status.error();
     const ApproachRun& run = runs.back();
     spdlog::info(
         "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
@@ -151,16 +184,17 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
 }
 
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
-                                          int threads, const StepCallback& extra) {
+                                          int threads, const StepCallback& extra,
+                                          const std::atomic<bool>* stop) {
   RunPlan seeded = plan;
   seeded.options.run_seed = setup.seed;
   ThreadPool pool(threads);
   LocalTrainer trainer(pool);
   ScenarioStepSource source(setup.scenario);
   try {
-    return RunApproaches(source, trainer, seeded, setup.labels, extra);
+    return RunApproaches(source, trainer, seeded, setup.labels, extra, stop);
   } catch (const std::exception& e) {
-    return Error{e.what()};
+    return Error::Internal(e.what());
   }
 }
 

@@ -3,6 +3,7 @@
 // result files: the part of a run shared by `dynapath run --local` and the
 // coordinator process, so both produce the same files the same way.
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -70,17 +71,21 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 // approach), logging progress, and (re)writes DIR/results.csv and
 // DIR/results_detailed.csv atomically after every approach, so an
 // interrupted run keeps what finished. `extra` is called after every step.
-// Fails when the files cannot be written; exceptions from the source or the
-// trainer propagate.
+// Fails when the files cannot be written, with the source's or the
+// trainer's status() when one of them fails, and with kCancelled when
+// `stop` (may be null; checked before every time step and after every
+// approach) is set: the approaches before it were written.
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
-                                               const StepCallback& extra = {});
+                                               const StepCallback& extra = {},
+                                               const std::atomic<bool>* stop = nullptr);
 
 // `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
 // seed set from it) with a LocalTrainer on a pool of `threads` threads.
-// An exception thrown by `extra` (e.g. to stop the run) ends the run and
-// comes back as an error, after the approaches before it were written.
+// An exception thrown by `extra` ends the run and comes back as a kInternal
+// error, after the approaches before it were written.
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
-                                          int threads, const StepCallback& extra = {});
+                                          int threads, const StepCallback& extra = {},
+                                          const std::atomic<bool>* stop = nullptr);
 
 }  // namespace dynapath::runtime

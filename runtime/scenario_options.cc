@@ -118,7 +118,8 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
   for (const auto& [other, given] : others) {
     if (given) {
       return Error{std::string("--replay sets the maze and changes: do not combine it with --") +
-                   other};
+                       other,
+                   Error::Code::kInvalidArgument, other};
     }
   }
   Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(*o.replay);
@@ -132,19 +133,25 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
   return setup;
 }
 
+// "option --NAME: MESSAGE", a bad value of option NAME.
+Error OfOption(const std::string& name, const Error& error) {
+  return Error{"option --" + name + ": " + error.message, Error::Code::kInvalidArgument, name};
+}
+
 // --stations N|P% on a loaded maze. A MovingAI map has no stations of its
 // own, so there a count that places none (0, 0%, a percentage rounding to
 // no cell) is an error of its own rather than "the map has no stations".
 Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom& random) {
   Result<CellCount> count = ParseCellCount(text);
-  if (!count) return Error{"option --stations: " + count.error().message};
+  if (!count) return OfOption("stations", count.error());
   const int cells = count->Resolve(grid.Count(Cell::kFree));
   if (movingai && cells == 0) {
-    return Error{"option --stations must place at least 1 station on a MovingAI map, got '" + text +
-                 "' (" + std::to_string(grid.Count(Cell::kFree)) + " free cells)"};
+    return Error::Option("stations", "must place at least 1 station on a MovingAI map, got '" +
+                                         text + "' (" + std::to_string(grid.Count(Cell::kFree)) +
+                                         " free cells)");
   }
   Result<std::vector<int>> placed = PlaceOnFreeCells(grid, cells, Cell::kStation, random);
-  if (!placed) return Error{"option --stations: " + placed.error().message};
+  if (!placed) return OfOption("stations", placed.error());
   return Ok{};
 }
 
@@ -170,10 +177,10 @@ Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& 
   }
   if (o.movers) {
     Result<CellCount> count = ParseCellCount(*o.movers);
-    if (!count) return Error{"option --movers: " + count.error().message};
+    if (!count) return OfOption("movers", count.error());
     Result<std::vector<int>> placed =
         PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kObstacle, random);
-    if (!placed) return Error{"option --movers: " + placed.error().message};
+    if (!placed) return OfOption("movers", placed.error());
     movers = std::move(*placed);
   } else if (movingai) {
     movers.emplace();  // a map's walls never move
@@ -220,7 +227,8 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     for (const auto& [map_only, given] : map_options) {
       if (given) {
         return Error{std::string("--") + map_only +
-                     " is for loaded maps (--maze); the report's mazes keep their generator"};
+                         " is for loaded maps (--maze); the report's mazes keep their generator",
+                     Error::Code::kInvalidArgument, map_only};
       }
     }
     Result<long long> rows = InRange("size", o.size, kDefaultSize, 1, kMaxSide);
@@ -250,8 +258,9 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     if (o.steps) {
       if (*steps > static_cast<long long>(setup.scenario.changes.steps.size())) {
         return Error{"--steps " + std::to_string(*steps) + " is more than the " +
-                     std::to_string(setup.scenario.changes.steps.size()) +
-                     " time steps of the change file"};
+                         std::to_string(setup.scenario.changes.steps.size()) +
+                         " time steps of the change file",
+                     Error::Code::kInvalidArgument, "steps"};
       }
       setup.scenario.changes.steps.resize(static_cast<size_t>(*steps));
     }

@@ -63,7 +63,7 @@ class WordTable {
   // must be LIST, got 'TEXT'".
   Result<Value> ParseOption(const std::string& name, const std::string& text) const {
     if (std::optional<Value> value = Parse(text)) return *value;
-    return Error{"option --" + name + " " + Check(text).error().message};
+    return Error::Option(name, Check(text).error().message);
   }
 
   // The first listed word of `value` (the word of a default).

@@ -69,9 +69,9 @@ Result<RunKey> KeyFromSecretText(std::string_view text) {
   InitSodium();
   const std::string_view secret = Trim(text);
   if (secret.size() < kMinSecretChars) {
-    return Error{"the secret is too short: " + std::to_string(secret.size()) +
+    return Error::Corrupt("the secret is too short: " + std::to_string(secret.size()) +
                  " characters, at least " + std::to_string(kMinSecretChars) +
-                 " needed (make one with `dynapath secret FILE`)"};
+                 " needed (make one with `dynapath secret FILE`)");
   }
   RunKey key;
   key.insecure = false;
@@ -92,11 +92,14 @@ std::string NewSecretText() {
 
 Result<std::string> ReadSecretText(const std::string& path) {
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return Error{"cannot open secret file " + path + ": " + std::strerror(errno)};
+  if (fd < 0) {
+    const int error = errno;
+    return Error::File(error, "cannot open secret file " + path + ": " + std::strerror(error));
+  }
   struct stat info {};
   if (fstat(fd, &info) != 0) {
     close(fd);
-    return Error{"cannot stat secret file " + path + ": " + std::strerror(errno)};
+    return Error::Io("cannot stat secret file " + path + ": " + std::strerror(errno));
   }
   if (S_ISREG(info.st_mode) && (info.st_mode & (S_IRWXG | S_IRWXO)) != 0) {
     close(fd);
@@ -111,14 +114,14 @@ Result<std::string> ReadSecretText(const std::string& path) {
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) {
       close(fd);
-      return Error{"cannot read secret file " + path + ": " + std::strerror(errno)};
+      return Error::Io("cannot read secret file " + path + ": " + std::strerror(errno));
     }
     if (got == 0) break;
     text.append(buffer, static_cast<size_t>(got));
     if (text.size() > kMaxSecretFileBytes) {
       close(fd);
-      return Error{"secret file " + path + " is larger than " +
-                   std::to_string(kMaxSecretFileBytes) + " bytes: not a secret file?"};
+      return Error::Corrupt("secret file " + path + " is larger than " +
+                   std::to_string(kMaxSecretFileBytes) + " bytes: not a secret file?");
     }
   }
   close(fd);
@@ -131,13 +134,13 @@ Result<RunKey> ReadSecretFile(const std::string& path) {
   if (!text) return text.error();
   Result<RunKey> key = KeyFromSecretText(*text);
   sodium_memzero(text->data(), text->size());
-  if (!key) return Error{"secret file " + path + ": " + key.error().message};
+  if (!key) return key.error().Prefixed("secret file " + path + ": ");
   return key;
 }
 
 Status WriteNewSecretFile(const std::string& path) {
   const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) return Error{"cannot create " + path + ": " + std::strerror(errno)};
+  if (fd < 0) return Error::Io("cannot create " + path + ": " + std::strerror(errno));
   const std::string text = NewSecretText() + "\n";
   size_t done = 0;
   while (done < text.size()) {
@@ -147,11 +150,11 @@ Status WriteNewSecretFile(const std::string& path) {
       const std::string why = std::strerror(errno);
       close(fd);
       unlink(path.c_str());
-      return Error{"cannot write " + path + ": " + why};
+      return Error::Io("cannot write " + path + ": " + why);
     }
     done += static_cast<size_t>(wrote);
   }
-  if (close(fd) != 0) return Error{"cannot write " + path + ": " + std::strerror(errno)};
+  if (close(fd) != 0) return Error::Io("cannot write " + path + ": " + std::strerror(errno));
   return Ok{};
 }
 

@@ -140,7 +140,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   const std::optional<Averaging> averaging = AveragingFromWire(batch.averaging);
   const std::optional<QPrecision> precision = PrecisionFromWire(batch.precision);
   if (!kind || !bootstrap || !averaging || !precision) {
-    return Error{"job batch: unknown learner kind, bootstrap, averaging or table precision"};
+    return Error::Corrupt("job batch: unknown learner kind, bootstrap, averaging or table precision");
   }
   job.kind = *kind;
   job.bootstrap = *bootstrap;
@@ -160,7 +160,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
 #undef DYNAPATH_SINGLE_AGENT_FROM_WIRE
 #undef DYNAPATH_FEDASYNQ_FROM_WIRE
   if (Status checked = CheckJob(job); !checked) {
-    return Error{"job " + std::to_string(index) + ": " + checked.error().message};
+    return checked.error().Prefixed("job " + std::to_string(index) + ": ");
   }
   received.start_round = m.start_round;
   received.attempts.assign(m.attempts.begin(), m.attempts.end());
@@ -168,13 +168,13 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   if (m.num_starts > 0) {
     const RegionModel model(job);
     if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
-      return Error{"job " + std::to_string(index) +
-                   ": start statistics do not match the region's start cells"};
+      return Error::Corrupt("job " + std::to_string(index) +
+                   ": start statistics do not match the region's start cells");
     }
   }
   if (TrainsInRounds(job.kind) &&
       received.start_round > FederatedRounds(job.region, job.federated)) {
-    return Error{"job " + std::to_string(index) + ": start round beyond the job's rounds"};
+    return Error::Corrupt("job " + std::to_string(index) + ": start round beyond the job's rounds");
   }
   return received;
 }
@@ -250,7 +250,7 @@ Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
   step.requested_moves = m.requested_moves;
   for (int i = 0; i < m.num_changes; ++i) {
     if (m.cells[i] >= rows * cols) {
-      return Error{"change of time step " + std::to_string(m.time_step) + " outside the grid"};
+      return Error::Corrupt("change of time step " + std::to_string(m.time_step) + " outside the grid");
     }
     step.changes.push_back(CellChange{m.cells[i], static_cast<Cell>(m.codes[i])});
   }

@@ -26,8 +26,8 @@ Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   const std::string resolved = ResolveLcmUrl(url);
   auto lcm = std::make_unique<lcm::LCM>(resolved);
   if (!lcm->good()) {
-    return Error{"cannot open LCM at '" + resolved +
-                 "' (bad URL, or no multicast route: see docs/NETWORKING.md)"};
+    return Error::Io("cannot open LCM at '" + resolved +
+                 "' (bad URL, or no multicast route: see docs/NETWORKING.md)");
   }
   return lcm;
 }

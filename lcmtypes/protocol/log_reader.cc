@@ -23,16 +23,21 @@ int64_t BigEndian(const uint8_t* p, int bytes) {
 Result<LogReader> LogReader::Open(const std::string& path) {
   struct stat info {};
   if (stat(path.c_str(), &info) != 0) {
-    return Error{"cannot open log " + path + ": " + std::strerror(errno)};
+    const int error = errno;
+    return Error::File(error, "cannot open log " + path + ": " + std::strerror(error));
   }
-  if (S_ISDIR(info.st_mode)) return Error{path + " is a directory, not an LCM log"};
+  if (S_ISDIR(info.st_mode)) return Error::Io(path + " is a directory, not an LCM log");
   std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) return Error{"cannot open log " + path + ": " + std::strerror(errno)};
+  if (file == nullptr) {
+    const int error = errno;
+    return Error::File(error, "cannot open log " + path + ": " + std::strerror(error));
+  }
   return LogReader(path, file, static_cast<int64_t>(info.st_size));
 }
 
 Error LogReader::Corrupt(int64_t offset, const std::string& what) const {
-  return Error{"log " + path_ + " is corrupt at byte " + std::to_string(offset) + ": " + what};
+  return Error::Corrupt("log " + path_ + " is corrupt at byte " + std::to_string(offset) + ": " +
+                        what);
 }
 
 Result<std::optional<LogEvent>> LogReader::Next() {

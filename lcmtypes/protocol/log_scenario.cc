@@ -52,7 +52,7 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
       if (run.empty()) run = message.run_id;
       if (message.run_id != run) continue;
       if (grid && (grid->cells != message.cells || grid->total_steps != message.total_steps)) {
-        return Error{"log " + path + " holds two different mazes for run " + run};
+        return Error::Corrupt("log " + path + " holds two different mazes for run " + run);
       }
       grid = message;
     } else if (EndsWith(event.channel, changes_suffix)) {
@@ -63,13 +63,13 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
       auto [it, inserted] = steps.emplace(message.time_step, message);
       if (!inserted && (it->second.cells != message.cells || it->second.codes != message.codes ||
                         it->second.requested_moves != message.requested_moves)) {
-        return Error{"log " + path + " holds two different versions of time step " +
-                     std::to_string(message.time_step)};
+        return Error::Corrupt("log " + path + " holds two different versions of time step " +
+                     std::to_string(message.time_step));
       }
     }
   }
-  if (events == 0) return Error{path + " is empty or not an LCM log"};
-  if (!grid) return Error{"log " + path + " holds no maze" + (run.empty() ? "" : " of run " + run)};
+  if (events == 0) return Error::Corrupt(path + " is empty or not an LCM log");
+  if (!grid) return Error::Corrupt("log " + path + " holds no maze" + (run.empty() ? "" : " of run " + run));
   LoggedScenario logged;
   logged.run_id = run;
   logged.scenario.grid = GridFromMessage(*grid);
@@ -79,8 +79,8 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
   for (int t = 1; t <= grid->total_steps; ++t) {
     auto it = steps.find(t);
     if (it == steps.end()) {
-      return Error{"log " + path + " misses time step " + std::to_string(t) + " of " +
-                   std::to_string(grid->total_steps) + " (was the run complete?)"};
+      return Error::Corrupt("log " + path + " misses time step " + std::to_string(t) + " of " +
+                   std::to_string(grid->total_steps) + " (was the run complete?)");
     }
     Result<ChangeStep> step = ChangesFromMessage(it->second, grid->rows, grid->cols);
     if (!step) return step.error();

@@ -20,14 +20,14 @@ Status RoundCombiner::CheckItems(const std::vector<Job>& jobs, const Items& item
     for (const auto& [job, learner] : owned) {
       auto it = position.find(job);
       if (it == position.end() || learner < 0 || learner >= jobs[it->second].learners) {
-        return Error{"round combiner: an item names no learner of its jobs"};
+        return Error::Corrupt("round combiner: an item names no learner of its jobs");
       }
       ++hosts[it->second][static_cast<size_t>(learner)];
     }
   }
   for (const std::vector<int>& counts : hosts) {
     for (int count : counts) {
-      if (count != 1) return Error{"round combiner: a learner is not hosted once"};
+      if (count != 1) return Error::Corrupt("round combiner: a learner is not hosted once");
     }
   }
   return Ok{};

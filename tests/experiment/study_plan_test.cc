@@ -344,6 +344,36 @@ TEST(StudyPlanTest, BadFileValuesNameTheLine) {
   }
 }
 
+// The runtime checks' errors are placed by their subject (the option they
+// concern), not by their text: the message names the value's origin, the
+// code and subject stay.
+TEST(StudyPlanTest, CheckedValuesAreLocatedByTheirSubject) {
+  const struct {
+    Result<StudyOptions> options;
+    const char* message;
+    const char* subject;
+  } cases[] = {
+      {FromFile("\nseed = -1\n"), "s.toml:2: seed: must be between 0 and 4294967295, got -1",
+       "seed"},
+      {FromFile("leaf-limit = 0\n"), "s.toml:1: leaf-limit: must be between 1 and 10000, got 0",
+       "leaf-limit"},
+      {FromFile("semantics = 'report'\nbootstrap = 'in-region'\n"),
+       "s.toml:1: semantics: report sets the bootstrap itself; leave --bootstrap out", "semantics"},
+      {ResolveStudyOptions(Cli({{"placement", "none"}}), 2),
+       "option --placement: must be auto, whole or split, got 'none'", "placement"},
+      {ResolveStudyOptions(Cli({{"threads", "0"}}), 2),
+       "option --threads: must be between 1 and 1024, got 0", "threads"},
+      {ResolveStudyOptions(Cli({{"local", "true"}, {"agents", "2"}}), 2),
+       "option --local: choose one of --local, --agents N and --embedded", "local"},
+  };
+  for (const auto& c : cases) {
+    ASSERT_FALSE(c.options) << c.message;
+    EXPECT_EQ(c.options.error().message, c.message);
+    EXPECT_EQ(c.options.error().code, Error::Code::kInvalidArgument) << c.message;
+    EXPECT_EQ(c.options.error().subject, c.subject) << c.message;
+  }
+}
+
 TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   Result<StudyOptions> a = ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}}), 2);
   Result<StudyOptions> b = ResolveStudyOptions(

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -234,6 +235,91 @@ TEST(WordTableTest, DefaultsAreTheLibrariesValuesAsWords) {
   EXPECT_EQ(run.placement, "auto");
   EXPECT_EQ(run.out, "results");
   EXPECT_EQ(LogOptions{}.log_level, "info");
+}
+
+// The option checkers say which option a bad value is of (Error::subject)
+// with the code kInvalidArgument; the message is unchanged.
+TEST(OptionErrorTest, CheckersNameTheirOption) {
+  Result<long long> range = InRange("fragment-size", 5, 0, 1024, 60000);
+  ASSERT_FALSE(range.ok());
+  EXPECT_EQ(range.error().message, "option --fragment-size must be between 1024 and 60000, got 5");
+  EXPECT_EQ(range.error().code, Error::Code::kInvalidArgument);
+  EXPECT_EQ(range.error().subject, "fragment-size");
+
+  Result<Placement> word = PlacementWords().ParseOption("placement", "none");
+  ASSERT_FALSE(word.ok());
+  EXPECT_EQ(word.error().subject, "placement");
+  EXPECT_EQ(word.error().Detail(), "must be auto, whole or split, got 'none'");
+
+  RunOptions run;
+  run.out = "";
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().message, "option --out must not be empty");
+  EXPECT_EQ(plan.error().code, Error::Code::kInvalidArgument);
+  EXPECT_EQ(plan.error().subject, "out");
+
+  ProcessOptions process;
+  Result<ProcessSetup> setup = ResolveProcessOptions(process, true);
+  ASSERT_FALSE(setup.ok());
+  EXPECT_EQ(setup.error().message, "option --run-id is required");
+  EXPECT_EQ(setup.error().subject, "run-id");
+
+  ScenarioOptions scenario;
+  scenario.size = 0;
+  Result<ScenarioSetup> sized = ResolveScenario(scenario);
+  ASSERT_FALSE(sized.ok());
+  EXPECT_EQ(sized.error().subject, "size");
+  scenario.size.reset();
+  scenario.maze = "/nonexistent/dynapath/maze.txt";
+  Result<ScenarioSetup> missing = ResolveScenario(scenario);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().code, Error::Code::kNotFound);
+  EXPECT_EQ(missing.error().message,
+            "/nonexistent/dynapath/maze.txt: cannot open for reading: No such file or directory");
+}
+
+// A stopped local run ends with kCancelled ("interrupted") and writes no
+// result files for the approach it cut short.
+TEST(RunLocalTest, StopEndsTheRunCancelled) {
+  char name[] = "/tmp/run_local_test_XXXXXX";
+  ASSERT_NE(mkdtemp(name), nullptr);
+  const std::string dir = name;
+  ScenarioOptions scenario;
+  scenario.size = 10;
+  scenario.steps = 6;
+  Result<ScenarioSetup> setup = ResolveScenario(scenario);
+  ASSERT_TRUE(setup.ok()) << setup.error().message;
+  RunOptions run;
+  run.approach = "BFS Oracle";
+  run.out = dir;
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+
+  std::atomic<bool> stop{false};
+  int last_step = -1;
+  Result<std::vector<ApproachRun>> runs = RunLocal(
+      *plan, *setup, 1,
+      [&](const StepView& view) {
+        last_step = view.run.steps.back().time_step;
+        if (last_step == 2) stop = true;  // as Ctrl-C would
+      },
+      &stop);
+  ASSERT_FALSE(runs.ok());
+  EXPECT_EQ(runs.error().code, Error::Code::kCancelled);
+  EXPECT_EQ(runs.error().message, "interrupted");
+  EXPECT_EQ(last_step, 2);
+  EXPECT_NE(access((dir + "/results.csv").c_str(), F_OK), 0);
+
+  stop = false;
+  Result<std::vector<ApproachRun>> whole = RunLocal(*plan, *setup, 1, {}, &stop);
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  ASSERT_EQ(whole->size(), 1u);
+  EXPECT_EQ(whole->front().steps.size(), 7u);
+  EXPECT_EQ(access((dir + "/results.csv").c_str(), F_OK), 0);
+  std::remove((dir + "/results.csv").c_str());
+  std::remove((dir + "/results_detailed.csv").c_str());
+  rmdir(dir.c_str());
 }
 
 }  // namespace

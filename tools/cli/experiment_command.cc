@@ -112,11 +112,11 @@ std::string Differences(const Json& there, const Json& here) {
 Status RemovePreviousStudy(const fs::path& out) {
   std::error_code error;
   fs::remove_all(out / "runs", error);
-  if (error) return Error{(out / "runs").string() + ": cannot remove: " + error.message()};
+  if (error) return Error::Io((out / "runs").string() + ": cannot remove: " + error.message());
   for (const char* file : {"manifest.json", "study.log", "results.csv", "results_detailed.csv",
                            "edge_results.csv", "edge_results_detailed.csv"}) {
     fs::remove(out / file, error);
-    if (error) return Error{(out / file).string() + ": cannot remove: " + error.message()};
+    if (error) return Error::Io((out / file).string() + ": cannot remove: " + error.message());
   }
   return Ok{};
 }
@@ -156,13 +156,13 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   ProgressDisplay& display = session.display;
 
   if (session.mode == StudyMode::kLocal) {
-    const std::atomic<bool>& stop = session.stop;
-    Result<std::vector<ApproachRun>> runs =
-        runtime::RunLocal(*plan, *setup, session.options.threads, [&](const StepView& view) {
-          if (stop) throw std::runtime_error("interrupted");
+    Result<std::vector<ApproachRun>> runs = runtime::RunLocal(
+        *plan, *setup, session.options.threads,
+        [&](const StepView& view) {
           display.Step(ApproachName(view.run.approach), view.pass, approaches,
                        view.run.steps.back().time_step, view.total_steps);
-        });
+        },
+        &session.stop);
     if (!runs) return runs.error();
     return Ok{};
   }
@@ -195,8 +195,9 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
     code = launch::LaunchProcesses(run);
   }
   if (code == 0) return Ok{};
-  if (code == 130) return Error{"interrupted"};
-  return Error{"the run failed (exit status " + std::to_string(code) + "); see study.log"};
+  if (code == 130) return Error::Cancelled();
+  return Error::Unavailable("the run failed (exit status " + std::to_string(code) +
+                            "); see study.log");
 }
 
 // The options of the config file `config_path` (if any) overridden by the
@@ -282,7 +283,7 @@ Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path,
     logger = std::make_shared<spdlog::logger>("experiment",
                                               spdlog::sinks_init_list{file_sink, console_sink});
   } catch (const std::exception& e) {
-    return Error{log_path + ": cannot open: " + e.what()};
+    return Error::Io(log_path + ": cannot open: " + e.what());
   }
   logger->set_level(level);
   logger->flush_on(spdlog::level::trace);  // in order with the processes' lines
@@ -394,7 +395,7 @@ class StudyRunner {
     record.wall_seconds = wall;
     if (result && Complete(session_.out, configuration, session_.options)) {
       record.status = "done";
-    } else if (session_.stop) {
+    } else if ((!result && result.error().IsCancelled()) || session_.stop) {
       record.status = "interrupted";
       record.error = "interrupted";
       interrupted_ = true;

@@ -30,7 +30,7 @@ Result<Json> ParseJson(std::string_view text) {
   };
   try {
     Json json = Json::parse(text.begin(), text.end(), check_keys);
-    if (!duplicate.empty()) return Error{"duplicate key \"" + duplicate + "\""};
+    if (!duplicate.empty()) return Error::Corrupt("duplicate key \"" + duplicate + "\"");
     return json;
   } catch (const Json::parse_error& error) {
     // nlohmann's message names the line, column and what was expected, after
@@ -39,7 +39,7 @@ Result<Json> ParseJson(std::string_view text) {
     std::string message = error.what();
     const size_t at = message.find(" at line ");
     if (at != std::string::npos) message = message.substr(at + 4);
-    return Error{message};
+    return Error::Corrupt(message);
   }
 }
 

@@ -151,9 +151,11 @@ Json ManifestToJson(const Manifest& manifest) {
 }
 
 Result<Manifest> ManifestFromJson(const Json& json) {
-  if (!json.is_object()) return Error{"the manifest is not a JSON object"};
+  if (!json.is_object()) return Error::Corrupt("the manifest is not a JSON object");
   Manifest manifest;
-  auto bad = [](const std::string& what) { return Error{"manifest: missing or bad " + what}; };
+  auto bad = [](const std::string& what) {
+    return Error{"manifest: missing or bad " + what, Error::Code::kCorrupt, what};
+  };
   if (!GetString(json, "dynapath_version", manifest.version, true)) return bad("dynapath_version");
   if (!GetString(json, "git_commit", manifest.git_commit, false)) return bad("git_commit");
   if (!GetString(json, "git_commit_source", manifest.git_commit_source, false)) {
@@ -211,9 +213,9 @@ Result<Manifest> ReadManifest(const std::string& path) {
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
   Result<Json> json = ParseJson(*text);
-  if (!json) return Error{path + ": not valid JSON: " + json.error().message};
+  if (!json) return json.error().Prefixed(path + ": not valid JSON: ");
   Result<Manifest> manifest = ManifestFromJson(*json);
-  if (!manifest) return Error{path + ": " + manifest.error().message};
+  if (!manifest) return manifest.error().Prefixed(path + ": ");
   return manifest;
 }
 

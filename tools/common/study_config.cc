@@ -12,7 +12,7 @@ namespace {
 int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
 
 Error FailAt(const std::string& name, int line, const std::string& message) {
-  return Error{name + ":" + std::to_string(line) + ": " + message};
+  return Error::Corrupt(name + ":" + std::to_string(line) + ": " + message);
 }
 
 // A scalar or an array of scalars of one kind; anything else is refused.

@@ -114,7 +114,10 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
       for (const fs::directory_entry& entry : fs::directory_iterator(item, error)) {
         if (entry.path().extension() == ".map") found.push_back(entry.path().string());
       }
-      if (error) return Error{origin + ": cannot list folder " + item + ": " + error.message()};
+      if (error) {
+        return Error::File(error.value(), origin + ": cannot list folder " + item + ": " +
+                                              error.message());
+      }
       if (found.empty()) return Error{origin + ": folder " + item + " holds no .map file"};
       std::sort(found.begin(), found.end());
       paths.insert(paths.end(), found.begin(), found.end());
@@ -125,12 +128,12 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
   std::vector<StudyOptions::Map> maps;
   for (const std::string& path : paths) {
     Result<std::string> bytes = ReadTextFile(path);
-    if (!bytes) return Error{origin + ": " + bytes.error().message};
+    if (!bytes) return bytes.error().Prefixed(origin + ": ");
     Result<Grid> grid = ParseMovingAiMap(*bytes);
-    if (!grid) return Error{origin + ": " + path + ": " + grid.error().message};
+    if (!grid) return grid.error().Prefixed(origin + ": " + path + ": ");
     for (const StudyOptions::Map& earlier : maps) {
       if (Status distinct = CheckDistinctMaps(earlier.path, path); !distinct) {
-        return Error{origin + ": " + distinct.error().message};
+        return distinct.error().Prefixed(origin + ": ");
       }
     }
     maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols()});
@@ -349,18 +352,15 @@ class GivenOptions {
     return it == values_.end() ? nullptr : &it->second;
   }
   // A runtime check's error, "option --NAME must be ...", as "ORIGIN: must
-  // be ..." for the value it names (`name` when it names none), so that a
-  // study file's value is reported with its line.
+  // be ..." for the value of the option it concerns (its subject; `name`
+  // when it has none), so that a study file's value is reported with its line.
   Error Located(const Error& error, const std::string& name) const {
-    static const std::string kPrefix = "option --";
-    std::string option = name, message = error.message;
-    if (message.rfind(kPrefix, 0) == 0) {
-      const size_t end = std::min(message.find(' ', kPrefix.size()), message.size());
-      option = message.substr(kPrefix.size(), end - kPrefix.size());
-      message = message.substr(std::min(end + 1, message.size()));
-    }
+    const std::string option = error.subject.empty() ? name : error.subject;
     const OptionValue* value = Find(option);
-    return Error{(value ? value->origin : kPrefix + option) + ": " + message};
+    Error located = error;
+    located.message = (value ? value->origin : "option --" + option) + ": " + error.Detail();
+    located.subject = option;
+    return located;
   }
 
  private:
@@ -387,7 +387,7 @@ Status ResolveCellCount(const GivenOptions& given, const std::string& name,
   const std::string& origin = given.Find(name)->origin;
   if (options.maps.empty()) return Error{origin + ": needs maps"};
   Result<CellCount> count = ParseCellCount(*text);
-  if (!count) return Error{origin + ": " + count.error().message};
+  if (!count) return count.error().Prefixed(origin + ": ");
   resolved = *text;
   return Ok{};
 }
@@ -453,7 +453,7 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   if (!approaches) approaches = &all;
   if (Trim(approaches->text).empty()) return Error{approaches->origin + ": the list is empty"};
   Result<std::vector<Approach>> parsed = ParseApproachList(approaches->text);
-  if (!parsed) return Error{approaches->origin + ": " + parsed.error().message};
+  if (!parsed) return parsed.error().Prefixed(approaches->origin + ": ");
   options.approaches = std::move(*parsed);
 
   options.edge_case = given->edge_case || (options.maps.empty() && !given->no_edge_case);

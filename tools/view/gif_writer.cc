@@ -22,13 +22,13 @@ GifEncoder::GifEncoder(int width, int height, std::vector<Rgb> palette, int loop
   int error = 0;
   gif_ = EGifOpen(this, &GifEncoder::Write, &error);
   if (gif_ == nullptr) {
-    status_ = Error{std::string("giflib: EGifOpen: ") + GifErrorString(error)};
+    status_ = Error::Internal(std::string("giflib: EGifOpen: ") + GifErrorString(error));
     return;
   }
   EGifSetGifVersion(gif_, true);  // GIF89a: the extensions below need it
   ColorMapObject* colours = GifMakeMapObject(1 << table_bits, nullptr);
   if (colours == nullptr) {
-    status_ = Error{"giflib: GifMakeMapObject failed"};
+    status_ = Error::Internal("giflib: GifMakeMapObject failed");
     return;
   }
   for (int i = 0; i < (1 << table_bits); ++i) {
@@ -71,7 +71,7 @@ Status GifEncoder::Check(int code, const char* call) {
   if (write_failure_) std::rethrow_exception(write_failure_);
   if (code != GIF_OK && status_) {
     const char* reason = gif_ != nullptr ? GifErrorString(gif_->Error) : nullptr;
-    status_ = Error{std::string("giflib: ") + call + ": " + (reason ? reason : "failed")};
+    status_ = Error::Internal(std::string("giflib: ") + call + ": " + (reason ? reason : "failed"));
   }
   return status_;
 }
@@ -164,7 +164,7 @@ std::vector<uint8_t> GifEncoder::Finish() {
   gif_ = nullptr;
   if (write_failure_) std::rethrow_exception(write_failure_);
   if (code != GIF_OK && status_) {
-    status_ = Error{std::string("giflib: EGifCloseFile: ") + GifErrorString(error)};
+    status_ = Error::Internal(std::string("giflib: EGifCloseFile: ") + GifErrorString(error));
   }
   if (!status_) return {};
   return std::move(out_);

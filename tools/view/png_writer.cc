@@ -33,7 +33,7 @@ std::vector<uint8_t> EncodePng(const RgbImage& image) {
 Status WritePng(const std::string& path, const RgbImage& image) {
   if (image.width() <= 0 || image.height() <= 0) return Error{"cannot write an empty image"};
   const std::vector<uint8_t> bytes = EncodePng(image);
-  if (bytes.empty()) return Error{"cannot encode " + path + " as PNG"};
+  if (bytes.empty()) return Error::Internal("cannot encode " + path + " as PNG");
   return WriteFileAtomically(path, bytes);
 }
 

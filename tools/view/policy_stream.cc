@@ -130,7 +130,7 @@ Result<PolicyLogSummary> ReadPolicyLog(const std::string& path, const std::strin
         event.channel, event.data.data(), static_cast<int>(event.data.size()), event.timestamp);
     if (policy) visit(*policy);
   }
-  if (summary.events == 0) return Error{path + " is empty or not an LCM log"};
+  if (summary.events == 0) return Error::Corrupt(path + " is empty or not an LCM log");
   summary.counters = assembler.counters();
   summary.incomplete = static_cast<int64_t>(assembler.pending());
   return summary;

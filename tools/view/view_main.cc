@@ -48,27 +48,30 @@ bool SameNamespace(const std::string& a, const std::string& b) {
 Status EnterNetworkOf(const std::string& pid) {
   const std::string ns = "/proc/" + pid + "/ns/";
   if (access(("/proc/" + pid).c_str(), F_OK) != 0) {
-    return Error{"no process with pid " + pid + " (is the run still going?)"};
+    return Error::NotFound("no process with pid " + pid + " (is the run still going?)");
   }
   auto join = [&](const char* name, int type) -> Status {
     const int fd = open((ns + name).c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return Error{std::string("cannot open ") + ns + name + ": " + std::strerror(errno)};
+    if (fd < 0) {
+      const int error = errno;
+      return Error::File(error, std::string("cannot open ") + ns + name + ": " + std::strerror(error));
+    }
     const int result = setns(fd, type);
     const int error = errno;
     close(fd);
     if (result != 0)
-      return Error{std::string("cannot join its ") + name + " namespace: " + std::strerror(error)};
+      return Error::Io(std::string("cannot join its ") + name + " namespace: " + std::strerror(error));
     return Ok{};
   };
   if (!SameNamespace(ns + "user", "/proc/self/ns/user")) {
     // A launcher that ran as root without user namespaces has only a network
     // namespace; root can join it directly.
     if (Status status = join("user", CLONE_NEWUSER); !status && geteuid() != 0) {
-      return Error{"cannot enter the network of process " + pid + ": " + status.error().message};
+      return status.error().Prefixed("cannot enter the network of process " + pid + ": ");
     }
   }
   if (Status status = join("net", CLONE_NEWNET); !status) {
-    return Error{"cannot enter the network of process " + pid + ": " + status.error().message};
+    return status.error().Prefixed("cannot enter the network of process " + pid + ": ");
   }
   return Ok{};
 }
@@ -78,8 +81,8 @@ Result<std::pair<int, int>> ParseWindowSize(const std::string& text) {
   char rest = 0;
   if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &rest) != 2 || width < 160 ||
       height < 120 || width > 8192 || height > 8192) {
-    return Error{"option --window needs WIDTHxHEIGHT between 160x120 and 8192x8192, got '" + text +
-                 "'"};
+    return Error::Option("window",
+                         "needs WIDTHxHEIGHT between 160x120 and 8192x8192, got '" + text + "'");
   }
   return std::pair{width, height};
 }
