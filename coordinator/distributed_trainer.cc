@@ -51,6 +51,14 @@ struct DistributedTrainer::Batch {
   // wait before the next (RepeatIntervalMs), so agents that are merely busy
   // are not flooded with copies they must decode.
   int repeats_since_progress = 0;
+  // A shard or result arrived: the batch is no longer stuck, and its stall
+  // and repeat counts start over.
+  void Progressed() {
+    last_progress_ms = AgentRegistry::NowMs();
+    stuck_since_ms = 0;
+    stalls = 0;
+    repeats_since_progress = 0;
+  }
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
   // Split: the round last asked of the agents (RequestRound) and when.
@@ -328,10 +336,7 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
   }
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
-  batch.last_progress_ms = AgentRegistry::NowMs();
-  batch.stuck_since_ms = 0;
-  batch.stalls = 0;
-  batch.repeats_since_progress = 0;
+  batch.Progressed();
   while (batch.combiner->RoundComplete()) {
     for (const protocol::RoundCombiner::JobRound& job_round : batch.combiner->Combine()) {
       batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
@@ -380,10 +385,7 @@ void DistributedTrainer::OnResult(const job_result_t& message, int64_t bytes) {
   state.steps = message.steps;
   ++traffic_.messages_in;
   traffic_.bytes_in += bytes;
-  batch.last_progress_ms = AgentRegistry::NowMs();
-  batch.stuck_since_ms = 0;
-  batch.stalls = 0;
-  batch.repeats_since_progress = 0;
+  batch.Progressed();
 }
 
 void DistributedTrainer::CheckAgents() {
