@@ -147,8 +147,8 @@ Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
   spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
                labels.difficulty_label, maze->source, maze->total_steps, plan.approaches.size());
   Result<std::vector<ApproachRun>> runs = runtime::RunApproaches(
-      envsim, trainer_, plan, labels,
-      [&](const StepView& view) { PublishStep(view, view.pass); }, &stop);
+      envsim, trainer_, plan, labels, [&](const StepView& view) { PublishStep(view, view.pass); },
+      &stop);
   if (!runs) return runs.error();
   const TrafficStats& t = trainer_.traffic();
   spdlog::info(

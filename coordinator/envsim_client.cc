@@ -67,9 +67,9 @@ bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
     const int64_t seen = envsim_seen_ms_;
     if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
                  : static_cast<double>(now - seen) > timeout_seconds_ * 1000) {
-      status_ = Error::Unavailable(seen < 0 ? "no environment simulator answered for run " +
-                                                  bus_.run_id()
-                                            : "the environment simulator is gone");
+      status_ =
+          Error::Unavailable(seen < 0 ? "no environment simulator answered for run " + bus_.run_id()
+                                      : "the environment simulator is gone");
       return false;
     }
     inbox_.RunFor(std::chrono::milliseconds(2));

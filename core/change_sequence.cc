@@ -32,11 +32,12 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
     return Error::Corrupt(
         "not a change file (expected a 'dynapath-changes 1 <rows> <cols> <steps>' header)");
   }
-  if (version != 1) return Error::Corrupt("unsupported change-file version " + std::to_string(version));
+  if (version != 1)
+    return Error::Corrupt("unsupported change-file version " + std::to_string(version));
   if (file_rows != rows || file_cols != cols) {
     return Error::Corrupt("the change file is for a " + std::to_string(file_rows) + "x" +
-                 std::to_string(file_cols) + " maze, the maze is " + std::to_string(rows) + "x" +
-                 std::to_string(cols));
+                          std::to_string(file_cols) + " maze, the maze is " + std::to_string(rows) +
+                          "x" + std::to_string(cols));
   }
   constexpr long long kMaxSteps = 1'000'000;
   if (steps < 0 || steps > kMaxSteps)
@@ -57,14 +58,15 @@ Result<ChangeSequence> ChangesFromText(const std::string& text, int rows, int co
     for (CellChange& change : step.changes) {
       long long cell = 0;
       int code = 0;
-      if (!(in >> cell >> code)) return Error::Corrupt("time step " + std::to_string(t + 1) + ": truncated");
+      if (!(in >> cell >> code))
+        return Error::Corrupt("time step " + std::to_string(t + 1) + ": truncated");
       if (cell < 0 || cell >= cells) {
-        return Error::Corrupt("time step " + std::to_string(t + 1) + ": cell " + std::to_string(cell) +
-                     " outside the maze");
+        return Error::Corrupt("time step " + std::to_string(t + 1) + ": cell " +
+                              std::to_string(cell) + " outside the maze");
       }
       if (code < 0 || code > 2) {
         return Error::Corrupt("time step " + std::to_string(t + 1) + ": bad cell code " +
-                     std::to_string(code));
+                              std::to_string(code));
       }
       change.cell = static_cast<int>(cell);
       change.code = static_cast<Cell>(code);

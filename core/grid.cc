@@ -51,21 +51,23 @@ Result<Grid> GridFromText(const std::string& text) {
     for (size_t i = 0; i < line.size(); ++i) {
       const char ch = line[i];
       if (ch != '#' && ch != '.' && ch != 'C') {
-        return Error::Corrupt("line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
-                     ": unexpected character '" + std::string(1, ch) +
-                     "' (expected '#', '.' or 'C')");
+        return Error::Corrupt("line " + std::to_string(line_number) + ", column " +
+                              std::to_string(i + 1) + ": unexpected character '" +
+                              std::string(1, ch) + "' (expected '#', '.' or 'C')");
       }
     }
     if (!lines.empty() && line.size() != lines.front().size()) {
-      return Error::Corrupt("line " + std::to_string(line_number) + " has " + std::to_string(line.size()) +
-                   " cells, the first row has " + std::to_string(lines.front().size()));
+      return Error::Corrupt("line " + std::to_string(line_number) + " has " +
+                            std::to_string(line.size()) + " cells, the first row has " +
+                            std::to_string(lines.front().size()));
     }
     lines.push_back(line);
   }
   if (lines.empty()) return Error::Corrupt("the maze has no rows");
   constexpr size_t kMaxSide = kMaxGridSide;
   if (lines.size() > kMaxSide || lines.front().size() > kMaxSide) {
-    return Error::Corrupt("the maze is larger than " + std::to_string(kMaxGridSide) + " cells on a side");
+    return Error::Corrupt("the maze is larger than " + std::to_string(kMaxGridSide) +
+                          " cells on a side");
   }
   Grid grid(static_cast<int>(lines.size()), static_cast<int>(lines.front().size()));
   for (int r = 0; r < grid.rows(); ++r) {

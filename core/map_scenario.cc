@@ -94,13 +94,13 @@ Result<std::vector<int>> ParseStationsFile(std::string_view bytes, const Grid& g
     if (e2 != std::errc{} || after_col != stop) return Error::Corrupt(where + "expected 'row col'");
     if (!grid.InBounds(row, col)) {
       return Error::Corrupt(where + "(" + std::to_string(row) + ", " + std::to_string(col) +
-                   ") is outside the " + std::to_string(grid.rows()) + "x" +
-                   std::to_string(grid.cols()) + " map");
+                            ") is outside the " + std::to_string(grid.rows()) + "x" +
+                            std::to_string(grid.cols()) + " map");
     }
     const int cell = grid.Index(row, col);
     if (grid.at(cell) == Cell::kObstacle) {
       return Error::Corrupt(where + "(" + std::to_string(row) + ", " + std::to_string(col) +
-                   ") is an obstacle");
+                            ") is an obstacle");
     }
     if (seen[cell]) return Error::Corrupt(where + "station given twice");
     seen[cell] = 1;

@@ -78,13 +78,13 @@ Result<Grid> ParseMovingAiMap(std::string_view bytes) {
   // Every row needs `width` bytes: refuse a short file before allocating.
   if (bytes.size() < static_cast<size_t>(*height) * static_cast<size_t>(*width)) {
     return Error::Corrupt("the file is too short for a " + std::to_string(*height) + "x" +
-                 std::to_string(*width) + " map");
+                          std::to_string(*width) + " map");
   }
   Grid grid(*height, *width);
   for (int r = 0; r < *height; ++r) {
     if (!lines.Next(line)) {
       return Error::Corrupt("the map ends after " + std::to_string(r) + " of its " +
-                   std::to_string(*height) + " rows");
+                            std::to_string(*height) + " rows");
     }
     if (line.size() != static_cast<size_t>(*width)) {
       return LineError(lines.number(), "a row of " + std::to_string(line.size()) +

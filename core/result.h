@@ -41,9 +41,7 @@ struct Error {
   static Error File(int error, std::string text) {
     return Error(std::move(text), error == ENOENT ? Code::kNotFound : Code::kIo);
   }
-  static Error Unavailable(std::string text) {
-    return Error(std::move(text), Code::kUnavailable);
-  }
+  static Error Unavailable(std::string text) { return Error(std::move(text), Code::kUnavailable); }
   static Error Internal(std::string text) { return Error(std::move(text), Code::kInternal); }
   // The run was stopped; its message is the one users have always seen.
   static Error Cancelled() { return Error("interrupted", Code::kCancelled); }

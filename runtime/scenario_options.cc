@@ -117,9 +117,9 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
                                                  {"movers", o.movers.has_value()}};
   for (const auto& [other, given] : others) {
     if (given) {
-      return Error{std::string("--replay sets the maze and changes: do not combine it with --") +
-                       other,
-                   Error::Code::kInvalidArgument, other};
+      return Error{
+          std::string("--replay sets the maze and changes: do not combine it with --") + other,
+          Error::Code::kInvalidArgument, other};
     }
   }
   Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(*o.replay);

@@ -1,5 +1,5 @@
-// Test tool: the attacks of the hostile-network table (docs/RELIABILITY.md), published on a run's channels
-// from inside its private network. Usage:
+// Test tool: the attacks of the hostile-network table (docs/RELIABILITY.md), published on a run's
+// channels from inside its private network. Usage:
 //   hostile_publisher RUN_ID SECONDS MODE [LCM_URL]
 // MODE:
 //   counts     every type (nested ones through their holders) with a huge,

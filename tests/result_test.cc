@@ -71,12 +71,12 @@ TEST(ResultTest, OptionErrorNamesItsOption) {
 }
 
 TEST(ResultTest, DetailLeavesOtherMessagesWhole) {
-  EXPECT_EQ(Error("option --stations: expected a count", Code::kInvalidArgument, "stations")
-                .Detail(),
-            "expected a count");
-  EXPECT_EQ(Error("--steps 9 is more than the 3 time steps", Code::kInvalidArgument, "steps")
-                .Detail(),
-            "--steps 9 is more than the 3 time steps");
+  EXPECT_EQ(
+      Error("option --stations: expected a count", Code::kInvalidArgument, "stations").Detail(),
+      "expected a count");
+  EXPECT_EQ(
+      Error("--steps 9 is more than the 3 time steps", Code::kInvalidArgument, "steps").Detail(),
+      "--steps 9 is more than the 3 time steps");
   EXPECT_EQ(Error("option --x must be 1").Detail(), "option --x must be 1");  // no subject
 }
 
@@ -138,8 +138,7 @@ TEST(ResultTest, CorruptMovingAiMapIsCorrupt) {
   Result<Grid> grid = LoadMazeFile(path, nullptr);
   ASSERT_FALSE(grid.ok());
   EXPECT_EQ(grid.error().code, Code::kCorrupt);
-  EXPECT_EQ(grid.error().message,
-            path + ": line 6: a row of 1 cells, the header says width 2");
+  EXPECT_EQ(grid.error().message, path + ": line 6: a row of 1 cells, the header says width 2");
   std::filesystem::remove(path);
 }
 

@@ -70,8 +70,8 @@ Result<RunKey> KeyFromSecretText(std::string_view text) {
   const std::string_view secret = Trim(text);
   if (secret.size() < kMinSecretChars) {
     return Error::Corrupt("the secret is too short: " + std::to_string(secret.size()) +
-                 " characters, at least " + std::to_string(kMinSecretChars) +
-                 " needed (make one with `dynapath secret FILE`)");
+                          " characters, at least " + std::to_string(kMinSecretChars) +
+                          " needed (make one with `dynapath secret FILE`)");
   }
   RunKey key;
   key.insecure = false;
@@ -121,7 +121,7 @@ Result<std::string> ReadSecretText(const std::string& path) {
     if (text.size() > kMaxSecretFileBytes) {
       close(fd);
       return Error::Corrupt("secret file " + path + " is larger than " +
-                   std::to_string(kMaxSecretFileBytes) + " bytes: not a secret file?");
+                            std::to_string(kMaxSecretFileBytes) + " bytes: not a secret file?");
     }
   }
   close(fd);

@@ -140,7 +140,8 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   const std::optional<Averaging> averaging = AveragingFromWire(batch.averaging);
   const std::optional<QPrecision> precision = PrecisionFromWire(batch.precision);
   if (!kind || !bootstrap || !averaging || !precision) {
-    return Error::Corrupt("job batch: unknown learner kind, bootstrap, averaging or table precision");
+    return Error::Corrupt(
+        "job batch: unknown learner kind, bootstrap, averaging or table precision");
   }
   job.kind = *kind;
   job.bootstrap = *bootstrap;
@@ -169,7 +170,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
     const RegionModel model(job);
     if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
       return Error::Corrupt("job " + std::to_string(index) +
-                   ": start statistics do not match the region's start cells");
+                            ": start statistics do not match the region's start cells");
     }
   }
   if (TrainsInRounds(job.kind) &&
@@ -250,7 +251,8 @@ Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
   step.requested_moves = m.requested_moves;
   for (int i = 0; i < m.num_changes; ++i) {
     if (m.cells[i] >= rows * cols) {
-      return Error::Corrupt("change of time step " + std::to_string(m.time_step) + " outside the grid");
+      return Error::Corrupt("change of time step " + std::to_string(m.time_step) +
+                            " outside the grid");
     }
     step.changes.push_back(CellChange{m.cells[i], static_cast<Cell>(m.codes[i])});
   }

@@ -64,12 +64,13 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
       if (!inserted && (it->second.cells != message.cells || it->second.codes != message.codes ||
                         it->second.requested_moves != message.requested_moves)) {
         return Error::Corrupt("log " + path + " holds two different versions of time step " +
-                     std::to_string(message.time_step));
+                              std::to_string(message.time_step));
       }
     }
   }
   if (events == 0) return Error::Corrupt(path + " is empty or not an LCM log");
-  if (!grid) return Error::Corrupt("log " + path + " holds no maze" + (run.empty() ? "" : " of run " + run));
+  if (!grid)
+    return Error::Corrupt("log " + path + " holds no maze" + (run.empty() ? "" : " of run " + run));
   LoggedScenario logged;
   logged.run_id = run;
   logged.scenario.grid = GridFromMessage(*grid);
@@ -80,7 +81,7 @@ Result<LoggedScenario> ReadScenarioLog(const std::string& path, const std::strin
     auto it = steps.find(t);
     if (it == steps.end()) {
       return Error::Corrupt("log " + path + " misses time step " + std::to_string(t) + " of " +
-                   std::to_string(grid->total_steps) + " (was the run complete?)");
+                            std::to_string(grid->total_steps) + " (was the run complete?)");
     }
     Result<ChangeStep> step = ChangesFromMessage(it->second, grid->rows, grid->cols);
     if (!step) return step.error();

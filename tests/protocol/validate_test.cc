@@ -1,5 +1,6 @@
 // Validation computes regions and counts from received int32 fields in 64
-// bits: values near INT_MAX must not wrap into range (hostile-network table, docs/RELIABILITY.md, row 6).
+// bits: values near INT_MAX must not wrap into range (hostile-network table, docs/RELIABILITY.md,
+// row 6).
 
 #include "lcmtypes/protocol/validate.h"
 

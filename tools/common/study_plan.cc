@@ -115,8 +115,8 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
         if (entry.path().extension() == ".map") found.push_back(entry.path().string());
       }
       if (error) {
-        return Error::File(error.value(), origin + ": cannot list folder " + item + ": " +
-                                              error.message());
+        return Error::File(error.value(),
+                           origin + ": cannot list folder " + item + ": " + error.message());
       }
       if (found.empty()) return Error{origin + ": folder " + item + " holds no .map file"};
       std::sort(found.begin(), found.end());

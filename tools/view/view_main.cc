@@ -54,13 +54,15 @@ Status EnterNetworkOf(const std::string& pid) {
     const int fd = open((ns + name).c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
       const int error = errno;
-      return Error::File(error, std::string("cannot open ") + ns + name + ": " + std::strerror(error));
+      return Error::File(error,
+                         std::string("cannot open ") + ns + name + ": " + std::strerror(error));
     }
     const int result = setns(fd, type);
     const int error = errno;
     close(fd);
     if (result != 0)
-      return Error::Io(std::string("cannot join its ") + name + " namespace: " + std::strerror(error));
+      return Error::Io(std::string("cannot join its ") + name +
+                       " namespace: " + std::strerror(error));
     return Ok{};
   };
   if (!SameNamespace(ns + "user", "/proc/self/ns/user")) {
