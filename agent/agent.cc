@@ -16,18 +16,14 @@
 
 namespace dynapath::agent {
 
-// A split job: the learners of it this agent hosts. They are played by at
-// most one worker per thread, each with its own copy of the shared table,
-// playing a contiguous range of them (RunRoundsAndRevert): one table (two
-// for paired walks) per worker, not one per learner. The job's shared table and start statistics
+// A split job: the learners of it this agent hosts (FederatedLearners: at
+// most one worker per thread). The job's shared table and start statistics
 // live in the combiner.
 struct Agent::HostedJob {
   int index = 0;  // in the batch
   protocol::ReceivedJob received;
   std::unique_ptr<RegionModel> model;
-  std::vector<int> learners;  // hosted here, in batch order
-  std::vector<std::unique_ptr<FedAsynQLearner>> workers;
-  std::vector<int> first;  // worker w plays learners[first[w] .. first[w + 1])
+  std::unique_ptr<FederatedLearners> learners;
   int64_t rounds = 0;
 };
 
@@ -182,7 +178,6 @@ void Agent::OnBatch(const job_batch_t& batch) {
   batch_id_ = batch.batch_id;
   epoch_ = batch.epoch;
   importance_ = batch.averaging == 1;
-  sync_period_ = batch.sync_period;
   split_jobs_.clear();
   combiner_.reset();
   results_.clear();
@@ -233,31 +228,16 @@ void Agent::OnBatch(const job_batch_t& batch) {
     hosted->received = std::move(*received);
     hosted->model = std::make_unique<RegionModel>(hosted->received.job);  // checked by JobFromBatch
     const TrainingJob& job = hosted->received.job;
-    hosted->rounds = FederatedRounds(job.region, job.federated);
-    protocol::RoundCombiner::Job c;
-    c.index = j;
-    c.learners = job.federated.learners;
-    c.rounds = hosted->rounds;
-    c.averaging = job.federated.averaging;
-    c.shared = StartingTable(job);
-    if (hosted->received.attempts.empty()) {
-      c.stats = StartStatistics(hosted->model->start_cells());
-    } else {
-      c.stats = StartStatistics(hosted->model->start_cells(), hosted->received.attempts,
-                                hosted->received.successes);
-    }
-    hosted->learners = split_learners[j];
-    const int count = static_cast<int>(hosted->learners.size());
-    const int workers = std::min(count, pool_.threads());
-    for (int w = 0; w <= workers; ++w) hosted->first.push_back(w * count / workers);
-    for (int w = 0; w < workers; ++w) {
-      hosted->workers.push_back(
-          std::make_unique<FedAsynQLearner>(*hosted->model, hosted->learners[hosted->first[w]]));
-      hosted->workers.back()->set_count_visits(c.averaging != Averaging::kEqual);
-      hosted->workers.back()->Reset(c.shared);
-    }
+    FederatedState state =
+        hosted->received.attempts.empty()
+            ? FederatedState::Start(job, *hosted->model)
+            : FederatedState::Resume(job, *hosted->model, hosted->received.attempts,
+                                     hosted->received.successes);
+    hosted->rounds = state.rounds;
+    hosted->learners = std::make_unique<FederatedLearners>(
+        job, *hosted->model, split_learners[j], state.shared, pool_.threads());
+    combined.emplace_back(j, std::move(state));
     start_round = std::max(start_round, hosted->received.start_round);
-    combined.push_back(std::move(c));
     split_jobs_.push_back(std::move(hosted));
   }
   if (!whole.empty()) RunWholeJobs(batch, whole);
@@ -331,13 +311,7 @@ void Agent::ContinueSplit() {
     if (!combiner_->RoundComplete()) return;  // OnShards or a nudge continues
     for (const protocol::RoundCombiner::JobRound& job_round : combiner_->Combine()) {
       for (auto& job : split_jobs_) {
-        if (job->index != job_round.index) continue;
-        for (auto& worker : job->workers) {
-          WithValueType(worker->table().precision(), [&]<typename V>(V*) {
-            worker->ApplyAverage(job_round.entries,
-                                 OfValueType<V>(job_round.values, job_round.wide_values));
-          });
-        }
+        if (job->index == job_round.index) job->learners->Apply(job_round);
       }
     }
   }
@@ -345,12 +319,12 @@ void Agent::ContinueSplit() {
 
 void Agent::ComputeRound() {
   const int64_t round = combiner_->round();
-  // (job, worker, index of the worker's first shard) of the jobs still
+  // (job, worker, index of the job's first shard) of the jobs still
   // running in this round; shards are kept in job then hosted-learner order.
   struct Item {
     HostedJob* job;
     int worker;
-    size_t shard;
+    size_t first_shard;
   };
   std::vector<Item> items;
   std::vector<std::pair<HostedJob*, size_t>> active;  // (job, its first shard)
@@ -358,21 +332,15 @@ void Agent::ComputeRound() {
   for (auto& job : split_jobs_) {
     if (round >= job->rounds) continue;
     active.emplace_back(job.get(), shard_count);
-    for (size_t w = 0; w < job->workers.size(); ++w) {
-      items.push_back({job.get(), static_cast<int>(w), shard_count + job->first[w]});
-    }
-    shard_count += job->learners.size();
+    for (int w = 0; w < job->learners->workers(); ++w) items.push_back({job.get(), w, shard_count});
+    shard_count += job->learners->learners().size();
   }
   const int64_t started = protocol::SteadyMs();
   std::vector<LearnerShard> shards(shard_count);
   pool_.ParallelFor(static_cast<int>(items.size()), [&](int i) {
     const Item& item = items[i];
-    HostedJob& job = *item.job;
-    FedAsynQLearner& worker = *job.workers[item.worker];
-    const int first = job.first[item.worker];
-    worker.RunRoundsAndRevert(job.learners.data() + first, job.first[item.worker + 1] - first,
-                              combiner_->job(job.index).stats, job.received.job.seed, round,
-                              sync_period_, shards.data() + item.shard);
+    item.job->learners->RunRound(item.worker, combiner_->job(item.job->index).stats, round,
+                                 shards.data() + item.first_shard);
   });
   round_compute_ms_ = protocol::SteadyMs() - started;
   shards_t message{};
@@ -382,7 +350,7 @@ void Agent::ComputeRound() {
   message.round = round;
   message.agent = options_.id;
   for (const auto& [job, first_shard] : active) {
-    for (size_t p = 0; p < job->learners.size(); ++p) {
+    for (size_t p = 0; p < job->learners->learners().size(); ++p) {
       message.shards.push_back(
           protocol::ShardToMessage(shards[first_shard + p], job->index, importance_));
     }

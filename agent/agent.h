@@ -96,7 +96,6 @@ class Agent {
   int64_t batch_id_ = -1;
   int32_t epoch_ = -1;
   bool importance_ = false;
-  int sync_period_ = 0;
   std::vector<std::unique_ptr<HostedJob>> split_jobs_;  // jobs with learners here
   std::unique_ptr<protocol::RoundCombiner> combiner_;   // all agents' rounds of them
   int64_t computed_round_ = -1;                         // last round computed here

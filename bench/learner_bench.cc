@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/fedasynq.h"
+#include "core/federated_job.h"
 #include "core/scenario.h"
 #include "core/single_agent_learner.h"
 #include "core/training_job.h"

@@ -230,15 +230,7 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
       round = batch.combiner->round();
     } else {
       for (size_t j = 0; j < batch.jobs.size(); ++j) {
-        const TrainingJob& job = batch.jobs[j].job;
-        protocol::RoundCombiner::Job c;
-        c.index = static_cast<int>(j);
-        c.learners = job.federated.learners;
-        c.rounds = FederatedRounds(job.region, job.federated);
-        c.averaging = job.federated.averaging;
-        c.shared = StartingTable(job);
-        c.stats = StartStatistics(RegionModel(job).start_cells());
-        combined.push_back(std::move(c));
+        combined.push_back(protocol::RoundCombiner::Job::From(static_cast<int>(j), batch.jobs[j].job));
       }
     }
   }

@@ -549,49 +549,4 @@ template Status FederatedAverager::Combine(const std::vector<LearnerShard>&, QTa
                                            StartStatistics&, std::vector<uint32_t>&,
                                            std::vector<double>&);
 
-namespace {
-
-template <typename V>
-void TrainFedAsynQIn(const TrainingJob& job, TrainingResult& result) {
-  const RegionModel model(job);
-  const FedAsynQOptions& options = job.federated;
-
-  const int learner_count = std::max(1, options.learners);
-  // One object plays all K learners on one table (see RunRoundAndRevert).
-  FedAsynQLearner worker(model, 0);
-  worker.set_count_visits(options.averaging != Averaging::kEqual);
-  worker.Reset(result.table);
-  StartStatistics stats(model.start_cells());
-  FederatedAverager averager(model.cells() * kNumActions, options.averaging);
-  std::vector<LearnerShard> shards(static_cast<size_t>(learner_count));
-  std::vector<int> learner_indices(static_cast<size_t>(learner_count));
-  for (int k = 0; k < learner_count; ++k) learner_indices[k] = k;
-  std::vector<uint32_t> entries;
-  std::vector<V> values;
-
-  const int64_t rounds = FederatedRounds(job.region, options);
-  for (int64_t round = 0; round < rounds; ++round) {
-    worker.RunRoundsAndRevert(learner_indices.data(), learner_count, stats, job.seed, round,
-                              options.sync_period, shards.data());
-    for (const LearnerShard& shard : shards) result.steps += shard.steps;
-    // The shards of our own learners on this job's model are well formed.
-    [[maybe_unused]] const Status combined =
-        averager.Combine(shards, result.table, stats, entries, values);
-    assert(combined.ok());
-    worker.ApplyAverage(entries, values);
-  }
-  result.episodes_or_rounds = rounds;
-}
-
-}  // namespace
-
-TrainingResult TrainFedAsynQ(const TrainingJob& job) {
-  TrainingResult result;
-  result.node = job.node;
-  result.table = StartingTable(job);  // validates the job first
-  WithValueType(result.table.precision(),
-                [&]<typename V>(V*) { TrainFedAsynQIn<V>(job, result); });
-  return result;
-}
-
 }  // namespace dynapath

@@ -10,9 +10,8 @@
 //   * FederatedAverager: combines the K shards of a round, in learner order,
 //     into the new shared table (EqAvg or ImAvg, log-space weights) and merges
 //     the learners' start outcomes into the shared statistics.
-//   * TrainFedAsynQ: the whole job in this process, one learner after the
-//     other per round; the distributed trainer runs the same learners on
-//     agent processes and the same averager on the coordinator.
+//   * core/federated_job.h runs rounds of these learners and averager, in
+//     this process (TrainFedAsynQ, LocalTrainer) or on agents.
 //
 // Sparse shards: all learners start a round from the same table, so the
 // average differs from it only where some learner made an update. A shard
@@ -232,8 +231,5 @@ class FederatedAverager {
   std::vector<uint32_t> learner_visits_;  // |U| x K: N_k(e)
   std::vector<double> decay_;             // decay_[d] = (1 - eta)^d = exp(-d * -log(1 - eta))
 };
-
-// Runs a whole kFedAsynQ job in the calling thread. Pure function of the job.
-TrainingResult TrainFedAsynQ(const TrainingJob& job);
 
 }  // namespace dynapath

@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include "core/fedasynq.h"
+#include "core/federated_job.h"
 #include "core/single_agent_learner.h"
 
 namespace dynapath {

@@ -3,8 +3,8 @@
 //
 // Single-agent jobs run one per thread. Federated jobs of a batch with at
 // least 4 jobs per thread run whole, one per thread (TrainFedAsynQ). Fewer
-// advance round by round together: in every round each job's learners are
-// played by up to one worker per thread (one table each, RunRoundAndRevert),
+// advance round by round together (FederatedRun, core/federated_job.h): in
+// every round each job's learners are played by up to one worker per thread,
 // then each job's shards are averaged. This keeps both cores busy even when
 // one small leaf (or the root alone) is retrained. Either way the tables are
 // exactly TrainFedAsynQ's.

@@ -36,15 +36,7 @@ inline TrainingJob CombinerTrainingJob(Averaging averaging) {
 }
 
 inline protocol::RoundCombiner::Job CombinerJob(const TrainingJob& job) {
-  const RegionModel model(job);
-  protocol::RoundCombiner::Job c;
-  c.index = 0;
-  c.learners = job.federated.learners;
-  c.rounds = FederatedRounds(job.region, job.federated);
-  c.averaging = job.federated.averaging;
-  c.shared = StartingTable(job);
-  c.stats = StartStatistics(model.start_cells());
-  return c;
+  return protocol::RoundCombiner::Job::From(0, job);
 }
 
 // Agent 1 hosts learners 0 and 1, agent 2 learners 2 and 3.

@@ -1,4 +1,5 @@
 #include "core/fedasynq.h"
+#include "core/federated_job.h"
 
 #include <gtest/gtest.h>
 

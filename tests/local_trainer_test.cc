@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/fedasynq.h"
+#include "core/federated_job.h"
 #include "core/scenario.h"
 #include "core/single_agent_learner.h"
 

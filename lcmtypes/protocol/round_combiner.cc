@@ -9,6 +9,10 @@
 
 namespace dynapath::protocol {
 
+RoundCombiner::Job RoundCombiner::Job::From(int batch_index, const TrainingJob& job) {
+  return Job(batch_index, FederatedState::Start(job, RegionModel(job)));
+}
+
 Status RoundCombiner::CheckItems(const std::vector<Job>& jobs, const Items& items) {
   std::map<int, size_t> position;
   std::vector<std::vector<int>> hosts(jobs.size());
@@ -151,20 +155,16 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
     job_round.index = job.index;
     for (const auto& [agent, message] : messages) {
       for (const learner_shard_t& shard : message.shards) {
-        if (shard.job != job.index) continue;
-        shards[static_cast<size_t>(shard.learner)] = ShardFromMessage(shard, round_);
-        job_round.steps += shard.steps;
+        if (shard.job == job.index) {
+          shards[static_cast<size_t>(shard.learner)] = ShardFromMessage(shard, round_);
+        }
       }
     }
     // Add() kept only messages whose shards fit the job (Mismatch: learners,
     // entries, start cells; the Bus validated sizes and finiteness), one per
     // learner, so the averager finds nothing malformed.
-    WithValueType(job.shared.precision(), [&]<typename V>(V*) {
-      [[maybe_unused]] const Status combined = averagers_[j]->Combine(
-          shards, job.shared, job.stats, job_round.entries,
-          OfValueType<V>(job_round.values, job_round.wide_values));
-      assert(combined.ok());
-    });
+    [[maybe_unused]] const Status combined = CombineRound(shards, *averagers_[j], job, job_round);
+    assert(combined.ok());
     result.push_back(std::move(job_round));
   }
   pending_.erase(round_);

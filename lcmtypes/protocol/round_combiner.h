@@ -4,7 +4,7 @@
 // shards of the learners it hosts; the combiner collects the round's messages
 // of all agents and, once all are there, combines each job's shards in
 // learner order (FederatedAverager, exactly as in-process training) into the
-// job's shared table and start statistics.
+// job's shared table and start statistics (CombineRound, core/federated_job.h).
 //
 // The coordinator and every agent hosting learners of the batch run the same
 // combiner on the same messages, so all hold identical tables after every
@@ -23,10 +23,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/fedasynq.h"
-#include "core/q_table.h"
+#include "core/federated_job.h"
 #include "core/result.h"
-#include "core/start_statistics.h"
 #include "core/training_job.h"
 #include "dynapath/shards_t.hpp"
 
@@ -34,13 +32,15 @@ namespace dynapath::protocol {
 
 class RoundCombiner {
  public:
-  struct Job {
-    int index = 0;       // in the batch (shards' job field)
-    int learners = 0;    // K: learners of the job over all agents
-    int64_t rounds = 0;  // rounds of the job
-    Averaging averaging = Averaging::kEqual;
-    QTable shared;          // the shared table after start_round rounds
-    StartStatistics stats;  // the start statistics after start_round rounds
+  // A split job of the batch: where it stands, and its index in the batch
+  // (the shards' job field).
+  struct Job : FederatedState {
+    int index = 0;
+    Job() = default;
+    Job(int batch_index, FederatedState state)
+        : FederatedState(std::move(state)), index(batch_index) {}
+    // Job `index` of a batch before its first round.
+    static Job From(int index, const TrainingJob& job);
   };
   // (job index, learner) pairs an agent hosts.
   using Items = std::map<int, std::vector<std::pair<int, int>>>;
@@ -73,14 +73,9 @@ class RoundCombiner {
   // Agents whose shards of round() are missing.
   std::vector<int> Missing() const;
 
-  // What a round changed in one job: the averaged entries (ascending) and
-  // their new values, and the Q-learning steps its learners took.
-  struct JobRound {
+  // What a round changed in job `index` (CombineRound's average).
+  struct JobRound : RoundAverage {
     int index = 0;
-    std::vector<uint32_t> entries;
-    std::vector<float> values;        // float tables
-    std::vector<double> wide_values;  // double tables
-    int64_t steps = 0;
   };
   // Combines round() (RoundComplete() must hold) and moves to the next one.
   std::vector<JobRound> Combine();

@@ -28,17 +28,6 @@ TrainingJob SmallJob(Averaging averaging, int learners) {
   return job;
 }
 
-RoundCombiner::Job CombinerJob(const TrainingJob& job, const RegionModel& model) {
-  RoundCombiner::Job c;
-  c.index = 0;
-  c.learners = job.federated.learners;
-  c.rounds = FederatedRounds(job.region, job.federated);
-  c.averaging = job.federated.averaging;
-  c.shared = StartingTable(job);
-  c.stats = StartStatistics(model.start_cells());
-  return c;
-}
-
 // One agent of the simulation: hosts some learners of the job and keeps its
 // own combiner, as agent processes do.
 struct SimAgent {
@@ -70,12 +59,12 @@ void CheckMatchesInProcess(Averaging averaging) {
   const RegionModel model(job);
   const bool importance = averaging == Averaging::kImportance;
   RoundCombiner::Items items = {{1, {{0, 0}, {0, 1}, {0, 2}}}, {2, {{0, 3}, {0, 4}, {0, 5}}}};
-  RoundCombiner coordinator({CombinerJob(job, model)}, items, 0);
+  RoundCombiner coordinator({RoundCombiner::Job::From(0, job)}, items, 0);
   std::vector<SimAgent> agents(2);
   for (int a = 0; a < 2; ++a) {
     agents[a].id = a + 1;
     agents[a].combiner = std::make_unique<RoundCombiner>(
-        std::vector<RoundCombiner::Job>{CombinerJob(job, model)}, items, 0);
+        std::vector<RoundCombiner::Job>{RoundCombiner::Job::From(0, job)}, items, 0);
     for (int k = 3 * a; k < 3 * a + 3; ++k) {
       agents[a].learners.push_back(std::make_unique<FedAsynQLearner>(model, k));
       agents[a].learners.back()->Reset(StartingTable(job));
@@ -150,7 +139,7 @@ class RoundCombinerAddTest : public ::testing::Test {
   RoundCombinerAddTest()
       : job_(SmallJob(Averaging::kEqual, 2)),
         model_(job_),
-        combiner_({CombinerJob(job_, model_)}, {{1, {{0, 0}}}, {2, {{0, 1}}}}, 3) {}
+        combiner_({RoundCombiner::Job::From(0, job_)}, {{1, {{0, 0}}}, {2, {{0, 1}}}}, 3) {}
   TrainingJob job_;
   RegionModel model_;
   RoundCombiner combiner_;
@@ -181,7 +170,7 @@ TEST_F(RoundCombinerAddTest, KeepsThisRoundAndTheNextOnly) {
 TEST_F(RoundCombinerAddTest, KeepsRoundsFurtherAheadWithinTheByteCap) {
   const int64_t bytes = Message(1, 5, {0}).getEncodedSize();
   // Room for three messages past round 4 (rounds 5 and 6 here).
-  RoundCombiner ahead({CombinerJob(job_, model_)}, {{1, {{0, 0}}}, {2, {{0, 1}}}}, 3, 4,
+  RoundCombiner ahead({RoundCombiner::Job::From(0, job_)}, {{1, {{0, 0}}}, {2, {{0, 1}}}}, 3, 4,
                       3 * bytes);
   EXPECT_EQ(ahead.Add(Message(1, 8, {0})), RoundCombiner::Added::kFuture);  // beyond 3 + 4
   for (int64_t round = 4; round <= 6; ++round) {
@@ -237,8 +226,7 @@ TEST_F(RoundCombinerAddTest, RejectsMessagesThatDoNotFit) {
 
 TEST(RoundCombinerTest, EveryLearnerMustBeHostedOnce) {
   const TrainingJob job = SmallJob(Averaging::kEqual, 2);
-  const RegionModel model(job);
-  const std::vector<RoundCombiner::Job> jobs = {CombinerJob(job, model)};
+  const std::vector<RoundCombiner::Job> jobs = {RoundCombiner::Job::From(0, job)};
   auto check = [&](const RoundCombiner::Items& items) {
     return RoundCombiner::CheckItems(jobs, items).ok();
   };
@@ -252,10 +240,9 @@ TEST(RoundCombinerTest, EveryLearnerMustBeHostedOnce) {
 
 TEST(RoundCombinerTest, JobsEndAtTheirOwnRound) {
   const TrainingJob job = SmallJob(Averaging::kEqual, 1);
-  const RegionModel model(job);
-  RoundCombiner::Job short_job = CombinerJob(job, model);
+  RoundCombiner::Job short_job = RoundCombiner::Job::From(0, job);
   short_job.rounds = 1;
-  RoundCombiner::Job long_job = CombinerJob(job, model);
+  RoundCombiner::Job long_job = RoundCombiner::Job::From(0, job);
   long_job.index = 1;
   long_job.rounds = 2;
   RoundCombiner combiner({short_job, long_job}, {{1, {{0, 0}}}, {2, {{1, 0}}}}, 0);
