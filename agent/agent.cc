@@ -10,9 +10,9 @@
 #include <mutex>
 #include <random>
 
-#include "core/learners.h"
-#include "core/single_agent_learner.h"
-#include "lcmtypes/protocol/channels.h"
+#include "dynapath/learners.h"
+#include "dynapath/single_agent_learner.h"
+#include "protocol/channels.h"
 
 namespace dynapath::agent {
 

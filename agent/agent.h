@@ -13,18 +13,18 @@
 #include <thread>
 #include <vector>
 
-#include "core/fedasynq.h"
-#include "core/region_model.h"
-#include "core/thread_pool.h"
+#include "dynapath/fedasynq.h"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
+#include "dynapath/region_model.h"
 #include "dynapath/shards_t.hpp"
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/inbox.h"
-#include "lcmtypes/protocol/liveness.h"
-#include "lcmtypes/protocol/round_combiner.h"
+#include "dynapath/thread_pool.h"
+#include "protocol/bus.h"
+#include "protocol/convert.h"
+#include "protocol/inbox.h"
+#include "protocol/liveness.h"
+#include "protocol/round_combiner.h"
 
 namespace dynapath::agent {
 

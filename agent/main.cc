@@ -10,7 +10,7 @@
 
 #include "agent/agent.h"
 #include "agent/command_line.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/dispatcher.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 

@@ -1,4 +1,4 @@
-// Cost of message authentication (lcmtypes/protocol/auth.h): sealing and
+// Cost of message authentication (protocol/auth.h): sealing and
 // checking one message of a given size, as every Bus does per message.
 
 #include <benchmark/benchmark.h>
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/auth.h"
+#include "protocol/auth.h"
 
 namespace {
 

@@ -10,18 +10,18 @@
 #include <random>
 #include <vector>
 
-#include "core/astar_paths.h"
-#include "core/baseline_planners.h"
-#include "core/bfs_oracle.h"
-#include "core/difficulty.h"
-#include "core/grid.h"
-#include "core/incremental_oracle.h"
-#include "core/incremental_policy_evaluation.h"
-#include "core/mdp.h"
-#include "core/policy_evaluation.h"
-#include "core/q_table.h"
-#include "core/quadtree.h"
-#include "core/scenario.h"
+#include "core/eval/incremental_policy_evaluation.h"
+#include "core/plan/baseline_planners.h"
+#include "core/plan/incremental_oracle.h"
+#include "dynapath/astar_paths.h"
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/difficulty.h"
+#include "dynapath/grid.h"
+#include "dynapath/mdp.h"
+#include "dynapath/policy_evaluation.h"
+#include "dynapath/q_table.h"
+#include "dynapath/quadtree.h"
+#include "dynapath/scenario.h"
 
 namespace dynapath {
 namespace {

@@ -7,10 +7,10 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/federated_job.h"
-#include "core/scenario.h"
-#include "core/single_agent_learner.h"
-#include "core/training_job.h"
+#include "dynapath/federated_job.h"
+#include "dynapath/scenario.h"
+#include "dynapath/single_agent_learner.h"
+#include "dynapath/training_job.h"
 
 namespace dynapath {
 namespace {

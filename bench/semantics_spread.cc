@@ -23,11 +23,11 @@
 #include <string>
 #include <vector>
 
-#include "core/approach.h"
-#include "core/experiment.h"
-#include "core/local_trainer.h"
-#include "core/scenario.h"
-#include "core/thread_pool.h"
+#include "dynapath/approach.h"
+#include "dynapath/experiment.h"
+#include "dynapath/local_trainer.h"
+#include "dynapath/scenario.h"
+#include "dynapath/thread_pool.h"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include "coordinator/envsim_client.h"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/step_report_t.hpp"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/liveness.h"
+#include "protocol/channels.h"
+#include "protocol/liveness.h"
 
 namespace dynapath::coordinator {
 namespace {

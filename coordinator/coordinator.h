@@ -10,8 +10,8 @@
 
 #include "coordinator/agent_registry.h"
 #include "coordinator/distributed_trainer.h"
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/inbox.h"
+#include "protocol/bus.h"
+#include "protocol/inbox.h"
 #include "runtime/run_driver.h"
 
 namespace dynapath::coordinator {

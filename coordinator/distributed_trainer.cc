@@ -7,10 +7,10 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "core/learners.h"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/round_combiner.h"
+#include "dynapath/learners.h"
+#include "protocol/channels.h"
+#include "protocol/convert.h"
+#include "protocol/round_combiner.h"
 
 namespace dynapath::coordinator {
 namespace {

@@ -39,14 +39,14 @@
 #include <vector>
 
 #include "coordinator/agent_registry.h"
-#include "core/fedasynq.h"
-#include "core/region_model.h"
-#include "core/trainer.h"
+#include "dynapath/fedasynq.h"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
+#include "dynapath/region_model.h"
 #include "dynapath/shards_t.hpp"
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/inbox.h"
+#include "dynapath/trainer.h"
+#include "protocol/bus.h"
+#include "protocol/inbox.h"
 #include "runtime/run_driver.h"
 
 namespace dynapath::coordinator {

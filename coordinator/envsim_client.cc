@@ -6,9 +6,9 @@
 
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/step_request_t.hpp"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/liveness.h"
+#include "protocol/channels.h"
+#include "protocol/convert.h"
+#include "protocol/liveness.h"
 
 namespace dynapath::coordinator {
 

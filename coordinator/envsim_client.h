@@ -7,11 +7,11 @@
 #include <atomic>
 #include <optional>
 
-#include "core/experiment.h"
 #include "dynapath/changes_t.hpp"
+#include "dynapath/experiment.h"
 #include "dynapath/grid_t.hpp"
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/inbox.h"
+#include "protocol/bus.h"
+#include "protocol/inbox.h"
 
 namespace dynapath::coordinator {
 

@@ -6,7 +6,7 @@
 
 #include "coordinator/command_line.h"
 #include "coordinator/coordinator.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/dispatcher.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 

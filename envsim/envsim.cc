@@ -4,8 +4,8 @@
 
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/convert.h"
+#include "protocol/channels.h"
+#include "protocol/convert.h"
 
 namespace dynapath::envsim {
 

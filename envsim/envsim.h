@@ -10,12 +10,12 @@
 #include <atomic>
 #include <string>
 
-#include "core/experiment.h"
-#include "core/scenario.h"
+#include "dynapath/experiment.h"
+#include "dynapath/scenario.h"
 #include "dynapath/step_request_t.hpp"
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/inbox.h"
-#include "lcmtypes/protocol/liveness.h"
+#include "protocol/bus.h"
+#include "protocol/inbox.h"
+#include "protocol/liveness.h"
 
 namespace dynapath::envsim {
 

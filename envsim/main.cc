@@ -7,7 +7,7 @@
 
 #include "envsim/command_line.h"
 #include "envsim/envsim.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/dispatcher.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 

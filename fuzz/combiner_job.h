@@ -2,10 +2,10 @@
 // The federated job of fuzz/round_combiner_fuzz.cc (and of its seeds,
 // tests/protocol/fuzz_seeds.cc): a 10x10 map, 4 learners, two agents.
 
-#include "core/fedasynq.h"
-#include "core/grid.h"
-#include "core/region_model.h"
-#include "lcmtypes/protocol/round_combiner.h"
+#include "dynapath/fedasynq.h"
+#include "dynapath/grid.h"
+#include "dynapath/region_model.h"
+#include "protocol/round_combiner.h"
 
 namespace dynapath::fuzz {
 

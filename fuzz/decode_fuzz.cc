@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/fragments.h"
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/convert.h"
+#include "protocol/fragments.h"
+#include "protocol/validate.h"
 #include "tests/protocol/message_types.h"
 
 namespace {

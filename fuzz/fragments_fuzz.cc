@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "lcmtypes/protocol/fragments.h"
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/fragments.h"
+#include "protocol/validate.h"
 
 namespace {
 

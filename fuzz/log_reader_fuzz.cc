@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
-#include "lcmtypes/protocol/log_reader.h"
-#include "lcmtypes/protocol/log_scenario.h"
+#include "protocol/log_reader.h"
+#include "protocol/log_scenario.h"
 #include "tools/view/policy_stream.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,9 +7,9 @@
 #include <cstdlib>
 
 #include "fuzz/combiner_job.h"
-#include "lcmtypes/protocol/decode.h"
-#include "lcmtypes/protocol/round_combiner.h"
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/decode.h"
+#include "protocol/round_combiner.h"
+#include "protocol/validate.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

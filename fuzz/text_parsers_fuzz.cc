@@ -7,9 +7,9 @@
 #include <string>
 #include <string_view>
 
-#include "core/change_sequence.h"
-#include "core/grid.h"
-#include "core/movingai_map.h"
+#include "dynapath/change_sequence.h"
+#include "dynapath/grid.h"
+#include "dynapath/movingai_map.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 

@@ -23,8 +23,8 @@
 #include "envsim/envsim.h"
 #include "launch/logger_drain.h"
 #include "launch/private_network.h"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
 
 namespace dynapath::launch {
 namespace {

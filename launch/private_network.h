@@ -5,7 +5,7 @@
 // hear each other. No root, no `ip` binary and no system set-up are needed
 // where the kernel allows unprivileged user namespaces.
 
-#include "core/result.h"
+#include "dynapath/result.h"
 
 namespace dynapath::launch {
 

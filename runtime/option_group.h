@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 
 namespace dynapath::runtime {
 

@@ -10,9 +10,9 @@
 #include <cstdlib>
 #include <thread>
 
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
-#include "lcmtypes/protocol/limits.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
+#include "protocol/limits.h"
 #include "runtime/scenario_options.h"
 
 namespace dynapath::runtime {

@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "lcmtypes/protocol/bus.h"
-#include "lcmtypes/protocol/limits.h"
+#include "protocol/bus.h"
+#include "protocol/limits.h"
 #include "runtime/option_group.h"
 #include "runtime/scenario_options.h"
 

@@ -4,8 +4,8 @@
 
 #include <exception>
 
-#include "core/local_trainer.h"
-#include "core/thread_pool.h"
+#include "dynapath/local_trainer.h"
+#include "dynapath/thread_pool.h"
 
 namespace dynapath::runtime {
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/experiment.h"
-#include "core/quadtree.h"
-#include "core/results_csv.h"
+#include "dynapath/experiment.h"
+#include "dynapath/quadtree.h"
+#include "dynapath/results_csv.h"
 #include "runtime/option_group.h"
 #include "runtime/scenario_options.h"
 #include "runtime/word_table.h"

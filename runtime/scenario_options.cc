@@ -5,13 +5,13 @@
 #include <optional>
 #include <vector>
 
-#include "core/bfs_oracle.h"
-#include "core/c_random.h"
-#include "core/limits.h"
-#include "core/map_scenario.h"
-#include "core/movingai_map.h"
-#include "core/text_util.h"
-#include "lcmtypes/protocol/log_scenario.h"
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/c_random.h"
+#include "dynapath/limits.h"
+#include "dynapath/map_scenario.h"
+#include "dynapath/movingai_map.h"
+#include "dynapath/text_util.h"
+#include "protocol/log_scenario.h"
 
 namespace dynapath::runtime {
 

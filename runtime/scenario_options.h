@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "core/experiment.h"
-#include "core/scenario.h"
+#include "dynapath/experiment.h"
+#include "dynapath/scenario.h"
 #include "runtime/option_group.h"
 #include "runtime/word_table.h"
 

@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/result.h"
-#include "core/text_util.h"
+#include "dynapath/result.h"
+#include "dynapath/text_util.h"
 
 namespace dynapath::runtime {
 

@@ -39,12 +39,12 @@ FIGURES = [
     ("success_over_time_300_Hard.png", "Success rate over the time steps, hard 300x300"),
     ("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"),
 ]
-APPROACH_LIST = os.path.join(HERE, "..", "core", "approach_list.h")
+APPROACH_LIST = os.path.join(HERE, "..", "core", "include", "dynapath", "approach_list.h")
 
 
 def read_approach_list(path=APPROACH_LIST):
     """(name, learns) of every approach, in the order of the registry's list
-    (core/approach_list.h: one `X(kId, "name", factory, learner, ...)` line
+    (core/include/dynapath/approach_list.h: one `X(kId, "name", factory, learner, ...)` line
     each; learner kNoLearner means the approach does not learn)."""
     with open(path) as f:
         lines = re.findall(r'^\s*X\(\s*k\w+,\s*"([^"]+)",\s*\w+,\s*(\w+),', f.read(), re.M)

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/bfs_oracle.h"
-#include "core/grid.h"
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/grid.h"
 
 namespace dynapath::test_grids {
 

@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# The layers point one way (docs/DECISIONS.md "Layers"):
-#   core/ <- lcmtypes/ (protocol glue) <- runtime/ <- envsim/ coordinator/
-#   agent/ (the processes) <- launch/ <- tools/ (the applications)
+# The layers point one way (CONTRIBUTING.md, "The layering rule"):
+#   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
+#   coordinator/ agent/ (the processes) <- launch/ <- tools/ (the applications)
 # Fails when a source file of a layer includes a project header of a layer
-# above it, when anything below tools/ includes a study-only library (JSON,
-# TOML, PNG, SFML), or when a process executable links a library above the
-# processes (the study and CLI code of tools/, the launcher, the view).
+# above it; when anything outside core/ (tests, benchmarks and fuzz targets
+# aside) includes a header private to core (core/<room>/<name>.h, anything
+# not in its face core/include/dynapath/); when a header of the face includes
+# a private one; when anything below tools/ includes a study-only library
+# (JSON, TOML, PNG, SFML); or when a process executable links a library
+# above the processes (the study and CLI code of tools/, the launcher, the
+# view).
 # Usage: tests/layering_test.sh SOURCE_DIR [BUILD_DIR]
 set -uo pipefail
 src=${1:?usage: layering_test.sh SOURCE_DIR [BUILD_DIR]}
@@ -13,15 +17,34 @@ build=${2:-}
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-# The project folders a layer's files may include from ("dynapath/" is the
-# lcm-gen output of lcmtypes/).
+# What a layer's files may include, by kind of header: "face" (core's public
+# headers, "dynapath/<name>.h"), "messages" (lcm-gen's output, also under
+# "dynapath/"), "core" (core's private headers) and the other layers' folders.
 allowed_for() {
   case $1 in
-    core) echo "core" ;;
-    lcmtypes) echo "core lcmtypes dynapath" ;;
-    runtime) echo "core lcmtypes dynapath runtime" ;;
-    envsim | coordinator | agent) echo "core lcmtypes dynapath runtime $1" ;;
-    launch) echo "core lcmtypes dynapath runtime envsim coordinator agent launch" ;;
+    core/include) echo "face" ;;
+    core) echo "face core" ;;
+    lcmtypes) echo "face messages" ;;
+    protocol) echo "face messages protocol" ;;
+    runtime) echo "face messages protocol runtime" ;;
+    envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
+    launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
+    tools) echo "face messages protocol runtime envsim coordinator agent launch tools" ;;
+  esac
+}
+
+# The kind of header an include line names (empty: not the project's).
+kind_of() {
+  local path
+  path=$(sed -n 's/^#include *"\([^"]*\)".*/\1/p' <<<"$1")
+  case $path in
+    dynapath/*)
+      if [ -f "$src/core/include/$path" ]; then echo face; else echo messages; fi
+      ;;
+    */*)
+      local dir=${path%%/*}
+      [ -d "$src/$dir" ] && echo "$dir"
+      ;;
   esac
 }
 
@@ -29,19 +52,20 @@ allowed_for() {
 # at link time, so their headers are checked).
 forbidden_headers='^#include *[<"](nlohmann/|toml\+\+/|png\.h|gif_lib\.h|SFML/)'
 
-for layer in core lcmtypes runtime envsim coordinator agent launch; do
+for layer in core/include core lcmtypes protocol runtime envsim coordinator agent launch tools; do
   allowed=$(allowed_for "$layer")
+  [ -d "$src/$layer" ] || continue
   while IFS= read -r file; do
+    [ "$layer" = core ] && [[ $file == "$src/core/include/"* ]] && continue  # checked as core/include
     while IFS= read -r line; do
-      dir=$(sed -n 's/^#include *"\([^/"]*\)\/.*/\1/p' <<<"$line")
-      [ -n "$dir" ] || continue
-      [ -d "$src/$dir" ] || [ "$dir" = dynapath ] || continue  # not a project folder
+      kind=$(kind_of "$line")
+      [ -n "$kind" ] || continue
       case " $allowed " in
-        *" $dir "*) ;;
-        *) fail "${file#"$src"/} ($layer) includes $dir/: $line" ;;
+        *" $kind "*) ;;
+        *) fail "${file#"$src"/} ($layer) includes a header of $kind: $line" ;;
       esac
     done < <(grep -h '^#include *"' "$file")
-    if grep -Eq "$forbidden_headers" "$file"; then
+    if [ "$layer" != tools ] && grep -Eq "$forbidden_headers" "$file"; then
       fail "${file#"$src"/} ($layer) uses a library of the applications: $(grep -Eh "$forbidden_headers" "$file" | head -1)"
     fi
   done < <(find "$src/$layer" -type f \( -name '*.h' -o -name '*.cc' -o -name '*.hpp' \))

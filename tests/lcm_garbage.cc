@@ -88,7 +88,7 @@ class Recorder {
   void Handle(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
     const auto* data = static_cast<const uint8_t*>(buffer->data);
     const size_t size = buffer->data_size;
-    // Only messages with the run's trailer (lcmtypes/protocol/auth.h: magic
+    // Only messages with the run's trailer (protocol/auth.h: magic
     // "DPA1" last), not this tool's own garbage.
     if (size < 52 || std::memcmp(data + size - 4, "DPA1", 4) != 0) return;
     if (captured_.size() >= 2000) captured_.pop_front();  // bounded memory

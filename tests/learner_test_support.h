@@ -8,11 +8,11 @@
 #include <cstring>
 #include <vector>
 
-#include "core/bfs_oracle.h"
-#include "core/grid.h"
-#include "core/policy_evaluation.h"
-#include "core/q_table.h"
-#include "core/scenario.h"
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/grid.h"
+#include "dynapath/policy_evaluation.h"
+#include "dynapath/q_table.h"
+#include "dynapath/scenario.h"
 #include "tests/grid_test_support.h"
 
 namespace dynapath::test_maps {

@@ -17,7 +17,7 @@ javac -d "$work/classes" -cp "$lcm_jar:$types_jar" "$(dirname "$0")/spy_decode/S
 "$dynapath" run --agents 2 --size 20 --difficulty hard --steps 8 \
   --approach "fedAsynQ_EqAvg,BFS Oracle" --log "$work/run.lcm" --out "$work/out" \
   --log-level warn >/dev/null 2>"$work/run.err" || { cat "$work/run.err"; exit 1; }
-trailer=52  # lcmtypes/protocol/auth.h: kAuthTrailerBytes
+trailer=52  # protocol/auth.h: kAuthTrailerBytes
 java -cp "$lcm_jar:$types_jar:$work/classes" SpyDecode "$work/run.lcm" $trailer 2>"$work/java.err" | tee "$work/out.txt"
 status=${PIPESTATUS[0]}
 # The run's main message types must all be there.

@@ -31,11 +31,11 @@ fi
 
 cd "$work" || exit 1
 study=(--sizes 20,50 --difficulties easy,hard --steps 10)
-# The approaches of `all`, from the registry's one list (core/approach_list.h).
-registered=$(grep -o '^ *X(k[A-Za-z0-9]*, *"[^"]*"' "$(dirname "$0")/../../core/approach_list.h" \
+# The approaches of `all`, from the registry's one list (core/include/dynapath/approach_list.h).
+registered=$(grep -o '^ *X(k[A-Za-z0-9]*, *"[^"]*"' "$(dirname "$0")/../../core/include/dynapath/approach_list.h" \
   | sed 's/^[^"]*"//; s/"$//')
 approaches=$(printf '%s\n' "$registered" | wc -l)
-[ "$approaches" -gt 0 ] || { echo "cannot read core/approach_list.h" >&2; exit 1; }
+[ "$approaches" -gt 0 ] || { echo "cannot read core/include/dynapath/approach_list.h" >&2; exit 1; }
 configs=4
 rows_per_config=$((approaches * (10 + 1)))
 

@@ -6,7 +6,7 @@
 
 #include <regex>
 
-#include "core/text_file.h"
+#include "dynapath/text_file.h"
 #include "tools/common/study_plan.h"
 
 namespace dynapath::cli {

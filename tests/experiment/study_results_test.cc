@@ -6,8 +6,8 @@
 
 #include <filesystem>
 
-#include "core/results_csv.h"
-#include "core/text_file.h"
+#include "dynapath/results_csv.h"
+#include "dynapath/text_file.h"
 
 namespace dynapath::cli {
 namespace {

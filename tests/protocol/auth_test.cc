@@ -1,4 +1,4 @@
-#include "lcmtypes/protocol/auth.h"
+#include "protocol/auth.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The bounds check (lcmtypes/protocol/bounds.h) against LCM's generated code,
+// The bounds check (protocol/bounds.h) against LCM's generated code,
 // for every type of the schema: messages the schema encoder writes decode
 // with LCM's decoder and re-encode to the same bytes (the schema matches the
 // generated code field by field), and a huge, negative or overlong count or
@@ -13,7 +13,7 @@
 #include <new>
 #include <set>
 
-#include "lcmtypes/protocol/bounds.h"
+#include "protocol/bounds.h"
 #include "tests/protocol/message_types.h"
 #include "tests/protocol/schema_encoder.h"
 

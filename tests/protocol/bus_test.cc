@@ -1,4 +1,4 @@
-#include "lcmtypes/protocol/bus.h"
+#include "protocol/bus.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "dynapath/step_report_t.hpp"
-#include "lcmtypes/protocol/auth.h"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/auth.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
 
 namespace dynapath::protocol {
 namespace {

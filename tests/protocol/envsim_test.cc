@@ -12,12 +12,12 @@
 #include <mutex>
 #include <thread>
 
-#include "core/scenario.h"
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
-#include "lcmtypes/protocol/liveness.h"
+#include "dynapath/scenario.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
+#include "protocol/liveness.h"
 
 namespace dynapath::envsim {
 namespace {

@@ -1,9 +1,9 @@
-// The fragment assembler's caps (lcmtypes/protocol/fragments.h): memory held
+// The fragment assembler's caps (protocol/fragments.h): memory held
 // follows the pieces that arrived, not what they announce; the budget and
 // the number of partial messages are hard limits (oldest evicted, counted);
 // pieces must tile their message; a forged piece cannot cancel a real one.
 
-#include "lcmtypes/protocol/fragments.h"
+#include "protocol/fragments.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/limits.h"
+#include "protocol/limits.h"
 
 namespace dynapath::protocol {
 namespace {

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "core/fedasynq.h"
-#include "core/region_model.h"
+#include "dynapath/fedasynq.h"
+#include "dynapath/region_model.h"
 #include "fuzz/combiner_job.h"
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/round_combiner.h"
+#include "protocol/convert.h"
+#include "protocol/round_combiner.h"
 #include "tests/protocol/message_types.h"
 #include "tests/protocol/schema_encoder.h"
 

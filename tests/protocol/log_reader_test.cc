@@ -2,7 +2,7 @@
 // or truncated log is one error naming the byte offset (liblcm's reader
 // crashed on an event length of 0x7fffffff: calloc(datalen + 1) wraps).
 
-#include "lcmtypes/protocol/log_reader.h"
+#include "protocol/log_reader.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/log_scenario.h"
+#include "protocol/log_scenario.h"
 
 namespace dynapath::protocol {
 namespace {

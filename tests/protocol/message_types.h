@@ -22,7 +22,7 @@
 #include "dynapath/shards_t.hpp"
 #include "dynapath/step_report_t.hpp"
 #include "dynapath/step_request_t.hpp"
-#include "lcmtypes/protocol/decode.h"
+#include "protocol/decode.h"
 
 namespace dynapath::protocol::testing {
 

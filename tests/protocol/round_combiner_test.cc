@@ -1,4 +1,4 @@
-#include "lcmtypes/protocol/round_combiner.h"
+#include "protocol/round_combiner.h"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/region_model.h"
-#include "lcmtypes/protocol/convert.h"
+#include "dynapath/region_model.h"
+#include "protocol/convert.h"
 #include "tests/learner_test_support.h"
 
 namespace dynapath::protocol {

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "lcmtypes/protocol/bounds.h"
+#include "protocol/bounds.h"
 
 int main() {
   using dynapath::protocol::SchemaTypeCount;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/bounds.h"
+#include "protocol/bounds.h"
 
 namespace dynapath::protocol::testing {
 

@@ -5,8 +5,8 @@
 #include <cstring>
 #include <limits>
 
-#include "lcmtypes/protocol/convert.h"
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/convert.h"
+#include "protocol/validate.h"
 
 namespace dynapath::protocol {
 namespace {

@@ -2,7 +2,7 @@
 // bits: values near INT_MAX must not wrap into range (hostile-network table, docs/RELIABILITY.md,
 // row 6).
 
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/validate.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/learners.h"
-#include "lcmtypes/protocol/convert.h"
+#include "dynapath/learners.h"
+#include "protocol/convert.h"
 
 namespace dynapath::protocol {
 namespace {

@@ -1,4 +1,4 @@
-#include "lcmtypes/protocol/varint.h"
+#include "protocol/varint.h"
 
 #include <gtest/gtest.h>
 

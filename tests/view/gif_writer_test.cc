@@ -4,7 +4,7 @@
 
 #include <initializer_list>
 
-#include "core/rng.h"
+#include "dynapath/rng.h"
 #include "tests/view/image_decoders.h"
 #include "tests/view/policy_test_support.h"
 #include "tools/view/policy_drawing.h"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <set>
 
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/validate.h"
 #include "tests/view/policy_test_support.h"
 #include "tools/view/safe_name.h"
 

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "lcmtypes/protocol/log_reader.h"
+#include "protocol/log_reader.h"
 
 int main(int argc, char** argv) {
   if (argc < 2 || argc > 3) {

@@ -26,7 +26,7 @@ std::vector<uint8_t> Encode(const T& message) {
   return bytes;
 }
 
-// The pieces a Bus sends for `bytes` (see lcmtypes/protocol/bus.cc).
+// The pieces a Bus sends for `bytes` (see protocol/bus.cc).
 std::vector<std::vector<uint8_t>> Fragments(const std::vector<uint8_t>& bytes, int piece,
                                             int64_t message_id, const std::string& run = "r1") {
   fragment_t fragment{};

@@ -21,10 +21,10 @@
 #include <thread>
 #include <variant>
 
-#include "core/experiment.h"
+#include "dynapath/experiment.h"
 #include "launch/launcher.h"
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
 #include "runtime/option_group.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"

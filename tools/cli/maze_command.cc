@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <optional>
 
-#include "core/astar_paths.h"
-#include "core/bfs_oracle.h"
-#include "core/quadtree.h"
+#include "dynapath/astar_paths.h"
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/quadtree.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"

@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "launch/launcher.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/dispatcher.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"

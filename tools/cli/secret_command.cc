@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/auth.h"
+#include "protocol/auth.h"
 #include "runtime/option_group.h"
 #include "tools/cli/commands.h"
 

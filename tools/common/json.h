@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 
 namespace dynapath::cli {
 

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <thread>
 
-#include "core/text_file.h"
-#include "core/text_util.h"
+#include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 
 namespace dynapath::cli {
 namespace {

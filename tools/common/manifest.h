@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 #include "tools/common/json.h"
 #include "tools/common/study_plan.h"
 

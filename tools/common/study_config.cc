@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/text_file.h"
+#include "dynapath/text_file.h"
 
 namespace dynapath::cli {
 namespace {

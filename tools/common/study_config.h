@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 
 namespace dynapath::cli {
 

@@ -7,13 +7,13 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/experiment.h"
-#include "core/limits.h"
-#include "core/map_scenario.h"
-#include "core/movingai_map.h"
-#include "core/scenario.h"
-#include "core/text_file.h"
-#include "core/text_util.h"
+#include "dynapath/experiment.h"
+#include "dynapath/limits.h"
+#include "dynapath/map_scenario.h"
+#include "dynapath/movingai_map.h"
+#include "dynapath/scenario.h"
+#include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 
 namespace dynapath::cli {
 namespace {

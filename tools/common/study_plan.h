@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/approach.h"
-#include "core/difficulty.h"
-#include "core/result.h"
+#include "dynapath/approach.h"
+#include "dynapath/difficulty.h"
+#include "dynapath/result.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"

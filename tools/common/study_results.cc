@@ -1,8 +1,8 @@
 #include "tools/common/study_results.h"
 
-#include "core/results_csv.h"
-#include "core/text_file.h"
-#include "core/text_util.h"
+#include "dynapath/results_csv.h"
+#include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 
 namespace dynapath::cli {
 namespace {

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/approach.h"
-#include "core/result.h"
+#include "dynapath/approach.h"
+#include "dynapath/result.h"
 
 namespace dynapath::cli {
 

@@ -42,7 +42,7 @@ DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # One colour and marker per approach in every figure (Okabe-Ito colours, which
 # stay distinct for colour-blind readers; filled markers so that the report's
 # values can be drawn hollow).
-# The registry's approaches in its order (core/approach_list.h, substituted
+# The registry's approaches in its order (core/include/dynapath/approach_list.h, substituted
 # by CMake); the i-th gets the i-th style, so the colours stay where they
 # were (A* Static grey, ..., fedAsynQ_ImAvg green, Incremental Oracle yellow)
 # and a new approach takes the next one.

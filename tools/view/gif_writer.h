@@ -11,7 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 #include "tools/view/raster.h"
 
 struct GifFileType;  // giflib's encoder state (gif_lib.h)

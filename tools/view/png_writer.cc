@@ -2,7 +2,7 @@
 
 #include <png.h>
 
-#include "core/text_file.h"
+#include "dynapath/text_file.h"
 
 namespace dynapath::view {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 #include "tools/view/raster.h"
 
 namespace dynapath::view {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/grid.h"
-#include "core/mdp.h"
+#include "dynapath/grid.h"
+#include "dynapath/mdp.h"
 
 namespace dynapath::view {
 namespace {

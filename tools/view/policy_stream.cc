@@ -5,12 +5,12 @@
 #include <exception>
 
 #include "dynapath/fragment_t.hpp"
-#include "lcmtypes/protocol/auth.h"
-#include "lcmtypes/protocol/decode.h"
-#include "lcmtypes/protocol/fragments.h"
-#include "lcmtypes/protocol/limits.h"
-#include "lcmtypes/protocol/log_reader.h"
-#include "lcmtypes/protocol/validate.h"
+#include "protocol/auth.h"
+#include "protocol/decode.h"
+#include "protocol/fragments.h"
+#include "protocol/limits.h"
+#include "protocol/log_reader.h"
+#include "protocol/validate.h"
 
 namespace dynapath::view {
 namespace {

@@ -4,7 +4,7 @@
 // (messages above 128 KB: the policies of grids of about 100x100 and more),
 // decodes and validates policy_t. Anything wrong is dropped and counted,
 // never trusted: sizes, offsets and the message's type are all checked.
-// Authentication trailers (lcmtypes/protocol/auth.h) are stripped, not
+// Authentication trailers (protocol/auth.h) are stripped, not
 // checked: this reader has no secret and steers nothing.
 
 #include <cstdint>
@@ -16,9 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/result.h"
 #include "dynapath/policy_t.hpp"
-#include "lcmtypes/protocol/fragments.h"
+#include "dynapath/result.h"
+#include "protocol/fragments.h"
 
 namespace dynapath::view {
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/text_file.h"
-#include "lcmtypes/protocol/channels.h"
+#include "dynapath/text_file.h"
+#include "protocol/channels.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/protocol/channels.h"
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"

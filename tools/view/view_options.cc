@@ -1,6 +1,6 @@
 #include "tools/view/view_options.h"
 
-#include "lcmtypes/protocol/channels.h"
+#include "protocol/channels.h"
 #include "tools/view/policy_drawing.h"
 
 namespace dynapath::view {

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "core/result.h"
+#include "dynapath/result.h"
 #include "runtime/option_group.h"
 
 namespace dynapath::view {

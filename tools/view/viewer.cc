@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "lcmtypes/protocol/dispatcher.h"
+#include "protocol/dispatcher.h"
 #include "tools/view/png_writer.h"
 #include "tools/view/policy_drawing.h"
 #include "tools/view/safe_name.h"

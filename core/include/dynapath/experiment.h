@@ -1,0 +1,103 @@
+#pragma once
+// Runs one approach over a scenario (SPEC section 9): initial training at
+// time step 0, then for every step apply the changes, adapt (timed), evaluate.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dynapath/approach.h"
+#include "dynapath/planner.h"
+#include "dynapath/scenario.h"
+
+namespace dynapath {
+
+// Where a run's maze and change sequence come from, one time step at a time:
+// a Scenario in memory, or the environment simulator over LCM. Every
+// approach is one pass over the same sequence. A source that fails (the
+// simulator is gone, the run is stopped) says so in status(), as leveldb's
+// iterators do, and returns empty values from then on.
+class StepSource {
+ public:
+  virtual ~StepSource() = default;
+  virtual int total_steps() const = 0;
+  // The maze at time step 0 of pass `pass`.
+  virtual Grid Initial(int pass) = 0;
+  // The changes of time step `t` (1..total_steps()) of pass `pass`.
+  virtual ChangeStep Changes(int pass, int t) = 0;
+  // Ok, or why the source failed (kCancelled when the run was stopped).
+  virtual Status status() const { return Ok{}; }
+};
+
+class ScenarioStepSource : public StepSource {
+ public:
+  explicit ScenarioStepSource(const Scenario& scenario) : scenario_(scenario) {}
+  int total_steps() const override { return static_cast<int>(scenario_.changes.steps.size()); }
+  Grid Initial(int /*pass*/) override { return scenario_.grid; }
+  ChangeStep Changes(int /*pass*/, int t) override {
+    return scenario_.changes.steps[static_cast<size_t>(t - 1)];
+  }
+
+ private:
+  const Scenario& scenario_;
+};
+
+struct StepRecord {
+  int time_step = 0;
+  int num_changes = 0;         // obstacle moves requested (the report's NumChanges)
+  double adapt_seconds = 0.0;  // 0 at time step 0 and for A* Static
+  double success_rate = 0.0;
+  double average_path_length = 0.0;
+  int nodes_trained = 0;
+  int highest_level = -1;
+};
+
+struct ApproachRun {
+  Approach approach = Approach::kBfsOracle;
+  std::string size_label;        // "50" for square mazes, "40x60" otherwise
+  std::string difficulty_label;  // "Easy", "Medium", "Hard", "Custom", or a map's name
+  double initial_seconds = 0.0;
+  std::vector<StepRecord> steps;  // time steps 0..T
+
+  // SPEC 9 summary: success and length averaged over steps 0..T, adaptation
+  // time over 1..T.
+  double AverageSuccessRate() const;
+  double AveragePathLength() const;
+  double AdaptSecondsPerStep() const;
+};
+
+struct RunLabels {
+  std::string size_label;
+  std::string difficulty_label;
+};
+
+// Seconds on a monotonic clock; injectable so tests need no real time.
+using Clock = std::function<double()>;
+Clock SteadyClock();
+
+// Called after each time step (progress display, policy publishing) with
+// the planner and the grid of that step.
+struct StepView {
+  const ApproachRun& run;
+  int pass;
+  int total_steps;
+  Planner& planner;
+  const Grid& grid;
+  const StepDetails& details;
+};
+using StepCallback = std::function<void(const StepView& view)>;
+
+ApproachRun RunApproach(const Scenario& scenario, Approach approach, const PlannerOptions& options,
+                        Trainer* trainer, const RunLabels& labels,
+                        const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
+// The same over any source; `pass` tells the source which pass this is.
+// When the source's or the trainer's status() fails, the run ends early
+// with the steps so far: the caller checks them (runtime::RunApproaches).
+ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
+                        const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
+                        const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
+
+// "50" for a 50x50 maze, "40x60" for 40 rows and 60 columns.
+std::string SizeLabel(int rows, int cols);
+
+}  // namespace dynapath

@@ -1,0 +1,32 @@
+#pragma once
+// Trains nodes in this process on a thread pool.
+//
+// Single-agent jobs run one per thread. Federated jobs of a batch with at
+// least 4 jobs per thread run whole, one per thread (TrainFedAsynQ). Fewer
+// advance round by round together (FederatedRun, core/include/dynapath/federated_job.h): in
+// every round each job's learners are played by up to one worker per thread,
+// then each job's shards are averaged. This keeps both cores busy even when
+// one small leaf (or the root alone) is retrained. Either way the tables are
+// exactly TrainFedAsynQ's.
+
+#include "dynapath/thread_pool.h"
+#include "dynapath/trainer.h"
+
+namespace dynapath {
+
+class LocalTrainer : public Trainer {
+ public:
+  // `pool` must outlive the trainer.
+  explicit LocalTrainer(ThreadPool& pool) : pool_(pool) {}
+
+  TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
+                      const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
+                      RootQTable& root) override;
+
+ private:
+  TrainingStats TrainFederated(std::vector<TrainingJob>& jobs, RootQTable& root);
+
+  ThreadPool& pool_;
+};
+
+}  // namespace dynapath

@@ -1,0 +1,78 @@
+#pragma once
+// One approach's plan over a run: built at time step 0, adapted after each
+// step's changes, scored on the current grid. The runner times Initialize and
+// Adapt; everything that counts as adaptation happens inside them.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "dynapath/approach.h"
+#include "dynapath/grid.h"
+#include "dynapath/policy_evaluation.h"
+#include "dynapath/quadtree.h"
+#include "dynapath/retraining_strategy.h"
+#include "dynapath/trainer.h"
+
+namespace dynapath {
+
+// Whose learning semantics the learning approaches follow (docs/DECISIONS.md,
+// "Learning"). kReport reproduces the report's public code: the update's
+// bootstrap max over all 8 stored values (Bootstrap::kAllStored), a node
+// other than the root trained for the first time starts from zeros instead
+// of the root table cut to its region, a full replay buffer is emptied, and
+// the Q-tables hold doubles instead of floats.
+enum class Semantics { kOurs, kReport };
+
+// The learner options (the base: bootstrap, single_agent, federated) are
+// the learning approaches'; the approach sets the averaging, --semantics
+// report the bootstrap.
+struct PlannerOptions : LearnerOptions {
+  uint64_t run_seed = 0;                         // learners' seeds derive from it
+  int leaf_limit = QuadTree::kDefaultLeafLimit;  // largest leaf side
+  RetrainingThresholds thresholds;
+  Semantics semantics = Semantics::kOurs;
+  // The tables' value type when not the semantics' own (float for kOurs,
+  // double for kReport): only for experiments that separate the report
+  // code's rules from its precision (bench/semantics_spread report-float).
+  std::optional<QPrecision> table_precision;
+};
+
+// What an initialisation or adaptation did (extra result columns).
+struct StepDetails {
+  int nodes_trained = 0;
+  int highest_level = -1;               // smallest quadtree level trained, -1 if none
+  std::vector<Region> trained_regions;  // regions of the trained nodes (for viewers)
+};
+
+// The policy as a picture (for viewers): per cell, the greedy action (-1 for
+// obstacles and stations) and whether following the policy from the cell
+// reaches a station (1), fails (0) or the cell is no start (-1).
+struct PolicyPicture {
+  std::vector<int8_t> actions;
+  std::vector<int8_t> reaches;
+};
+
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  virtual StepDetails Initialize(const Grid& grid) = 0;
+  // `grid` already holds the step's changes; `changed_cells` their positions.
+  virtual StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) = 0;
+  virtual PolicyScore Evaluate(const Grid& grid) = 0;
+  // Fills `picture` for the current policy on `grid` (after Evaluate);
+  // false for approaches without a table (the baselines).
+  virtual bool Picture(const Grid& /*grid*/, PolicyPicture& /*picture*/) { return false; }
+  // False for a plan that never adapts (A* Static): its adaptation time is 0
+  // by definition, not the time of a call that does nothing.
+  virtual bool Adapts() const { return true; }
+};
+
+// The approach's planner (its factory in core/plan/approach_registry.h).
+// `trainer` is used by the learning approaches and must outlive the planner
+// (ignored, may be null, for the baselines).
+std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& options,
+                                     Trainer* trainer);
+
+}  // namespace dynapath

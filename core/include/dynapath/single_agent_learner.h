@@ -1,0 +1,15 @@
+#pragma once
+// Single-agent tabular Q-learning of SPEC section 6: warm start, epsilon-
+// greedy over in-region actions, a FIFO experience replay buffer,
+// prioritised start positions and the convergence test.
+
+#include "dynapath/region_model.h"
+#include "dynapath/training_job.h"
+
+namespace dynapath {
+
+// Trains `job` (kind kSingleAgent) to completion. Pure function of the job:
+// the same job always gives the same table. Thread-safe (no shared state).
+TrainingResult TrainSingleAgent(const TrainingJob& job);
+
+}  // namespace dynapath

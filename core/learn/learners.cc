@@ -1,0 +1,30 @@
+#include "dynapath/learners.h"
+
+#include <cstdlib>
+
+#include "dynapath/federated_job.h"
+#include "dynapath/single_agent_learner.h"
+
+namespace dynapath {
+
+TrainingResult TrainJob(const TrainingJob& job) {
+  switch (job.kind) {
+    case LearnerKind::kSingleAgent:
+      return TrainSingleAgent(job);
+    case LearnerKind::kFedAsynQ:
+      return TrainFedAsynQ(job);
+  }
+  std::abort();  // not an enumerator: memory corruption, not input (the wire is validated)
+}
+
+bool TrainsInRounds(LearnerKind kind) {
+  switch (kind) {
+    case LearnerKind::kSingleAgent:
+      return false;
+    case LearnerKind::kFedAsynQ:
+      return true;
+  }
+  std::abort();  // as above
+}
+
+}  // namespace dynapath

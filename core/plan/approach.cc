@@ -1,0 +1,53 @@
+#include "dynapath/approach.h"
+
+#include <algorithm>
+
+#include "core/plan/approach_registry.h"
+#include "dynapath/text_util.h"
+
+namespace dynapath {
+
+const std::vector<Approach>& AllApproaches() {
+  static const std::vector<Approach> all = [] {
+    std::vector<Approach> approaches;
+    for (const ApproachSpec& spec : ApproachRegistry()) approaches.push_back(spec.approach);
+    return approaches;
+  }();
+  return all;
+}
+
+std::string ApproachName(Approach approach) { return GetApproachSpec(approach).name; }
+
+std::optional<Approach> ParseApproach(const std::string& name) {
+  const std::string wanted = ToLower(Trim(name));
+  for (Approach approach : AllApproaches()) {
+    if (ToLower(ApproachName(approach)) == wanted) return approach;
+  }
+  return std::nullopt;
+}
+
+std::string ApproachNamesText() {
+  std::string names;
+  for (Approach a : AllApproaches()) names += (names.empty() ? "" : ", ") + ApproachName(a);
+  return names;
+}
+
+Result<std::vector<Approach>> ParseApproachList(const std::string& list) {
+  if (ToLower(Trim(list)) == "all") return AllApproaches();
+  std::vector<Approach> approaches;
+  for (const std::string& piece : Split(list, ',')) {
+    const std::optional<Approach> approach = ParseApproach(piece);
+    if (!approach) {
+      return Error{"unknown approach '" + piece + "' (expected one of: " + ApproachNamesText() +
+                   ", or all)"};
+    }
+    if (std::find(approaches.begin(), approaches.end(), *approach) == approaches.end()) {
+      approaches.push_back(*approach);
+    }
+  }
+  return approaches;
+}
+
+bool IsLearningApproach(Approach approach) { return GetApproachSpec(approach).learner.has_value(); }
+
+}  // namespace dynapath

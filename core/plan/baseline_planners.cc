@@ -1,0 +1,51 @@
+#include "core/plan/baseline_planners.h"
+
+#include <memory>
+
+#include "core/plan/approach_registry.h"
+#include "dynapath/bfs_oracle.h"
+
+namespace dynapath {
+
+StepDetails AStarStaticPlanner::Initialize(const Grid& grid) {
+  astar_.ComputeAllPaths(grid, paths_);
+  return {};
+}
+
+PolicyScore AStarStaticPlanner::Evaluate(const Grid& grid) {
+  return ScoreStoredPaths(grid, paths_);
+}
+
+StepDetails AStarOraclePlanner::Initialize(const Grid& grid) {
+  astar_.ComputeAllPaths(grid, paths_);
+  return {};
+}
+
+PolicyScore AStarOraclePlanner::Evaluate(const Grid& grid) {
+  return ScoreStoredPaths(grid, paths_);
+}
+
+StepDetails BfsOraclePlanner::Initialize(const Grid& grid) {
+  NearestStationDistances(grid, distance_, queue_);
+  return {};
+}
+
+PolicyScore BfsOraclePlanner::Evaluate(const Grid& grid) { return ScoreDistances(grid, distance_); }
+
+// Factories of core/include/dynapath/approach_list.h.
+std::unique_ptr<Planner> MakeAStarStaticPlanner(const ApproachSpec&, const PlannerOptions&,
+                                                Trainer*) {
+  return std::make_unique<AStarStaticPlanner>();
+}
+
+std::unique_ptr<Planner> MakeAStarOraclePlanner(const ApproachSpec&, const PlannerOptions&,
+                                                Trainer*) {
+  return std::make_unique<AStarOraclePlanner>();
+}
+
+std::unique_ptr<Planner> MakeBfsOraclePlanner(const ApproachSpec&, const PlannerOptions&,
+                                              Trainer*) {
+  return std::make_unique<BfsOraclePlanner>();
+}
+
+}  // namespace dynapath

@@ -1,0 +1,104 @@
+#include "core/plan/learning_planner.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace dynapath {
+
+LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer)
+    : spec_(GetApproachSpec(approach)), options_(options), trainer_(trainer) {
+  // Only approaches registered with a learner and a strategy get here.
+  assert(spec_.learner.has_value() && spec_.make_strategy != nullptr);
+  learner_.kind = *spec_.learner;
+  static_cast<LearnerOptions&>(learner_) = options;
+  learner_.federated.averaging = spec_.averaging;
+  learner_.bootstrap =
+      options.semantics == Semantics::kReport ? Bootstrap::kAllStored : options.bootstrap;
+}
+
+std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
+                                             const PlannerOptions& options, Trainer* trainer) {
+  assert(trainer != nullptr);  // the runners always pass one
+  return std::make_unique<LearningPlanner>(spec.approach, options, *trainer);
+}
+
+StepDetails LearningPlanner::Initialize(const Grid& grid) {
+  tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
+  // The report's code keeps its tables in double (SPEC section 10).
+  const QPrecision precision = options_.table_precision.value_or(
+      options_.semantics == Semantics::kReport ? QPrecision::kDouble : QPrecision::kFloat);
+  root_ = std::make_unique<RootQTable>(grid.rows(), grid.cols(), precision);
+  training_count_.assign(static_cast<size_t>(tree_->node_count()), 0);
+  strategy_ = spec_.make_strategy(*tree_, options_.thresholds);
+  grid_ = &grid;
+  evaluation_.Reset(*tree_);
+  return RunStrategy({});
+}
+
+StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& changed_cells) {
+  std::vector<NodeId> changed_leaves;
+  for (int cell : changed_cells) changed_leaves.push_back(tree_->LeafOf(cell));
+  std::sort(changed_leaves.begin(), changed_leaves.end());
+  changed_leaves.erase(std::unique(changed_leaves.begin(), changed_leaves.end()),
+                       changed_leaves.end());
+  grid_ = &grid;
+  evaluation_.GridChanged(changed_cells);
+  if (changed_leaves.empty()) return {};
+  return RunStrategy(changed_leaves);
+}
+
+StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leaves) {
+  const AdaptationReport report = strategy_->Adapt(changed_leaves, *this);
+  StepDetails details{static_cast<int>(report.trained.size()), report.highest_level, {}};
+  for (NodeId node : report.trained) details.trained_regions.push_back(tree_->node(node).region);
+  return details;
+}
+
+PolicyScore LearningPlanner::Evaluate(const Grid& grid) {
+  grid_ = &grid;
+  return evaluation_.Score(grid, root_->table(), tree_->root());
+}
+
+bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
+  grid_ = &grid;
+  const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
+  picture.actions.assign(static_cast<size_t>(grid.size()), -1);
+  picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    if (grid.at(cell) == Cell::kObstacle) continue;
+    picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
+    if (grid.at(cell) == Cell::kStation) continue;
+    int best = -1, second = -1;
+    TopTwoActions(grid, cell, root_->table(), best, second);
+    picture.actions[cell] = static_cast<int8_t>(best);
+  }
+  return true;
+}
+
+double LearningPlanner::SuccessRate(NodeId node) {
+  return evaluation_.Score(*grid_, root_->table(), node).success_rate();
+}
+
+void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
+  std::vector<uint64_t> seeds;
+  seeds.reserve(nodes.size());
+  for (NodeId node : nodes) {
+    // The report's code keeps a table per node and creates it, all zeros, at
+    // the node's first training (only the root has one from the start).
+    // Zeroing the root over the region before the job is built gives the
+    // job exactly that warm start, with any trainer (local or distributed);
+    // the job then commits its whole table over the region, as the report
+    // copies a trained node's table into its ancestors. Nodes of one call are
+    // disjoint, so no other job of the batch reads these values.
+    if (options_.semantics == Semantics::kReport && training_count_[node] == 0 &&
+        node != tree_->root()) {
+      const Region& region = tree_->node(node).region;
+      root_->Commit(region, QTable(region.cells(), root_->precision()));
+    }
+    seeds.push_back(JobSeed(options_.run_seed, node, training_count_[node]++));
+  }
+  trainer_.Train(nodes, seeds, learner_, *tree_, *grid_, *root_);
+  for (NodeId node : nodes) evaluation_.TableChanged(tree_->node(node).region);
+}
+
+}  // namespace dynapath

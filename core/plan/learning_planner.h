@@ -1,0 +1,48 @@
+#pragma once
+// The four Q-learning approaches: a quadtree, the root table, a retraining
+// strategy and a trainer.
+
+#include <memory>
+#include <optional>
+
+#include "core/eval/incremental_policy_evaluation.h"
+#include "core/plan/approach_registry.h"
+#include "dynapath/planner.h"
+
+namespace dynapath {
+
+class LearningPlanner : public Planner, private TrainingContext {
+ public:
+  // `approach` must be registered with a learner (IsLearningApproach).
+  LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer);
+
+  StepDetails Initialize(const Grid& grid) override;
+  StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) override;
+  PolicyScore Evaluate(const Grid& grid) override;
+  bool Picture(const Grid& grid, PolicyPicture& picture) override;
+
+  const QuadTree& tree() const { return *tree_; }
+  const RootQTable& root() const { return *root_; }
+
+ private:
+  // TrainingContext: success rates of the current policy on the current grid.
+  double SuccessRate(NodeId node) override;
+  void Train(const std::vector<NodeId>& nodes) override;
+
+  StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
+
+  const ApproachSpec& spec_;  // its learner and strategy
+  PlannerOptions options_;
+  LearnerConfig learner_;
+  Trainer& trainer_;
+  const Grid* grid_ = nullptr;  // the grid of the step being adapted
+  std::unique_ptr<QuadTree> tree_;
+  std::unique_ptr<RootQTable> root_;
+  std::unique_ptr<RetrainingStrategy> strategy_;
+  std::vector<int64_t> training_count_;  // per node, for job seeds
+  // The evaluation behind the success rates, repaired where cells changed
+  // or regions were retrained instead of redone every query.
+  IncrementalPolicyEvaluation evaluation_;
+};
+
+}  // namespace dynapath

@@ -1,0 +1,13 @@
+#include "dynapath/planner.h"
+
+#include "core/plan/approach_registry.h"
+
+namespace dynapath {
+
+std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& options,
+                                     Trainer* trainer) {
+  const ApproachSpec& spec = GetApproachSpec(approach);
+  return spec.make_planner(spec, options, trainer);
+}
+
+}  // namespace dynapath

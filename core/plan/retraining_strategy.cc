@@ -1,0 +1,103 @@
+#include "dynapath/retraining_strategy.h"
+
+#include <algorithm>
+
+namespace dynapath {
+namespace {
+
+void RecordTraining(const QuadTree& tree, const std::vector<NodeId>& nodes,
+                    AdaptationReport& report) {
+  for (NodeId node : nodes) {
+    report.trained.push_back(node);
+    const int level = tree.node(node).level;
+    if (report.highest_level < 0 || level < report.highest_level) report.highest_level = level;
+  }
+}
+
+}  // namespace
+
+TreeStrategy::TreeStrategy(const QuadTree& tree, RetrainingThresholds thresholds)
+    : tree_(tree),
+      thresholds_(thresholds),
+      baseline_(static_cast<size_t>(tree.node_count()), -1.0) {}
+
+bool TreeStrategy::NeedsTraining(NodeId node, TrainingContext& context) {
+  if (!trained(node)) return true;
+  const double old_rate = baseline_[node];
+  const double new_rate = context.SuccessRate(node);
+  if (old_rate - new_rate > thresholds_.max_drop || new_rate < thresholds_.min_success_rate) {
+    return true;
+  }
+  if (new_rate > old_rate) baseline_[node] = new_rate;
+  return false;
+}
+
+void TreeStrategy::StoreBaselines(NodeId node, TrainingContext& context) {
+  baseline_[node] = context.SuccessRate(node);
+  for (NodeId child : tree_.node(node).children) {
+    if (child != kNoNode) StoreBaselines(child, context);
+  }
+}
+
+std::vector<NodeId> TreeStrategy::TrainAndCollectParents(const std::vector<NodeId>& nodes,
+                                                         TrainingContext& context,
+                                                         AdaptationReport& report) {
+  context.Train(nodes);
+  RecordTraining(tree_, nodes, report);
+  for (NodeId node : nodes) StoreBaselines(node, context);
+  std::vector<NodeId> parents;
+  for (NodeId node : nodes) {
+    const NodeId parent = tree_.node(node).parent;
+    if (parent != kNoNode && baseline_[node] < thresholds_.min_success_rate) {
+      parents.push_back(parent);
+    }
+  }
+  // Node-id order, never hash or pointer order: same inputs, same decisions.
+  std::sort(parents.begin(), parents.end());
+  parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+  return parents;
+}
+
+AdaptationReport TreeStrategy::Adapt(const std::vector<NodeId>& changed_leaves,
+                                     TrainingContext& context) {
+  AdaptationReport report;
+  std::vector<NodeId> to_train;
+  if (changed_leaves.empty()) {
+    to_train = tree_.leaves();
+  } else {
+    for (NodeId leaf : changed_leaves) {
+      if (NeedsTraining(leaf, context)) to_train.push_back(leaf);
+    }
+  }
+  while (!to_train.empty()) {
+    const std::vector<NodeId> candidates = TrainAndCollectParents(to_train, context, report);
+    to_train.clear();
+    for (NodeId candidate : candidates) {
+      if (NeedsTraining(candidate, context)) to_train.push_back(candidate);
+    }
+  }
+  return report;
+}
+
+AdaptationReport LeavesOnlyStrategy::Adapt(const std::vector<NodeId>& changed_leaves,
+                                           TrainingContext& context) {
+  AdaptationReport report;
+  const std::vector<NodeId>& to_train = changed_leaves.empty() ? tree_.leaves() : changed_leaves;
+  if (!to_train.empty()) {
+    context.Train(to_train);
+    RecordTraining(tree_, to_train, report);
+  }
+  return report;
+}
+
+std::unique_ptr<RetrainingStrategy> MakeTreeStrategy(const QuadTree& tree,
+                                                     const RetrainingThresholds& thresholds) {
+  return std::make_unique<TreeStrategy>(tree, thresholds);
+}
+
+std::unique_ptr<RetrainingStrategy> MakeLeavesOnlyStrategy(const QuadTree& tree,
+                                                           const RetrainingThresholds&) {
+  return std::make_unique<LeavesOnlyStrategy>(tree);
+}
+
+}  // namespace dynapath

@@ -1,0 +1,262 @@
+#include "protocol/convert.h"
+
+#include <cstdlib>
+
+#include "dynapath/learners.h"
+#include "dynapath/region_model.h"
+#include "protocol/varint.h"
+
+namespace dynapath::protocol {
+
+namespace {
+
+// The enumerator of `all` whose wire value is `wire`.
+template <typename Enum, size_t N>
+std::optional<Enum> FromWire(int8_t wire, const Enum (&all)[N], int8_t (*to_wire)(Enum)) {
+  for (Enum value : all) {
+    if (to_wire(value) == wire) return value;
+  }
+  return std::nullopt;
+}
+
+constexpr QPrecision kAllPrecisions[] = {QPrecision::kFloat, QPrecision::kDouble};
+constexpr Bootstrap kAllBootstraps[] = {Bootstrap::kInGrid, Bootstrap::kInRegion,
+                                        Bootstrap::kAllStored};
+constexpr Averaging kAllAveragings[] = {Averaging::kEqual, Averaging::kImportance};
+
+}  // namespace
+
+int8_t LearnerKindToWire(LearnerKind kind) {
+  switch (kind) {
+    case LearnerKind::kSingleAgent:
+      return job_batch_t::KIND_SINGLE_AGENT;
+    case LearnerKind::kFedAsynQ:
+      return job_batch_t::KIND_FEDASYNQ;
+  }
+  std::abort();  // not an enumerator: a broken invariant, not input
+}
+
+std::optional<LearnerKind> LearnerKindFromWire(int8_t wire) {
+  return FromWire(wire, kAllLearnerKinds, &LearnerKindToWire);
+}
+
+int8_t PrecisionToWire(QPrecision precision) {
+  switch (precision) {
+    case QPrecision::kFloat:
+      return job_batch_t::PRECISION_FLOAT;
+    case QPrecision::kDouble:
+      return job_batch_t::PRECISION_DOUBLE;
+  }
+  std::abort();  // as above
+}
+
+std::optional<QPrecision> PrecisionFromWire(int8_t wire) {
+  return FromWire(wire, kAllPrecisions, &PrecisionToWire);
+}
+
+// 0, 1, 2 as job_batch_t.lcm's comment says (it predates 2; the field is an
+// int8 either way, so the fingerprint is unchanged).
+int8_t BootstrapToWire(Bootstrap bootstrap) {
+  switch (bootstrap) {
+    case Bootstrap::kInGrid:
+      return 0;
+    case Bootstrap::kInRegion:
+      return 1;
+    case Bootstrap::kAllStored:
+      return 2;
+  }
+  std::abort();  // as above
+}
+
+std::optional<Bootstrap> BootstrapFromWire(int8_t wire) {
+  return FromWire(wire, kAllBootstraps, &BootstrapToWire);
+}
+
+int8_t AveragingToWire(Averaging averaging) {
+  switch (averaging) {
+    case Averaging::kEqual:
+      return 0;
+    case Averaging::kImportance:
+      return 1;
+  }
+  std::abort();  // as above
+}
+
+std::optional<Averaging> AveragingFromWire(int8_t wire) {
+  return FromWire(wire, kAllAveragings, &AveragingToWire);
+}
+
+void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch) {
+  batch.kind = LearnerKindToWire(config.kind);
+  batch.bootstrap = BootstrapToWire(config.bootstrap);
+  batch.averaging = AveragingToWire(config.federated.averaging);
+  // Every option of core/include/dynapath/learner_options.h to its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_TO_WIRE(member, ...) batch.member = config.single_agent.member;
+#define DYNAPATH_FEDASYNQ_TO_WIRE(member, ...) batch.member = config.federated.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_TO_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_TO_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_TO_WIRE
+#undef DYNAPATH_FEDASYNQ_TO_WIRE
+}
+
+void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& batch) {
+  job_t m{};
+  m.node = job.node;
+  m.row0 = job.region.r0;
+  m.col0 = job.region.c0;
+  m.rows = job.region.rows();
+  m.cols = job.region.cols();
+  m.grid_rows = job.grid_rows;
+  m.grid_cols = job.grid_cols;
+  m.seed = static_cast<int64_t>(job.seed);
+  m.num_cells = static_cast<int32_t>(job.codes.size());
+  m.codes.assign(job.codes.begin(), job.codes.end());
+  m.start_round = progress.round;
+  // Every job of a batch is of the run's precision.
+  batch.precision = PrecisionToWire(job.precision);
+  const QTable& table = progress.table.cells() == 0 ? job.warm_start : progress.table;
+  // An all-zero table (never trained) travels as nothing.
+  if (table.cells() != 0 && !table.AllZero()) PutTable(table, m);  // else both counts stay 0
+  m.attempts.assign(progress.attempts.begin(), progress.attempts.end());
+  m.successes.assign(progress.successes.begin(), progress.successes.end());
+  m.num_starts = static_cast<int32_t>(m.attempts.size());
+  batch.jobs.push_back(std::move(m));
+  batch.num_jobs = static_cast<int32_t>(batch.jobs.size());
+}
+
+Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
+  const job_t& m = batch.jobs[static_cast<size_t>(index)];
+  ReceivedJob received;
+  TrainingJob& job = received.job;
+  job.node = m.node;
+  job.region = Region{m.row0, m.row0 + m.rows - 1, m.col0, m.col0 + m.cols - 1};
+  job.codes.assign(m.codes.begin(), m.codes.end());
+  job.grid_rows = m.grid_rows;
+  job.grid_cols = m.grid_cols;
+  // The header's enums: Validate has refused unknown values, and an
+  // unvalidated batch gets an error here, never a default.
+  const std::optional<LearnerKind> kind = LearnerKindFromWire(batch.kind);
+  const std::optional<Bootstrap> bootstrap = BootstrapFromWire(batch.bootstrap);
+  const std::optional<Averaging> averaging = AveragingFromWire(batch.averaging);
+  const std::optional<QPrecision> precision = PrecisionFromWire(batch.precision);
+  if (!kind || !bootstrap || !averaging || !precision) {
+    return Error::Corrupt(
+        "job batch: unknown learner kind, bootstrap, averaging or table precision");
+  }
+  job.kind = *kind;
+  job.bootstrap = *bootstrap;
+  job.federated.averaging = *averaging;
+  job.precision = *precision;
+  // No table (a never-trained region travels as nothing) means zeros;
+  // Validate has checked that a table present is of the batch's precision
+  // and the region's size.
+  job.warm_start =
+      GetTable(m, m.num_cells, job.precision).value_or(QTable(m.num_cells, job.precision));
+  job.seed = static_cast<uint64_t>(m.seed);
+  // Every option of core/include/dynapath/learner_options.h from its field of the same name.
+#define DYNAPATH_SINGLE_AGENT_FROM_WIRE(member, ...) job.single_agent.member = batch.member;
+#define DYNAPATH_FEDASYNQ_FROM_WIRE(member, ...) job.federated.member = batch.member;
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_SINGLE_AGENT_FROM_WIRE)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_FEDASYNQ_FROM_WIRE)
+#undef DYNAPATH_SINGLE_AGENT_FROM_WIRE
+#undef DYNAPATH_FEDASYNQ_FROM_WIRE
+  if (Status checked = CheckJob(job); !checked) {
+    return checked.error().Prefixed("job " + std::to_string(index) + ": ");
+  }
+  received.start_round = m.start_round;
+  received.attempts.assign(m.attempts.begin(), m.attempts.end());
+  received.successes.assign(m.successes.begin(), m.successes.end());
+  if (m.num_starts > 0) {
+    const RegionModel model(job);
+    if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
+      return Error::Corrupt("job " + std::to_string(index) +
+                            ": start statistics do not match the region's start cells");
+    }
+  }
+  if (TrainsInRounds(job.kind) &&
+      received.start_round > FederatedRounds(job.region, job.federated)) {
+    return Error::Corrupt("job " + std::to_string(index) + ": start round beyond the job's rounds");
+  }
+  return received;
+}
+
+learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_visits) {
+  learner_shard_t m{};
+  m.job = job;
+  m.learner = shard.learner;
+  m.num_entries = static_cast<int32_t>(shard.entries.size());
+  m.entry_gaps = EncodeAscending(shard.entries);
+  m.entry_bytes = static_cast<int32_t>(m.entry_gaps.size());
+  m.values = shard.values;
+  m.num_values = static_cast<int32_t>(m.values.size());
+  m.wide_values = shard.wide_values;
+  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
+  if (with_visits) m.visits = EncodeCounts(shard.visits);
+  m.visit_bytes = static_cast<int32_t>(m.visits.size());
+  m.start_cell = shard.start_cell;
+  m.reached_station = shard.reached_station;
+  m.steps = shard.steps;
+  return m;
+}
+
+LearnerShard ShardFromMessage(const learner_shard_t& m, int64_t round) {
+  LearnerShard shard;
+  shard.learner = m.learner;
+  shard.round = round;
+  // The message was validated: the encodings decode.
+  DecodeAscending(m.entry_gaps, m.num_entries, shard.entries);
+  shard.values = m.values;
+  shard.wide_values = m.wide_values;
+  if (m.visit_bytes > 0) {
+    DecodeCounts(m.visits, m.num_entries, shard.visits);
+  } else {
+    shard.visits.assign(shard.entries.size(), 1u);
+  }
+  shard.start_cell = m.start_cell;
+  shard.reached_station = m.reached_station;
+  shard.steps = m.steps;
+  return shard;
+}
+
+grid_t GridToMessage(const Grid& grid) {
+  grid_t m{};
+  m.rows = grid.rows();
+  m.cols = grid.cols();
+  m.num_cells = grid.size();
+  m.cells.assign(grid.codes().begin(), grid.codes().end());
+  return m;
+}
+
+Grid GridFromMessage(const grid_t& m) {
+  Grid grid(m.rows, m.cols);
+  for (int i = 0; i < m.num_cells; ++i) grid.set(i, static_cast<Cell>(m.cells[i]));
+  return grid;
+}
+
+changes_t ChangesToMessage(const ChangeStep& step, int time_step, int total_steps) {
+  changes_t m{};
+  m.time_step = time_step;
+  m.total_steps = total_steps;
+  m.requested_moves = step.requested_moves;
+  m.num_changes = static_cast<int32_t>(step.changes.size());
+  for (const CellChange& change : step.changes) {
+    m.cells.push_back(change.cell);
+    m.codes.push_back(static_cast<int8_t>(change.code));
+  }
+  return m;
+}
+
+Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
+  ChangeStep step;
+  step.requested_moves = m.requested_moves;
+  for (int i = 0; i < m.num_changes; ++i) {
+    if (m.cells[i] >= rows * cols) {
+      return Error::Corrupt("change of time step " + std::to_string(m.time_step) +
+                            " outside the grid");
+    }
+    step.changes.push_back(CellChange{m.cells[i], static_cast<Cell>(m.codes[i])});
+  }
+  return step;
+}
+
+}  // namespace dynapath::protocol

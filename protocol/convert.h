@@ -1,0 +1,100 @@
+#pragma once
+// Conversions between core/ values and messages. The encodings are exact
+// (floats travel as floats, the double tables of --semantics report as
+// doubles), which is what keeps distributed results equal to in-process ones.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dynapath/change_sequence.h"
+#include "dynapath/changes_t.hpp"
+#include "dynapath/fedasynq.h"
+#include "dynapath/grid.h"
+#include "dynapath/grid_t.hpp"
+#include "dynapath/job_batch_t.hpp"
+#include "dynapath/learner_shard_t.hpp"
+#include "dynapath/start_statistics.h"
+#include "dynapath/trainer.h"
+#include "dynapath/training_job.h"
+
+namespace dynapath::protocol {
+
+// Where a federated job (re)starts: the shared table and start statistics
+// after `round` completed rounds.
+struct JobProgress {
+  int64_t round = 0;
+  QTable table;                               // empty: the job's warm start
+  std::vector<uint32_t> attempts, successes;  // empty: fresh statistics
+};
+
+// Each enum of a batch's header to its wire value, and back (nullopt: no
+// enumerator has that wire value). The ...ToWire functions are exhaustive
+// switches, so a new enumerator does not compile until it has a wire value.
+int8_t LearnerKindToWire(LearnerKind kind);  // job_batch_t::KIND_*
+std::optional<LearnerKind> LearnerKindFromWire(int8_t wire);
+int8_t BootstrapToWire(Bootstrap bootstrap);  // 0 in-grid, 1 in-region, 2 all stored
+std::optional<Bootstrap> BootstrapFromWire(int8_t wire);
+int8_t AveragingToWire(Averaging averaging);  // 0 equal, 1 importance
+std::optional<Averaging> AveragingFromWire(int8_t wire);
+
+// Fills the batch header (options) from `config`.
+void SetBatchOptions(const LearnerConfig& config, job_batch_t& batch);
+// Appends `job` (restarting from `progress`) to the batch.
+void AddJob(const TrainingJob& job, const JobProgress& progress, job_batch_t& batch);
+
+// The index-th job of a batch as a TrainingJob (warm start = the table it
+// restarts from) and where it restarts. Fails when the job is inconsistent
+// (e.g. statistics that do not match the region's start cells).
+struct ReceivedJob {
+  TrainingJob job;
+  int64_t start_round = 0;
+  std::vector<uint32_t> attempts, successes;
+};
+Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index);
+
+// The wire's PRECISION_* of a table precision, and back (as above).
+int8_t PrecisionToWire(QPrecision precision);
+std::optional<QPrecision> PrecisionFromWire(int8_t wire);
+
+// A table into a message's (num_values, values, num_wide_values,
+// wide_values), by its precision (job_t, job_result_t).
+template <typename Message>
+void PutTable(const QTable& table, Message& m) {
+  m.values.clear();
+  m.wide_values.clear();
+  if (table.precision() == QPrecision::kFloat) {
+    m.values = table.values();
+  } else {
+    m.wide_values = table.wide_values();
+  }
+  m.num_values = static_cast<int32_t>(m.values.size());
+  m.num_wide_values = static_cast<int32_t>(m.wide_values.size());
+}
+// The table of `cells` cells and `precision` a (validated) message carries;
+// nullopt when it carries no such table (other size or precision).
+template <typename Message>
+std::optional<QTable> GetTable(const Message& m, int cells, QPrecision precision) {
+  const size_t size = static_cast<size_t>(cells) * kNumActions;
+  QTable table(cells, precision);
+  if (precision == QPrecision::kFloat) {
+    if (m.values.size() != size || !m.wide_values.empty()) return std::nullopt;
+    table.values() = m.values;
+  } else {
+    if (m.wide_values.size() != size || !m.values.empty()) return std::nullopt;
+    table.wide_values() = m.wide_values;
+  }
+  return table;
+}
+
+learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_visits);
+// Visits absent (equal averaging does not use them) become 1 each.
+LearnerShard ShardFromMessage(const learner_shard_t& message, int64_t round);
+
+grid_t GridToMessage(const Grid& grid);
+Grid GridFromMessage(const grid_t& message);  // message validated
+changes_t ChangesToMessage(const ChangeStep& step, int time_step, int total_steps);
+// Fails when a cell lies outside a rows x cols grid.
+Result<ChangeStep> ChangesFromMessage(const changes_t& message, int rows, int cols);
+
+}  // namespace dynapath::protocol

@@ -1,0 +1,55 @@
+#pragma once
+// Opening LCM and running its dispatch loop. One thread per lcm::LCM calls
+// handle (LCM allows no other way); handlers only decode, validate and post
+// work to the components' inboxes.
+
+#include <atomic>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "dynapath/result.h"
+
+namespace dynapath::protocol {
+
+// The URL to use: `url` if not empty, else $LCM_DEFAULT_URL, else LCM's
+// default udpm group with ttl=0 (nothing leaves the host).
+std::string ResolveLcmUrl(const std::string& url);
+// Opens LCM; one clear error when the provider cannot start.
+Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url);
+// True for memq:// (one process, nothing to fragment).
+bool IsMemq(const std::string& url);
+// Payload bytes of a Bus fragment that fits one Ethernet frame (1500-byte
+// MTU: 1472 bytes of UDP payload, less LCM's header with the channel name,
+// fragment_t's fields with a run id of at most 64 characters and the
+// authentication trailer), so one lost frame costs one small piece.
+inline constexpr int kFrameFragmentSize = 1200;
+// The fragment size for `url` (resolved): one Ethernet frame for udpm URLs
+// whose ttl lets datagrams leave the host, else one 60 KB datagram (the
+// loopback's MTU is 64 KB: nothing to gain from small pieces there).
+int DefaultFragmentSize(const std::string& url);
+
+class Dispatcher {
+ public:
+  explicit Dispatcher(lcm::LCM& lcm);
+  ~Dispatcher();  // stops and joins
+  Dispatcher(const Dispatcher&) = delete;
+  Dispatcher& operator=(const Dispatcher&) = delete;
+
+ private:
+  lcm::LCM& lcm_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// The process's one SIGINT/SIGTERM handler (installed once): every signal
+// sets the returned flag, which the components poll.
+const std::atomic<bool>& StopOnSignals();
+// The same, and: the first signal writes `first_notice` to stderr (nullptr:
+// nothing); when `second_exit_notice` is not nullptr, a second signal writes
+// it and ends the process at once (_exit 130). Both strings must live for
+// the rest of the process (string literals).
+const std::atomic<bool>& StopOnSignals(const char* first_notice, const char* second_exit_notice);
+
+}  // namespace dynapath::protocol

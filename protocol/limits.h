@@ -1,0 +1,29 @@
+#pragma once
+// Memory caps of a run's receivers, derived from the run's grid: whatever a
+// sender announces, a process never buffers more than these.
+
+#include <cstdint>
+
+#include "dynapath/limits.h"
+#include "protocol/fragments.h"
+
+namespace dynapath::protocol {
+
+// Cells of the largest grid the protocol accepts.
+inline constexpr int64_t kMaxGridCells = static_cast<int64_t>(kMaxGridSide) * kMaxGridSide;
+
+// An upper bound of the encoded size of any message of a run whose grid has
+// `cells` cells. The largest are job batches of warm-started nodes (per cell:
+// its code, 8 table values, two start counters: 41 bytes, 73 with the double
+// tables of --semantics report), the final tables (32 or 64 bytes per cell) and policies (3 bytes per cell and 16 per region);
+// a batch's jobs cover the grid at most twice over (a node and its
+// children), and a round's shards hold at most one update per table entry
+// and learner.
+int64_t LargestMessageBytes(int64_t cells);
+
+// The Bus's fragment caps for such a run: one largest message at a time
+// plus as much again of partial ones (a resend overlapping a new message),
+// 64 partial messages, 30 s lifetime (milliseconds).
+FragmentLimits BusFragmentLimits(int64_t cells);
+
+}  // namespace dynapath::protocol

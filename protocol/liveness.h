@@ -1,0 +1,64 @@
+#pragma once
+// Heartbeats: every process publishes its own a few times a second from a
+// dedicated thread (so a process deep in computation still looks alive), and
+// agents and envsim watch the coordinator's to exit when it finished, failed
+// or vanished.
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <thread>
+
+#include "dynapath/heartbeat_t.hpp"
+#include "protocol/bus.h"
+#include "protocol/inbox.h"
+
+namespace dynapath::protocol {
+
+int64_t SteadyMs();
+
+class CoordinatorWatch {
+ public:
+  enum class Verdict { kWaiting, kRunning, kFinished, kFailed, kGone, kNeverCame };
+
+  // Subscribes on `bus`; wakes `inbox` (may be null) when the coordinator is
+  // first heard from, and when it reports it finished or failed.
+  CoordinatorWatch(Bus& bus, Inbox* inbox);
+
+  // A coordinator heartbeat arrived.
+  bool Seen() const { return seen_ms_ >= 0; }
+
+  // `startup_seconds`: how long to wait for a first heartbeat;
+  // `timeout_seconds`: how long a seen coordinator may be silent.
+  Verdict Check(double startup_seconds, double timeout_seconds) const;
+  std::string message() const;  // the coordinator's failure message
+
+ private:
+  int64_t created_ms_;
+  std::atomic<int64_t> seen_ms_{-1};
+  std::atomic<int> state_{heartbeat_t::STATE_RUNNING};
+};
+
+class HeartbeatSender {
+ public:
+  // Publishes `base` every `period_seconds` after `fill` updated it;
+  // `on_tick` (may be empty) runs after each publish on the same thread.
+  HeartbeatSender(Bus& bus, heartbeat_t base, double period_seconds,
+                  std::function<void(heartbeat_t&)> fill, std::function<void()> on_tick = {});
+  ~HeartbeatSender();
+  // Sends one heartbeat now (e.g. the final state) from the calling thread.
+  void SendNow();
+
+ private:
+  void Loop();
+  Bus& bus_;
+  heartbeat_t base_{};
+  std::chrono::microseconds period_;
+  std::function<void(heartbeat_t&)> fill_;
+  std::function<void()> on_tick_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;  // guards base_ between the thread and SendNow
+  std::thread thread_;
+};
+
+}  // namespace dynapath::protocol

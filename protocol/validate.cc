@@ -1,0 +1,255 @@
+#include "protocol/validate.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "dynapath/learner_options.h"
+#include "dynapath/learners.h"
+#include "dynapath/mdp.h"
+#include "protocol/convert.h"
+#include "protocol/fragments.h"
+#include "protocol/varint.h"
+
+namespace dynapath::protocol {
+namespace {
+
+bool Count(int32_t count, size_t size) { return count >= 0 && static_cast<size_t>(count) == size; }
+
+template <typename V>
+bool Finite(const std::vector<V>& values) {
+  for (V v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+bool Codes(const std::vector<int8_t>& codes) {
+  for (int8_t c : codes) {
+    if (c < 0 || c > 2) return false;
+  }
+  return true;
+}
+
+bool GridSize(int32_t rows, int32_t cols) {
+  return rows >= 1 && cols >= 1 && rows <= kMaxGridSide && cols <= kMaxGridSide;
+}
+
+// Every region and count computed from received fields is computed in 64
+// bits: int32 fields near INT_MAX must not wrap into range.
+int64_t Wide(int32_t value) { return value; }
+
+// [first, first + length) lies inside [0, limit).
+bool Inside(int32_t first, int32_t length, int32_t limit) {
+  return first >= 0 && length >= 1 && Wide(first) + Wide(length) <= Wide(limit);
+}
+
+}  // namespace
+
+std::string Validate(const heartbeat_t& m) {
+  if (m.role < heartbeat_t::ROLE_COORDINATOR || m.role > heartbeat_t::ROLE_ENVSIM) {
+    return "unknown role";
+  }
+  if (m.state < heartbeat_t::STATE_RUNNING || m.state > heartbeat_t::STATE_FAILED) {
+    return "unknown state";
+  }
+  if (m.sender < 0 || m.threads < 0 || m.epoch < 0) return "negative field";
+  return {};
+}
+
+std::string Validate(const step_request_t& m) {
+  if (m.pass < 0 || m.time_step < 0) return "negative pass or time step";
+  return {};
+}
+
+std::string Validate(const grid_t& m) {
+  if (!GridSize(m.rows, m.cols)) return "bad grid size";
+  if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.cells.size())) {
+    return "cell count does not match rows x cols";
+  }
+  if (!Codes(m.cells)) return "bad cell code";
+  if (m.total_steps < 0 || m.pass < 0) return "negative steps or pass";
+  return {};
+}
+
+std::string Validate(const changes_t& m) {
+  if (m.time_step < 1 || m.time_step > m.total_steps) return "time step out of range";
+  if (!Count(m.num_changes, m.cells.size()) || m.codes.size() != m.cells.size()) {
+    return "change count mismatch";
+  }
+  if (m.requested_moves < 0 || m.pass < 0) return "negative field";
+  for (int32_t cell : m.cells) {
+    if (cell < 0 || Wide(cell) >= Wide(kMaxGridSide) * kMaxGridSide) return "cell out of range";
+  }
+  if (!Codes(m.codes)) return "bad cell code";
+  return {};
+}
+
+std::string Validate(const job_batch_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0) return "negative batch or epoch";
+  const std::optional<LearnerKind> kind = LearnerKindFromWire(m.kind);
+  if (!kind) return "unknown learner kind";
+  if (!BootstrapFromWire(m.bootstrap) || !AveragingFromWire(m.averaging)) {
+    return "bad bootstrap or averaging";
+  }
+  const std::optional<QPrecision> precision = PrecisionFromWire(m.precision);
+  if (!precision) return "unknown table precision";
+    // The ranges of core/include/dynapath/learner_options.h.
+#define DYNAPATH_CHECK_OPTION(group, member, type, default_value, min, max) \
+  if (!learner_option::InRange<type>(m.member, min, max)) return "bad " group " option " #member;
+#define DYNAPATH_CHECK_FEDASYNQ_OPTION(...) DYNAPATH_CHECK_OPTION("federated", __VA_ARGS__)
+#define DYNAPATH_CHECK_SINGLE_AGENT_OPTION(...) DYNAPATH_CHECK_OPTION("single-agent", __VA_ARGS__)
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_CHECK_FEDASYNQ_OPTION)
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_CHECK_SINGLE_AGENT_OPTION)
+#undef DYNAPATH_CHECK_SINGLE_AGENT_OPTION
+#undef DYNAPATH_CHECK_FEDASYNQ_OPTION
+#undef DYNAPATH_CHECK_OPTION
+  if (!Count(m.num_jobs, m.jobs.size())) return "job count mismatch";
+  for (const job_t& job : m.jobs) {
+    if (!GridSize(job.grid_rows, job.grid_cols) || !Inside(job.row0, job.rows, job.grid_rows) ||
+        !Inside(job.col0, job.cols, job.grid_cols)) {
+      return "job region outside its grid";
+    }
+    if (job.node < 0) return "negative node";
+    if (Wide(job.num_cells) != Wide(job.rows) * Wide(job.cols) ||
+        !Count(job.num_cells, job.codes.size())) {
+      return "job cell count mismatch";
+    }
+    if (!Codes(job.codes)) return "bad cell code";
+    // The table travels in the batch's precision, or not at all (zeros).
+    const int32_t table_size =
+        *precision == QPrecision::kFloat ? job.num_values : job.num_wide_values;
+    const int32_t other_size =
+        *precision == QPrecision::kFloat ? job.num_wide_values : job.num_values;
+    if (!Count(job.num_values, job.values.size()) ||
+        !Count(job.num_wide_values, job.wide_values.size()) || other_size != 0 ||
+        (table_size != 0 && Wide(table_size) != Wide(job.num_cells) * kNumActions)) {
+      return "job table size mismatch";
+    }
+    if (!Finite(job.values) || !Finite(job.wide_values)) return "job table not finite";
+    if (job.start_round < 0) return "negative start round";
+    if (!Count(job.num_starts, job.attempts.size()) ||
+        job.successes.size() != job.attempts.size()) {
+      return "start statistics size mismatch";
+    }
+    for (size_t i = 0; i < job.attempts.size(); ++i) {
+      if (job.attempts[i] < 0 || job.successes[i] < 0 || job.successes[i] > job.attempts[i]) {
+        return "bad start statistics";
+      }
+    }
+  }
+  if (!Count(m.num_items, m.item_job.size()) || m.item_learner.size() != m.item_job.size() ||
+      m.item_agent.size() != m.item_job.size()) {
+    return "item count mismatch";
+  }
+  for (int32_t i = 0; i < m.num_items; ++i) {
+    if (m.item_job[i] < 0 || m.item_job[i] >= m.num_jobs) return "item job out of range";
+    if (m.item_learner[i] < -1 || m.item_learner[i] >= m.learners) {
+      return "item learner out of range";
+    }
+    // Only a learner that trains in rounds can be split over agents.
+    if (m.item_learner[i] >= 0 && !TrainsInRounds(*kind))
+      return "split item of a whole-job learner";
+    if (m.item_agent[i] < 0) return "negative agent id";
+  }
+  return {};
+}
+
+std::string Validate(const shards_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0 || m.round < 0 || m.agent < 0 || m.needs_round < 0) {
+    return "negative field";
+  }
+  if (!Count(m.num_shards, m.shards.size())) return "shard count mismatch";
+  std::vector<uint32_t> decoded;
+  for (const learner_shard_t& s : m.shards) {
+    if (s.job < 0 || s.learner < 0 || s.steps < 0 || s.start_cell < -1) {
+      return "negative field in a shard";
+    }
+    if (!Count(s.entry_bytes, s.entry_gaps.size()) ||
+        !DecodeAscending(s.entry_gaps, s.num_entries, decoded)) {
+      return "shard entries malformed";
+    }
+    // One value per entry, all float or all double.
+    if (!Count(s.num_values, s.values.size()) || !Count(s.num_wide_values, s.wide_values.size()) ||
+        (s.num_values != 0 && s.num_wide_values != 0) ||
+        Wide(s.num_values) + Wide(s.num_wide_values) != Wide(s.num_entries)) {
+      return "shard values malformed";
+    }
+    if (!Count(s.visit_bytes, s.visits.size()) ||
+        (s.visit_bytes != 0 && !DecodeCounts(s.visits, s.num_entries, decoded))) {
+      return "shard visit counts malformed";
+    }
+    if (!Finite(s.values) || !Finite(s.wide_values)) return "shard value not finite";
+  }
+  return {};
+}
+
+std::string Validate(const job_result_t& m) {
+  if (m.batch_id < 0 || m.epoch < 0 || m.agent < 0 || m.job < 0) return "negative field";
+  if (m.episodes_or_rounds < 0 || m.steps < 0) return "negative counts";
+  if (!Count(m.num_values, m.values.size()) || !Count(m.num_wide_values, m.wide_values.size()) ||
+      m.num_values % kNumActions != 0 || m.num_wide_values % kNumActions != 0 ||
+      (m.num_values != 0 && m.num_wide_values != 0)) {
+    return "table size mismatch";
+  }
+  if (!Finite(m.values) || !Finite(m.wide_values)) return "table not finite";
+  return {};
+}
+
+std::string Validate(const fragment_t& m) {
+  if (m.count < 1 || m.index < 0 || m.index >= m.count) return "bad fragment index";
+  if (m.total_size < 1 || m.offset < 0 || !Count(m.size, m.data.size()) ||
+      static_cast<int64_t>(m.offset) + m.size > m.total_size) {
+    return "bad fragment size";
+  }
+  if (m.group_size < 0 || m.group_size == 1) return "bad parity group size";
+  if (m.parity &&
+      (m.group_size == 0 || m.index >= ParityGroups(m.count, m.group_size) || m.offset != 0)) {
+    return "bad parity piece";
+  }
+  return {};
+}
+
+std::string Validate(const fragment_nack_t& m) {
+  if (m.count < 1 || m.channel.empty() || m.channel.size() > 256) return "bad nack header";
+  if (!Count(m.bitmap_size, m.missing.size()) || Wide(m.bitmap_size) != (Wide(m.count) + 7) / 8) {
+    return "nack bitmap size mismatch";
+  }
+  return {};
+}
+
+std::string Validate(const step_report_t& m) {
+  if (m.time_step < 0 || m.time_step > m.total_steps || m.pass < 0) return "bad time step";
+  if (!std::isfinite(m.success_rate) || !std::isfinite(m.average_path_length) ||
+      !std::isfinite(m.adapt_seconds) || !std::isfinite(m.initial_seconds)) {
+    return "figure not finite";
+  }
+  return {};
+}
+
+std::string Validate(const policy_t& m) {
+  if (!GridSize(m.rows, m.cols)) return "bad grid size";
+  if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.cells.size()) ||
+      m.actions.size() != m.cells.size() || m.reaches.size() != m.cells.size()) {
+    return "cell count mismatch";
+  }
+  if (!Codes(m.cells)) return "bad cell code";
+  for (size_t i = 0; i < m.cells.size(); ++i) {
+    if (m.actions[i] < -1 || m.actions[i] >= kNumActions) return "bad action";
+    if (m.reaches[i] < -1 || m.reaches[i] > 1) return "bad reach flag";
+  }
+  if (!Count(m.num_regions, m.region_row0.size()) || m.region_col0.size() != m.region_row0.size() ||
+      m.region_rows.size() != m.region_row0.size() ||
+      m.region_cols.size() != m.region_row0.size()) {
+    return "region count mismatch";
+  }
+  for (int32_t i = 0; i < m.num_regions; ++i) {
+    if (!Inside(m.region_row0[i], m.region_rows[i], m.rows) ||
+        !Inside(m.region_col0[i], m.region_cols[i], m.cols)) {
+      return "region outside the grid";
+    }
+  }
+  return {};
+}
+
+}  // namespace dynapath::protocol

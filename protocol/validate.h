@@ -1,0 +1,40 @@
+#pragma once
+// Structural checks of every message type, applied by the Bus before any
+// handler sees a message: counts match arrays, sizes and indices are in
+// range, codes and actions are valid, floats are finite. Checks that need
+// context (does a shard fit its job's table?) are made by the receiver.
+// Each returns "" when the message is valid, else what is wrong.
+
+#include <string>
+
+#include "dynapath/changes_t.hpp"
+#include "dynapath/fragment_nack_t.hpp"
+#include "dynapath/fragment_t.hpp"
+#include "dynapath/grid_t.hpp"
+#include "dynapath/heartbeat_t.hpp"
+#include "dynapath/job_batch_t.hpp"
+#include "dynapath/job_result_t.hpp"
+#include "dynapath/limits.h"
+#include "dynapath/policy_t.hpp"
+#include "dynapath/shards_t.hpp"
+#include "dynapath/step_report_t.hpp"
+#include "dynapath/step_request_t.hpp"
+
+namespace dynapath::protocol {
+
+// The largest grid side the protocol accepts is dynapath::kMaxGridSide
+// (core/include/dynapath/limits.h), the same limit as the command line's and the configs'.
+
+std::string Validate(const heartbeat_t& message);
+std::string Validate(const step_request_t& message);
+std::string Validate(const grid_t& message);
+std::string Validate(const changes_t& message);
+std::string Validate(const job_batch_t& message);
+std::string Validate(const shards_t& message);
+std::string Validate(const job_result_t& message);
+std::string Validate(const fragment_t& message);
+std::string Validate(const fragment_nack_t& message);
+std::string Validate(const step_report_t& message);
+std::string Validate(const policy_t& message);
+
+}  // namespace dynapath::protocol

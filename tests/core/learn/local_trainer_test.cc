@@ -1,0 +1,62 @@
+#include "dynapath/local_trainer.h"
+
+#include <gtest/gtest.h>
+
+#include "dynapath/federated_job.h"
+#include "dynapath/scenario.h"
+#include "dynapath/single_agent_learner.h"
+
+namespace dynapath {
+namespace {
+
+// The parallel trainer gives exactly the tables of the sequential learners,
+// for several nodes at once and any thread count: batches of few jobs
+// (round by round, one to three workers per job), of many (whole jobs per
+// thread from 4 jobs per thread on), and the root alone.
+class LocalTrainerTest : public ::testing::TestWithParam<std::vector<int>> {};
+
+TEST_P(LocalTrainerTest, EqualsSequentialLearners) {
+  const Scenario scenario = GenerateScenario(60, 60, Difficulty::kHard, 52, 0);  // 16 leaves
+  const QuadTree tree(scenario.grid.rows(), scenario.grid.cols());
+  std::vector<NodeId> nodes;
+  std::vector<uint64_t> seeds;
+  for (int leaf : GetParam()) {
+    nodes.push_back(leaf < 0 ? tree.root() : tree.leaves()[leaf]);
+    seeds.push_back(11 + seeds.size());
+  }
+  for (LearnerKind kind : {LearnerKind::kFedAsynQ, LearnerKind::kSingleAgent}) {
+    for (Averaging averaging : {Averaging::kEqual, Averaging::kImportance}) {
+      LearnerConfig config;
+      config.kind = kind;
+      config.federated.averaging = averaging;
+      config.federated.iterations_per_cell = 20;  // keep the test quick
+      config.single_agent.max_episodes = 300;
+      RootQTable expected(tree.rows(), tree.cols());
+      for (size_t i = 0; i < nodes.size(); ++i) {
+        const TrainingJob job =
+            MakeTrainingJob(nodes[i], seeds[i], config, tree, scenario.grid, expected);
+        const TrainingResult result =
+            kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job) : TrainSingleAgent(job);
+        expected.Commit(job.region, result.table);
+      }
+      for (int threads : {1, 2, 3}) {
+        ThreadPool pool(threads);
+        LocalTrainer trainer(pool);
+        RootQTable root(tree.rows(), tree.cols());
+        const TrainingStats stats = trainer.Train(nodes, seeds, config, tree, scenario.grid, root);
+        EXPECT_EQ(stats.jobs, static_cast<int64_t>(nodes.size()));
+        EXPECT_GT(stats.steps, 0);
+        ASSERT_EQ(root.table(), expected.table()) << "threads " << threads;
+      }
+    }
+  }
+}
+
+// Leaf indices; -1 = the root.
+INSTANTIATE_TEST_SUITE_P(Batches, LocalTrainerTest,
+                         ::testing::Values(std::vector<int>{0, 1, 3},
+                                           std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8},
+                                           std::vector<int>{-1}));
+
+}  // namespace
+}  // namespace dynapath

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The layering check itself: on a small tree of the project's shape it passes
+# what is allowed and fails, naming the file, on a process that includes a
+# header private to core, a face header that includes a private one, and a
+# lower layer that includes a higher one.
+# Usage: tests/layering_self_test.sh LAYERING_TEST_SCRIPT
+set -uo pipefail
+check=${1:?usage: layering_self_test.sh LAYERING_TEST_SCRIPT}
+tree=$(mktemp -d)
+trap 'rm -rf "$tree"' EXIT
+mkdir -p "$tree"/core/include/dynapath "$tree"/core/learn "$tree"/protocol "$tree"/agent "$tree"/tools
+echo '#pragma once' >"$tree/core/learn/hidden.h"
+echo '#include "core/learn/hidden.h"' >"$tree/core/learn/hidden.cc"
+echo '#pragma once' >"$tree/core/include/dynapath/shown.h"
+printf '#include "dynapath/shown.h"\n#include "dynapath/shards_t.hpp"\n' >"$tree/protocol/bus.h"
+printf '#include "dynapath/shown.h"\n#include "protocol/bus.h"\n' >"$tree/agent/agent.cc"
+failed=0
+expect() {  # expect PASS|FAIL [FILE]: the check's verdict, and the file it names
+  local want=$1 file=${2:-} output status
+  output=$(bash "$check" "$tree" 2>&1)
+  status=$?
+  if [ "$want" = PASS ] && [ $status -ne 0 ]; then
+    echo "FAIL: a clean tree was refused: $output"; failed=1
+  elif [ "$want" = FAIL ] && { [ $status -eq 0 ] || ! grep -q "FAIL: $file" <<<"$output"; }; then
+    echo "FAIL: $file was not reported: $output"; failed=1
+  fi
+}
+expect PASS
+echo '#include "core/learn/hidden.h"' >>"$tree/agent/agent.cc"
+expect FAIL agent/agent.cc
+sed -i '$d' "$tree/agent/agent.cc"
+echo '#include "core/learn/hidden.h"' >>"$tree/core/include/dynapath/shown.h"
+expect FAIL core/include/dynapath/shown.h
+sed -i '$d' "$tree/core/include/dynapath/shown.h"
+echo '#include "agent/agent.h"' >>"$tree/protocol/bus.h"
+expect FAIL protocol/bus.h
+sed -i '$d' "$tree/protocol/bus.h"
+expect PASS
+[ $failed -eq 0 ] && echo "layering self-test: passes the allowed, reports every violation"
+exit $failed
