@@ -13,13 +13,19 @@
 // --help from there; options whose default depends on others are
 // std::optional, with the rule in `default_text`.
 
-#include <CLI/CLI.hpp>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "dynapath/result.h"
+
+// CLI11 is header-only and costs seconds to compile per file: only the files
+// that build or parse an app include <CLI/CLI.hpp>; the rest see this.
+namespace CLI {
+class App;
+class Validator;
+}  // namespace CLI
 
 namespace dynapath::runtime {
 

@@ -1,6 +1,7 @@
 // dynapath secret FILE: makes a run's secret for processes started by hand
 // (docs/DISTRIBUTED.md, "Authenticated runs").
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
 #include <vector>
