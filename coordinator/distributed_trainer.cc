@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
-#include <stdexcept>
 
 #include "dynapath/learners.h"
 #include "protocol/channels.h"
@@ -59,6 +58,9 @@ struct DistributedTrainer::Batch {
     stalls = 0;
     repeats_since_progress = 0;
   }
+  // Split: when the round being collected began (the last combine, or the
+  // epoch's start).
+  int64_t round_started_ms = 0;
   // Split: restarts for lost shards in a row at the same combined round.
   int64_t restart_round = -1;
   // Split: the round last asked of the agents (RequestRound) and when.
@@ -230,7 +232,8 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
       round = batch.combiner->round();
     } else {
       for (size_t j = 0; j < batch.jobs.size(); ++j) {
-        combined.push_back(protocol::RoundCombiner::Job::From(static_cast<int>(j), batch.jobs[j].job));
+        combined.push_back(
+            protocol::RoundCombiner::Job::From(static_cast<int>(j), batch.jobs[j].job));
       }
     }
   }
@@ -290,6 +293,7 @@ void DistributedTrainer::StartEpoch(std::vector<int> agents) {
   }
   message.num_items = static_cast<int32_t>(message.item_job.size());
   batch.last_progress_ms = AgentRegistry::NowMs();
+  batch.round_started_ms = batch.last_progress_ms;
   batch.repeated = false;
   batch.acknowledged.clear();
   PublishBatch();
@@ -334,6 +338,9 @@ void DistributedTrainer::OnShards(const shards_t& message, int64_t bytes) {
       batch.jobs[static_cast<size_t>(job_round.index)].steps += job_round.steps;
     }
     ++traffic_.rounds;
+    const int64_t now = AgentRegistry::NowMs();
+    slow_round_ms_ = SlowRoundMs(slow_round_ms_, now - batch.round_started_ms);
+    batch.round_started_ms = now;
   }
 }
 
@@ -417,6 +424,13 @@ void DistributedTrainer::CheckAgents() {
         received += batch.jobs[static_cast<size_t>(job)].result ? 1 : 0;
       }
       resend = resend || info.round > received;  // it sent what did not arrive
+    } else if (info.round < batch.combiner->round() &&
+               now - batch.last_progress_ms < ComputingPatienceMs()) {
+      // It has not sent the round we collect: it is still computing it (a
+      // slow or loaded machine, a sanitizer build). A loss shows as an agent
+      // at our round or past it; counting a slow round as one would reassign
+      // work that is being done, and the new epoch would wait for that round
+      // to end before it is even read.
     } else if (now - batch.last_progress_ms >
                std::min(static_cast<int64_t>(options_.resend_seconds * 1000),
                         ResendIntervalMs() + static_cast<int64_t>(RoundUs(batch) / 1000))) {
@@ -528,6 +542,16 @@ int64_t RepeatIntervalMs(int64_t first_interval_ms, int repeats_since_progress) 
   const int doublings = std::min(repeats_since_progress, 6);
   const int64_t grown = first_interval_ms << doublings;
   return std::max(first_interval_ms, std::min(grown, kMaxRepeatIntervalMs));
+}
+
+int64_t SlowRoundMs(int64_t previous_ms, int64_t round_ms) {
+  return std::max(round_ms, previous_ms - previous_ms / 8);
+}
+
+int64_t DistributedTrainer::ComputingPatienceMs() const {
+  const int64_t give_up_ms =
+      static_cast<int64_t>(options_.stall_seconds * 1000) * std::max(1, options_.max_stalls);
+  return std::min(give_up_ms, 3 * slow_round_ms_);
 }
 
 void DistributedTrainer::OnStall(const std::vector<int>& owing) {

@@ -93,6 +93,11 @@ struct DistributedTrainerOptions {
 // fit the caches, 90 ns in 300x300 ones; bench/core_bench).
 double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOptions& options);
 
+// The slowest recent round, updated with one more round's wall time: the
+// larger of the two, the old one decaying by an eighth per round, so one slow
+// round (a pause, a reassignment) is forgotten within some tens of rounds.
+int64_t SlowRoundMs(int64_t previous_ms, int64_t round_ms);
+
 // Traffic of the training protocol (for the benchmark).
 struct TrafficStats {
   int64_t batches = 0;
@@ -147,6 +152,11 @@ class DistributedTrainer : public Trainer {
   std::vector<int> LiveAgents() const;  // live, preferring those not avoided
   void SampleRoundTrip(const AgentInfo& info);
   int64_t ResendIntervalMs() const;
+  // Split: how long an agent that has not yet sent the round being
+  // collected is taken to be computing it, not to have lost it: three of the
+  // slowest recent rounds, at most the give-up time (a hung agent is still
+  // reassigned). 0 until a round was seen.
+  int64_t ComputingPatienceMs() const;
   // False once status_ has failed; sets it to kCancelled when `stop` is set.
   bool Going();
   bool Done() const;
@@ -160,6 +170,7 @@ class DistributedTrainer : public Trainer {
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
   double round_trip_ms_ = -1;              // smoothed, over all agents
+  int64_t slow_round_ms_ = 0;              // the slowest recent split round (SlowRoundMs)
   TrafficStats traffic_;
   Status status_ = Ok{};
 };

@@ -2,7 +2,7 @@
 # The checked builds CI runs after the normal build and tests (.ci/run), each
 # in its own build directory so the normal build is untouched:
 #   build-asan  the whole suite (unit and end-to-end) under ASan + UBSan
-#   build-tsan  the threaded unit tests under TSan
+#   build-tsan  the threaded unit tests under TSan (dynapath_threaded_tests)
 #   build-fuzz  every libFuzzer target of fuzz/ for FUZZ_SECONDS each, from
 #               its committed seed corpus (a copy: the repo's stays as is)
 # Usage: scripts/checked_builds.sh [asan] [tsan] [fuzz]   (default: all three)
@@ -24,31 +24,38 @@ export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:detect_stack_use_after_retu
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="suppressions=$root/.ci/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
 
+# Checked builds optimise lightly (-O1) and keep line tables only (-g1, from
+# DYNAPATH_SANITIZE): full debug information of CLI11, spdlog and GoogleTest
+# would be much of a build's time, and a report needs file and line.
+# Assertions stay on (no NDEBUG).
+gcc_flags=(-DCMAKE_BUILD_TYPE=Checked -DCMAKE_CXX_FLAGS_CHECKED=-O1)
+clang_flags=("${gcc_flags[@]}")
+
 for step in "${steps[@]}"; do
   start=$(date +%s)
   case $step in
     asan)
-      cmake -S . -B build-asan -G Ninja "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      cmake -S . -B build-asan -G Ninja "${launcher[@]}" "${gcc_flags[@]}" \
         -DDYNAPATH_SANITIZE=address,undefined -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
       cmake --build build-asan -j"$jobs"
       ctest --test-dir build-asan --output-on-failure -j"$jobs" | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
       ;;
     tsan)
-      cmake -S . -B build-tsan -G Ninja "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      cmake -S . -B build-tsan -G Ninja "${launcher[@]}" "${gcc_flags[@]}" \
         -DDYNAPATH_SANITIZE=thread -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
-      cmake --build build-tsan -j"$jobs" --target dynapath_unit_tests dynapath_protocol_tests
-      # The unit tests that start threads: the thread pool, the trainers and
-      # learners that use it, the Bus and envsim over memq:// (LCM's dispatch
-      # thread), the round combiner.
-      ctest --test-dir build-tsan --output-on-failure -j"$jobs" \
-        -R '^(ThreadPoolTest|LocalTrainerTest|FedAsynQTest|FedAsynQLearnerTest|ExperimentTest|BusTest|EnvSimTest|RoundCombiner)' \
+      # The unit tests that start threads (tests/CMakeLists.txt,
+      # dynapath_threaded_tests): the thread pool, the trainers and learners
+      # that use it, the experiment runner, the Bus and envsim over memq://
+      # (LCM's dispatch thread), the round combiner.
+      cmake --build build-tsan -j"$jobs" --target dynapath_threaded_tests
+      ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R '^threaded\.' \
         | tee build-tsan/ctest.log
       echo "checked: TSan: $(grep -Eo '[0-9]+% tests passed, [0-9]+ tests failed out of [0-9]+' build-tsan/ctest.log | tail -1)"
       ;;
     fuzz)
       cmake -S . -B build-fuzz -G Ninja "${launcher[@]}" -DCMAKE_CXX_COMPILER=clang++-14 \
-        -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNAPATH_FUZZ=ON -DDYNAPATH_SANITIZE=address,undefined \
+        "${clang_flags[@]}" -DDYNAPATH_FUZZ=ON -DDYNAPATH_SANITIZE=address,undefined \
         -DDYNAPATH_BUILD_TESTS=OFF -DDYNAPATH_BUILD_BENCHMARKS=OFF >/dev/null
       cmake --build build-fuzz -j"$jobs" --target fuzz_all
       for corpus in fuzz/corpus/*/; do

@@ -88,8 +88,8 @@ big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
 # agent 2 owes work however loaded the machine is: "maze" starts the initial
 # training (whole jobs on both agents); "initial training" starts the
 # adaptation (split: agent 2 hosts learners of every batch).
-wait_for_line() {  # FILE PATTERN: up to 30 s
-  for _ in $(seq 1500); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
+wait_for_line() {  # FILE PATTERN: up to 120 s (a sanitizer build on a loaded machine)
+  for _ in $(seq 6000); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
   return 1
 }
 # kill_agent_mid_run LOCAL_DIR NAME PLACEMENT LINE RUN_ARGS...: a run with 2

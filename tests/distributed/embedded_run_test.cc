@@ -240,3 +240,15 @@ TEST(RepeatIntervalTest, DoublesPerRepeatUpToTheCap) {
   EXPECT_EQ(RepeatIntervalMs(200, 3), kMaxRepeatIntervalMs);
   EXPECT_EQ(RepeatIntervalMs(1500, 4), 1500);
 }
+
+// The slowest recent split round, which sets how long an agent still
+// computing a round is waited for before it counts as a loss.
+TEST(SlowRoundTest, KeepsTheSlowestAndForgetsItByAnEighthPerRound) {
+  using dynapath::coordinator::SlowRoundMs;
+  EXPECT_EQ(SlowRoundMs(0, 120), 120);
+  EXPECT_EQ(SlowRoundMs(120, 3000), 3000);  // a slow round counts at once
+  EXPECT_EQ(SlowRoundMs(3000, 100), 2625);  // and fades: 3000 - 3000 / 8
+  int64_t slow = 3000;
+  for (int round = 0; round < 40; ++round) slow = SlowRoundMs(slow, 100);
+  EXPECT_EQ(slow, 100);  // forty fast rounds later, only they count
+}

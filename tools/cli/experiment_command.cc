@@ -18,7 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
-#include <stdexcept>
+#include <exception>
 #include <thread>
 #include <variant>
 
