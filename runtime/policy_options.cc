@@ -55,7 +55,8 @@ Result<PolicyPlan> ResolvePolicyOptions(const PolicyOptions& o,
   }
   if ((!plan.save_path.empty() || !plan.load_path.empty()) && learning.empty()) {
     return Error::Option(plan.save_path.empty() ? "load-policy" : "save-policy",
-                         "needs a learning approach (" + ApproachNamesText() + ")");
+                         "needs a learning approach (onlyTrainLeafNodes, singleAgent, "
+                         "fedAsynQ_EqAvg or fedAsynQ_ImAvg)");
   }
   if (plan.load_path.empty()) return plan;
   const auto start = std::chrono::steady_clock::now();
