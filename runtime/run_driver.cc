@@ -192,6 +192,10 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       return Error::Option("load-policy", plan.policy.load_path + ": " + result.error().message);
     }
     runs.push_back(std::move(*result));
+    if (hooks.load != nullptr) {
+      spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
+                   ApproachName(approach), hooks.load->step, runs.back().load_seconds);
+    }
     if (saved) {
       if (Status written = WritePolicyFile(plan.policy.save_path, to_save); !written) {
         return written.error().Prefixed("policy file " + plan.policy.save_path + ": ");

@@ -118,9 +118,11 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
                    " differs from the one the policy was saved on "
                    "(another change sequence?)");
     }
+    const double start = clock();
     if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
       return imported.error();
     }
+    run.load_seconds = clock() - start;
     first_step = saved + 1;
     maybe_save(saved, grid);
   } else {
@@ -132,6 +134,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
       if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
         return imported.error();
       }
+      run.load_seconds = clock() - start;
       std::vector<int> every_cell(static_cast<size_t>(grid.size()));
       for (int cell = 0; cell < grid.size(); ++cell) every_cell[cell] = cell;
       details = planner->Adapt(grid, every_cell);

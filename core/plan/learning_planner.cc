@@ -71,6 +71,10 @@ Status LearningPlanner::ImportPolicy(const PolicyState& state, const Grid& grid)
   root_->table() = state.table;
   training_count_ = state.training_counts;
   strategy_->RestoreBaselines(state.baselines);
+  // Build the evaluation now, as the initial training did: its cost belongs
+  // to loading, not to the next step's adaptation time.
+  grid_ = &grid;
+  evaluation_.Score(grid, root_->table(), tree_->root());
   return Ok{};
 }
 

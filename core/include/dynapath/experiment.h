@@ -58,6 +58,7 @@ struct ApproachRun {
   std::string size_label;        // "50" for square mazes, "40x60" otherwise
   std::string difficulty_label;  // "Easy", "Medium", "Hard", "Custom", or a map's name
   double initial_seconds = 0.0;
+  double load_seconds = 0.0;      // taking over a loaded policy (PolicyHooks), else 0
   std::vector<StepRecord> steps;  // time steps 0..T (S+1..T continuing a loaded policy)
 
   // SPEC 9 summary: success and length averaged over the steps, adaptation
