@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # End to end: `dynapath run --save-policy / --load-policy` (docs/howto/POLICIES.md).
 # A policy saved after step S and loaded on the same maze continues with rows
-# S+1.. identical to the uninterrupted run (--local and --embedded); another
+# S+1.. identical to the uninterrupted run (--local, --embedded, --agents); another
 # maze of the same shape starts from it; a different shape and every kind of
 # damaged file get one error naming the file, exit 2.
 # Usage: policy_files_test.sh DYNAPATH
@@ -44,6 +44,12 @@ diff <(rows_after "$work/whole" 3) <(strip_times "$work/local/results_detailed.c
   --load-policy "$work/p3.pol" >/dev/null 2>&1
 same_result_files "$work/local" "$work/embedded" results_detailed.csv ||
   fail "--embedded --agents 2 continuation differs from --local"
+# Agent processes (in a private network namespace, or as threads where
+# namespaces are not allowed: dynapath run decides).
+"$dynapath" run --agents 2 "${maze[@]}" --out "$work/agents" --load-policy "$work/p3.pol" \
+  >/dev/null 2>&1
+same_result_files "$work/local" "$work/agents" results_detailed.csv ||
+  fail "--agents 2 continuation differs from --local"
 # Saved by --embedded: the same bytes.
 "$dynapath" run --embedded --agents 2 "${maze[@]}" --out "$work/embedded_saving" \
   --save-policy "$work/p3e.pol" --save-at 3 >/dev/null 2>&1
