@@ -6,6 +6,7 @@
 
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
+#include "runtime/policy_file.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -87,9 +88,8 @@ const WordTable<Semantics>& SemanticsWords() {
 }
 
 const WordTable<Placement>& PlacementWords() {
-  static const WordTable<Placement> words({{"auto", Placement::kAuto},
-                                           {"whole", Placement::kWhole},
-                                           {"split", Placement::kSplit}});
+  static const WordTable<Placement> words(
+      {{"auto", Placement::kAuto}, {"whole", Placement::kWhole}, {"split", Placement::kSplit}});
   return words;
 }
 
@@ -126,6 +126,7 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--out", o.out, "DIR", "output directory");
   DeclareLearnerOptions(group, o);
   DeclarePlacementOption(group, o);
+  DeclarePolicyOptions(group, o.policy);
 }
 
 Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
@@ -151,6 +152,9 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   Result<Placement> placement = PlacementWords().ParseOption("placement", o.placement);
   if (!placement) return placement.error();
   plan.placement = *placement;
+  Result<PolicyPlan> policy = ResolvePolicyOptions(o.policy, plan.approaches);
+  if (!policy) return policy.error();
+  plan.policy = std::move(*policy);
   return plan;
 }
 
@@ -160,6 +164,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
                                                const std::atomic<bool>* stop) {
   StoppableSource stoppable(source, stop);
   std::vector<ApproachRun> runs;
+  std::vector<PolicyState> to_save;  // the learning approaches' so far
   int pass = 0;
   for (Approach approach : plan.approaches) {
     ProgressLog progress(SteadyClock());
@@ -167,12 +172,41 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       progress(view);
       if (extra) extra(view);
     };
-    runs.push_back(RunApproach(stoppable, pass++, approach, plan.options, &trainer, labels,
-                               SteadyClock(), on_step));
+    PolicyHooks hooks;
+    hooks.load = plan.policy.Find(approach);
+    bool saved = false;
+    if (!plan.policy.save_path.empty()) {
+      hooks.save_at = plan.policy.save_at;
+      hooks.save = [&](PolicyState&& state) {
+        to_save.push_back(std::move(state));
+        saved = true;
+      };
+    }
+    Result<ApproachRun> result = RunApproach(stoppable, pass++, approach, plan.options, &trainer,
+                                             labels, hooks, SteadyClock(), on_step);
     // A run cut short by its source or trainer is not written.
     stoppable.Stopped();
     if (Status status = stoppable.status(); !status) return status.error();
     if (Status status = trainer.status(); !status) return status.error();
+    if (!result) {
+      return Error::Option("load-policy", plan.policy.load_path + ": " + result.error().message);
+    }
+    runs.push_back(std::move(*result));
+    if (hooks.load != nullptr) {
+      spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
+                   ApproachName(approach), hooks.load->step, runs.back().load_seconds);
+    }
+    if (saved) {
+      if (Status written = WritePolicyFile(plan.policy.save_path, to_save); !written) {
+        return written.error().Prefixed("policy file " + plan.policy.save_path + ": ");
+      }
+      spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach),
+                   to_save.back().step, plan.policy.save_path);
+    } else if (hooks.save && IsLearningApproach(approach)) {
+      return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
+                                          " is not a step " + ApproachName(approach) +
+                                          " ran (a loaded policy continues after its step)");
+    }
     const ApproachRun& run = runs.back();
     spdlog::info(
         "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",

@@ -11,6 +11,7 @@
 #include "dynapath/quadtree.h"
 #include "dynapath/results_csv.h"
 #include "runtime/option_group.h"
+#include "runtime/policy_options.h"
 #include "runtime/scenario_options.h"
 #include "runtime/word_table.h"
 
@@ -29,6 +30,7 @@ struct RunPlan {
   PlannerOptions options;  // run_seed is set from the scenario
   std::string out_dir = "results";
   Placement placement = Placement::kAuto;
+  PolicyPlan policy;  // --save-policy, --save-at, --load-policy
 };
 
 // The words of --bootstrap, --semantics and --placement (also a study
@@ -46,6 +48,7 @@ struct RunOptions {
   std::string bootstrap = BootstrapWords().Name(PlannerOptions{}.bootstrap);
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
+  PolicyOptions policy;
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that
@@ -62,8 +65,8 @@ Result<int> ResolveLeafLimit(long long leaf_limit);
 void DeclareLearnerOptions(OptionGroup& group, RunOptions& options);
 // --placement (also `dynapath experiment`'s).
 void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
-// Declares --approach, --out, --leaf-limit, --bootstrap, --semantics and
-// --placement.
+// Declares --approach, --out, --leaf-limit, --bootstrap, --semantics,
+// --placement and the policy options (runtime/policy_options.h).
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
@@ -71,6 +74,8 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 // approach), logging progress, and (re)writes DIR/results.csv and
 // DIR/results_detailed.csv atomically after every approach, so an
 // interrupted run keeps what finished. `extra` is called after every step.
+// With plan.policy, each learning approach starts from its loaded section
+// and the saved policies are (re)written after every learning approach.
 // Fails when the files cannot be written, with the source's or the
 // trainer's status() when one of them fails, and with kCancelled when
 // `stop` (may be null; checked before every time step and after every

@@ -18,7 +18,8 @@ packages=(
   libsfml-dev                         # dynapath view (live policy window)
   libpng-dev                          # PNG output of dynapath render
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)
-  libsodium-dev                       # message authentication of a run (keyed BLAKE2b)
+  libsodium-dev                       # message authentication of a run (keyed BLAKE2b), policy file checksums
+  libzstd-dev                         # compressed tables of policy files (runtime/policy_file.h)
   xvfb xauth                          # the viewer's one headless check (tests)
   iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
   libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN

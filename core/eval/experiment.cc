@@ -18,8 +18,13 @@ double ApproachRun::AveragePathLength() const {
 
 double ApproachRun::AdaptSecondsPerStep() const {
   double total = 0.0;
-  for (size_t t = 1; t < steps.size(); ++t) total += steps[t].adapt_seconds;
-  return steps.size() <= 1 ? 0.0 : total / static_cast<double>(steps.size() - 1);
+  int counted = 0;
+  for (const StepRecord& step : steps) {
+    if (step.time_step == 0) continue;
+    total += step.adapt_seconds;
+    ++counted;
+  }
+  return counted == 0 ? 0.0 : total / static_cast<double>(counted);
 }
 
 Clock SteadyClock() {
@@ -59,6 +64,17 @@ ApproachRun RunApproach(const Scenario& scenario, Approach approach, const Plann
 ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
                         const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
                         const Clock& clock, const StepCallback& on_step) {
+  // Without a policy to load nothing can fail but the source or trainer,
+  // whose status the caller checks.
+  Result<ApproachRun> run =
+      RunApproach(source, pass, approach, options, trainer, labels, PolicyHooks{}, clock, on_step);
+  return run ? std::move(*run) : ApproachRun{};
+}
+
+Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
+                                const PlannerOptions& options, Trainer* trainer,
+                                const RunLabels& labels, const PolicyHooks& hooks,
+                                const Clock& clock, const StepCallback& on_step) {
   ApproachRun run;
   run.approach = approach;
   run.size_label = labels.size_label;
@@ -67,29 +83,85 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
   std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
   // A failed source or trainer ends the run (its status tells the caller).
   auto failed = [&] { return !source.status() || (trainer != nullptr && !trainer->status()); };
+  uint64_t initial_fingerprint = 0;
+  const int save_at = hooks.save_at == kSaveAtEnd ? total_steps : hooks.save_at;
+  auto maybe_save = [&](int t, const Grid& grid) {
+    if (t != save_at || !hooks.save) return;
+    PolicyState state;
+    if (!planner->ExportPolicy(state)) return;
+    state.step = t;
+    state.initial_fingerprint = initial_fingerprint;
+    state.fingerprint = GridFingerprint(grid);
+    hooks.save(std::move(state));
+  };
 
   Grid grid = source.Initial(pass);
   if (failed()) return run;
-  double start = clock();
-  StepDetails details = planner->Initialize(grid);
-  run.initial_seconds = clock() - start;
-  if (failed()) return run;
-  run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
-  if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
+  initial_fingerprint = GridFingerprint(grid);
+  int first_step = 1;
+  const PolicyState* loaded = hooks.load;
+  if (loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint &&
+      loaded->run_seed == options.run_seed) {
+    // The maze it was saved from: catch up with the saved step, then go on.
+    const int saved = loaded->step;
+    if (saved > total_steps) {
+      return Error("the policy was saved after step " + std::to_string(saved) + ", this run has " +
+                   std::to_string(total_steps) + " steps");
+    }
+    for (int t = 1; t <= saved; ++t) {
+      const ChangeStep step = source.Changes(pass, t);
+      if (failed()) return run;
+      ApplyChanges(step, grid);
+    }
+    if (GridFingerprint(grid) != loaded->fingerprint) {
+      return Error("the maze at step " + std::to_string(saved) +
+                   " differs from the one the policy was saved on "
+                   "(another change sequence?)");
+    }
+    const double start = clock();
+    if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
+      return imported.error();
+    }
+    run.load_seconds = clock() - start;
+    first_step = saved + 1;
+    maybe_save(saved, grid);
+  } else {
+    StepDetails details;
+    double start = clock();
+    if (loaded != nullptr) {
+      // Another maze of the same shape: the strategy decides node by node
+      // from the loaded baselines, as after a step that changed every cell.
+      if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
+        return imported.error();
+      }
+      run.load_seconds = clock() - start;
+      std::vector<int> every_cell(static_cast<size_t>(grid.size()));
+      for (int cell = 0; cell < grid.size(); ++cell) every_cell[cell] = cell;
+      details = planner->Adapt(grid, every_cell);
+    } else {
+      details = planner->Initialize(grid);
+    }
+    run.initial_seconds = clock() - start;
+    if (failed()) return run;
+    run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
+    maybe_save(0, grid);
+    if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
+  }
 
   std::vector<int> changed_cells;
-  for (int t = 1; t <= total_steps; ++t) {
+  for (int t = first_step; t <= total_steps; ++t) {
     const ChangeStep step = source.Changes(pass, t);
     if (failed()) return run;
     ApplyChanges(step, grid);
     changed_cells.clear();
     for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
     const bool timed = planner->Adapts();
-    start = clock();
-    details = planner->Adapt(grid, changed_cells);
+    const double start = clock();
+    const StepDetails details = planner->Adapt(grid, changed_cells);
     const double seconds = timed ? clock() - start : 0.0;
     if (failed()) return run;
     run.steps.push_back(Score(*planner, grid, t, step.requested_moves, seconds, details));
+    maybe_save(t, grid);
     if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
   }
   return run;

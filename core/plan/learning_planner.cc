@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 
+#include "dynapath/policy_state.h"
+
 namespace dynapath {
 
 LearningPlanner::LearningPlanner(Approach approach, const PlannerOptions& options, Trainer& trainer)
@@ -23,6 +25,11 @@ std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
 }
 
 StepDetails LearningPlanner::Initialize(const Grid& grid) {
+  Reset(grid);
+  return RunStrategy({});
+}
+
+void LearningPlanner::Reset(const Grid& grid) {
   tree_ = std::make_unique<QuadTree>(grid.rows(), grid.cols(), options_.leaf_limit);
   // The report's code keeps its tables in double (SPEC section 10).
   const QPrecision precision = options_.table_precision.value_or(
@@ -32,7 +39,43 @@ StepDetails LearningPlanner::Initialize(const Grid& grid) {
   strategy_ = spec_.make_strategy(*tree_, options_.thresholds);
   grid_ = &grid;
   evaluation_.Reset(*tree_);
-  return RunStrategy({});
+}
+
+bool LearningPlanner::ExportPolicy(PolicyState& state) const {
+  state.approach = spec_.approach;
+  state.rows = root_->rows();
+  state.cols = root_->cols();
+  state.leaf_limit = options_.leaf_limit;
+  state.node_count = tree_->node_count();
+  state.semantics = options_.semantics;
+  state.precision = root_->precision();
+  state.learner = options_;
+  state.thresholds = options_.thresholds;
+  state.run_seed = options_.run_seed;
+  state.training_counts = training_count_;
+  state.baselines = strategy_->Baselines();
+  state.table = root_->table();
+  return true;
+}
+
+Status LearningPlanner::ImportPolicy(const PolicyState& state, const Grid& grid) {
+  if (Status fits = CheckPolicyFits(state, spec_.approach, options_, grid.rows(), grid.cols());
+      !fits) {
+    return fits;
+  }
+  if (Status consistent = CheckPolicyConsistent(state); !consistent) return consistent;
+  Reset(grid);
+  if (state.baselines.size() != strategy_->Baselines().size()) {
+    return Error::Corrupt("the policy's baselines do not match " + ApproachName(spec_.approach));
+  }
+  root_->table() = state.table;
+  training_count_ = state.training_counts;
+  strategy_->RestoreBaselines(state.baselines);
+  // Build the evaluation now, as the initial training did: its cost belongs
+  // to loading, not to the next step's adaptation time.
+  grid_ = &grid;
+  evaluation_.Score(grid, root_->table(), tree_->root());
+  return Ok{};
 }
 
 StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& changed_cells) {

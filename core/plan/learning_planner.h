@@ -20,6 +20,8 @@ class LearningPlanner : public Planner, private TrainingContext {
   StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) override;
   PolicyScore Evaluate(const Grid& grid) override;
   bool Picture(const Grid& grid, PolicyPicture& picture) override;
+  bool ExportPolicy(PolicyState& state) const override;
+  Status ImportPolicy(const PolicyState& state, const Grid& grid) override;
 
   const QuadTree& tree() const { return *tree_; }
   const RootQTable& root() const { return *root_; }
@@ -30,6 +32,8 @@ class LearningPlanner : public Planner, private TrainingContext {
   void Train(const std::vector<NodeId>& nodes) override;
 
   StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
+  // Initialize's part before training: a fresh tree, table, counts, strategy.
+  void Reset(const Grid& grid);
 
   const ApproachSpec& spec_;  // its learner and strategy
   PlannerOptions options_;

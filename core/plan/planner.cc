@@ -10,4 +10,8 @@ std::unique_ptr<Planner> MakePlanner(Approach approach, const PlannerOptions& op
   return spec.make_planner(spec, options, trainer);
 }
 
+Status Planner::ImportPolicy(const PolicyState& /*state*/, const Grid& /*grid*/) {
+  return Error("this approach learns no policy");
+}
+
 }  // namespace dynapath

@@ -21,6 +21,10 @@ TreeStrategy::TreeStrategy(const QuadTree& tree, RetrainingThresholds thresholds
       thresholds_(thresholds),
       baseline_(static_cast<size_t>(tree.node_count()), -1.0) {}
 
+void TreeStrategy::RestoreBaselines(const std::vector<double>& baselines) {
+  if (baselines.size() == baseline_.size()) baseline_ = baselines;
+}
+
 bool TreeStrategy::NeedsTraining(NodeId node, TrainingContext& context) {
   if (!trained(node)) return true;
   const double old_rate = baseline_[node];

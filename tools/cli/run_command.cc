@@ -83,6 +83,12 @@ int RunCommand(const std::vector<std::string>& args) {
   // Check the maze options here, so a bad one is one error line, not one per process.
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
+  if (Status policy = runtime::CheckPolicyPlan(
+          plan->policy, plan->approaches, plan->options, setup->scenario.grid.rows(),
+          setup->scenario.grid.cols(), static_cast<int>(setup->scenario.changes.steps.size()));
+      !policy) {
+    return usage_error(policy.error().message);
+  }
 
   if (distributed) {
     launch::DistributedRun run;

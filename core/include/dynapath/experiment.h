@@ -8,6 +8,7 @@
 
 #include "dynapath/approach.h"
 #include "dynapath/planner.h"
+#include "dynapath/policy_state.h"
 #include "dynapath/scenario.h"
 
 namespace dynapath {
@@ -57,10 +58,11 @@ struct ApproachRun {
   std::string size_label;        // "50" for square mazes, "40x60" otherwise
   std::string difficulty_label;  // "Easy", "Medium", "Hard", "Custom", or a map's name
   double initial_seconds = 0.0;
-  std::vector<StepRecord> steps;  // time steps 0..T
+  double load_seconds = 0.0;      // taking over a loaded policy (PolicyHooks), else 0
+  std::vector<StepRecord> steps;  // time steps 0..T (S+1..T continuing a loaded policy)
 
-  // SPEC 9 summary: success and length averaged over steps 0..T, adaptation
-  // time over 1..T.
+  // SPEC 9 summary: success and length averaged over the steps, adaptation
+  // time over those after step 0.
   double AverageSuccessRate() const;
   double AveragePathLength() const;
   double AdaptSecondsPerStep() const;
@@ -96,6 +98,29 @@ ApproachRun RunApproach(const Scenario& scenario, Approach approach, const Plann
 ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
                         const PlannerOptions& options, Trainer* trainer, const RunLabels& labels,
                         const Clock& clock = SteadyClock(), const StepCallback& on_step = {});
+
+// Loading and saving a learning approach's policy (dynapath/policy_state.h).
+inline constexpr int kSaveAtEnd = -2;
+struct PolicyHooks {
+  // Start from this policy instead of the initial training: on the maze it
+  // was saved from (same step-0 maze and run seed) the run continues at the
+  // step after the saved one, its changes up to that step applied without
+  // adapting (its steps then start there; initial_seconds is 0); on another
+  // maze of the same shape step 0 adapts from it as after a change of every
+  // cell (timed as the initial training).
+  const PolicyState* load = nullptr;
+  // After which time step `save` gets the policy: -1 never, kSaveAtEnd the
+  // last. Called only for planners that export one.
+  int save_at = -1;
+  std::function<void(PolicyState&&)> save;
+};
+// RunApproach with `hooks`; fails when the loaded policy does not fit the
+// run (CheckPolicyFits) or continuing it finds another change sequence.
+Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
+                                const PlannerOptions& options, Trainer* trainer,
+                                const RunLabels& labels, const PolicyHooks& hooks,
+                                const Clock& clock = SteadyClock(),
+                                const StepCallback& on_step = {});
 
 // "50" for a 50x50 maze, "40x60" for 40 rows and 60 columns.
 std::string SizeLabel(int rows, int cols);

@@ -12,10 +12,13 @@
 #include "dynapath/grid.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/quadtree.h"
+#include "dynapath/result.h"
 #include "dynapath/retraining_strategy.h"
 #include "dynapath/trainer.h"
 
 namespace dynapath {
+
+struct PolicyState;  // dynapath/policy_state.h
 
 // Whose learning semantics the learning approaches follow (docs/DECISIONS.md,
 // "Learning"). kReport reproduces the report's public code: the update's
@@ -67,6 +70,13 @@ class Planner {
   // False for a plan that never adapts (A* Static): its adaptation time is 0
   // by definition, not the time of a call that does nothing.
   virtual bool Adapts() const { return true; }
+  // The learning approaches' state (dynapath/policy_state.h): ExportPolicy
+  // fills `state` but its step and fingerprints (the runner's) and returns
+  // true; false for approaches without one. ImportPolicy replaces
+  // Initialize: it checks that `state` fits (CheckPolicyFits) and takes it
+  // over on `grid`, which the next Adapt call changes.
+  virtual bool ExportPolicy(PolicyState& /*state*/) const { return false; }
+  virtual Status ImportPolicy(const PolicyState& state, const Grid& grid);
 };
 
 // The approach's planner (its factory in core/plan/approach_registry.h).

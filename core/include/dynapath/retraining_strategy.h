@@ -38,6 +38,11 @@ class RetrainingStrategy {
   // changed cell; empty means initial training.
   virtual AdaptationReport Adapt(const std::vector<NodeId>& changed_leaves,
                                  TrainingContext& context) = 0;
+  // The per-node success rates the strategy keeps between steps (-1: never
+  // trained), for saving a policy; empty for a strategy that keeps none.
+  // RestoreBaselines takes back what Baselines returned (same size).
+  virtual std::vector<double> Baselines() const { return {}; }
+  virtual void RestoreBaselines(const std::vector<double>& /*baselines*/) {}
 };
 
 // The report's tree strategy: success-rate condition on changed leaves, then
@@ -53,6 +58,8 @@ class TreeStrategy : public RetrainingStrategy {
   // Stored baseline success rate of a node; negative when never trained.
   double baseline(NodeId node) const { return baseline_[node]; }
   bool trained(NodeId node) const { return baseline_[node] >= 0.0; }
+  std::vector<double> Baselines() const override { return baseline_; }
+  void RestoreBaselines(const std::vector<double>& baselines) override;
 
  private:
   // The retraining condition of SPEC 5.1: true = retrain. Otherwise raises

@@ -1,0 +1,428 @@
+// The policy file codec (docs/reference/POLICY_FORMAT.md describes the bytes).
+#include "runtime/policy_file.h"
+
+#include <sodium.h>
+#include <sys/stat.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <set>
+
+#include "dynapath/limits.h"
+#include "dynapath/mdp.h"
+#include "dynapath/text_file.h"
+
+namespace dynapath::runtime {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the policy file's numbers and tables are little-endian");
+
+constexpr char kMagic[8] = {'D', 'Y', 'N', 'A', 'P', 'O', 'L', '\n'};
+constexpr size_t kHeaderBytes = 24;  // magic, version, section count, body length
+constexpr size_t kChecksumBytes = 32;
+constexpr size_t kNameBytes = 32;
+constexpr size_t kMaxSections = 4;  // one per learning approach
+constexpr int kCompressionLevel = 3;
+
+constexpr size_t kSingleAgentOptionCount = 0
+#define DYNAPATH_COUNT_OPTION(member, type, default_value, min, max) +1
+    DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_COUNT_OPTION);
+constexpr size_t kFederatedOptionCount = 0 DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_COUNT_OPTION);
+#undef DYNAPATH_COUNT_OPTION
+
+class Writer {
+ public:
+  template <class T>
+  void Put(T value) {
+    const size_t at = bytes_.size();
+    bytes_.resize(at + sizeof(T));
+    std::memcpy(bytes_.data() + at, &value, sizeof(T));
+  }
+  void PutBytes(const void* data, size_t size) {
+    const auto* begin = static_cast<const uint8_t*>(data);
+    bytes_.insert(bytes_.end(), begin, begin + size);
+  }
+  std::vector<uint8_t>& bytes() { return bytes_; }
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+  template <class T>
+  bool Get(T& value) {
+    if (left() < sizeof(T)) return false;
+    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return true;
+  }
+  bool GetView(size_t size, std::string_view& view) {
+    if (left() < size) return false;
+    view = bytes_.substr(at_, size);
+    at_ += size;
+    return true;
+  }
+  size_t left() const { return bytes_.size() - at_; }
+
+ private:
+  std::string_view bytes_;
+  size_t at_ = 0;
+};
+
+Status Truncated(const std::string& what) { return Error::Corrupt("truncated in " + what); }
+
+// zstd of `data`, its length first.
+Status PutCompressed(Writer& out, const void* data, size_t size) {
+  std::vector<uint8_t> frame(ZSTD_compressBound(size));
+  const size_t written = ZSTD_compress(frame.data(), frame.size(), data, size, kCompressionLevel);
+  if (ZSTD_isError(written)) {
+    return Error::Internal(std::string("zstd: ") + ZSTD_getErrorName(written));
+  }
+  out.Put<uint64_t>(written);
+  out.PutBytes(frame.data(), written);
+  return Ok{};
+}
+
+struct DStreamFree {
+  void operator()(ZSTD_DStream* stream) const { ZSTD_freeDStream(stream); }
+};
+
+// One zstd frame of exactly `expected` bytes from `reader`. The output
+// grows with what really decompresses (a frame's claimed size is not
+// trusted for allocation), and stops at `expected`.
+Result<std::vector<uint8_t>> GetCompressed(Reader& reader, size_t expected,
+                                           const std::string& what) {
+  uint64_t length = 0;
+  std::string_view frame;
+  if (!reader.Get(length)) return Truncated(what).error();
+  if (length > reader.left()) {
+    return Error::Corrupt(what + " claims " + std::to_string(length) + " bytes, " +
+                          std::to_string(reader.left()) + " are left");
+  }
+  reader.GetView(static_cast<size_t>(length), frame);
+  const unsigned long long claimed = ZSTD_getFrameContentSize(frame.data(), frame.size());
+  if (claimed != expected) {
+    return Error::Corrupt(what + ": the compressed block is not the " + std::to_string(expected) +
+                          " bytes the shape says");
+  }
+  std::unique_ptr<ZSTD_DStream, DStreamFree> stream(ZSTD_createDStream());
+  if (!stream) return Error::Internal("zstd: out of memory");
+  ZSTD_initDStream(stream.get());
+  std::vector<uint8_t> out;
+  ZSTD_inBuffer input{frame.data(), frame.size(), 0};
+  constexpr size_t kChunk = size_t{1} << 20;
+  size_t status = 1;
+  while (status != 0) {
+    const size_t have = out.size();
+    const size_t grow = std::min(kChunk, expected - have);
+    out.resize(have + grow);
+    ZSTD_outBuffer output{out.data() + have, grow, 0};
+    const size_t consumed = input.pos;
+    status = ZSTD_decompressStream(stream.get(), &output, &input);
+    if (ZSTD_isError(status)) return Error::Corrupt(what + ": " + ZSTD_getErrorName(status));
+    out.resize(have + output.pos);
+    if (status != 0 && output.pos == 0 && input.pos == consumed) {
+      return Error::Corrupt(what + ": the compressed block ends early or holds more than the " +
+                            std::to_string(expected) + " bytes the shape says");
+    }
+  }
+  if (out.size() != expected || input.pos != input.size) {
+    return Error::Corrupt(what + ": the compressed block is not the " + std::to_string(expected) +
+                          " bytes the shape says");
+  }
+  return out;
+}
+
+uint8_t PrecisionCode(QPrecision precision) { return precision == QPrecision::kFloat ? 0 : 1; }
+
+uint8_t BootstrapCode(Bootstrap bootstrap) {
+  switch (bootstrap) {
+    case Bootstrap::kInGrid:
+      return 0;
+    case Bootstrap::kInRegion:
+      return 1;
+    case Bootstrap::kAllStored:
+      return 2;
+  }
+  return 0;
+}
+
+Status EncodeSection(const PolicyState& s, Writer& out) {
+  if (Status consistent = CheckPolicyConsistent(s); !consistent) return consistent;
+  char name[kNameBytes] = {};
+  const std::string approach = ApproachName(s.approach);
+  std::memcpy(name, approach.data(), std::min(approach.size(), kNameBytes - 1));
+  out.PutBytes(name, kNameBytes);
+  out.Put<uint32_t>(static_cast<uint32_t>(s.rows));
+  out.Put<uint32_t>(static_cast<uint32_t>(s.cols));
+  out.Put<uint32_t>(static_cast<uint32_t>(s.leaf_limit));
+  out.Put<uint32_t>(static_cast<uint32_t>(s.node_count));
+  out.Put<uint8_t>(s.semantics == Semantics::kReport ? 1 : 0);
+  out.Put<uint8_t>(PrecisionCode(s.precision));
+  out.Put<uint8_t>(BootstrapCode(s.learner.bootstrap));
+  out.Put<uint8_t>(s.baselines.empty() ? 0 : 1);
+  out.Put<uint32_t>(static_cast<uint32_t>(s.step));
+  out.Put<uint64_t>(s.run_seed);
+  out.Put<uint64_t>(s.initial_fingerprint);
+  out.Put<uint64_t>(s.fingerprint);
+  out.Put<double>(s.thresholds.max_drop);
+  out.Put<double>(s.thresholds.min_success_rate);
+  out.Put<uint32_t>(kSingleAgentOptionCount);
+#define DYNAPATH_PUT_SINGLE(member, type, default_value, min, max) \
+  out.Put<double>(static_cast<double>(s.learner.single_agent.member));
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_PUT_SINGLE)
+#undef DYNAPATH_PUT_SINGLE
+  out.Put<uint32_t>(kFederatedOptionCount);
+#define DYNAPATH_PUT_FEDERATED(member, type, default_value, min, max) \
+  out.Put<double>(static_cast<double>(s.learner.federated.member));
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_PUT_FEDERATED)
+#undef DYNAPATH_PUT_FEDERATED
+  Writer nodes;
+  nodes.PutBytes(s.training_counts.data(), s.training_counts.size() * sizeof(int64_t));
+  nodes.PutBytes(s.baselines.data(), s.baselines.size() * sizeof(double));
+  if (Status put = PutCompressed(out, nodes.bytes().data(), nodes.bytes().size()); !put) {
+    return put;
+  }
+  if (s.precision == QPrecision::kFloat) {
+    const std::vector<float>& values = s.table.values();
+    return PutCompressed(out, values.data(), values.size() * sizeof(float));
+  }
+  const std::vector<double>& values = s.table.wide_values();
+  return PutCompressed(out, values.data(), values.size() * sizeof(double));
+}
+
+// An integer option read as a double: whole and in the int range.
+bool ToInt(double value, int& out) {
+  if (!(value >= -2147483648.0 && value <= 2147483647.0) || value != static_cast<int>(value)) {
+    return false;
+  }
+  out = static_cast<int>(value);
+  return true;
+}
+bool ToInt(double value, double& out) {
+  out = value;
+  return std::isfinite(value);
+}
+
+Result<PolicyState> DecodeSection(std::string_view bytes) {
+  Reader in(bytes);
+  PolicyState s;
+  std::string_view name;
+  if (!in.GetView(kNameBytes, name)) return Truncated("the section header").error();
+  const std::string approach(name.substr(0, name.find('\0')));
+  const std::optional<Approach> parsed = ParseApproach(approach);
+  if (!parsed || !IsLearningApproach(*parsed)) {
+    return Error::Corrupt("unknown learning approach '" + approach.substr(0, 40) + "'");
+  }
+  s.approach = *parsed;
+  uint32_t rows = 0, cols = 0, leaf_limit = 0, node_count = 0, step = 0;
+  uint8_t semantics = 0, precision = 0, bootstrap = 0, has_baselines = 0;
+  double max_drop = 0, min_rate = 0;
+  uint32_t single_count = 0, federated_count = 0;
+  if (!in.Get(rows) || !in.Get(cols) || !in.Get(leaf_limit) || !in.Get(node_count) ||
+      !in.Get(semantics) || !in.Get(precision) || !in.Get(bootstrap) || !in.Get(has_baselines) ||
+      !in.Get(step) || !in.Get(s.run_seed) || !in.Get(s.initial_fingerprint) ||
+      !in.Get(s.fingerprint) || !in.Get(max_drop) || !in.Get(min_rate)) {
+    return Truncated("the section header").error();
+  }
+  if (rows < 1 || cols < 1 || rows > kMaxGridSide || cols > kMaxGridSide) {
+    return Error::Corrupt("shape " + std::to_string(rows) + "x" + std::to_string(cols) +
+                          " is outside 1.." + std::to_string(kMaxGridSide));
+  }
+  const uint64_t cells = uint64_t{rows} * cols;
+  // A quadtree has fewer nodes than twice its cells (every split at least
+  // halves a side); the planner checks the exact count against its tree.
+  if (leaf_limit < 1 || leaf_limit > static_cast<uint32_t>(kMaxGridSide) || node_count < 1 ||
+      node_count > 2 * cells || step > static_cast<uint32_t>(INT32_MAX)) {
+    return Error::Corrupt("leaf limit, node count or step out of range");
+  }
+  if (semantics > 1 || precision > 1 || bootstrap > 2 || has_baselines > 1) {
+    return Error::Corrupt("unknown semantics, precision, bootstrap or baseline flag");
+  }
+  s.rows = static_cast<int>(rows);
+  s.cols = static_cast<int>(cols);
+  s.leaf_limit = static_cast<int>(leaf_limit);
+  s.node_count = static_cast<int>(node_count);
+  s.step = static_cast<int>(step);
+  s.semantics = semantics == 1 ? Semantics::kReport : Semantics::kOurs;
+  s.precision = precision == 1 ? QPrecision::kDouble : QPrecision::kFloat;
+  s.learner.bootstrap = bootstrap == 0   ? Bootstrap::kInGrid
+                        : bootstrap == 1 ? Bootstrap::kInRegion
+                                         : Bootstrap::kAllStored;
+  s.thresholds.max_drop = max_drop;
+  s.thresholds.min_success_rate = min_rate;
+  if (!in.Get(single_count) || single_count != kSingleAgentOptionCount) {
+    return Error::Corrupt("expected " + std::to_string(kSingleAgentOptionCount) +
+                          " single-agent options");
+  }
+  double value = 0;
+#define DYNAPATH_GET_OPTION(group, member)                               \
+  if (!in.Get(value)) return Truncated("the learner options").error();   \
+  if (!ToInt(value, s.learner.group.member)) {                           \
+    return Error::Corrupt("learner option " #member " is out of range"); \
+  }
+#define DYNAPATH_GET_SINGLE(member, type, default_value, min, max) \
+  DYNAPATH_GET_OPTION(single_agent, member)
+#define DYNAPATH_GET_FEDERATED(member, type, default_value, min, max) \
+  DYNAPATH_GET_OPTION(federated, member)
+  DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_GET_SINGLE)
+  if (!in.Get(federated_count) || federated_count != kFederatedOptionCount) {
+    return Error::Corrupt("expected " + std::to_string(kFederatedOptionCount) +
+                          " federated options");
+  }
+  DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_GET_FEDERATED)
+#undef DYNAPATH_GET_FEDERATED
+#undef DYNAPATH_GET_SINGLE
+#undef DYNAPATH_GET_OPTION
+  const size_t nodes = node_count;
+  Result<std::vector<uint8_t>> node_block =
+      GetCompressed(in, nodes * sizeof(int64_t) * (1 + has_baselines), "the node block");
+  if (!node_block) return node_block.error();
+  s.training_counts.resize(nodes);
+  std::memcpy(s.training_counts.data(), node_block->data(), nodes * sizeof(int64_t));
+  if (has_baselines == 1) {
+    s.baselines.resize(nodes);
+    std::memcpy(s.baselines.data(), node_block->data() + nodes * sizeof(int64_t),
+                nodes * sizeof(double));
+  }
+  const size_t entries = static_cast<size_t>(cells) * kNumActions;
+  const size_t width = s.precision == QPrecision::kFloat ? sizeof(float) : sizeof(double);
+  Result<std::vector<uint8_t>> table = GetCompressed(in, entries * width, "the table");
+  if (!table) return table.error();
+  s.table = QTable(static_cast<int>(cells), s.precision);
+  if (s.precision == QPrecision::kFloat) {
+    std::memcpy(s.table.values().data(), table->data(), table->size());
+  } else {
+    std::memcpy(s.table.wide_values().data(), table->data(), table->size());
+  }
+  if (in.left() != 0) return Error::Corrupt("the section has bytes after its table");
+  if (Status consistent = CheckPolicyConsistent(s); !consistent) return consistent.error();
+  return s;
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> EncodePolicyFile(const std::vector<PolicyState>& states) {
+  if (states.empty() || states.size() > kMaxSections) {
+    return Error::Internal("a policy file holds 1 to 4 sections");
+  }
+  std::vector<std::vector<uint8_t>> sections;
+  for (const PolicyState& state : states) {
+    Writer section;
+    if (Status encoded = EncodeSection(state, section); !encoded) return encoded.error();
+    sections.push_back(std::move(section.bytes()));
+  }
+  Writer out;
+  out.PutBytes(kMagic, sizeof(kMagic));
+  out.Put<uint32_t>(kPolicyFormatVersion);
+  out.Put<uint32_t>(static_cast<uint32_t>(sections.size()));
+  uint64_t body = 0;
+  for (const auto& section : sections) body += sizeof(uint64_t) + section.size();
+  out.Put<uint64_t>(body);
+  for (const auto& section : sections) out.Put<uint64_t>(section.size());
+  for (const auto& section : sections) out.PutBytes(section.data(), section.size());
+  unsigned char checksum[kChecksumBytes];
+  crypto_generichash(checksum, sizeof(checksum), out.bytes().data(), out.bytes().size(), nullptr,
+                     0);
+  out.PutBytes(checksum, sizeof(checksum));
+  return std::move(out.bytes());
+}
+
+Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes, bool verify_checksum) {
+  Reader in(bytes);
+  std::string_view magic;
+  uint32_t version = 0, count = 0;
+  uint64_t body = 0;
+  if (!in.GetView(sizeof(kMagic), magic) || magic != std::string_view(kMagic, sizeof(kMagic))) {
+    return Error::Corrupt("not a DynaPath policy file (no DYNAPOL magic)");
+  }
+  if (!in.Get(version) || !in.Get(count) || !in.Get(body)) {
+    return Truncated("the file header").error();
+  }
+  if (version != kPolicyFormatVersion) {
+    return Error::Corrupt("format version " + std::to_string(version) + ", this build reads " +
+                          std::to_string(kPolicyFormatVersion));
+  }
+  if (count < 1 || count > kMaxSections) {
+    return Error::Corrupt(std::to_string(count) + " sections, a file has 1 to 4");
+  }
+  if (body != in.left() - std::min(in.left(), kChecksumBytes) || in.left() < kChecksumBytes) {
+    return Error::Corrupt("the header says " + std::to_string(body) +
+                          " bytes follow, the file has " +
+                          std::to_string(in.left() - std::min(in.left(), kChecksumBytes)) +
+                          " (truncated or extended)");
+  }
+  if (verify_checksum) {
+    unsigned char checksum[kChecksumBytes];
+    const size_t covered = bytes.size() - kChecksumBytes;
+    crypto_generichash(checksum, sizeof(checksum),
+                       reinterpret_cast<const unsigned char*>(bytes.data()), covered, nullptr, 0);
+    if (std::memcmp(checksum, bytes.data() + covered, kChecksumBytes) != 0) {
+      return Error::Corrupt("checksum mismatch (the file is damaged)");
+    }
+  }
+  std::vector<uint64_t> lengths(count);
+  uint64_t total = 0;
+  for (uint64_t& length : lengths) {
+    if (!in.Get(length)) return Truncated("the section lengths").error();
+    if (length > in.left()) return Error::Corrupt("a section is longer than the file");
+    total += length;
+  }
+  if (total + count * sizeof(uint64_t) != body) {
+    return Error::Corrupt("the section lengths do not add up to the body");
+  }
+  std::vector<PolicyState> states;
+  std::set<Approach> seen;
+  for (size_t i = 0; i < lengths.size(); ++i) {
+    std::string_view section;
+    in.GetView(static_cast<size_t>(lengths[i]), section);
+    Result<PolicyState> state = DecodeSection(section);
+    if (!state) {
+      return Error::Corrupt("section " + std::to_string(i + 1) + ": " + state.error().message);
+    }
+    if (!seen.insert(state->approach).second) {
+      return Error::Corrupt("two sections for " + ApproachName(state->approach));
+    }
+    states.push_back(std::move(*state));
+  }
+  return states;
+}
+
+Status WritePolicyFile(const std::string& path, const std::vector<PolicyState>& states) {
+  Result<std::vector<uint8_t>> bytes = EncodePolicyFile(states);
+  if (!bytes) return bytes.error();
+  return WriteFileAtomically(path, *bytes);
+}
+
+Result<std::vector<PolicyState>> ReadPolicyFile(const std::string& path) {
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
+  struct stat info {};
+  if (fstat(fileno(file.get()), &info) != 0)
+    return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
+  if (!S_ISREG(info.st_mode)) return Error::Corrupt("policy file " + path + ": not a regular file");
+  if (static_cast<uint64_t>(info.st_size) > kMaxPolicyFileBytes) {
+    return Error::Corrupt("policy file " + path + ": " + std::to_string(info.st_size) +
+                          " bytes, more than any policy file (" +
+                          std::to_string(kMaxPolicyFileBytes) + ")");
+  }
+  std::string bytes(static_cast<size_t>(info.st_size), '\0');
+  if (!bytes.empty() && std::fread(bytes.data(), 1, bytes.size(), file.get()) != bytes.size()) {
+    return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
+  }
+  Result<std::vector<PolicyState>> states = DecodePolicyFile(bytes);
+  if (!states) return Error::Corrupt("policy file " + path + ": " + states.error().message);
+  return states;
+}
+
+}  // namespace dynapath::runtime
