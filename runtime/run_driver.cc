@@ -87,8 +87,9 @@ const WordTable<Semantics>& SemanticsWords() {
 }
 
 const WordTable<Placement>& PlacementWords() {
-  static const WordTable<Placement> words(
-      {{"auto", Placement::kAuto}, {"whole", Placement::kWhole}, {"split", Placement::kSplit}});
+  static const WordTable<Placement> words({{"auto", Placement::kAuto},
+                                           {"whole", Placement::kWhole},
+                                           {"split", Placement::kSplit}});
   return words;
 }
 

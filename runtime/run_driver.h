@@ -71,8 +71,8 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
 // approach), logging progress, and (re)writes DIR/results.csv,
-// DIR/results_detailed.csv and DIR/params.toml atomically after every approach, so an
-// interrupted run keeps what finished. `extra` is called after every step.
+// DIR/results_detailed.csv and DIR/params.toml (every parameter's value)
+// atomically after every approach, so an interrupted run keeps what finished. `extra` is called after every step.
 // Fails when the files cannot be written, with the source's or the
 // trainer's status() when one of them fails, and with kCancelled when
 // `stop` (may be null; checked before every time step and after every
