@@ -95,7 +95,7 @@ std::string Validate(const job_batch_t& m) {
   const std::optional<QPrecision> precision = PrecisionFromWire(m.precision);
   if (!precision) return "unknown table precision";
     // The ranges of core/include/dynapath/learner_options.h.
-#define DYNAPATH_CHECK_OPTION(group, member, type, default_value, min, max) \
+#define DYNAPATH_CHECK_OPTION(group, member, type, default_value, report, min, max, help) \
   if (!learner_option::InRange<type>(m.member, min, max)) return "bad " group " option " #member;
 #define DYNAPATH_CHECK_FEDASYNQ_OPTION(...) DYNAPATH_CHECK_OPTION("federated", __VA_ARGS__)
 #define DYNAPATH_CHECK_SINGLE_AGENT_OPTION(...) DYNAPATH_CHECK_OPTION("single-agent", __VA_ARGS__)

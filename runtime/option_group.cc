@@ -103,6 +103,18 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
   if (!default_text.empty()) option->default_str(default_text);
 }
 
+void OptionGroup::Option(const std::string& name, std::optional<double>& value,
+                         const std::string& value_name, const std::string& help,
+                         const std::string& default_text) {
+  if (writer_ != nullptr) {
+    if (value) writer_->Put(Key(name), fmt::format("{}", *value));
+    return;
+  }
+  Record(name, ValueKind::kFloat);
+  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  if (!default_text.empty()) option->default_str(default_text);
+}
+
 void OptionGroup::Option(const std::string& name, long long& value, const std::string& value_name,
                          const std::string& help) {
   if (writer_ != nullptr) return writer_->Put(Key(name), std::to_string(value));

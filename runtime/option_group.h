@@ -67,6 +67,8 @@ class OptionGroup {
   void Option(const std::string& name, std::optional<long long>& value,
               const std::string& value_name, const std::string& help,
               const std::string& default_text = "");
+  void Option(const std::string& name, std::optional<double>& value, const std::string& value_name,
+              const std::string& help, const std::string& default_text = "");
   void Option(const std::string& name, long long& value, const std::string& value_name,
               const std::string& help);
   void Option(const std::string& name, double& value, const std::string& value_name,

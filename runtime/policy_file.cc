@@ -33,7 +33,7 @@ constexpr size_t kMaxSections = 4;  // one per learning approach
 constexpr int kCompressionLevel = 3;
 
 constexpr size_t kSingleAgentOptionCount = 0
-#define DYNAPATH_COUNT_OPTION(member, type, default_value, min, max) +1
+#define DYNAPATH_COUNT_OPTION(member, ...) +1
     DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_COUNT_OPTION);
 constexpr size_t kFederatedOptionCount = 0 DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_COUNT_OPTION);
 #undef DYNAPATH_COUNT_OPTION
@@ -175,15 +175,16 @@ Status EncodeSection(const PolicyState& s, Writer& out) {
   out.Put<uint64_t>(s.run_seed);
   out.Put<uint64_t>(s.initial_fingerprint);
   out.Put<uint64_t>(s.fingerprint);
-  out.Put<double>(s.thresholds.max_drop);
-  out.Put<double>(s.thresholds.min_success_rate);
+#define DYNAPATH_PUT_THRESHOLD(member, ...) out.Put<double>(s.thresholds.member);
+  DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_PUT_THRESHOLD)
+#undef DYNAPATH_PUT_THRESHOLD
   out.Put<uint32_t>(kSingleAgentOptionCount);
-#define DYNAPATH_PUT_SINGLE(member, type, default_value, min, max) \
+#define DYNAPATH_PUT_SINGLE(member, ...) \
   out.Put<double>(static_cast<double>(s.learner.single_agent.member));
   DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_PUT_SINGLE)
 #undef DYNAPATH_PUT_SINGLE
   out.Put<uint32_t>(kFederatedOptionCount);
-#define DYNAPATH_PUT_FEDERATED(member, type, default_value, min, max) \
+#define DYNAPATH_PUT_FEDERATED(member, ...) \
   out.Put<double>(static_cast<double>(s.learner.federated.member));
   DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_PUT_FEDERATED)
 #undef DYNAPATH_PUT_FEDERATED
@@ -227,14 +228,17 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   s.approach = *parsed;
   uint32_t rows = 0, cols = 0, leaf_limit = 0, node_count = 0, step = 0;
   uint8_t semantics = 0, precision = 0, bootstrap = 0, has_baselines = 0;
-  double max_drop = 0, min_rate = 0;
   uint32_t single_count = 0, federated_count = 0;
   if (!in.Get(rows) || !in.Get(cols) || !in.Get(leaf_limit) || !in.Get(node_count) ||
       !in.Get(semantics) || !in.Get(precision) || !in.Get(bootstrap) || !in.Get(has_baselines) ||
       !in.Get(step) || !in.Get(s.run_seed) || !in.Get(s.initial_fingerprint) ||
-      !in.Get(s.fingerprint) || !in.Get(max_drop) || !in.Get(min_rate)) {
+      !in.Get(s.fingerprint)) {
     return Truncated("the section header").error();
   }
+#define DYNAPATH_GET_THRESHOLD(member, ...) \
+  if (!in.Get(s.thresholds.member)) return Truncated("the retraining thresholds").error();
+  DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_GET_THRESHOLD)
+#undef DYNAPATH_GET_THRESHOLD
   if (rows < 1 || cols < 1 || rows > kMaxGridSide || cols > kMaxGridSide) {
     return Error::Corrupt("shape " + std::to_string(rows) + "x" + std::to_string(cols) +
                           " is outside 1.." + std::to_string(kMaxGridSide));
@@ -259,8 +263,6 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   s.learner.bootstrap = bootstrap == 0   ? Bootstrap::kInGrid
                         : bootstrap == 1 ? Bootstrap::kInRegion
                                          : Bootstrap::kAllStored;
-  s.thresholds.max_drop = max_drop;
-  s.thresholds.min_success_rate = min_rate;
   if (!in.Get(single_count) || single_count != kSingleAgentOptionCount) {
     return Error::Corrupt("expected " + std::to_string(kSingleAgentOptionCount) +
                           " single-agent options");
@@ -271,9 +273,9 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   if (!ToInt(value, s.learner.group.member)) {                           \
     return Error::Corrupt("learner option " #member " is out of range"); \
   }
-#define DYNAPATH_GET_SINGLE(member, type, default_value, min, max) \
+#define DYNAPATH_GET_SINGLE(member, ...) \
   DYNAPATH_GET_OPTION(single_agent, member)
-#define DYNAPATH_GET_FEDERATED(member, type, default_value, min, max) \
+#define DYNAPATH_GET_FEDERATED(member, ...) \
   DYNAPATH_GET_OPTION(federated, member)
   DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_GET_SINGLE)
   if (!in.Get(federated_count) || federated_count != kFederatedOptionCount) {

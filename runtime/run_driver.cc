@@ -111,7 +111,10 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--semantics", o.semantics, "WHOSE",
                "learning semantics: " + SemanticsWords().List() +
                    " (report: the report code's bootstrap, first training, replay buffer and "
-                   "double Q-tables; docs/DECISIONS.md)");
+                   "double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+                   (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
+                   "; a parameter given overrides them; docs/DECISIONS.md)");
+  DeclareParameterOptions(group, o.parameters);
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
@@ -146,6 +149,11 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   // The report's semantics bootstrap over all stored values (kAllStored).
   if (*semantics == Semantics::kReport && *bootstrap != PlannerOptions{}.bootstrap) {
     return Error::Option("semantics", "report sets the bootstrap itself; leave --bootstrap out");
+  }
+  // The report's parameter values, under those given.
+  if (*semantics == Semantics::kReport) ApplyReportPreset(plan.options);
+  if (Status status = ApplyParameterOptions(o.parameters, plan.options); !status) {
+    return status.error();
   }
   plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error::Option("out", "must not be empty");
@@ -213,6 +221,9 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
         ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
         run.AverageSuccessRate(), run.AveragePathLength());
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
+    if (Status status = WriteParametersToml(plan.options, plan.out_dir); !status) {
+      return status.error();
+    }
   }
   return runs;
 }

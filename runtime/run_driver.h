@@ -11,6 +11,7 @@
 #include "dynapath/quadtree.h"
 #include "dynapath/results_csv.h"
 #include "runtime/option_group.h"
+#include "runtime/parameter_options.h"
 #include "runtime/policy_options.h"
 #include "runtime/scenario_options.h"
 #include "runtime/word_table.h"
@@ -49,6 +50,7 @@ struct RunOptions {
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
+  ParameterOptions parameters;  // the learner and strategy parameters given
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that
@@ -61,21 +63,23 @@ Status CheckPlacement(const std::string& text);
 // --leaf-limit alone (dynapath maze), checked.
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit);
 Result<int> ResolveLeafLimit(long long leaf_limit);
-// --leaf-limit, --bootstrap and --semantics (also `dynapath experiment`'s).
+// --leaf-limit, --bootstrap, --semantics and every learner and strategy
+// parameter (also `dynapath experiment`'s).
 void DeclareLearnerOptions(OptionGroup& group, RunOptions& options);
 // --placement (also `dynapath experiment`'s).
 void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
-// Declares --approach, --out, --leaf-limit, --bootstrap, --semantics,
-// --placement and the policy options (runtime/policy_options.h).
+// Declares --approach, --out, the learner options, --placement and the
+// policy options (runtime/policy_options.h).
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
-// approach), logging progress, and (re)writes DIR/results.csv and
-// DIR/results_detailed.csv atomically after every approach, so an
-// interrupted run keeps what finished. `extra` is called after every step.
-// With plan.policy, each learning approach starts from its loaded section
-// and the saved policies are (re)written after every learning approach.
+// approach), logging progress, and (re)writes DIR/results.csv,
+// DIR/results_detailed.csv and DIR/params.toml (every parameter's value)
+// atomically after every approach, so an interrupted run keeps what
+// finished. `extra` is called after every step. With plan.policy, each
+// learning approach starts from its loaded section and the saved policies
+// are (re)written after every learning approach.
 // Fails when the files cannot be written, with the source's or the
 // trainer's status() when one of them fails, and with kCancelled when
 // `stop` (may be null; checked before every time step and after every

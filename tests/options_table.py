@@ -36,6 +36,7 @@ COMMANDS = [
     ("dynapath run", ["tools/dynapath", "run"]),
     ("dynapath experiment", ["tools/dynapath", "experiment"]),
     ("dynapath secret", ["tools/dynapath", "secret"]),
+    ("dynapath params", ["tools/dynapath", "params"]),
     ("dynapath netns", ["tools/dynapath", "netns"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
@@ -96,6 +97,27 @@ def declarations(source):
     return found
 
 
+# The parameters' options are declared by their lines in these lists
+# (runtime/parameter_options.cc declares one option per line): "--" and the
+# member with '_' as '-'.
+PARAMETER_LISTS = ["core/include/dynapath/learner_options.h",
+                   "core/include/dynapath/retraining_strategy.h"]
+PARAMETER_LINE = re.compile(r"^\s*X\((\w+),")
+
+
+def parameter_declarations(source, found):
+    for path in PARAMETER_LISTS:
+        macro = "?"
+        with open(os.path.join(source, path), encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("#define "):
+                    macro = line.split()[1].split("(")[0]
+                m = PARAMETER_LINE.match(line)
+                if m:
+                    name = "--" + m.group(1).replace("_", "-")
+                    found.setdefault(name, []).append(f"`{path}`: {macro}")
+
+
 def help_text(build, name, argv):
     """The --help of a command, with the build directory's path spelled
     `build` (so the text is the same on every machine); None if not built."""
@@ -146,6 +168,7 @@ def main():
         sys.exit(__doc__)
     source, build = args[0], args[1]
     found = declarations(source)
+    parameter_declarations(source, found)
     options, helps, missing = command_options(build)
     failures = []
     for name, sites in sorted(found.items()):

@@ -122,22 +122,22 @@ Status CheckPolicyFits(const PolicyState& s, Approach approach, const PlannerOpt
     return differs("learner option " #member, Text(s.learner.group.member), \
                    Text(options.group.member));                             \
   }
-#define DYNAPATH_COMPARE_SINGLE(member, type, default_value, min, max) \
+#define DYNAPATH_COMPARE_SINGLE(member, ...) \
   DYNAPATH_COMPARE_OPTION(single_agent, member)
-#define DYNAPATH_COMPARE_FEDERATED(member, type, default_value, min, max) \
+#define DYNAPATH_COMPARE_FEDERATED(member, ...) \
   DYNAPATH_COMPARE_OPTION(federated, member)
   DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_COMPARE_SINGLE)
   DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_COMPARE_FEDERATED)
 #undef DYNAPATH_COMPARE_FEDERATED
 #undef DYNAPATH_COMPARE_SINGLE
 #undef DYNAPATH_COMPARE_OPTION
-  if (s.thresholds.max_drop != options.thresholds.max_drop ||
-      s.thresholds.min_success_rate != options.thresholds.min_success_rate) {
-    return differs(
-        "retraining thresholds",
-        Text(s.thresholds.max_drop) + "/" + Text(s.thresholds.min_success_rate),
-        Text(options.thresholds.max_drop) + "/" + Text(options.thresholds.min_success_rate));
+#define DYNAPATH_COMPARE_THRESHOLD(member, ...)                                  \
+  if (s.thresholds.member != options.thresholds.member) {                        \
+    return differs("retraining threshold " #member, Text(s.thresholds.member), \
+                   Text(options.thresholds.member));                             \
   }
+  DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_COMPARE_THRESHOLD)
+#undef DYNAPATH_COMPARE_THRESHOLD
   if (s.node_count != QuadTree(rows, cols, options.leaf_limit).node_count()) {
     return Error("the policy's quadtree has " + std::to_string(s.node_count) +
                  " nodes, this maze's has " +

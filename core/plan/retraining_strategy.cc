@@ -52,7 +52,7 @@ std::vector<NodeId> TreeStrategy::TrainAndCollectParents(const std::vector<NodeI
   std::vector<NodeId> parents;
   for (NodeId node : nodes) {
     const NodeId parent = tree_.node(node).parent;
-    if (parent != kNoNode && baseline_[node] < thresholds_.min_success_rate) {
+    if (parent != kNoNode && baseline_[node] < thresholds_.escalate_below) {
       parents.push_back(parent);
     }
   }

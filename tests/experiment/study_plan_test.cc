@@ -387,7 +387,25 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
             "Static\",\"A* Oracle\",\"BFS Oracle\",\"onlyTrainLeafNodes\",\"singleAgent\","
             "\"fedAsynQ_EqAvg\",\"fedAsynQ_ImAvg\",\"Incremental "
             "Oracle\"],\"edge_case\":true,\"seed\":null,\"steps\":10,"
-            "\"leaf_limit\":20,\"bootstrap\":\"in-grid\"}");
+            "\"leaf_limit\":20,\"bootstrap\":\"in-grid\",\"parameters\":{\"max-episodes\":10000,"
+            "\"epsilon-start\":1.0,\"epsilon-decay\":0.999,\"epsilon-min\":0.01,\"replay-"
+            "capacity\":1000,\"replay-start-episode\":500,\"replay-batch\":64,\"convergence-"
+            "start-episode\":500,\"convergence-interval\":50,\"convergence-threshold\":0.0005,"
+            "\"convergence-checks\":21,\"learners\":12,\"sync-period\":1000,\"iterations-per-"
+            "cell\":200,\"max-drop\":0.01,\"min-success-rate\":0.9,\"escalate-below\":0.9}}");
+  // A parameter changes the results: part of the identity, by name.
+  Result<StudyOptions> e = ResolveStudyOptions(
+      Cli({{"sizes", "20"}, {"steps", "10"}, {"epsilon-start", "0.3"}, {"learners", "4"}}), 2);
+  ASSERT_TRUE(e);
+  EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*e));
+  EXPECT_EQ(StudyIdentityJson(*e)["parameters"]["epsilon-start"].get<double>(), 0.3);
+  EXPECT_EQ(StudyIdentityJson(*e)["parameters"]["learners"].get<int>(), 4);
+  EXPECT_EQ(RunOptionsOf(*e, "x").parameters.reals[1], 0.3);
+  // A manifest of a study before parameters were options: the defaults.
+  Json earlier = StudyIdentityJson(*a);
+  earlier.erase("parameters");
+  EXPECT_EQ(StudyIdentityWithParameters(earlier), StudyIdentityJson(*a));
+  EXPECT_EQ(StudyIdentityWithParameters(StudyIdentityJson(*e)), StudyIdentityJson(*e));
   // --semantics report changes the results, so it is part of the identity.
   Result<StudyOptions> d =
       ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}, {"semantics", "report"}}), 2);

@@ -161,8 +161,20 @@ TEST(Validate, EveryLearnerOptionOutsideItsRangeIsNamed) {
   batch = good;
   batch.convergence_threshold = std::numeric_limits<double>::infinity();
   EXPECT_EQ(Validate(batch), "bad single-agent option convergence_threshold");
+  // The parameters' ranges (dynapath/parameters.h), the same as on the
+  // command line.
   batch = good;
-  batch.replay_start_episode = -5;  // any value: no range
+  batch.replay_start_episode = -5;
+  EXPECT_EQ(Validate(batch), "bad single-agent option replay_start_episode");
+  batch = good;
+  batch.epsilon_start = 1.5;
+  EXPECT_EQ(Validate(batch), "bad single-agent option epsilon_start");
+  batch = good;
+  batch.replay_capacity = 10000001;  // bounds the buffer an agent allocates
+  EXPECT_EQ(Validate(batch), "bad single-agent option replay_capacity");
+  batch = good;
+  batch.epsilon_start = 0.0;  // the ends of a range are in it
+  batch.replay_batch = 10000;
   EXPECT_EQ(Validate(batch), "");
 }
 

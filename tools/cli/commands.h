@@ -17,6 +17,8 @@ int ExperimentCommand(const std::vector<std::string>& args);
 int NetnsCommand(const std::vector<std::string>& args);
 // Writes a new run secret to a file (mode 600) for processes started by hand.
 int SecretCommand(const std::vector<std::string>& args);
+// Lists the learner and strategy parameters (dynapath/parameters.h).
+int ParamsCommand(const std::vector<std::string>& args);
 // Replaces this process with the executable `tool` that sits next to the
 // dynapath binary (plot, view, render), passing `args`; when it is missing,
 // prints one error naming `missing_hint` and returns kExitFailure.

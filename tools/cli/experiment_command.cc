@@ -243,9 +243,10 @@ std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs:
         return CommandError{
             kExitUsage, read.error().message + " (use --force to start over, or another --out)"};
       }
-      if (read->study != identity) {
+      const Json study = StudyIdentityWithParameters(read->study);
+      if (study != identity) {
         return CommandError{kExitUsage, out.string() + " holds a study of other options (" +
-                                            Differences(read->study, identity) +
+                                            Differences(study, identity) +
                                             "); use --force to replace it, or another --out"};
       }
       previous = std::move(*read);

@@ -24,6 +24,7 @@ constexpr const char* kUsage =
     "  experiment  run a whole study (sizes x difficulties, edge case), resumable\n"
     "  netns       run a command in a private, loopback-only network (for LCM)\n"
     "  secret      write a new run secret to a file, for processes started by hand\n"
+    "  params      list the learner and strategy parameters (defaults, ranges, help)\n"
     "  plot        draw the report's figures from a study's result files (PNG)\n"
     "  view        watch a run's policy live in a window\n"
     "  render      draw a logged run's policy as PNG frames and an animated GIF\n"
@@ -58,6 +59,7 @@ int main(int argc, char** argv) {
   // synchronous stderr logger starts no thread.
   if (command == "netns") return dynapath::cli::NetnsCommand(args);
   if (command == "secret") return dynapath::cli::SecretCommand(args);
+  if (command == "params") return dynapath::cli::ParamsCommand(args);
   if (command == "plot") {
     return dynapath::cli::SiblingCommand("dynapath-plot", args,
                                          "it is installed with the build from tools/plot");

@@ -12,6 +12,7 @@
 #include "dynapath/limits.h"
 #include "dynapath/map_scenario.h"
 #include "dynapath/movingai_map.h"
+#include "dynapath/parameters.h"
 #include "dynapath/scenario.h"
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
@@ -632,6 +633,32 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string&
   return run;
 }
 
+namespace {
+
+// Every parameter by name with its value, numbers as in params.toml.
+Json ParametersJson(const PlannerOptions& planner) {
+  Json json = Json::object();
+  const std::vector<Parameter>& parameters = Parameters();
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    const double value = ParameterValue(planner, i);
+    if (parameters[i].integer) {
+      json[parameters[i].name] = static_cast<long long>(value);
+    } else {
+      json[parameters[i].name] = value;
+    }
+  }
+  return json;
+}
+
+}  // namespace
+
+Json StudyIdentityWithParameters(Json identity) {
+  if (identity.is_object() && !identity.contains("parameters")) {
+    identity["parameters"] = ParametersJson(PlannerOptions{});
+  }
+  return identity;
+}
+
 Json StudyIdentityJson(const StudyOptions& options) {
   Json json = Json::object();
   Json& sizes = json["sizes"] = Json::array();
@@ -652,6 +679,8 @@ Json StudyIdentityJson(const StudyOptions& options) {
   if (options.learner.semantics != runtime::RunOptions().semantics) {
     json["semantics"] = options.learner.semantics;
   }
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(RunOptionsOf(options, options.out));
+  json["parameters"] = ParametersJson(plan ? plan->options : PlannerOptions{});
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
     for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);

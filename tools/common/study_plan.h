@@ -157,7 +157,12 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string&
 
 // The options that determine the results (compared to resume a study), and
 // the others, as manifest objects.
+// Its "parameters" are every learner and strategy parameter's value.
 Json StudyIdentityJson(const StudyOptions& options);
+// A study identity read from a manifest, with the default parameters when it
+// has none (a study of a version before parameters were options ran with
+// the defaults), so that it compares with StudyIdentityJson.
+Json StudyIdentityWithParameters(Json identity);
 Json ExecutionJson(const StudyOptions& options);
 
 }  // namespace dynapath::cli

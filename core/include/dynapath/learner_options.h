@@ -1,22 +1,20 @@
 #pragma once
 // THE description of the learners' numeric options, one line each: the
 // options structs (core/include/dynapath/training_job.h), both directions of the wire
-// (job_batch_t's fields of the same names, protocol/convert.cc)
-// and the validation of received values (protocol/validate.cc) are
-// all expanded from these lists. A new option is one line here plus its
-// field in lcmtypes/job_batch_t.lcm (a missing field fails to compile).
+// (job_batch_t's fields of the same names, protocol/convert.cc), the
+// validation of received values (protocol/validate.cc) and the parameters of
+// the command line, config and study files, `dynapath params`, params.toml
+// and the study manifest (core/include/dynapath/parameters.h) are all
+// expanded from these lists. A new option is one line here plus its field in
+// lcmtypes/job_batch_t.lcm (a missing field fails to compile).
 //
-// Columns: member (= wire field), type, default, smallest and largest value
-// accepted from the wire. For doubles the range is every finite value:
-// NaN and infinities fail the comparison.
-
-#include <limits>
+// Columns: member (= wire field; the option's name with '_' as '-'), type,
+// default, the report's value (what `--semantics report` presets), smallest
+// and largest value accepted (from the command line, files and the wire), and
+// a line of help. The ranges also bound the work and memory one job may ask
+// for (an agent takes them from the wire).
 
 namespace dynapath::learner_option {
-inline constexpr int kAnyIntMin = std::numeric_limits<int>::min();
-inline constexpr int kAnyIntMax = std::numeric_limits<int>::max();
-inline constexpr double kFiniteMin = std::numeric_limits<double>::lowest();
-inline constexpr double kFiniteMax = std::numeric_limits<double>::max();
 // Learners a federated job may have (each is a table's worth of work).
 inline constexpr int kMaxLearners = 4096;
 
@@ -28,24 +26,24 @@ constexpr bool InRange(T value, T min, T max) {
 
 // clang-format off
 #define DYNAPATH_SINGLE_AGENT_OPTIONS(X)                                                                  \
-  X(max_episodes,              int,    10000,  1,                                  learner_option::kAnyIntMax)  /* report: at most 10,000 episodes */       \
-  X(epsilon_start,             double, 1.0,    learner_option::kFiniteMin,         learner_option::kFiniteMax)  /* epsilon-greedy exploration at episode 0 */ \
-  X(epsilon_decay,             double, 0.999,  learner_option::kFiniteMin,         learner_option::kFiniteMax)  /* multiplied in after every episode */    \
-  X(epsilon_min,               double, 0.01,   learner_option::kFiniteMin,         learner_option::kFiniteMax)  /* floor */                                \
-  X(replay_capacity,           int,    1000,   1,                                  learner_option::kAnyIntMax)  /* FIFO buffer of the last transitions */  \
-  X(replay_start_episode,      int,    500,    learner_option::kAnyIntMin,         learner_option::kAnyIntMax)  /* replay from this episode on */          \
-  X(replay_batch,              int,    64,     0,                                  learner_option::kAnyIntMax)  /* replayed updates after each real step */ \
-  X(convergence_start_episode, int,    500,    learner_option::kAnyIntMin,         learner_option::kAnyIntMax)  /* first convergence check */              \
-  X(convergence_interval,      int,    50,     1,                                  learner_option::kAnyIntMax)  /* episodes between checks */              \
-  X(convergence_threshold,     double, 5e-4,   learner_option::kFiniteMin,         learner_option::kFiniteMax)  /* largest absolute change */              \
-  X(convergence_checks,        int,    21,     1,                                  learner_option::kAnyIntMax)  /* consecutive checks below threshold */
+  X(max_episodes,              int,    10000, 10000, 1,    10000000, "episodes per training at most")                          \
+  X(epsilon_start,             double, 1.0,   1.0,   0.0,  1.0,      "epsilon-greedy exploration rate at the first episode")           \
+  X(epsilon_decay,             double, 0.999, 0.999, 0.0,  1.0,      "epsilon is multiplied by this after every episode")              \
+  X(epsilon_min,               double, 0.01,  0.01,  0.0,  1.0,      "epsilon's floor")                                                \
+  X(replay_capacity,           int,    1000,  1000,  1,    10000000, "replay buffer: the last N transitions")                         \
+  X(replay_start_episode,      int,    500,   500,   0,    10000000, "replay from this 0-based episode on")                           \
+  X(replay_batch,              int,    64,    64,    0,    10000,    "replayed updates after each real step (K)")                     \
+  X(convergence_start_episode, int,    500,   500,   0,    10000000, "first convergence check, before this 0-based episode")        \
+  X(convergence_interval,      int,    50,    50,    1,    10000000, "episodes between convergence checks")                           \
+  X(convergence_threshold,     double, 5e-4,  5e-4,  0.0,  1e300,    "converged: largest absolute change of the table below this")   \
+  X(convergence_checks,        int,    21,    21,    1,    10000000, "converged after this many checks in a row below it")
 
 #define DYNAPATH_FEDASYNQ_OPTIONS(X)                                                                      \
-  X(learners,                  int,    12,     1,                                  learner_option::kMaxLearners) /* K */                                  \
-  X(sync_period,               int,    1000,   1,                                  learner_option::kAnyIntMax)  /* tau: steps per learner per round */     \
-  X(iterations_per_cell,       int,    200,    1,                                  learner_option::kAnyIntMax)  /* T = region cells x this */
+  X(learners,                  int,    12,    12,    1,    learner_option::kMaxLearners, "learners per trained node (K)")     \
+  X(sync_period,               int,    1000,  1000,  1,    1000000,  "tau: steps per learner per round, then the tables are averaged") \
+  X(iterations_per_cell,       int,    200,   200,   1,    1000000,  "T = region cells x this; rounds = max(1, T / tau)")
 // clang-format on
 
 // Declares a member with its default (for the options structs).
-#define DYNAPATH_DECLARE_LEARNER_OPTION(member, type, default_value, min, max) \
+#define DYNAPATH_DECLARE_LEARNER_OPTION(member, type, default_value, ...) \
   type member = default_value;

@@ -1,0 +1,42 @@
+#pragma once
+// The learner and strategy parameters (dynapath/parameters.h) as options of
+// `dynapath run`, `dynapath experiment`, the coordinator and config / study
+// files: one option per parameter, declared from the table, checked once,
+// and the params.toml a run writes beside its result files.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dynapath/parameters.h"
+#include "dynapath/planner.h"
+#include "dynapath/result.h"
+#include "runtime/option_group.h"
+
+namespace dynapath::runtime {
+
+// The parameters as given: one entry per line of Parameters() (in
+// `integers` for an int parameter, `reals` for a double), unset when not
+// given, so `--semantics report`'s preset applies under what is given.
+struct ParameterOptions {
+  std::vector<std::optional<long long>> integers =
+      std::vector<std::optional<long long>>(Parameters().size());
+  std::vector<std::optional<double>> reals =
+      std::vector<std::optional<double>>(Parameters().size());
+};
+
+// --max-episodes, --epsilon-start, ... --escalate-below: every parameter.
+void DeclareParameterOptions(OptionGroup& group, ParameterOptions& options);
+
+// Sets the given parameters in `planner` (over the defaults, or the report
+// preset applied before); the first out of range is an Error::Option naming
+// it.
+Status ApplyParameterOptions(const ParameterOptions& given, PlannerOptions& planner);
+
+// Every parameter with its value in `planner`, as `name = value` lines that
+// `--config` reads back (params.toml).
+std::string ParametersToml(const PlannerOptions& planner);
+// Writes DIR/params.toml (atomically).
+Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory);
+
+}  // namespace dynapath::runtime
