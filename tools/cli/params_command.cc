@@ -3,6 +3,7 @@
 // a table, Markdown (docs/reference/PARAMETERS.md) or a config file of the
 // defaults.
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <string>
