@@ -14,9 +14,11 @@
 namespace dynapath {
 namespace {
 
-// "PATH: cannot write: REASON" with the operating system's reason.
+// "PATH: cannot write: REASON" with the operating system's reason; a file
+// that cannot be written is an I/O error whatever the reason (a missing
+// folder included).
 Error WriteFailure(const std::string& path, int error, const std::string& what = "cannot write") {
-  return Error::File(error, path + ": " + what + ": " + std::strerror(error));
+  return Error::Io(path + ": " + what + ": " + std::strerror(error));
 }
 
 }  // namespace

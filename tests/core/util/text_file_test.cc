@@ -35,12 +35,12 @@ TEST(TextFileTest, WritesAtomicallyAndLeavesNoTemporaryFile) {
 TEST(TextFileTest, FailuresNameTheFileAndTheReason) {
   const fs::path dir = test_paths::UniqueTempPath("text_file");
   fs::create_directories(dir / "sub");
-  // A missing folder: the system's reason, code kNotFound.
+  // A missing folder: the system's reason, an I/O error.
   const std::string missing = (dir / "missing" / "x.csv").string();
   Status status = WriteTextFileAtomically(missing, "x");
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.error().message, missing + ": cannot write: No such file or directory");
-  EXPECT_TRUE(status.error().IsNotFound());
+  EXPECT_TRUE(status.error().IsIo());
   // A folder where the file should be.
   status = WriteTextFileAtomically((dir / "sub").string(), "x");
   ASSERT_FALSE(status.ok());
