@@ -38,7 +38,7 @@ Status PrepareOutputDirectory(const std::string& dir, const std::string& option)
   if (error == 0 && !S_ISDIR(info.st_mode)) {
     return Bad(option, dir + " is a file, not a directory");
   }
-  if (error == ENOENT) {
+  if (error == ENOENT || error == ENOTDIR) {  // missing, or under a file: say why it cannot be made
     std::error_code created;
     fs::create_directories(dir, created);
     if (created) return Bad(option, dir + ": cannot create the directory: " + created.message());

@@ -97,6 +97,7 @@ Result<OutputLock> OutputLock::Acquire(const std::string& dir, const std::string
     if (ftruncate(fd, 0) != 0 ||
         pwrite(fd, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size())) {
       const int error = errno;
+      unlink(path.c_str());  // still ours: locked
       close(fd);
       return Bad(option, dir + ": cannot write its lock file: " + Reason(error));
     }
