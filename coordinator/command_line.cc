@@ -11,6 +11,9 @@ void DeclareCoordinatorCommandLine(runtime::OptionGroup& group, CoordinatorComma
                "fail when a training batch makes no progress this long although its agents "
                "are alive (its work is reassigned every 5 s before that)");
   runtime::DeclareLogOptions(group, o.log);
+  group.Option("--out-lock-fd", o.out_lock_fd, "FD",
+               "set by dynapath run: the inherited descriptor of its lock on --out (without "
+               "it, the coordinator locks --out itself; -1)");
 }
 
 }  // namespace dynapath::coordinator

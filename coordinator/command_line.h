@@ -21,6 +21,7 @@ struct CoordinatorCommandLine {
   runtime::WaitOptions wait{CoordinatorOptions{}.agent_wait_seconds};
   long long give_up = static_cast<long long>(CoordinatorOptions{}.give_up_seconds);
   runtime::LogOptions log;
+  long long out_lock_fd = -1;  // the launcher's lock on --out (runtime/output_lock.h)
 };
 void DeclareCoordinatorCommandLine(runtime::OptionGroup& group, CoordinatorCommandLine& options);
 

@@ -8,6 +8,7 @@
 #include "coordinator/command_line.h"
 #include "coordinator/coordinator.h"
 #include "protocol/dispatcher.h"
+#include "runtime/output_lock.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 
@@ -39,6 +40,13 @@ int main(int argc, char** argv) {
   if (!wait_seconds) return fail(wait_seconds.error().message);
   Result<long long> give_up_seconds = runtime::InRange("give-up", given.give_up, 0, 5, 86400);
   if (!give_up_seconds) return fail(give_up_seconds.error().message);
+
+  // One writer per --out: the launcher's lock, or our own.
+  Result<runtime::OutputLock> out_lock =
+      given.out_lock_fd >= 0
+          ? runtime::OutputLock::Adopt(plan->out_dir, static_cast<int>(given.out_lock_fd))
+          : runtime::LockResultDirectory(plan->out_dir);
+  if (!out_lock) return fail(out_lock.error().message);
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
   if (!lcm) return runtime::ProcessError("dynapath-coordinator", lcm.error().message, 1);

@@ -1,6 +1,7 @@
 // libFuzzer target: the text parsers of files a user hands DynaPath: the
 // maze (--maze: DynaPath's text format and MovingAI .map files), the change
-// sequence (--changes, against the parsed maze or a 20x20 grid) and the
+// sequence (--changes: its header and fingerprint, then every change
+// checked against a 20x20 grid) and the
 // study config (dynapath experiment CONFIG). The first byte picks the parser.
 
 #include <cstdint>
@@ -26,9 +27,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (grid) (void)dynapath::ChangesFromText("", grid->rows(), grid->cols());
       break;
     }
-    case 1:
-      (void)dynapath::ChangesFromText(text, 20, 20);
+    case 1: {
+      // The header's fingerprint, then every change checked against a
+      // 20x20 grid with obstacles, free cells and a station.
+      dynapath::ChangeFileHeader header;
+      dynapath::Result<dynapath::ChangeSequence> changes =
+          dynapath::ChangesFromText(text, 20, 20, &header);
+      if (changes) {
+        dynapath::Grid grid(20, 20);
+        for (int cell = 0; cell < grid.size(); cell += 3) grid.set(cell, dynapath::Cell::kObstacle);
+        grid.set(7, dynapath::Cell::kStation);
+        (void)dynapath::CheckChangesFit(*changes, grid);
+        (void)(header.fingerprint == dynapath::MazeFingerprint(grid));
+      }
       break;
+    }
     default: {
       auto config = dynapath::cli::ParseConfigText(text, "fuzz.toml");
       if (config) {

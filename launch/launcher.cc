@@ -25,6 +25,7 @@
 #include "launch/private_network.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
+#include "protocol/log_reader.h"
 
 namespace dynapath::launch {
 namespace {
@@ -173,6 +174,19 @@ class ReportListener {
   protocol::Bus bus_;
 };
 
+// "12 messages, 3456 bytes" of an LCM log (what can be read of it).
+std::string RecordedSoFar(const std::string& path) {
+  Result<protocol::LogReader> reader = protocol::LogReader::Open(path);
+  if (!reader) return reader.error().message;
+  long long events = 0;
+  while (true) {
+    Result<std::optional<protocol::LogEvent>> event = reader->Next();
+    if (!event || !*event) break;
+    ++events;
+  }
+  return std::to_string(events) + " messages, " + std::to_string(reader->size()) + " bytes";
+}
+
 }  // namespace
 
 ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
@@ -221,8 +235,9 @@ int LaunchProcesses(const DistributedRun& run) {
   // with. With `secret`, the run's secret goes over a pipe of its own
   // (--secret-file /dev/fd/N), or --insecure when the run has none.
   // `visible`: more arguments besides --config.
+  // `inherit`: descriptors (close-on-exec here) the child keeps, not closed.
   auto start = [&](const std::string& name, const std::string& binary, auto& options, auto declare,
-                   std::vector<std::string> visible = {}) {
+                   std::vector<std::string> visible = {}, std::vector<int> inherit = {}) {
     std::vector<int> fds;
     auto close_fds = [&] {
       for (int fd : fds) close(fd);
@@ -267,7 +282,9 @@ int LaunchProcesses(const DistributedRun& run) {
       argv.push_back("--insecure");
     }
     argv.insert(argv.end(), visible.begin(), visible.end());
-    const pid_t pid = Spawn(argv, run.child_stderr, fds);
+    std::vector<int> kept = fds;
+    kept.insert(kept.end(), inherit.begin(), inherit.end());
+    const pid_t pid = Spawn(argv, run.child_stderr, kept);
     close_fds();
     if (pid < 0) return false;
     children.push_back(Child{name, pid});
@@ -280,12 +297,25 @@ int LaunchProcesses(const DistributedRun& run) {
               run.child_stderr);  // records the bytes as sent, tags included
     if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
+    // The log was asked for: a logger that could not start (not installed,
+    // the file not writable) fails the run before anything runs.
+    Reap(children);
+    if (pid < 0 || !children.back().running) {
+      spdlog::error(
+          "lcm-logger {}; nothing recorded in {}: stopping the run",
+          pid < 0 ? std::string("could not be started") : Describe(children.back().status),
+          run.log_file);
+      return 1;
+    }
   }
   coordinator::CoordinatorCommandLine coordinator_options;
   coordinator_options.run = run.run;
   coordinator_options.agents = run.agents;
+  coordinator_options.out_lock_fd = run.out_lock_fd;
+  std::vector<int> coordinator_fds;
+  if (run.out_lock_fd >= 0) coordinator_fds.push_back(run.out_lock_fd);
   bool started = start("coordinator", FindBinary("coordinator"), coordinator_options,
-                       coordinator::DeclareCoordinatorCommandLine);
+                       coordinator::DeclareCoordinatorCommandLine, {}, coordinator_fds);
   envsim::EnvSimCommandLine envsim_options;
   envsim_options.scenario = run.scenario;
   started = started &&
@@ -327,6 +357,14 @@ int LaunchProcesses(const DistributedRun& run) {
           exit_code = 1;
           finished = true;
         }
+      } else if (child.name == "lcm-logger") {
+        // The log was asked for: a run without its record is a failed run.
+        spdlog::error(
+            "lcm-logger {} during the run; {} holds only what it recorded until then "
+            "({}); stopping the run",
+            Describe(child.status), run.log_file, RecordedSoFar(run.log_file));
+        StopAll(children, std::chrono::milliseconds(5000));
+        return 1;
       } else if (!Succeeded(child.status)) {
         // Agents are replaceable: the coordinator reassigns their work.
         spdlog::warn("{} {}; the run goes on without it", child.name, Describe(child.status));

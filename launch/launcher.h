@@ -34,6 +34,10 @@ struct DistributedRun {
   // Optional: called with the coordinator's step reports (its REPORT
   // channel), on another thread; the launcher listens when this is set.
   std::function<void(const StepReport&)> on_step;
+  // When >= 0, the descriptor of the lock on run.out the caller holds
+  // (runtime::OutputLock): the coordinator inherits and adopts it. Otherwise
+  // the coordinator locks run.out itself.
+  int out_lock_fd = -1;
   // When >= 0, the children's stderr goes to this descriptor (a log file)
   // instead of the launcher's.
   int child_stderr = -1;
@@ -48,7 +52,9 @@ enum class ProcessNetwork { kHost, kPrivate, kNone };
 ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
 
 // Starts the processes, waits for the coordinator, stops every child on
-// Ctrl-C or failure. Returns the exit code.
+// Ctrl-C or failure. Returns the exit code. With a log file, lcm-logger must
+// be recording before the run starts, and a logger that dies during the run
+// stops it (exit 1, saying how much was recorded).
 int LaunchProcesses(const DistributedRun& run);
 // Runs all components as threads over memq://.
 int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,

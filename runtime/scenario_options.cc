@@ -74,7 +74,11 @@ void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
   group.Option("--stations-file", o.stations_file, "FILE",
                "with --maze: stations from a file, 'row col' per line");
   group.Option("--changes", o.changes, "FILE",
-               "load the change sequence from a change file instead");
+               "load the change sequence from a change file instead (dynapath maze "
+               "--save-changes; it must be made for this maze)");
+  group.Flag("--force-changes", o.force_changes,
+             "use --changes although the file records another maze's fingerprint (a warning; "
+             "every change is still checked against the grid)");
   group.Option("--replay", o.replay, "LOG",
                "re-issue the maze and change sequence recorded in an LCM log (--log)");
   group.Flag("--allow-unreachable", o.allow_unreachable,
@@ -188,6 +192,35 @@ Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& 
   return Ok{};
 }
 
+// A loaded change file against the maze it is used with: the maze it
+// records (refused when it differs, unless `force`), then every change
+// against the grid as it is applied (always).
+Status CheckChangeFile(const std::string& path, const ChangeFileHeader& header,
+                       const ChangeSequence& changes, const Grid& grid, bool force) {
+  const uint64_t ours = MazeFingerprint(grid);
+  if (!header.fingerprint) {
+    spdlog::warn(
+        "{}: a version {} change file records no maze fingerprint: it is not checked against "
+        "the maze (every change still is); save it again with dynapath maze --save-changes",
+        path, header.version);
+  } else if (*header.fingerprint != ours) {
+    const std::string differs = path + " was made for the maze of fingerprint " +
+                                FingerprintText(*header.fingerprint) + ", this maze's is " +
+                                FingerprintText(ours);
+    if (!force) {
+      return Error(differs +
+                       " (another seed, maze file or stations?); --force-changes uses it "
+                       "anyway",
+                   Error::Code::kInvalidArgument, "changes");
+    }
+    spdlog::warn("{}: using it anyway (--force-changes)", differs);
+  }
+  if (Status fits = CheckChangesFit(changes, grid); !fits) {
+    return fits.error().Prefixed(path + ": ");
+  }
+  return Ok{};
+}
+
 }  // namespace
 
 Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
@@ -252,8 +285,12 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
   Result<long long> steps = InRange("steps", o.steps, ReportTimeSteps(grid.rows()), 0, kMaxSteps);
   if (!steps) return steps.error();
   if (o.changes) {
-    Result<ChangeSequence> changes = LoadChanges(*o.changes, grid.rows(), grid.cols());
+    ChangeFileHeader header;
+    Result<ChangeSequence> changes = LoadChanges(*o.changes, grid.rows(), grid.cols(), &header);
     if (!changes) return changes.error();
+    if (Status fits = CheckChangeFile(*o.changes, header, *changes, grid, o.force_changes); !fits) {
+      return fits.error();
+    }
     setup.scenario.changes = std::move(*changes);
     if (o.steps) {
       if (*steps > static_cast<long long>(setup.scenario.changes.steps.size())) {

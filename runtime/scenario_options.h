@@ -28,6 +28,7 @@ struct ScenarioOptions {
   std::optional<long long> size, cols, seed, steps;
   std::optional<std::string> difficulty, maze, stations, stations_file, movers, changes, replay;
   bool allow_unreachable = false;
+  bool force_changes = false;  // use a change file made for another maze (a warning)
 };
 void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& options);
 // The words of --difficulty, any case (the result files' names, lower case).

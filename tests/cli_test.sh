@@ -107,4 +107,33 @@ map_error "option --movers" --maze "$map" --stations 2 --movers 1000
 printf 'type octile\nheight 2\nwidth 2\nmap\n..\n.?\n' >"$work/bad.map"
 map_error "line 6: column 2: unknown terrain '?'" --maze "$work/bad.map" --stations 1
 
+# Change files are bound to their maze: one made from another seed (same
+# size) is refused naming both fingerprints; --force-changes still checks
+# every change against the grid; a version 1 file (no fingerprint) is read
+# with a warning; a file of this maze runs.
+hard=(--size 30 --difficulty hard --steps 3 --approach "BFS Oracle")
+"$dynapath" maze "${hard[@]::4}" --seed 52 --save-changes "$work/52.changes" --no-grid >/dev/null ||
+  fail "maze --save-changes"
+"$dynapath" maze "${hard[@]::4}" --seed 53 --save-changes "$work/53.changes" --no-grid >/dev/null
+fingerprint() { head -n 1 "$1" | awk '{ print $6 }'; }
+head -n 1 "$work/52.changes" | grep -Eq '^dynapath-changes 2 30 30 60 [0-9a-f]{16}$' ||
+  fail "change file header: $(head -n 1 "$work/52.changes")"
+expect_usage_error "53.changes was made for the maze of fingerprint $(fingerprint "$work/53.changes"), this maze's is $(fingerprint "$work/52.changes")" \
+  run --local "${hard[@]}" --seed 52 --changes "$work/53.changes" --out "$work/c53"
+"$dynapath" run --local "${hard[@]}" --seed 52 --changes "$work/53.changes" --force-changes \
+  --out "$work/c53" >/dev/null 2>"$work/err"
+[ $? -eq 2 ] || fail "--force-changes with a foreign change file did not exit 2"
+grep -q "warning.*using it anyway (--force-changes)" "$work/err" || fail "--force-changes gave no warning"
+grep -Eq "53.changes: time step [0-9]+, change [0-9]+ at cell [0-9]+ \(row [0-9]+, column [0-9]+\)" "$work/err" ||
+  fail "a change that does not fit is not named: $(cat "$work/err")"
+[ -e "$work/c53/results.csv" ] && fail "a foreign change file was run"
+"$dynapath" run --local "${hard[@]}" --seed 52 --changes "$work/52.changes" --out "$work/c52" \
+  >/dev/null 2>&1 || fail "run with the maze's own change file"
+sed '1s/^dynapath-changes 2 \([0-9]* [0-9]* [0-9]*\) .*/dynapath-changes 1 \1/' "$work/52.changes" >"$work/v1.changes"
+"$dynapath" run --local "${hard[@]}" --seed 52 --changes "$work/v1.changes" --out "$work/c52v1" \
+  >/dev/null 2>"$work/err" || fail "a version 1 change file: $(cat "$work/err")"
+grep -q "records no maze fingerprint" "$work/err" || fail "a version 1 change file gave no warning"
+cmp -s <(cut -d, -f1-4 "$work/c52/results_detailed.csv") <(cut -d, -f1-4 "$work/c52v1/results_detailed.csv") ||
+  fail "version 1 and 2 change files gave different results"
+
 if [ $failures -eq 0 ]; then echo "cli_test: all checks passed"; else echo "cli_test: $failures failures"; exit 1; fi

@@ -1,8 +1,10 @@
 #include "dynapath/text_file.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +12,16 @@
 #include <sstream>
 
 namespace dynapath {
+namespace {
+
+// "PATH: cannot write: REASON" with the operating system's reason; a file
+// that cannot be written is an I/O error whatever the reason (a missing
+// folder included).
+Error WriteFailure(const std::string& path, int error, const std::string& what = "cannot write") {
+  return Error::Io(path + ": " + what + ": " + std::strerror(error));
+}
+
+}  // namespace
 
 Result<std::string> ReadTextFile(const std::string& path) {
   struct stat info {};
@@ -28,21 +40,39 @@ Result<std::string> ReadTextFile(const std::string& path) {
 }
 
 Status WriteFileAtomically(const std::string& path, std::string_view contents) {
-  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) return Error::Io(path + ": cannot open for writing: " + std::strerror(errno));
-    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    out.flush();
-    if (!out) {
-      std::remove(temporary.c_str());
-      return Error::Io(path + ": write error");
+  // Unique per process and call, so two threads writing one path do not
+  // share a temporary file.
+  static std::atomic<unsigned> counter{0};
+  const std::string temporary =
+      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  struct stat info {};
+  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    return Error::Io(path + ": is a directory, not a file");
+  }
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) return WriteFailure(path, errno);
+  // Every byte, or the reason it was not written (ENOSPC, EDQUOT, EIO...);
+  // close() reports errors of deferred writes too.
+  int error = 0;
+  size_t written = 0;
+  while (written < contents.size()) {
+    const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      error = errno;
+      break;
     }
+    written += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) {
+    ::unlink(temporary.c_str());
+    return WriteFailure(path, error);
   }
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    return Error::Io(path + ": cannot rename into place: " + reason);
+    error = errno;
+    ::unlink(temporary.c_str());
+    return WriteFailure(path, error, "cannot rename into place");
   }
   return Ok{};
 }

@@ -2,12 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/temp_path.h"
-
 #include <filesystem>
 
 #include "dynapath/results_csv.h"
 #include "dynapath/text_file.h"
+#include "tests/temp_path.h"
 
 namespace dynapath::cli {
 namespace {
@@ -76,7 +75,12 @@ TEST_F(StudyResultsTest, MergesInOrderWithOneHeader) {
 
   ASSERT_TRUE(MergeResultFiles({}, dir_.string(), ""));
   EXPECT_EQ(*ReadTextFile((dir_ / "results.csv").string()), SummaryResultsCsv({}));
-  EXPECT_FALSE(MergeResultFiles({(dir_ / "missing").string()}, dir_.string(), ""));
+  // Both files are tried, and the error names each one not written.
+  const Status missing = MergeResultFiles({(dir_ / "missing").string()}, dir_.string(), "");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("results.csv not written: "), std::string::npos);
+  EXPECT_NE(missing.error().message.find("results_detailed.csv not written: "), std::string::npos)
+      << missing.error().message;
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 // files, merged result files, a manifest and a log in one directory.
 
 #include <fcntl.h>
-#include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -27,13 +26,17 @@
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
 #include "runtime/option_group.h"
+#include "runtime/output_check.h"
+#include "runtime/output_lock.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
 #include "tools/common/build_info.h"
 #include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
+#include "tools/common/space_reserve.h"
 #include "tools/common/study_config.h"
+#include "tools/common/study_log.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
 
@@ -109,13 +112,20 @@ std::string Differences(const Json& there, const Json& here) {
   return text.empty() ? "different options" : text;
 }
 
+// The files a study writes at its top.
+const std::vector<std::string>& StudyFiles() {
+  static const std::vector<std::string> files = {"manifest.json",    "study.log",
+                                                 "results.csv",      "results_detailed.csv",
+                                                 "edge_results.csv", "edge_results_detailed.csv"};
+  return files;
+}
+
 // Removes what an earlier study wrote into `out` (--force).
 Status RemovePreviousStudy(const fs::path& out) {
   std::error_code error;
   fs::remove_all(out / "runs", error);
   if (error) return Error::Io((out / "runs").string() + ": cannot remove: " + error.message());
-  for (const char* file : {"manifest.json", "study.log", "results.csv", "results_detailed.csv",
-                           "edge_results.csv", "edge_results_detailed.csv"}) {
+  for (const std::string& file : StudyFiles()) {
     fs::remove(out / file, error);
     if (error) return Error::Io((out / file).string() + ": cannot remove: " + error.message());
   }
@@ -225,14 +235,21 @@ struct CommandError {
   std::string message;
 };
 
-// Checks the study directory: the manifest of the same study to resume, or
-// none (a new study; with --force, the old one is deleted first).
-std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs::path& out,
-                                                                       const Json& identity,
-                                                                       bool force) {
+// Checks the study directory and locks it (`lock`; one study writes it at a
+// time): the manifest of the same study to resume, or none (a new study;
+// with --force, the old one is deleted first).
+std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(
+    const fs::path& out, const Json& identity, bool force,
+    std::optional<runtime::OutputLock>& lock) {
   std::error_code error;
   if (fs::exists(out, error) && !fs::is_directory(out, error)) {
     return CommandError{kExitUsage, out.string() + " exists and is not a directory"};
+  }
+  Result<runtime::OutputLock> locked = runtime::OutputLock::Acquire(out.string(), "out");
+  if (!locked) return CommandError{kExitUsage, locked.error().message};
+  lock.emplace(std::move(*locked));
+  if (Status status = runtime::CheckOutputFiles(out.string(), StudyFiles(), "out"); !status) {
+    return CommandError{kExitUsage, status.error().message};
   }
   std::optional<Manifest> previous;
   const fs::path manifest_path = out / "manifest.json";
@@ -256,11 +273,6 @@ std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs:
                                           "--force to replace them, or another --out"};
     }
   }
-  fs::create_directories(out, error);
-  if (error) {
-    return CommandError{kExitFailure,
-                        out.string() + ": cannot create directory: " + error.message()};
-  }
   if (force) {
     if (Status status = RemovePreviousStudy(out); !status) {
       return CommandError{kExitFailure, status.error().message};
@@ -270,14 +282,15 @@ std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(const fs:
 }
 
 // The default logger of the study: everything at `level` into the log file
-// (the components' processes write there too), warnings and errors also on
-// stderr through the progress display.
-Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path,
+// `log_fd` (the components' processes write there too), warnings and errors
+// also on stderr through the progress display.
+Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path, int log_fd,
                                                     spdlog::level::level_enum level,
-                                                    ProgressDisplay& display) {
+                                                    ProgressDisplay& display,
+                                                    std::shared_ptr<StudyLogSink>& file_sink) {
   std::shared_ptr<spdlog::logger> logger;
   try {
-    auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_path, false);
+    file_sink = std::make_shared<StudyLogSink>(log_fd);
     file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
     auto console_sink = MakeDisplaySink(display);
     console_sink->set_pattern("[%H:%M:%S] [%l] %v");
@@ -334,9 +347,14 @@ Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& o
 // the manifest and the merged result files up to date.
 class StudyRunner {
  public:
+  // `reserve` (may be null): space given back for the final manifest.
   StudyRunner(const Session& session, const std::vector<StudyConfiguration>& plan,
-              Manifest& manifest, bool terminal)
-      : session_(session), plan_(plan), manifest_(manifest), terminal_(terminal) {}
+              Manifest& manifest, bool terminal, SpaceReserve* reserve)
+      : session_(session),
+        plan_(plan),
+        manifest_(manifest),
+        terminal_(terminal),
+        reserve_(reserve) {}
 
   // Returns the exit status: 0, kExitFailure or 130 (interrupted).
   int Run() {
@@ -350,17 +368,30 @@ class StudyRunner {
         break;
       }
       RunOne(i);
-      Merge();  // a failure is logged; the last merge below counts
-      Save();
+      (void)Merge();  // a failure is logged; the last merge below counts
+      (void)Save();
     }
-    if (!Merge()) ++failures_;
-    manifest_.status = interrupted_ ? "interrupted" : failures_ > 0 ? "failed" : "finished";
+    // The files that could not be written are told at the end, by name.
+    const Status merged = Merge();
+    if (!merged) unwritten_.push_back(merged.error().message);
+    manifest_.status = interrupted_                    ? "interrupted"
+                       : failures_ > 0 || !merged.ok() ? "failed"
+                                                       : "finished";
     manifest_.ended = NowIso8601();
-    if (!Save()) ++failures_;
-    return interrupted_ ? 130 : failures_ > 0 ? kExitFailure : 0;
+    Status saved = Save();
+    // A full disk: the space held back for this last manifest, then again.
+    if (!saved && reserve_ != nullptr && reserve_->Release()) saved = Save();
+    if (!saved) {
+      unwritten_.push_back(saved.error().message + " (it still says the study is running)");
+    }
+    if (interrupted_) return 130;
+    return failures_ > 0 || !unwritten_.empty() ? kExitFailure : 0;
   }
 
+  // Configurations that failed (not files).
   int failures() const { return failures_; }
+  // The final result files and manifest not written, each with its reason.
+  const std::vector<std::string>& unwritten() const { return unwritten_; }
 
  private:
   std::string Position(size_t i) const {
@@ -418,7 +449,7 @@ class StudyRunner {
   }
 
   // Rewrites the merged result files from the configurations done.
-  bool Merge() {
+  Status Merge() {
     std::vector<std::string> main_dirs, edge_dirs;
     bool has_edge = false;
     for (size_t i = 0; i < plan_.size(); ++i) {
@@ -427,24 +458,32 @@ class StudyRunner {
       (plan_[i].edge_case ? edge_dirs : main_dirs)
           .push_back((session_.out / plan_[i].Directory()).string());
     }
-    Status status = MergeResultFiles(main_dirs, session_.out.string(), "");
-    if (status && has_edge) status = MergeResultFiles(edge_dirs, session_.out.string(), "edge_");
-    if (!status) spdlog::error("{}", status.error().message);
-    return static_cast<bool>(status);
+    std::string failures;
+    const Status main = MergeResultFiles(main_dirs, session_.out.string(), "");
+    if (!main) failures = main.error().message;
+    if (has_edge) {
+      const Status edge = MergeResultFiles(edge_dirs, session_.out.string(), "edge_");
+      if (!edge) failures += (failures.empty() ? "" : "; ") + edge.error().message;
+    }
+    if (failures.empty()) return Ok{};
+    spdlog::error("{}", failures);
+    return Error::Io(failures);
   }
 
-  bool Save() {
+  Status Save() {
     Status status = WriteManifest(manifest_, (session_.out / "manifest.json").string());
     if (!status) spdlog::error("{}", status.error().message);
-    return static_cast<bool>(status);
+    return status;
   }
 
   const Session& session_;
   const std::vector<StudyConfiguration>& plan_;
   Manifest& manifest_;
   const bool terminal_;
+  SpaceReserve* reserve_;
   int failures_ = 0;
   bool interrupted_ = false;
+  std::vector<std::string> unwritten_;
 };
 
 }  // namespace
@@ -471,7 +510,8 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(options);
   const fs::path out = options.out;
 
-  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), force);
+  std::optional<runtime::OutputLock> lock;
+  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), force, lock);
   if (const CommandError* error = std::get_if<CommandError>(&opened)) {
     std::fprintf(stderr, "dynapath experiment: %s\n", error->message.c_str());
     return error->code;
@@ -482,16 +522,17 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   const bool terminal = isatty(STDERR_FILENO) && term != nullptr && std::string(term) != "dumb";
   ProgressDisplay display(stderr, terminal);
   const std::string log_path = (out / "study.log").string();
-  Result<std::shared_ptr<spdlog::logger>> logger =
-      StudyLogger(log_path, spdlog::level::from_str(options.log.log_level), display);
-  if (!logger) return Failure(logger.error().message);
-  spdlog::set_default_logger(*logger);
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
   if (log_fd < 0) return Failure(log_path + ": cannot open: " + std::strerror(errno));
   struct CloseLog {
     int fd;
     ~CloseLog() { close(fd); }
   } close_log{log_fd};
+  std::shared_ptr<StudyLogSink> log_sink;
+  Result<std::shared_ptr<spdlog::logger>> logger = StudyLogger(
+      log_path, log_fd, spdlog::level::from_str(options.log.log_level), display, log_sink);
+  if (!logger) return Failure(logger.error().message);
+  spdlog::set_default_logger(*logger);
 
   // --agents: one private network for the whole study, entered while this
   // process still has a single thread (no thread has been started so far;
@@ -535,22 +576,38 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   }
   const Session session{options, mode, out, display, stop, log_fd};
   const double study_start = Seconds();
-  StudyRunner runner(session, plan, manifest, terminal);
-  const int code = runner.Run();
+  // Room for the final manifest on a disk that fills up (twice its size).
+  SpaceReserve reserve((out / ".manifest.reserve").string(),
+                       std::max<size_t>(8192, 2 * DumpJson(ManifestToJson(manifest)).size()));
+  StudyRunner runner(session, plan, manifest, terminal, &reserve);
+  int code = runner.Run();
   display.Stop();
 
   int finished = 0;
   for (const ConfigurationRecord& record : manifest.configurations) {
     finished += record.status == "done";
   }
-  const std::string summary =
-      "study " + manifest.status + ": " + std::to_string(finished) + " of " +
-      std::to_string(plan.size()) + " configurations done (" + std::to_string(already) +
-      " before this session), " + std::to_string(runner.failures()) + " failed, " +
-      FormatDuration(Seconds() - study_start) + "; results in " + (out / "results.csv").string() +
-      (options.edge_case ? " and " + (out / "edge_results.csv").string() : "");
+  std::string summary = "study " + manifest.status + ": " + std::to_string(finished) + " of " +
+                        std::to_string(plan.size()) + " configurations done (" +
+                        std::to_string(already) + " before this session), " +
+                        std::to_string(runner.failures()) + " failed, " +
+                        FormatDuration(Seconds() - study_start);
+  if (runner.unwritten().empty()) {
+    summary += "; results in " + (out / "results.csv").string() +
+               (options.edge_case ? " and " + (out / "edge_results.csv").string() : "");
+  } else {
+    summary += "; NOT WRITTEN: ";
+    for (size_t i = 0; i < runner.unwritten().size(); ++i) {
+      summary += (i > 0 ? "; " : "") + runner.unwritten()[i];
+    }
+  }
   spdlog::info("{}", summary);
   std::fprintf(stderr, "%s\n", summary.c_str());
+  // Said last, when nothing more is logged: what study.log lacks.
+  if (const std::string missing = log_sink->MissingText(log_path); !missing.empty()) {
+    std::fprintf(stderr, "dynapath experiment: %s\n", missing.c_str());
+    if (code == 0) code = kExitFailure;
+  }
   if (code == 130) std::fprintf(stderr, "run the same command again to resume\n");
   return code;
 }

@@ -7,6 +7,7 @@
 #include "dynapath/astar_paths.h"
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/quadtree.h"
+#include "runtime/output_check.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -46,6 +47,15 @@ int MazeCommand(const std::vector<std::string>& args) {
     std::fprintf(stderr, "dynapath maze: %s\n", leaf_limit.error().message.c_str());
     return kExitUsage;
   }
+  // Outputs checked before anything is written.
+  for (const auto& [option, path] :
+       {std::pair{"save", &save}, std::pair{"save-changes", &save_changes}}) {
+    if (!*path) continue;
+    if (Status status = runtime::CheckOutputFile(**path, option); !status) {
+      std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
+      return kExitUsage;
+    }
+  }
   const Grid& grid = setup->scenario.grid;
   if (save) {
     if (Status status = SaveGrid(grid, *save); !status) {
@@ -54,9 +64,7 @@ int MazeCommand(const std::vector<std::string>& args) {
     }
   }
   if (save_changes) {
-    if (Status status =
-            SaveChanges(setup->scenario.changes, grid.rows(), grid.cols(), *save_changes);
-        !status) {
+    if (Status status = SaveChanges(setup->scenario.changes, grid, *save_changes); !status) {
       std::fprintf(stderr, "dynapath maze: %s\n", status.error().message.c_str());
       return kExitFailure;
     }

@@ -8,6 +8,8 @@
 
 #include "launch/launcher.h"
 #include "protocol/dispatcher.h"
+#include "runtime/output_check.h"
+#include "runtime/output_lock.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
@@ -89,6 +91,19 @@ int RunCommand(const std::vector<std::string>& args) {
       !policy) {
     return usage_error(policy.error().message);
   }
+  // Every output checked, and --out ours alone, before any work.
+  if (log_file) {
+    if (Status status = runtime::CheckOutputFile(*log_file, "log"); !status) {
+      return usage_error(status.error().message);
+    }
+  }
+  if (!plan->policy.save_path.empty()) {
+    if (Status status = runtime::CheckOutputFile(plan->policy.save_path, "save-policy"); !status) {
+      return usage_error(status.error().message);
+    }
+  }
+  Result<runtime::OutputLock> out_lock = runtime::LockResultDirectory(plan->out_dir);
+  if (!out_lock) return usage_error(out_lock.error().message);
 
   if (distributed) {
     launch::DistributedRun run;
@@ -101,6 +116,7 @@ int RunCommand(const std::vector<std::string>& args) {
     run.run = run_options;
     run.log_level = log.log_level;
     run.log_file = log_file.value_or("");
+    run.out_lock_fd = out_lock->fd();
     bool embedded = run_mode->kind == runtime::RunMode::kEmbedded;
     if (!embedded) {
       const launch::ProcessNetwork network = launch::EnterProcessNetwork(process->lcm_url);

@@ -48,20 +48,32 @@ bool ConfigurationComplete(const std::string& directory, const std::vector<Appro
 
 Status MergeResultFiles(const std::vector<std::string>& directories, const std::string& out_dir,
                         const std::string& prefix) {
+  // Both files are tried; the error names every one not written.
+  std::string failures;
+  auto failed = [&](const Error& error) {
+    failures += (failures.empty() ? "" : "; ") + error.message;
+  };
   for (const auto& [file, header] :
        {std::pair<std::string, std::string>{"results.csv", SummaryResultsCsv({})},
         std::pair<std::string, std::string>{"results_detailed.csv", DetailedResultsCsv({})}}) {
     std::string merged = header;
+    bool read = true;
     for (const std::string& directory : directories) {
       Result<std::string> text = ReadTextFile(directory + "/" + file);
-      if (!text) return text.error();
+      if (!text) {
+        failed(text.error().Prefixed(out_dir + "/" + prefix + file + " not written: "));
+        read = false;
+        break;
+      }
       const size_t body = text->find('\n');
       if (body != std::string::npos) merged += text->substr(body + 1);
     }
+    if (!read) continue;
     if (Status status = WriteTextFileAtomically(out_dir + "/" + prefix + file, merged); !status) {
-      return status;
+      failed(status.error());
     }
   }
+  if (!failures.empty()) return Error::Io(failures);
   return Ok{};
 }
 

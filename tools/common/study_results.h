@@ -22,6 +22,7 @@ bool ConfigurationComplete(const std::string& directory, const std::vector<Appro
 // Writes OUT/<prefix>results.csv and OUT/<prefix>results_detailed.csv
 // (atomically): the header once, then the rows of each directory's files in
 // the order given. With no directory, the files hold the header only.
+// Both files are tried; the error names each one not written, with the reason.
 Status MergeResultFiles(const std::vector<std::string>& directories, const std::string& out_dir,
                         const std::string& prefix);
 

@@ -18,6 +18,7 @@
 #include "dynapath/text_file.h"
 #include "protocol/channels.h"
 #include "runtime/option_group.h"
+#include "runtime/output_check.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/view/gif_writer.h"
@@ -80,6 +81,10 @@ int Run(const std::vector<std::string>& args) {
     return runtime::ProcessError(kProgram, "option --out DIR is required");
   }
   const fs::path out_dir = *out;
+  // The pictures' directory checked (and made) before the log is read.
+  if (Status status = runtime::PrepareOutputDirectory(*out, "out"); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
   if (Status status = view::CheckShowOptions(show); !status) {
     return runtime::ProcessError(kProgram, status.error().message);
   }

@@ -1,0 +1,24 @@
+#pragma once
+// Output paths checked before any work starts: a folder where a file is
+// wanted, a file where a folder is wanted, a missing parent folder or an
+// unwritable place is one error naming the option, the path and the
+// system's reason, instead of a failure after the work was done.
+
+#include <string>
+#include <vector>
+
+#include "dynapath/result.h"
+
+namespace dynapath::runtime {
+
+// An output directory (--out): created with its parents when missing; it
+// must then be a directory we may write into.
+Status PrepareOutputDirectory(const std::string& dir, const std::string& option);
+// Files a command will (re)write in `dir`: none of them may be a directory.
+Status CheckOutputFiles(const std::string& dir, const std::vector<std::string>& names,
+                        const std::string& option);
+// An output file (--log, --save): not a directory, in an existing folder we
+// may write into, and writable itself if it exists.
+Status CheckOutputFile(const std::string& path, const std::string& option);
+
+}  // namespace dynapath::runtime
