@@ -18,6 +18,7 @@
 #include "dynapath/limits.h"
 #include "dynapath/mdp.h"
 #include "dynapath/text_file.h"
+#include "protocol/convert.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -145,16 +146,9 @@ Result<std::vector<uint8_t>> GetCompressed(Reader& reader, size_t expected,
 
 uint8_t PrecisionCode(QPrecision precision) { return precision == QPrecision::kFloat ? 0 : 1; }
 
+// The bootstrap's code is the wire's (0 in-grid, 1 in-region, 2 all stored).
 uint8_t BootstrapCode(Bootstrap bootstrap) {
-  switch (bootstrap) {
-    case Bootstrap::kInGrid:
-      return 0;
-    case Bootstrap::kInRegion:
-      return 1;
-    case Bootstrap::kAllStored:
-      return 2;
-  }
-  return 0;
+  return static_cast<uint8_t>(protocol::BootstrapToWire(bootstrap));
 }
 
 Status EncodeSection(const PolicyState& s, Writer& out) {
@@ -250,7 +244,8 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
       node_count > 2 * cells || step > static_cast<uint32_t>(INT32_MAX)) {
     return Error::Corrupt("leaf limit, node count or step out of range");
   }
-  if (semantics > 1 || precision > 1 || bootstrap > 2 || has_baselines > 1) {
+  const std::optional<Bootstrap> scope = protocol::BootstrapFromWire(static_cast<int8_t>(bootstrap));
+  if (semantics > 1 || precision > 1 || !scope || has_baselines > 1) {
     return Error::Corrupt("unknown semantics, precision, bootstrap or baseline flag");
   }
   s.rows = static_cast<int>(rows);
@@ -260,9 +255,7 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   s.step = static_cast<int>(step);
   s.semantics = semantics == 1 ? Semantics::kReport : Semantics::kOurs;
   s.precision = precision == 1 ? QPrecision::kDouble : QPrecision::kFloat;
-  s.learner.bootstrap = bootstrap == 0   ? Bootstrap::kInGrid
-                        : bootstrap == 1 ? Bootstrap::kInRegion
-                                         : Bootstrap::kAllStored;
+  s.learner.bootstrap = *scope;
   if (!in.Get(single_count) || single_count != kSingleAgentOptionCount) {
     return Error::Corrupt("expected " + std::to_string(kSingleAgentOptionCount) +
                           " single-agent options");

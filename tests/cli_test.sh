@@ -18,9 +18,9 @@ expect_usage_error() {  # expect exit 2 and exactly one stderr line mentioning $
   grep -q -- "$needle" "$work/err" || fail "'$*' error does not mention '$needle': $(cat "$work/err")"
 }
 
-"$dynapath" --help | grep -q "Commands:" || fail "dynapath --help"
-"$dynapath" run --help | grep -q -- "--approach" || fail "run --help"
-"$dynapath" maze --help | grep -q -- "--difficulty" || fail "maze --help"
+"$dynapath" --help | grep "Commands:" >/dev/null || fail "dynapath --help"
+"$dynapath" run --help | grep -- "--approach" >/dev/null || fail "run --help"
+"$dynapath" maze --help | grep -- "--difficulty" >/dev/null || fail "maze --help"
 
 expect_usage_error "unknown command" frobnicate
 expect_usage_error "--difficulty" maze --difficulty impossible

@@ -27,8 +27,8 @@ expect_error() {  # expect exit $1 and exactly one stderr line mentioning $2
   grep -q -- "$needle" "$work/err" || fail "'$*' error does not mention '$needle': $(cat "$work/err")"
 }
 
-"$dynapath" --help | grep -q "netns" || fail "dynapath --help does not list netns"
-"$dynapath" netns --help | grep -q "Usage: dynapath netns" || fail "netns --help"
+"$dynapath" --help | grep "netns" >/dev/null || fail "dynapath --help does not list netns"
+"$dynapath" netns --help | grep "Usage: dynapath netns" >/dev/null || fail "netns --help"
 expect_error 2 "missing COMMAND" netns
 expect_error 2 "missing COMMAND" netns --
 expect_error 2 "unknown option --bogus" netns --bogus true

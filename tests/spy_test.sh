@@ -40,7 +40,7 @@ make_jar "$work/types.jar" META-INF/MANIFEST.MF dynapath/grid_t.class dynapath/c
   other/thing.class
 make_jar "$work/empty.jar" META-INF/MANIFEST.MF other/thing.class
 
-"$spy" --help | grep -q -- "--pid PID" || fail "--help"
+"$spy" --help | grep -- "--pid PID" >/dev/null || fail "--help"
 expect_error 1 "message jar not found: $work/missing.jar" --jar "$work/missing.jar" --check
 expect_error 2 "needs a value" --jar
 expect_error 1 "no dynapath/\*.class" --jar "$work/empty.jar" --check

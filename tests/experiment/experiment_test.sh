@@ -62,7 +62,7 @@ json() {  # json FILE PYTHON_EXPRESSION_OF_m
 }
 
 # 1. Bad options and bad config files.
-"$dynapath" experiment --help | grep -q -- "--sizes" || fail "experiment --help"
+"$dynapath" experiment --help | grep -- "--sizes" >/dev/null || fail "experiment --help"
 expect_usage_error "size '1' is not an integer from 2" --sizes 1,20
 expect_usage_error "size 20 is given twice" --sizes 20,50,20
 expect_usage_error "unknown difficulty 'extreme'" --difficulties easy,extreme
