@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "dynapath/change_sequence.h"
+
 namespace dynapath {
 
 double ApproachRun::AverageSuccessRate() const {
@@ -91,13 +93,13 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     if (!planner->ExportPolicy(state)) return;
     state.step = t;
     state.initial_fingerprint = initial_fingerprint;
-    state.fingerprint = GridFingerprint(grid);
+    state.fingerprint = MazeFingerprint(grid);
     hooks.save(std::move(state));
   };
 
   Grid grid = source.Initial(pass);
   if (failed()) return run;
-  initial_fingerprint = GridFingerprint(grid);
+  initial_fingerprint = MazeFingerprint(grid);
   int first_step = 1;
   const PolicyState* loaded = hooks.load;
   if (loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint &&
@@ -113,7 +115,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
       if (failed()) return run;
       ApplyChanges(step, grid);
     }
-    if (GridFingerprint(grid) != loaded->fingerprint) {
+    if (MazeFingerprint(grid) != loaded->fingerprint) {
       return Error("the maze at step " + std::to_string(saved) +
                    " differs from the one the policy was saved on "
                    "(another change sequence?)");

@@ -1,4 +1,4 @@
-// GridFingerprint and the checks on a policy state: consistency (after
+// The checks on a policy state: consistency (after
 // decoding a file) and fit (before a planner imports it).
 #include "dynapath/policy_state.h"
 
@@ -44,20 +44,6 @@ std::string Text(T value) {
 }
 
 }  // namespace
-
-uint64_t GridFingerprint(const Grid& grid) {
-  uint64_t hash = 14695981039346656037ull;  // FNV-1a 64 offset basis
-  auto mix = [&](uint64_t byte) {
-    hash ^= byte;
-    hash *= 1099511628211ull;  // FNV-1a 64 prime
-  };
-  for (int shift = 0; shift < 32; shift += 8)
-    mix((static_cast<uint32_t>(grid.rows()) >> shift) & 0xff);
-  for (int shift = 0; shift < 32; shift += 8)
-    mix((static_cast<uint32_t>(grid.cols()) >> shift) & 0xff);
-  for (int cell = 0; cell < grid.size(); ++cell) mix(static_cast<uint8_t>(grid.at(cell)));
-  return hash;
-}
 
 Status CheckPolicyConsistent(const PolicyState& s) {
   if (s.rows < 1 || s.cols < 1 || s.rows > kMaxGridSide || s.cols > kMaxGridSide) {
@@ -122,19 +108,17 @@ Status CheckPolicyFits(const PolicyState& s, Approach approach, const PlannerOpt
     return differs("learner option " #member, Text(s.learner.group.member), \
                    Text(options.group.member));                             \
   }
-#define DYNAPATH_COMPARE_SINGLE(member, ...) \
-  DYNAPATH_COMPARE_OPTION(single_agent, member)
-#define DYNAPATH_COMPARE_FEDERATED(member, ...) \
-  DYNAPATH_COMPARE_OPTION(federated, member)
+#define DYNAPATH_COMPARE_SINGLE(member, ...) DYNAPATH_COMPARE_OPTION(single_agent, member)
+#define DYNAPATH_COMPARE_FEDERATED(member, ...) DYNAPATH_COMPARE_OPTION(federated, member)
   DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_COMPARE_SINGLE)
   DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_COMPARE_FEDERATED)
 #undef DYNAPATH_COMPARE_FEDERATED
 #undef DYNAPATH_COMPARE_SINGLE
 #undef DYNAPATH_COMPARE_OPTION
-#define DYNAPATH_COMPARE_THRESHOLD(member, ...)                                  \
-  if (s.thresholds.member != options.thresholds.member) {                        \
+#define DYNAPATH_COMPARE_THRESHOLD(member, ...)                                \
+  if (s.thresholds.member != options.thresholds.member) {                      \
     return differs("retraining threshold " #member, Text(s.thresholds.member), \
-                   Text(options.thresholds.member));                             \
+                   Text(options.thresholds.member));                           \
   }
   DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_COMPARE_THRESHOLD)
 #undef DYNAPATH_COMPARE_THRESHOLD

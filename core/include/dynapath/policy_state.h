@@ -30,20 +30,16 @@ struct PolicyState {
   // averaging, the semantics may set the bootstrap) and the strategy's.
   LearnerOptions learner;
   RetrainingThresholds thresholds;
-  uint64_t run_seed = 0;                 // the seed the job seeds derive from
-  int step = 0;                          // the time step after which it was exported
-  uint64_t initial_fingerprint = 0;      // GridFingerprint of the maze at step 0
-  uint64_t fingerprint = 0;              // and at `step`
+  uint64_t run_seed = 0;             // the seed the job seeds derive from
+  int step = 0;                      // the time step after which it was exported
+  uint64_t initial_fingerprint = 0;  // MazeFingerprint (change_sequence.h) of the maze at step 0
+  uint64_t fingerprint = 0;          // and at `step`
   std::vector<int64_t> training_counts;  // per node: trainings so far
   // Per node, the strategy's stored success rate (-1: never trained), for
   // strategies that keep one (the tree strategy); empty otherwise.
   std::vector<double> baselines;
   QTable table;  // the root table: rows * cols cells of `precision`
 };
-
-// A 64-bit FNV-1a hash of the shape and every cell's code: equal mazes,
-// equal fingerprints; a moved obstacle or station changes it.
-uint64_t GridFingerprint(const Grid& grid);
 
 // Ok when `state` is consistent in itself (sizes of its vectors against its
 // shape, training counts >= 0, baselines -1 or in [0, 1]); otherwise a

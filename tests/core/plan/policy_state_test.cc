@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "dynapath/change_sequence.h"
 #include "dynapath/experiment.h"
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
@@ -178,11 +179,11 @@ TEST(PolicyStateTest, ConsistencyChecksSizesAndValues) {
 
 TEST(PolicyStateTest, FingerprintSeesEveryCell) {
   Grid grid(3, 4);
-  const uint64_t empty = GridFingerprint(grid);
-  EXPECT_EQ(empty, GridFingerprint(Grid(3, 4)));
-  EXPECT_NE(empty, GridFingerprint(Grid(4, 3)));
+  const uint64_t empty = MazeFingerprint(grid);
+  EXPECT_EQ(empty, MazeFingerprint(Grid(3, 4)));
+  EXPECT_NE(empty, MazeFingerprint(Grid(4, 3)));
   grid.set(11, Cell::kStation);
-  EXPECT_NE(empty, GridFingerprint(grid));
+  EXPECT_NE(empty, MazeFingerprint(grid));
 }
 
 }  // namespace
