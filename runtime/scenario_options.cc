@@ -36,8 +36,13 @@ const WordTable<Difficulty>& DifficultyWords() {
 // name without ".map", with characters that would break a CSV field replaced.
 std::string MapLabel(const std::string& path) {
   std::string name = path.substr(path.find_last_of('/') + 1);
-  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".map") == 0)
-    name.resize(name.size() - 4);
+  for (const std::string suffix : {".map", ".yaml", ".yml"}) {
+    if (name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      name.resize(name.size() - suffix.size());
+      break;
+    }
+  }
   for (char& ch : name) {
     if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
   }
@@ -68,8 +73,8 @@ void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
                DifficultyWords().Name(kDefaultDifficulty));
   DeclareSeedAndStepsOptions(group, o.seed, o.steps);
   group.Option("--maze", o.maze, "FILE",
-               "load the maze from a file instead: a MovingAI map (.map, walls never move) "
-               "or the text format ('#', '.', 'C', every obstacle may move)");
+               "load the maze from a file instead: a MovingAI map (.map, walls never move), "
+               "a ROS map_server map (.yaml/.yml naming a PGM; walls never move) or the text format ('#', '.', 'C', every obstacle may move)");
   DeclareMapPopulationOptions(group, o.stations, o.movers);
   group.Option("--stations-file", o.stations_file, "FILE",
                "with --maze: stations from a file, 'row col' per line");

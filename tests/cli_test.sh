@@ -91,6 +91,12 @@ oracles=$(awk -F, '$1 ~ /Oracle/ { k = $4; v = $7 "," $8; if ($1 == "BFS Oracle"
 [ "$oracles" = 0 ] || fail "Incremental Oracle differs from BFS Oracle on a map"
 "$dynapath" maze --maze "$map" --stations-file "$(dirname "$0")/data/maps/wide-5-9.stations" --no-grid \
   >"$work/out" || fail "--stations-file"
+# A ROS map_server map (YAML + ascii PGM): its cells and its label.
+"$dynapath" maze --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --seed 1 >"$work/out" \
+  || fail "ROS map"
+[ "$(head -3 "$work/out" | tr C .)" = "$(printf '..#.\n.#..\n...#')" ] || fail "ROS map cells: $(cat "$work/out")"
+maprun --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --out "$work/ros" >/dev/null || fail "ROS map run"
+grep -q "^fedAsynQ_EqAvg,3x4,tiny-3-4," "$work/ros/results.csv" || fail "ROS map labels: $(cat "$work/ros/results.csv")"
 map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
   local needle=$1; shift
   "$dynapath" run --local --log-level off "$@" >"$work/out" 2>"$work/err"

@@ -3,6 +3,7 @@
 #include <charconv>
 
 #include "dynapath/limits.h"
+#include "dynapath/ros_map.h"
 #include "dynapath/text_file.h"
 
 namespace dynapath {
@@ -122,6 +123,10 @@ Result<Grid> ParseMovingAiMap(std::string_view bytes) {
 }
 
 Result<Grid> LoadMazeFile(const std::string& path, bool* movingai) {
+  if (IsRosMapPath(path)) {
+    if (movingai) *movingai = true;  // a map: stations required, its walls still
+    return LoadRosMap(path);
+  }
   Result<std::string> text = ReadTextFile(path);
   if (!text) return text.error();
   if (movingai) *movingai = LooksLikeMovingAiMap(*text);

@@ -27,8 +27,10 @@ Result<Grid> ParseMovingAiMap(std::string_view bytes);
 // True when the bytes start like a MovingAI map ("type ").
 bool LooksLikeMovingAiMap(std::string_view bytes);
 
-// A maze file of either kind: a MovingAI map, or the text format of grid.h.
-// `movingai` (if given) tells which.
+// A maze file of any kind: a ROS map_server map (path ending .yaml/.yml,
+// ros_map.h), a MovingAI map, or the text format of grid.h. `movingai` (if
+// given) is true for a map of either kind (treated alike: no stations of its
+// own, walls that do not move).
 Result<Grid> LoadMazeFile(const std::string& path, bool* movingai = nullptr);
 
 }  // namespace dynapath
