@@ -37,8 +37,7 @@ auto Bits(V value) {
 
 // The learner on a table of value type V (float, or the report code's double).
 template <typename V>
-void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
-           TrainingResult& result) {
+void Train(const TrainingJob& job, const RegionModel& model, TrainingResult& result) {
   const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
@@ -85,7 +84,6 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
   const bool clear_when_full = job.bootstrap == Bootstrap::kAllStored;
 
   for (int e = 0; e < options.max_episodes; ++e) {
-    if (e % 64 == 0 && StopRequested(stop)) break;
     if (e >= options.convergence_start_episode &&
         (e - options.convergence_start_episode) % std::max(1, options.convergence_interval) == 0) {
       if (has_snapshot) {
@@ -160,12 +158,12 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
 
 }  // namespace
 
-TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop) {
+TrainingResult TrainSingleAgent(const TrainingJob& job) {
   TrainingResult result;
   result.node = job.node;
   result.table = StartingTable(job);  // validates the job first
   const RegionModel model(job);
-  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, stop, result); });
+  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, result); });
   return result;
 }
 
