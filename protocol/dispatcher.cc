@@ -27,7 +27,7 @@ Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   auto lcm = std::make_unique<lcm::LCM>(resolved);
   if (!lcm->good()) {
     return Error::Io("cannot open LCM at '" + resolved +
-                     "' (bad URL, or no multicast route: see docs/NETWORKING.md)");
+                     "' (bad URL, or no multicast route: see docs/howto/NETWORKING.md)");
   }
   return lcm;
 }

@@ -107,20 +107,20 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   DeclareLeafLimitOption(group, o.leaf_limit);
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: " + BootstrapWords().List() +
-                   " (docs/DECISIONS.md)");
+                   " (docs/concepts/DECISIONS.md)");
   group.Option("--semantics", o.semantics, "WHOSE",
                "learning semantics: " + SemanticsWords().List() +
                    " (report: the report code's bootstrap, first training, replay buffer and "
                    "double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
                    (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
-                   "; a parameter given overrides them; docs/DECISIONS.md)");
+                   "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
   group.Option("--placement", o.placement, "MODE",
                "distributed runs: " + PlacementWords().List() +
-                   " (docs/DISTRIBUTED.md, Placement; results are the same)");
+                   " (docs/howto/DISTRIBUTED.md, Placement; results are the same)");
 }
 
 void DeclareRunOptions(OptionGroup& group, RunOptions& o) {

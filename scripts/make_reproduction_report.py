@@ -416,7 +416,7 @@ def main():
                  "+-0.003 / +-0.05 on hard 50x50 and 0.966-0.977 / 9.29-10.58 on the edge case "
                  "(`docs/reference/README.md`). Ours is deterministic for a given run seed: one "
                  "run each here, its spread below. `--semantics report` is the report code's "
-                 "bootstrap, first-training rule and replay buffer (`docs/DECISIONS.md`).\n\n")
+                 "bootstrap, first-training rule and replay buffer (`docs/concepts/DECISIONS.md`).\n\n")
         text += "### Hard 50x50, seed 52\n\n"
         text += "\n".join(code_here_table(
             ours, read(os.path.join(report_dir, "results.csv")), here, ref, "52", False)) + "\n"

@@ -70,7 +70,7 @@ parsed by CLI11: `-h` works everywhere; integers are decimal (`--size 020` is
 20, `0x10` is refused); `run` and the three processes also read
 `--config FILE` (CLI11 TOML, `key = value` under the options' names; the
 command line overrides it). A study file for `dynapath experiment --config`
-is TOML with the same keys (docs/EXPERIMENTS.md).
+is TOML with the same keys (docs/howto/STUDIES.md).
 """
 
 

@@ -59,7 +59,7 @@ constexpr const char* kSummary =
     "an interrupted one is redone. Ctrl-C stops the current configuration cleanly\n"
     "(a second Ctrl-C at once). --config FILE reads options from a TOML file under\n"
     "the same names (sizes = [20, 50]); the command line overrides it. See\n"
-    "docs/EXPERIMENTS.md. The full default study (up to 300x300) took 6.5 minutes\n"
+    "docs/howto/STUDIES.md. The full default study (up to 300x300) took 6.5 minutes\n"
     "with 2 agents on a 2-core machine.\n"
     "Exit status: 0 all done, 1 a configuration failed (the others still ran),\n"
     "2 bad options, 130 interrupted.";

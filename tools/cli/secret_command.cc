@@ -1,5 +1,5 @@
 // dynapath secret FILE: makes a run's secret for processes started by hand
-// (docs/DISTRIBUTED.md, "Authenticated runs").
+// (docs/howto/DISTRIBUTED.md, "Authenticated runs").
 
 #include <CLI/CLI.hpp>
 #include <cstdio>

@@ -565,7 +565,7 @@ std::string StudyConfiguration::ShortLabel() const {
 
 double StudyConfiguration::Work() const {
   // Relative wall time, fitted to the full study's per-configuration times
-  // (docs/EXPERIMENTS.md): a fixed part (process start, the baselines'
+  // (docs/howto/STUDIES.md): a fixed part (process start, the baselines'
   // set-up: about a second) plus (cells x steps)^0.8. Plain cells x steps
   // made the first small configurations predict hours for the 300x300 ones.
   const double cell_steps =

@@ -19,7 +19,7 @@
 #   link down / up: `ip link set vX down|up`.
 # The run itself: envsim and coordinator on a, one agent on b and one on c,
 # all with --lcm-url "$LAN_URL" and the same --run-id, as one would start
-# them by hand on three machines (docs/NETWORKING.md).
+# them by hand on three machines (docs/howto/DISTRIBUTED.md).
 
 LAN_URL='udpm://239.255.76.67:7667?ttl=1'
 LAN_HOSTS=(a b c)

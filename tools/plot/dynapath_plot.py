@@ -3,7 +3,7 @@
 
 Reads DIR/results.csv and DIR/results_detailed.csv (and, when present, the
 edge case's DIR/edge_results.csv and DIR/edge_results_detailed.csv) and writes
-one PNG per figure; docs/PLOTTING.md explains every figure. Standard library,
+one PNG per figure; docs/howto/PLOTTING.md explains every figure. Standard library,
 pandas and matplotlib only (Debian's python3-pandas and python3-matplotlib).
 
 Exit status: 0 figures written, 1 bad data (missing or malformed CSV), 2 bad
@@ -85,7 +85,7 @@ def parse_arguments(argv):
                "adapt_box_<size>_<difficulty>, cumulative_adapt_<size>_<difficulty>, "
                "success_over_time_<size>_<difficulty>; for the edge case the same per-"
                "configuration figures prefixed edge_, and edge_summary_<size>_<difficulty>. "
-               "See docs/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
+               "See docs/howto/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
     parser.add_argument("study", metavar="DIR", help="the study directory (dynapath run --out DIR)")
     parser.add_argument("--out", metavar="DIR",
                         help="where to write the figures (default: DIR/figures)")

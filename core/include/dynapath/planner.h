@@ -20,7 +20,7 @@ namespace dynapath {
 
 struct PolicyState;  // dynapath/policy_state.h
 
-// Whose learning semantics the learning approaches follow (docs/DECISIONS.md,
+// Whose learning semantics the learning approaches follow (docs/concepts/DECISIONS.md,
 // "Learning"). kReport reproduces the report's public code: the update's
 // bootstrap max over all 8 stored values (Bootstrap::kAllStored), a node
 // other than the root trained for the first time starts from zeros instead

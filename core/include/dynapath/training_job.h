@@ -31,7 +31,7 @@ enum class Averaging { kEqual, kImportance };
 // the region, learned when an ancestor was trained: a retrained leaf with no
 // station keeps routing towards the exits its parent found. kInRegion treats
 // the region as if it were the whole world. kAllStored is the report code's
-// rule (`--semantics report`, docs/DECISIONS.md): all 8 stored values,
+// rule (`--semantics report`, docs/concepts/DECISIONS.md): all 8 stored values,
 // including those of actions that leave the grid, which no learner ever
 // updates and so stay 0 (a "phantom exit" at the outer wall).
 enum class Bootstrap { kInGrid, kInRegion, kAllStored };

@@ -1,4 +1,4 @@
-// --semantics report (docs/DECISIONS.md, "Learning"): (a) the bootstrap max
+// --semantics report (docs/concepts/DECISIONS.md, "Learning"): (a) the bootstrap max
 // over all 8 stored values, whose never-updated off-grid entries (0) make a
 // "phantom exit" at the outer wall; (b) a node other than the root trained
 // for the first time starts from zeros. Each checked to happen under the
