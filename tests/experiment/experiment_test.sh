@@ -181,10 +181,14 @@ k=$work/killed
 "$dynapath" experiment --agents 2 "${study[@]}" --out "$k" >/dev/null 2>"$work/killed.err" &
 study_pid=$!
 pids+=($study_pid)
-for _ in $(seq 1 600); do
-  grep -q "configuration 4/5" "$k/study.log" 2>/dev/null && break
+# Up to 5 minutes: under a sanitizer on a loaded machine the first three
+# configurations alone can take more than a minute.
+reached=no
+for _ in $(seq 1 6000); do
+  grep -q "configuration 4/5" "$k/study.log" 2>/dev/null && { reached=yes; break; }
   sleep 0.05
 done
+[ $reached = yes ] || fail "configuration 4 did not start within 5 minutes"
 sleep 0.2
 kill -INT $study_pid
 wait $study_pid
