@@ -234,7 +234,7 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
   RunPlan seeded = plan;
   seeded.options.run_seed = setup.seed;
   ThreadPool pool(threads);
-  LocalTrainer trainer(pool);
+  LocalTrainer trainer(pool, stop);
   ScenarioStepSource source(setup.scenario);
   try {
     return RunApproaches(source, trainer, seeded, setup.labels, extra, stop);

@@ -93,16 +93,19 @@ void FederatedRun::FinishRound() {
   steps_ += average_.steps;
 }
 
-TrainingResult TrainFedAsynQ(const TrainingJob& job) {
+TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop) {
   FederatedRun run(job, 1);
+  int64_t rounds = 0;
   for (int64_t round = 0; round < run.rounds(); ++round) {
+    if (StopRequested(stop)) break;
+    rounds = round + 1;
     run.RunRound(0, round);
     run.FinishRound();
   }
   TrainingResult result;
   result.node = job.node;
   result.steps = run.steps();
-  result.episodes_or_rounds = run.rounds();
+  result.episodes_or_rounds = rounds;
   result.table = run.TakeShared();
   return result;
 }

@@ -25,9 +25,15 @@ TrainingJob MakeTrainingJob(NodeId node, uint64_t seed, const LearnerConfig& con
   return job;
 }
 
+bool LocalTrainer::Stopped() {
+  if (status_.ok() && StopRequested(stop_)) status_ = Error::Cancelled();
+  return !status_.ok();
+}
+
 TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
                                   const std::vector<uint64_t>& seeds, const LearnerConfig& config,
                                   const QuadTree& tree, const Grid& grid, RootQTable& root) {
+  if (Stopped()) return {};
   std::vector<TrainingJob> jobs;
   jobs.reserve(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i) {
@@ -42,7 +48,8 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
 
   std::vector<TrainingResult> results(jobs.size());
   pool_.ParallelFor(static_cast<int>(jobs.size()),
-                    [&](int i) { results[i] = TrainSingleAgent(jobs[i]); });
+                    [&](int i) { results[i] = TrainSingleAgent(jobs[i], stop_); });
+  if (Stopped()) return {};  // some jobs may have ended early
   TrainingStats stats;
   for (size_t i = 0; i < jobs.size(); ++i) {
     root.Commit(jobs[i].region, results[i].table);
@@ -80,9 +87,10 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     // batch's tables.
     std::vector<TrainingResult> results(jobs.size());
     pool_.ParallelFor(static_cast<int>(jobs.size()), [&](int i) {
-      results[i] = TrainFedAsynQ(jobs[i]);
+      results[i] = TrainFedAsynQ(jobs[i], stop_);
       jobs[i].warm_start = QTable();  // not needed any more
     });
+    if (Stopped()) return {};  // some jobs may have ended early
     for (size_t i = 0; i < jobs.size(); ++i) {
       root.Commit(jobs[i].region, results[i].table);
       ++stats.jobs;
@@ -105,6 +113,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
   std::vector<std::pair<int, int>> items;
   std::vector<int> active_jobs;
   for (int64_t round = 0; round < max_rounds; ++round) {
+    if (Stopped()) return {};
     items.clear();
     active_jobs.clear();
     for (size_t j = 0; j < runs.size(); ++j) {

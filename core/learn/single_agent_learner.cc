@@ -37,7 +37,8 @@ auto Bits(V value) {
 
 // The learner on a table of value type V (float, or the report code's double).
 template <typename V>
-void Train(const TrainingJob& job, const RegionModel& model, TrainingResult& result) {
+void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
+           TrainingResult& result) {
   const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
@@ -84,6 +85,7 @@ void Train(const TrainingJob& job, const RegionModel& model, TrainingResult& res
   const bool clear_when_full = job.bootstrap == Bootstrap::kAllStored;
 
   for (int e = 0; e < options.max_episodes; ++e) {
+    if (e % 64 == 0 && StopRequested(stop)) break;
     if (e >= options.convergence_start_episode &&
         (e - options.convergence_start_episode) % std::max(1, options.convergence_interval) == 0) {
       if (has_snapshot) {
@@ -158,12 +160,12 @@ void Train(const TrainingJob& job, const RegionModel& model, TrainingResult& res
 
 }  // namespace
 
-TrainingResult TrainSingleAgent(const TrainingJob& job) {
+TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop) {
   TrainingResult result;
   result.node = job.node;
   result.table = StartingTable(job);  // validates the job first
   const RegionModel model(job);
-  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, result); });
+  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, stop, result); });
   return result;
 }
 

@@ -146,10 +146,16 @@ int RunCommand(const std::vector<std::string>& args) {
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
                setup->labels.size_label, setup->labels.difficulty_label, setup->source,
                setup->scenario.changes.steps.size(), plan->approaches.size(), *threads);
-  Result<std::vector<ApproachRun>> runs = runtime::RunLocal(*plan, *setup, *threads);
+  // The first Ctrl-C (or SIGTERM) stops the run within about a second, also
+  // inside one large training job; the approaches finished so far stay
+  // written. A second one ends the process at once.
+  const std::atomic<bool>& stop =
+      protocol::StopOnSignals("\ndynapath run: stopping (Ctrl-C again: at once)\n",
+                              "\ndynapath run: stopped at once\n");
+  Result<std::vector<ApproachRun>> runs = runtime::RunLocal(*plan, *setup, *threads, {}, &stop);
   if (!runs) {
     spdlog::error("{}", runs.error().message);
-    return kExitFailure;
+    return runs.error().IsCancelled() ? 130 : kExitFailure;
   }
   std::printf("%s", SummaryResultsCsv(*runs).c_str());
   spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);

@@ -30,6 +30,7 @@
 #include "dynapath/region_model.h"
 #include "dynapath/result.h"
 #include "dynapath/start_statistics.h"
+#include "dynapath/stop_token.h"
 #include "dynapath/training_job.h"
 
 namespace dynapath {
@@ -129,7 +130,9 @@ class FederatedRun {
 };
 
 // Runs a whole kFedAsynQ job in the calling thread, one learner after the
-// other per round. Pure function of the job.
-TrainingResult TrainFedAsynQ(const TrainingJob& job);
+// other per round. Pure function of the job. Once `stop` is requested
+// (checked every round) it returns early, with fewer episodes_or_rounds
+// than FederatedRounds: the result is then not the job's and is dropped.
+TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop = nullptr);
 
 }  // namespace dynapath

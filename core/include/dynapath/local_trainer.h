@@ -9,6 +9,7 @@
 // one small leaf (or the root alone) is retrained. Either way the tables are
 // exactly TrainFedAsynQ's.
 
+#include "dynapath/stop_token.h"
 #include "dynapath/thread_pool.h"
 #include "dynapath/trainer.h"
 
@@ -16,17 +17,25 @@ namespace dynapath {
 
 class LocalTrainer : public Trainer {
  public:
-  // `pool` must outlive the trainer.
-  explicit LocalTrainer(ThreadPool& pool) : pool_(pool) {}
+  // `pool` must outlive the trainer. Once `stop` is requested (checked every
+  // round and every 64 episodes, also inside one large job) the trainer
+  // fails with kCancelled and commits nothing (Trainer::status).
+  explicit LocalTrainer(ThreadPool& pool, StopToken stop = nullptr) : pool_(pool), stop_(stop) {}
 
   TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
                       const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
                       RootQTable& root) override;
+  Status status() const override { return status_; }
 
  private:
   TrainingStats TrainFederated(std::vector<TrainingJob>& jobs, RootQTable& root);
 
+  // Whether the run was stopped; then status_ becomes kCancelled.
+  bool Stopped();
+
   ThreadPool& pool_;
+  StopToken stop_;
+  Status status_ = Ok{};
 };
 
 }  // namespace dynapath

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "dynapath/federated_job.h"
 #include "dynapath/scenario.h"
 #include "dynapath/single_agent_learner.h"
@@ -57,6 +59,56 @@ INSTANTIATE_TEST_SUITE_P(Batches, LocalTrainerTest,
                          ::testing::Values(std::vector<int>{0, 1, 3},
                                            std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8},
                                            std::vector<int>{-1}));
+
+// A stop requested before training: the trainer fails with kCancelled at
+// once, commits nothing, and stays failed; the learners return early (a
+// root of 4096x4096 cells would otherwise train for minutes).
+TEST(LocalTrainerStopTest, PresetStopCancelsWithoutCommitting) {
+  const Scenario scenario = GenerateScenario(60, 60, Difficulty::kHard, 52, 0);
+  const QuadTree tree(scenario.grid.rows(), scenario.grid.cols());
+  std::atomic<bool> stop{true};
+  for (LearnerKind kind : {LearnerKind::kFedAsynQ, LearnerKind::kSingleAgent}) {
+    LearnerConfig config;
+    config.kind = kind;
+    ThreadPool pool(2);
+    LocalTrainer trainer(pool, &stop);
+    RootQTable root(tree.rows(), tree.cols());
+    const RootQTable untouched = root;
+    const TrainingStats stats =
+        trainer.Train({tree.root()}, {11}, config, tree, scenario.grid, root);
+    EXPECT_EQ(stats.jobs, 0);
+    EXPECT_EQ(stats.steps, 0);
+    EXPECT_TRUE(trainer.status().error().IsCancelled());
+    EXPECT_EQ(root.table(), untouched.table());
+    const TrainingJob job = MakeTrainingJob(tree.root(), 11, config, tree, scenario.grid, root);
+    const TrainingResult result =
+        kind == LearnerKind::kFedAsynQ ? TrainFedAsynQ(job, &stop) : TrainSingleAgent(job, &stop);
+    EXPECT_EQ(result.episodes_or_rounds, 0);
+    EXPECT_EQ(result.steps, 0);
+  }
+}
+
+// An unset stop token changes nothing: the same tables as without one.
+TEST(LocalTrainerStopTest, UnsetStopGivesTheSameTables) {
+  const Scenario scenario = GenerateScenario(60, 60, Difficulty::kHard, 52, 0);
+  const QuadTree tree(scenario.grid.rows(), scenario.grid.cols());
+  std::atomic<bool> stop{false};
+  for (LearnerKind kind : {LearnerKind::kFedAsynQ, LearnerKind::kSingleAgent}) {
+    LearnerConfig config;
+    config.kind = kind;
+    config.federated.iterations_per_cell = 20;
+    config.single_agent.max_episodes = 300;
+    ThreadPool pool(2);
+    LocalTrainer plain(pool);
+    LocalTrainer stoppable(pool, &stop);
+    RootQTable a(tree.rows(), tree.cols());
+    RootQTable b(tree.rows(), tree.cols());
+    plain.Train({tree.root()}, {11}, config, tree, scenario.grid, a);
+    stoppable.Train({tree.root()}, {11}, config, tree, scenario.grid, b);
+    EXPECT_TRUE(stoppable.status().ok());
+    EXPECT_EQ(a.table(), b.table());
+  }
+}
 
 }  // namespace
 }  // namespace dynapath

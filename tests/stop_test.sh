@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# End-to-end: the first Ctrl-C stops `dynapath run --local` within a second
+# even inside one large training job (the root of a free 768x768 MovingAI
+# map, some 20 s of fedAsynQ_EqAvg training at step 0 on 2 cores): SIGINT
+# after 2 s, exit status 130 within 1.5 s, "interrupted" in the log, and no
+# result files of the cut-short approach.
+# Usage: tests/stop_test.sh PATH_TO_DYNAPATH
+set -uo pipefail
+dynapath=${1:?usage: stop_test.sh PATH_TO_DYNAPATH}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+n=768
+{
+  printf 'type octile\nheight %d\nwidth %d\nmap\n' "$n" "$n"
+  row=$(printf '%*s' "$n" '' | tr ' ' '.')
+  for ((i = 0; i < n; ++i)); do echo "$row"; done
+} >"$work/free.map"
+
+"$dynapath" run --local --maze "$work/free.map" --stations 3 --steps 2 \
+  --approach fedAsynQ_EqAvg --out "$work/out" >"$work/log" 2>&1 &
+pid=$!
+sleep 2
+kill -0 "$pid" 2>/dev/null || fail "the run ended before the interrupt (the job is too small)"
+start=$(date +%s%N)
+kill -INT "$pid"
+# Wait at most 1.5 s, then kill it (and fail).
+for ((i = 0; i < 30; ++i)); do
+  kill -0 "$pid" 2>/dev/null || break
+  sleep 0.05
+done
+if kill -0 "$pid" 2>/dev/null; then
+  fail "still running 1.5 s after SIGINT"
+  kill -KILL "$pid"
+fi
+wait "$pid"
+rc=$?
+elapsed_ms=$((($(date +%s%N) - start) / 1000000))
+echo "stopped after ${elapsed_ms} ms, exit status $rc"
+[[ $rc -eq 130 ]] || fail "exit status $rc, not 130"
+grep -q 'stopping (Ctrl-C again: at once)' "$work/log" || fail "no stop notice"
+grep -q '\[error\] interrupted' "$work/log" || fail "no 'interrupted' in the log"
+[[ ! -e "$work/out/results.csv" ]] || fail "results.csv of the cut-short approach"
+((failures == 0)) || { cat "$work/log"; exit 1; }
+echo "stop: all passed"
