@@ -40,16 +40,26 @@ same_results() {  # same_results DIR_A DIR_B LABEL
   fi
 }
 
+# Under a sanitizer (ctest sets DYNAPATH_SANITIZED=1 there) every case runs
+# on fewer time steps and with at most two agent processes: five
+# instrumented processes on two cores made a split round of 3 agents take
+# seconds, and the same code paths (split rounds, reassignment, repeats) are
+# reached with two. The release build runs the full configurations.
+sanitized=${DYNAPATH_SANITIZED:-0}
+scaled() {  # scaled FULL SMALL: FULL normally, SMALL under a sanitizer
+  if [ "$sanitized" = 1 ]; then echo "$2"; else echo "$1"; fi
+}
+
 # 1. Same answers everywhere, all seven approaches (30x30: four leaves, so
 # batches of several jobs and of one job), with whole-job placement (auto, the
 # default, chooses it for rounds this short) and with learners split over the
 # agents (--placement split).
-scenario=(--size 30 --difficulty medium --steps 30)
+scenario=(--size 30 --difficulty medium --steps "$(scaled 30 10)")
 "$dynapath" run --local "${scenario[@]}" --out "$work/local" --log-level warn >/dev/null || fail "--local run"
 "$dynapath" run --embedded --agents 2 --placement split "${scenario[@]}" --out "$work/embedded" \
   --log-level warn >/dev/null || fail "--embedded run"
 same_results "$work/local" "$work/embedded" "--embedded with 2 agent threads, learners split"
-for case in "1 auto" "2 auto" "3 split"; do
+for case in "1 auto" "2 auto" "$(scaled "3 split" "2 split")"; do
   read -r agents placement <<<"$case"
   out="$work/agents${agents}_$placement"
   "$dynapath" run --agents $agents --placement $placement "${scenario[@]}" --out "$out" \
@@ -63,7 +73,9 @@ done
 # 1b. --semantics report (the report code's bootstrap and first training)
 # travels to the agents: same answers as --local under the switch, with
 # learners split and with whole jobs, and not the default's answers.
-report=(--size 30 --difficulty medium --steps 10 --approach singleAgent,fedAsynQ_EqAvg,fedAsynQ_ImAvg --semantics report)
+# Under a sanitizer on 16x16: the report's double tables travel in every
+# split round, and on 30x30 that alone took 400 s there.
+report=(--size "$(scaled 30 16)" --difficulty medium --steps "$(scaled 10 3)" --approach singleAgent,fedAsynQ_EqAvg,fedAsynQ_ImAvg --semantics report)
 "$dynapath" run --local "${report[@]}" --out "$work/report_local" --log-level warn >/dev/null ||
   fail "--semantics report --local run"
 "$dynapath" run --embedded --agents 2 --placement split "${report[@]}" --out "$work/report_embedded" \
@@ -82,7 +94,7 @@ fi
 
 # 2. SIGKILL an agent in the middle of a federated run: during the initial
 # training (whole jobs), and while learners are split over the agents.
-big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps 100)
+big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps "$(scaled 100 20)")
 "$dynapath" run --local "${big[@]}" --out "$work/big_local" --log-level warn >/dev/null || fail "big --local"
 # The kill waits for a log line, not a fixed delay, so that it lands while
 # agent 2 owes work however loaded the machine is: "maze" starts the initial
@@ -115,7 +127,7 @@ kill_agent_mid_run "$work/big_local" big_killed_auto auto "coordinator: maze" "$
 kill_agent_mid_run "$work/big_local" big_killed_split split "initial training" "${big[@]}"
 
 # 3. Dropped and duplicated messages.
-small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps 20)
+small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps "$(scaled 20 10)")
 "$dynapath" run --local "${small[@]}" --out "$work/small_local" --log-level warn >/dev/null || fail "small --local"
 "$dynapath" run --agents 2 --placement split "${small[@]}" --fault-drop 0.05 --fault-dup 0.05 \
   --out "$work/faults" \
@@ -141,7 +153,7 @@ same_results "$work/small_local" "$work/garbage" "garbage on every channel"
 [ "$(stat -c %a "$work/run.key")" = 600 ] || fail "the secret file is not mode 600"
 key=(--secret-file "$work/run.key")
 # Hard 300: its initial training takes seconds on one thread, so the kill
-# after 1 s always lands mid-run (hard 100 could finish first).
+# half a second into the run always lands mid-run (hard 100 could finish first).
 "$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${key[@]}" --size 300 --difficulty hard \
   --log-level error &
 envsim=$!
@@ -149,9 +161,13 @@ envsim=$!
   --log-level error &
 agent=$!
 "$bin_dir/coordinator/dynapath-coordinator" --run-id "$orphans_run" "${key[@]}" \
-  --approach fedAsynQ_EqAvg --out "$work/orphans" --log-level error &
+  --approach fedAsynQ_EqAvg --out "$work/orphans" --log-level info 2>"$work/orphans.log" &
 coordinator=$!
-sleep 1
+# Killed once the run is under way (envsim and the agent have seen it): a
+# fixed delay could land before a slow (sanitizer) coordinator has even
+# announced itself, and envsim rightly waits for one to appear.
+wait_for_line "$work/orphans.log" "coordinator: maze" || fail "the hand-started run did not start"
+sleep 0.5
 kill -9 $coordinator
 sleep 5.5
 if kill -0 $envsim 2>/dev/null || kill -0 $agent 2>/dev/null; then
@@ -190,7 +206,7 @@ same_results "$work/map_logged" "$work/map_replayed" "--replay of a map run with
 "$dynapath" run --embedded --agents 2 --placement split "${map[@]}" "${replay[@]}" \
   --out "$work/map_embedded" --log-level warn >/dev/null || fail "--embedded map run"
 same_results "$work/map_local" "$work/map_embedded" "a map with movers: --embedded, learners split"
-wide=(--maze "$(dirname "$0")/data/maps/maze-25-61-1.map" --stations 6 --movers 10 --steps 60
+wide=(--maze "$(dirname "$0")/data/maps/maze-25-61-1.map" --stations 6 --movers 10 --steps "$(scaled 60 20)"
   --approach fedAsynQ_EqAvg)
 "$dynapath" run --local "${wide[@]}" --out "$work/wide_local" --log-level warn >/dev/null ||
   fail "25x61 map --local"

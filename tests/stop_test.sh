@@ -3,7 +3,11 @@
 # even inside one large training job (the root of a free 768x768 MovingAI
 # map, some 20 s of fedAsynQ_EqAvg training at step 0 on 2 cores): SIGINT
 # after 2 s, exit status 130 within 1.5 s, "interrupted" in the log, and no
-# result files of the cut-short approach.
+# result files of the cut-short approach. Under a sanitizer the bound is
+# 30 s: there one federated round of that root takes seconds, and the
+# interrupt lands in the setup before training (not checked); what the
+# sanitizer checks is the cancelled path itself. The 1.5 s bound is the
+# release build's (it stops in under 0.1 s).
 # Usage: tests/stop_test.sh PATH_TO_DYNAPATH
 set -uo pipefail
 dynapath=${1:?usage: stop_test.sh PATH_TO_DYNAPATH}
@@ -26,13 +30,15 @@ sleep 2
 kill -0 "$pid" 2>/dev/null || fail "the run ended before the interrupt (the job is too small)"
 start=$(date +%s%N)
 kill -INT "$pid"
-# Wait at most 1.5 s, then kill it (and fail).
-for ((i = 0; i < 30; ++i)); do
+# Wait at most the bound, then kill it (and fail).
+bound_ms=1500
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && bound_ms=30000
+for ((i = 0; i < bound_ms / 50; ++i)); do
   kill -0 "$pid" 2>/dev/null || break
   sleep 0.05
 done
 if kill -0 "$pid" 2>/dev/null; then
-  fail "still running 1.5 s after SIGINT"
+  fail "still running $bound_ms ms after SIGINT"
   kill -KILL "$pid"
 fi
 wait "$pid"
