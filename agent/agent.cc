@@ -94,6 +94,7 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
 Agent::~Agent() = default;
 
 AgentExit Agent::Run(const std::atomic<bool>& stop) {
+  stop_ = &stop;
   using Verdict = protocol::CoordinatorWatch::Verdict;
   heartbeat_t base{};
   base.role = heartbeat_t::ROLE_AGENT;
@@ -279,12 +280,13 @@ void Agent::RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs)
     const TrainingJob& job = received[i].job;
     TrainingResult result;
     try {
-      result = TrainJob(job);
+      result = TrainJob(job, stop_);
     } catch (const std::exception& e) {
       spdlog::error("agent {}: job {} of batch {} failed: {}", options_.id, jobs[i], batch.batch_id,
                     e.what());
       return;
     }
+    if (StopRequested(stop_)) return;  // cut short: a partial table is no result
     job_result_t message{};
     message.run_id = bus_.run_id();
     message.batch_id = batch.batch_id;

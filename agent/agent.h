@@ -69,6 +69,9 @@ class Agent {
   AgentExit Run(const std::atomic<bool>& stop);
 
  private:
+  // Run's stop flag, for the learners of whole jobs (they end early once
+  // it is set, and their cut-short tables are not sent).
+  const std::atomic<bool>* stop_ = nullptr;
   struct HostedJob;
 
   void OnBatch(const job_batch_t& batch);

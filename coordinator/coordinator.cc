@@ -10,6 +10,7 @@
 #include "dynapath/policy_t.hpp"
 #include "dynapath/step_report_t.hpp"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "protocol/liveness.h"
 
 namespace dynapath::coordinator {
@@ -138,7 +139,8 @@ Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
   for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
   spdlog::info("coordinator: agents{} alive", ids);
 
-  EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, &stop);
+  EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, options_.give_up_seconds,
+                      &stop);
   const grid_t* maze = envsim.Connect(options_.agent_wait_seconds);
   if (maze == nullptr) return envsim.status();
   runtime::RunPlan plan = options_.plan;
@@ -146,6 +148,10 @@ Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
   const RunLabels labels{maze->size_label, maze->difficulty};
   spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
                labels.difficulty_label, maze->source, maze->total_steps, plan.approaches.size());
+  for (const std::string& warning :
+       runtime::LongRunWarnings(plan, protocol::GridFromMessage(*maze), maze->total_steps)) {
+    spdlog::warn("coordinator: {}", warning);
+  }
   Result<std::vector<ApproachRun>> runs = runtime::RunApproaches(
       envsim, trainer_, plan, labels, [&](const StepView& view) { PublishStep(view, view.pass); },
       &stop);

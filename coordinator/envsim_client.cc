@@ -1,5 +1,6 @@
 #include "coordinator/envsim_client.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -13,8 +14,12 @@
 namespace dynapath::coordinator {
 
 EnvSimClient::EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
-                           const std::atomic<bool>* stop)
-    : bus_(bus), inbox_(inbox), timeout_seconds_(timeout_seconds), stop_(stop) {
+                           double give_up_seconds, const std::atomic<bool>* stop)
+    : bus_(bus),
+      inbox_(inbox),
+      timeout_seconds_(timeout_seconds),
+      give_up_seconds_(std::max(give_up_seconds, timeout_seconds)),
+      stop_(stop) {
   namespace ch = protocol::channel;
   bus_.Subscribe<grid_t>(ch::kEnvGrid, [this](grid_t& grid) {
     inbox_.Post([this, grid = std::move(grid)] {
@@ -65,14 +70,30 @@ bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
       ++sends;
     }
     const int64_t seen = envsim_seen_ms_;
-    if (seen < 0 ? static_cast<double>(now - start) > startup_seconds * 1000
-                 : static_cast<double>(now - seen) > timeout_seconds_ * 1000) {
-      status_ =
-          Error::Unavailable(seen < 0 ? "no environment simulator answered for run " + bus_.run_id()
-                                      : "the environment simulator is gone");
+    if (seen < 0 && static_cast<double>(now - start) > startup_seconds * 1000) {
+      status_ = Error::Unavailable("no environment simulator answered for run " + bus_.run_id());
       return false;
     }
+    const double silent_seconds = seen < 0 ? 0.0 : static_cast<double>(now - seen) / 1000;
+    if (silent_seconds > give_up_seconds_) {
+      status_ = Error::Unavailable(
+          fmt::format("the environment simulator has been silent for {:.0f} s (--give-up); "
+                      "stopping the run",
+                      silent_seconds));
+      return false;
+    }
+    if (silent_seconds > timeout_seconds_ && now - silence_logged_ms_ >= 5000) {
+      spdlog::warn(
+          "coordinator: the environment simulator has been silent for {:.0f} s (paused, "
+          "overloaded or unreachable?); waiting up to {:.0f} s",
+          silent_seconds, give_up_seconds_);
+      silence_logged_ms_ = now;
+    }
     inbox_.RunFor(std::chrono::milliseconds(2));
+  }
+  if (silence_logged_ms_ != 0) {
+    spdlog::info("coordinator: the environment simulator answers again");
+    silence_logged_ms_ = 0;
   }
   if (sends == 1) {  // unambiguous: the answer is to the one request
     const double sample = static_cast<double>(protocol::SteadyMs() - start);

@@ -2,7 +2,12 @@
 // The coordinator's view of the environment simulator: a StepSource whose
 // maze and changes are requested over LCM, one time step at a time (which is
 // what keeps envsim in lock-step with the coordinator). Requests are repeated
-// until answered; the simulator counts as gone when its heartbeats stop.
+// until answered. A simulator whose heartbeats stop is "silent", not gone:
+// it may be paused (SIGSTOP, a debugger, a swapping host) or its messages
+// lost. After `timeout_seconds` of silence the wait is logged every few
+// seconds, and only after `give_up_seconds` (the coordinator's --give-up,
+// as for agents) does the run fail. A simulator that exited is seen by the
+// launcher, which stops the run at once.
 
 #include <atomic>
 #include <optional>
@@ -19,7 +24,7 @@ class EnvSimClient : public StepSource {
  public:
   // `stop` (may be null) aborts waits: status() is then kCancelled.
   EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
-               const std::atomic<bool>* stop);
+               double give_up_seconds, const std::atomic<bool>* stop);
 
   // Fetches the maze of pass 0 (waiting up to `startup_seconds` for envsim):
   // the run's size, labels and seed; null when status() failed.
@@ -40,7 +45,10 @@ class EnvSimClient : public StepSource {
   protocol::Bus& bus_;
   protocol::Inbox& inbox_;
   double timeout_seconds_;
+  double give_up_seconds_;
   const std::atomic<bool>* stop_;
+  // When the current silence was last logged (0: not logged).
+  int64_t silence_logged_ms_ = 0;
   int64_t next_request_ = 1;
   // Smoothed time from a request to its answer, from requests answered
   // before any repeat (Karn's rule); -1 until the first.

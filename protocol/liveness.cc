@@ -32,8 +32,17 @@ CoordinatorWatch::Verdict CoordinatorWatch::Check(double startup_seconds,
   const int state = state_;
   if (state == heartbeat_t::STATE_FINISHED) return Verdict::kFinished;
   if (state == heartbeat_t::STATE_FAILED) return Verdict::kFailed;
-  const int64_t seen = seen_ms_;
   const int64_t now = SteadyMs();
+  const int64_t previous_check = last_check_ms_.exchange(now);
+  int64_t seen = seen_ms_;
+  if (seen >= 0 && previous_check >= 0 &&
+      static_cast<double>(now - previous_check) > timeout_seconds * 500) {
+    // We were not running: what we did not hear meanwhile says nothing
+    // about the coordinator. (A heartbeat arriving now wins: max.)
+    while (seen < now && !seen_ms_.compare_exchange_weak(seen, now)) {
+    }
+    seen = seen_ms_;
+  }
   if (seen < 0) {
     return static_cast<double>(now - created_ms_) > startup_seconds * 1000 ? Verdict::kNeverCame
                                                                            : Verdict::kWaiting;

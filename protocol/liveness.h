@@ -29,13 +29,18 @@ class CoordinatorWatch {
   bool Seen() const { return seen_ms_ >= 0; }
 
   // `startup_seconds`: how long to wait for a first heartbeat;
-  // `timeout_seconds`: how long a seen coordinator may be silent.
+  // `timeout_seconds`: how long a seen coordinator may be silent. Callers
+  // check often (at least every heartbeat period); a gap of more than half
+  // the timeout since the previous check means this process did not run
+  // (paused by SIGSTOP or a debugger, or starved), so the silence is its
+  // own: the coordinator's silence is counted again from now.
   Verdict Check(double startup_seconds, double timeout_seconds) const;
   std::string message() const;  // the coordinator's failure message
 
  private:
   int64_t created_ms_;
-  std::atomic<int64_t> seen_ms_{-1};
+  mutable std::atomic<int64_t> seen_ms_{-1};
+  mutable std::atomic<int64_t> last_check_ms_{-1};
   std::atomic<int> state_{heartbeat_t::STATE_RUNNING};
 };
 

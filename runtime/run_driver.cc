@@ -1,8 +1,14 @@
 #include "runtime/run_driver.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
 
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
@@ -171,6 +177,8 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
                                                const StepCallback& extra,
                                                const std::atomic<bool>* stop) {
   StoppableSource stoppable(source, stop);
+  PlannerOptions options = plan.options;
+  options.stop = stop;
   std::vector<ApproachRun> runs;
   std::vector<PolicyState> to_save;  // the learning approaches' so far
   int pass = 0;
@@ -190,7 +198,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
         saved = true;
       };
     }
-    Result<ApproachRun> result = RunApproach(stoppable, pass++, approach, plan.options, &trainer,
+    Result<ApproachRun> result = RunApproach(stoppable, pass++, approach, options, &trainer,
                                              labels, hooks, SteadyClock(), on_step);
     // A run cut short by its source or trainer is not written.
     stoppable.Stopped();
@@ -228,13 +236,104 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   return runs;
 }
 
+std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, int steps) {
+  // Seconds per (start x cell) of one A* Oracle step: 17.4 s for the 1024^2
+  // starts x 1024^2 cells of a free map. Smaller maps run faster than this
+  // model says (0.41 s at 256^2), so it errs towards warning.
+  constexpr double kAStarSecondsPerStartCell = 17.4 / (1048576.0 * 1048576.0);
+  std::vector<std::string> warnings;
+  for (Approach approach : plan.approaches) {
+    if (approach != Approach::kAStarOracle) continue;
+    const double starts = grid.Count(Cell::kFree);
+    const double seconds =
+        kAStarSecondsPerStartCell * starts * grid.size() * (static_cast<double>(steps) + 1);
+    if (seconds <= 3600) continue;
+    warnings.push_back(fmt::format(
+        "A* Oracle: about {:.0f} hours on this {}x{} map ({} time steps; its per-start A* "
+        "costs about (free cells) x (cells) per step); BFS Oracle and Incremental Oracle compute "
+        "the same optimum in milliseconds per step",
+        seconds / 3600, grid.rows(), grid.cols(), steps));
+  }
+  return warnings;
+}
+
+namespace {
+
+// Logs the training batch in hand every few seconds while it lasts longer
+// than that (a large map's step-0 training takes minutes): jobs and rounds
+// done, and the time left at the pace so far. Between steps the run's own
+// progress lines say the rest.
+class TrainingProgressLog {
+ public:
+  explicit TrainingProgressLog(const TrainingProgress& progress)
+      : progress_(progress), thread_([this] { Loop(); }) {}
+  ~TrainingProgressLog() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+ private:
+  static constexpr auto kInterval = std::chrono::seconds(5);
+
+  void Loop() {
+    int64_t batch = -1;
+    auto batch_start = std::chrono::steady_clock::now();
+    auto next_line = batch_start;
+    std::unique_lock lock(mutex_);
+    while (!wake_.wait_for(lock, std::chrono::milliseconds(250), [this] { return done_; })) {
+      const auto now = std::chrono::steady_clock::now();
+      if (!progress_.running) continue;
+      if (progress_.batches != batch) {  // a new batch: its own clock
+        batch = progress_.batches;
+        batch_start = now;
+        next_line = now + kInterval;
+        continue;
+      }
+      if (now < next_line) continue;
+      next_line = now + kInterval;
+      const double elapsed = std::chrono::duration<double>(now - batch_start).count();
+      const double fraction = progress_.Fraction();
+      std::string left = "time left unknown yet";
+      if (fraction >= 0.01) {
+        left = fmt::format("about {:.0f} s left", elapsed * (1 - fraction) / fraction);
+      }
+      const int64_t rounds = progress_.rounds_total, jobs = progress_.jobs_total;
+      const std::string done =
+          rounds > 0 ? fmt::format("{} job{} in rounds, round {} of {}", jobs, jobs == 1 ? "" : "s",
+                                   static_cast<int64_t>(progress_.rounds_done), rounds)
+                     : fmt::format("{} of {} jobs done", static_cast<int64_t>(progress_.jobs_done),
+                                   jobs);
+      spdlog::info("training: {}, {:.0f} s so far; {}", done, elapsed, left);
+    }
+  }
+
+  const TrainingProgress& progress_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::thread thread_;  // last: started once the rest is ready
+};
+
+}  // namespace
+
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
                                           int threads, const StepCallback& extra,
                                           const std::atomic<bool>* stop) {
+  for (const std::string& warning :
+       LongRunWarnings(plan, setup.scenario.grid,
+                       static_cast<int>(setup.scenario.changes.steps.size()))) {
+    spdlog::warn("{}", warning);
+  }
   RunPlan seeded = plan;
   seeded.options.run_seed = setup.seed;
   ThreadPool pool(threads);
-  LocalTrainer trainer(pool, stop);
+  TrainingProgress progress;
+  const TrainingProgressLog progress_log(progress);
+  LocalTrainer trainer(pool, stop, &progress);
   ScenarioStepSource source(setup.scenario);
   try {
     return RunApproaches(source, trainer, seeded, setup.labels, extra, stop);

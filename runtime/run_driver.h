@@ -89,6 +89,12 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
                                                const StepCallback& extra = {},
                                                const std::atomic<bool>* stop = nullptr);
 
+// Warnings for the approaches of `plan` whose cost model predicts more than
+// an hour for `steps` time steps on `grid` (empty when none): A* Oracle's
+// per-start searches cost about (free cells) x (cells) per step, calibrated
+// at 17 s per step on a free 1024x1024 map on the 2-core reference machine.
+std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, int steps);
+
 // `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
 // seed set from it) with a LocalTrainer on a pool of `threads` threads.
 // An exception thrown by `extra` ends the run and comes back as a kInternal

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End-to-end: the first Ctrl-C stops `dynapath run --local` within a second
-# even inside one large training job (the root of a free 768x768 MovingAI
-# map, some 20 s of fedAsynQ_EqAvg training at step 0 on 2 cores): SIGINT
+# even inside one large job: the root of a free 768x768 MovingAI map
+# (some 20 s of fedAsynQ_EqAvg training at step 0 on 2 cores), and A* Oracle's
+# per-start searches of step 0 on the same map. SIGINT
 # after 2 s, exit status 130 within 1.5 s, "interrupted" in the log, and no
 # result files of the cut-short approach. Under a sanitizer the bound is
 # 30 s: there one federated round of that root takes seconds, and the
@@ -23,31 +24,41 @@ n=768
   for ((i = 0; i < n; ++i)); do echo "$row"; done
 } >"$work/free.map"
 
-"$dynapath" run --local --maze "$work/free.map" --stations 3 --steps 2 \
-  --approach fedAsynQ_EqAvg --out "$work/out" >"$work/log" 2>&1 &
-pid=$!
-sleep 2
-kill -0 "$pid" 2>/dev/null || fail "the run ended before the interrupt (the job is too small)"
-start=$(date +%s%N)
-kill -INT "$pid"
-# Wait at most the bound, then kill it (and fail).
+# stop_case APPROACH: SIGINT 2 s into a run of APPROACH alone on that map.
+stop_case() {
+  local approach=$1
+  "$dynapath" run --local --maze "$work/free.map" --stations 3 --steps 2 \
+    --approach "$approach" --out "$work/out" >"$work/log" 2>&1 &
+  local pid=$!
+  sleep 2
+  kill -0 "$pid" 2>/dev/null || fail "$approach: the run ended before the interrupt (the job is too small)"
+  local start
+  start=$(date +%s%N)
+  kill -INT "$pid"
+  # Wait at most the bound, then kill it (and fail).
+  for ((i = 0; i < bound_ms / 50; ++i)); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.05
+  done
+  if kill -0 "$pid" 2>/dev/null; then
+    fail "$approach: still running $bound_ms ms after SIGINT"
+    kill -KILL "$pid"
+  fi
+  wait "$pid"
+  local rc=$?
+  echo "$approach: stopped after $((($(date +%s%N) - start) / 1000000)) ms, exit status $rc"
+  [[ $rc -eq 130 ]] || fail "$approach: exit status $rc, not 130"
+  grep -q 'stopping (Ctrl-C again: at once)' "$work/log" || fail "$approach: no stop notice"
+  grep -q '\[error\] interrupted' "$work/log" || fail "$approach: no 'interrupted' in the log"
+  [[ ! -e "$work/out/results.csv" ]] || fail "$approach: results.csv of the cut-short approach"
+  ((failures == 0)) || cat "$work/log"
+}
+
 bound_ms=1500
 [ "${DYNAPATH_SANITIZED:-0}" = 1 ] && bound_ms=30000
-for ((i = 0; i < bound_ms / 50; ++i)); do
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.05
-done
-if kill -0 "$pid" 2>/dev/null; then
-  fail "still running $bound_ms ms after SIGINT"
-  kill -KILL "$pid"
-fi
-wait "$pid"
-rc=$?
-elapsed_ms=$((($(date +%s%N) - start) / 1000000))
-echo "stopped after ${elapsed_ms} ms, exit status $rc"
-[[ $rc -eq 130 ]] || fail "exit status $rc, not 130"
-grep -q 'stopping (Ctrl-C again: at once)' "$work/log" || fail "no stop notice"
-grep -q '\[error\] interrupted' "$work/log" || fail "no 'interrupted' in the log"
-[[ ! -e "$work/out/results.csv" ]] || fail "results.csv of the cut-short approach"
-((failures == 0)) || { cat "$work/log"; exit 1; }
+# Inside the root's federated training, and inside A* Oracle's per-start
+# searches of step 0 (some 8 s of searches on this map).
+stop_case fedAsynQ_EqAvg
+stop_case "A* Oracle"
+((failures == 0)) || exit 1
 echo "stop: all passed"

@@ -7,12 +7,12 @@
 
 namespace dynapath {
 
-TrainingResult TrainJob(const TrainingJob& job) {
+TrainingResult TrainJob(const TrainingJob& job, StopToken stop) {
   switch (job.kind) {
     case LearnerKind::kSingleAgent:
-      return TrainSingleAgent(job);
+      return TrainSingleAgent(job, stop);
     case LearnerKind::kFedAsynQ:
-      return TrainFedAsynQ(job);
+      return TrainFedAsynQ(job, stop);
   }
   std::abort();  // not an enumerator: memory corruption, not input (the wire is validated)
 }

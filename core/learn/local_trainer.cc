@@ -39,6 +39,12 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
   for (size_t i = 0; i < nodes.size(); ++i) {
     jobs.push_back(MakeTrainingJob(nodes[i], seeds[i], config, tree, grid, root));
   }
+  struct Finish {
+    TrainingProgress* progress;
+    ~Finish() {
+      if (progress != nullptr) progress->Finish();
+    }
+  } finish{progress_};
   switch (config.kind) {
     case LearnerKind::kFedAsynQ:
       return TrainFederated(jobs, root);
@@ -46,9 +52,12 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
       break;  // one job per thread, below
   }
 
+  if (progress_ != nullptr) progress_->Start(static_cast<int64_t>(jobs.size()), 0);
   std::vector<TrainingResult> results(jobs.size());
-  pool_.ParallelFor(static_cast<int>(jobs.size()),
-                    [&](int i) { results[i] = TrainSingleAgent(jobs[i], stop_); });
+  pool_.ParallelFor(static_cast<int>(jobs.size()), [&](int i) {
+    results[i] = TrainSingleAgent(jobs[i], stop_);
+    if (progress_ != nullptr) progress_->jobs_done.fetch_add(1, std::memory_order_relaxed);
+  });
   if (Stopped()) return {};  // some jobs may have ended early
   TrainingStats stats;
   for (size_t i = 0; i < jobs.size(); ++i) {
@@ -85,10 +94,12 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     // rounds of one before the next (TrainFedAsynQ), so a job's tables stay
     // in the thread's caches instead of every round cycling through all the
     // batch's tables.
+    if (progress_ != nullptr) progress_->Start(static_cast<int64_t>(jobs.size()), 0);
     std::vector<TrainingResult> results(jobs.size());
     pool_.ParallelFor(static_cast<int>(jobs.size()), [&](int i) {
       results[i] = TrainFedAsynQ(jobs[i], stop_);
       jobs[i].warm_start = QTable();  // not needed any more
+      if (progress_ != nullptr) progress_->jobs_done.fetch_add(1, std::memory_order_relaxed);
     });
     if (Stopped()) return {};  // some jobs may have ended early
     for (size_t i = 0; i < jobs.size(); ++i) {
@@ -109,10 +120,12 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     max_rounds = std::max(max_rounds, runs.back()->rounds());
   }
 
+  if (progress_ != nullptr) progress_->Start(static_cast<int64_t>(jobs.size()), max_rounds);
   // Work items of a round: (job, worker) pairs of the jobs still running.
   std::vector<std::pair<int, int>> items;
   std::vector<int> active_jobs;
   for (int64_t round = 0; round < max_rounds; ++round) {
+    if (progress_ != nullptr) progress_->rounds_done.store(round, std::memory_order_relaxed);
     if (Stopped()) return {};
     items.clear();
     active_jobs.clear();
@@ -130,6 +143,7 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
                         [&](int i) { runs[active_jobs[i]]->FinishRound(); });
     }
   }
+  if (progress_ != nullptr) progress_->rounds_done.store(max_rounds, std::memory_order_relaxed);
   for (auto& run : runs) {
     root.Commit(run->job().region, run->shared());
     ++stats.jobs;

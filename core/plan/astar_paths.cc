@@ -27,7 +27,7 @@ struct OpenAfter {
 
 }  // namespace
 
-void AStarPlanner::ComputeAllPaths(const Grid& grid, StationPaths& out) {
+bool AStarPlanner::ComputeAllPaths(const Grid& grid, StationPaths& out, StopToken stop) {
   const int n = grid.size();
   const int rows = grid.rows(), cols = grid.cols();
   const size_t size = static_cast<size_t>(n);
@@ -61,7 +61,7 @@ void AStarPlanner::ComputeAllPaths(const Grid& grid, StationPaths& out) {
   if (tail == 0) {
     // No station at all: nothing is reachable (and h is undefined).
     std::fill(out.length.begin(), out.length.end(), kUnreachable);
-    return;
+    return true;
   }
   while (head < tail) {
     const int cell = queue_[head++];
@@ -89,9 +89,19 @@ void AStarPlanner::ComputeAllPaths(const Grid& grid, StationPaths& out) {
 
   // The report's loop: every start in row-major order that no earlier search
   // has decided gets its own search.
+  // One search can cover a whole map (17 s per step at 1024x1024 in all), so
+  // a stop request is checked every 256 searches.
   for (int start = 0; start < n; ++start) {
-    if (out.length[start] == kUndecided) Search(grid, start, out);
+    if (out.length[start] != kUndecided) continue;
+    if ((searches_ & 255) == 0 && StopRequested(stop)) {
+      for (int cell = start; cell < n; ++cell) {
+        if (out.length[cell] == kUndecided) out.length[cell] = kUnreachable;
+      }
+      return false;
+    }
+    Search(grid, start, out);
   }
+  return true;
 }
 
 void AStarPlanner::Search(const Grid& grid, int start, StationPaths& out) {

@@ -17,7 +17,9 @@ PolicyScore AStarStaticPlanner::Evaluate(const Grid& grid) {
 }
 
 StepDetails AStarOraclePlanner::Initialize(const Grid& grid) {
-  astar_.ComputeAllPaths(grid, paths_);
+  // Stopped early, the paths are partial; the run is cancelled after this
+  // step and nothing of it is written.
+  astar_.ComputeAllPaths(grid, paths_, stop_);
   return {};
 }
 
@@ -38,9 +40,9 @@ std::unique_ptr<Planner> MakeAStarStaticPlanner(const ApproachSpec&, const Plann
   return std::make_unique<AStarStaticPlanner>();
 }
 
-std::unique_ptr<Planner> MakeAStarOraclePlanner(const ApproachSpec&, const PlannerOptions&,
-                                                Trainer*) {
-  return std::make_unique<AStarOraclePlanner>();
+std::unique_ptr<Planner> MakeAStarOraclePlanner(const ApproachSpec&,
+                                                const PlannerOptions& options, Trainer*) {
+  return std::make_unique<AStarOraclePlanner>(options.stop);
 }
 
 std::unique_ptr<Planner> MakeBfsOraclePlanner(const ApproachSpec&, const PlannerOptions&,

@@ -22,6 +22,7 @@ class AStarStaticPlanner : public Planner {
 // A* Oracle: the report's per-start A*, rerun on every step.
 class AStarOraclePlanner : public Planner {
  public:
+  explicit AStarOraclePlanner(StopToken stop = nullptr) : stop_(stop) {}
   StepDetails Initialize(const Grid& grid) override;
   StepDetails Adapt(const Grid& grid, const std::vector<int>&) override { return Initialize(grid); }
   PolicyScore Evaluate(const Grid& grid) override;
@@ -29,6 +30,7 @@ class AStarOraclePlanner : public Planner {
  private:
   AStarPlanner astar_;
   StationPaths paths_;
+  StopToken stop_;
 };
 
 // BFS Oracle: one multi-source breadth-first search per step.

@@ -93,7 +93,14 @@ pass "bad options and config files: exit 2, one line"
 start=$SECONDS
 "$dynapath" experiment --agents 2 "${study[@]}" --out "$work/a" >"$work/a.out" 2>"$work/a.err"
 code=$?
-[ $code -eq 0 ] || { fail "study exited $code"; tail -20 "$work/a.err"; }
+if [ $code -ne 0 ]; then
+  fail "study exited $code"
+  tail -20 "$work/a.err"
+  # What the processes said (a sanitizer's report goes to study.log), so
+  # that a failure in CI can be understood from its log alone.
+  echo "--- study.log: errors and what is not a log line"
+  grep -vE '^\[[^]]*\] \[(info|debug)\]' "$work/a/study.log" 2>/dev/null | head -80
+fi
 echo "   the study took $((SECONDS - start)) s"
 a=$work/a
 head -1 "$a/results.csv" | grep -qx "Approach,Size,Difficulty,InitialTime,AdaptTimePerStep,AvgSuccessRate,AvgPathLength" \

@@ -7,12 +7,15 @@
 #include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <optional>
+#include <thread>
 #include <vector>
 
+#include "dynapath/heartbeat_t.hpp"
 #include "dynapath/step_report_t.hpp"
 #include "protocol/auth.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
+#include "protocol/liveness.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -339,6 +342,43 @@ TEST(BusTest, FragmentSizeFollowsTheUrlsTtl) {
   EXPECT_EQ(DefaultFragmentSize("udpm://239.255.76.67:7667?ttl=x"), 60000);
   EXPECT_EQ(DefaultFragmentSize("memq://"), 60000);
   EXPECT_EQ(DefaultFragmentSize("file:///tmp/log?mode=w&ttl=1"), 60000);
+}
+
+// Paused is not dead: a process that did not run for longer than half the
+// timeout (SIGSTOP, a debugger) counts the coordinator's silence again from
+// its wake-up; a coordinator silent while this process runs is still gone
+// after the timeout.
+TEST(CoordinatorWatchTest, OwnPauseIsNotTheCoordinatorsSilence) {
+  lcm::LCM lcm("memq://");
+  Bus coordinator(lcm, "run1");
+  Bus agent(lcm, "run1");
+  CoordinatorWatch watch(agent, nullptr);
+  heartbeat_t beat{};
+  beat.run_id = "run1";
+  beat.role = heartbeat_t::ROLE_COORDINATOR;
+  beat.state = heartbeat_t::STATE_RUNNING;
+  coordinator.Publish(channel::kHeartbeat, beat);
+  Pump(lcm, [&] { return watch.Seen(); });
+  ASSERT_TRUE(watch.Seen());
+  using Verdict = CoordinatorWatch::Verdict;
+  const double timeout = 1.0;
+  EXPECT_EQ(watch.Check(10, timeout), Verdict::kRunning);
+
+  // "Paused" for 2.5 s (no check at all): over twice the timeout, yet running.
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  EXPECT_EQ(watch.Check(10, timeout), Verdict::kRunning);
+
+  // Running and checking often while the coordinator stays silent: gone
+  // once the timeout has passed since the wake-up.
+  Verdict verdict = Verdict::kRunning;
+  const auto start = std::chrono::steady_clock::now();
+  while (verdict == Verdict::kRunning &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(5)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    verdict = watch.Check(10, timeout);
+  }
+  EXPECT_EQ(verdict, Verdict::kGone);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(990));
 }
 
 }  // namespace

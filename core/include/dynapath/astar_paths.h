@@ -13,6 +13,7 @@
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/grid.h"
 #include "dynapath/policy_evaluation.h"
+#include "dynapath/stop_token.h"
 
 namespace dynapath {
 
@@ -33,7 +34,9 @@ class AStarPlanner {
  public:
   // Fills `out` for `grid`. Every length equals the BFS Oracle's distance
   // (NearestStationDistances); the stored paths are shortest paths.
-  void ComputeAllPaths(const Grid& grid, StationPaths& out);
+  // Once `stop` is requested (checked every 256 searches) it ends early
+  // and returns false; the starts not searched then count as unreachable.
+  bool ComputeAllPaths(const Grid& grid, StationPaths& out, StopToken stop = nullptr);
 
   // Number of A* searches and of closed (expanded) cells of the last call,
   // for benchmarks and the cost comparison with the report.

@@ -4,6 +4,7 @@
 // -Werror=switch). Adding a learner: CONTRIBUTING.md, "Adding a
 // learner".
 
+#include "dynapath/stop_token.h"
 #include "dynapath/training_job.h"
 
 namespace dynapath {
@@ -16,7 +17,9 @@ inline constexpr LearnerKind kAllLearnerKinds[] = {
 
 // Trains `job` whole with the learner of `job.kind`, in this thread.
 // `job` must pass CheckJob (core/include/dynapath/training_job.h).
-TrainingResult TrainJob(const TrainingJob& job);
+// Once `stop` is requested the learner ends early (every round, every 64
+// episodes) and its result is partial: the caller must discard it.
+TrainingResult TrainJob(const TrainingJob& job, StopToken stop = nullptr);
 
 // True for learners that train in synchronised rounds of K learners whose
 // shards are averaged (FedAsynQ): their jobs can be split over agents and

@@ -12,6 +12,7 @@
 #include "dynapath/stop_token.h"
 #include "dynapath/thread_pool.h"
 #include "dynapath/trainer.h"
+#include "dynapath/training_progress.h"
 
 namespace dynapath {
 
@@ -20,7 +21,10 @@ class LocalTrainer : public Trainer {
   // `pool` must outlive the trainer. Once `stop` is requested (checked every
   // round and every 64 episodes, also inside one large job) the trainer
   // fails with kCancelled and commits nothing (Trainer::status).
-  explicit LocalTrainer(ThreadPool& pool, StopToken stop = nullptr) : pool_(pool), stop_(stop) {}
+  // `progress` (may be null) is kept up to date for a watcher thread.
+  explicit LocalTrainer(ThreadPool& pool, StopToken stop = nullptr,
+                        TrainingProgress* progress = nullptr)
+      : pool_(pool), stop_(stop), progress_(progress) {}
 
   TrainingStats Train(const std::vector<NodeId>& nodes, const std::vector<uint64_t>& seeds,
                       const LearnerConfig& config, const QuadTree& tree, const Grid& grid,
@@ -35,6 +39,7 @@ class LocalTrainer : public Trainer {
 
   ThreadPool& pool_;
   StopToken stop_;
+  TrainingProgress* progress_;
   Status status_ = Ok{};
 };
 

@@ -14,6 +14,7 @@
 #include "dynapath/quadtree.h"
 #include "dynapath/result.h"
 #include "dynapath/retraining_strategy.h"
+#include "dynapath/stop_token.h"
 #include "dynapath/trainer.h"
 
 namespace dynapath {
@@ -40,6 +41,10 @@ struct PlannerOptions : LearnerOptions {
   // double for kReport): only for experiments that separate the report
   // code's rules from its precision (bench/semantics_spread report-float).
   std::optional<QPrecision> table_precision;
+  // Ctrl-C: planners whose one step can take long (A* Oracle's per-start
+  // searches) end it early once set; the run is then cancelled. Not a
+  // parameter of the results.
+  StopToken stop = nullptr;
 };
 
 // What an initialisation or adaptation did (extra result columns).

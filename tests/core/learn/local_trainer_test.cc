@@ -43,12 +43,22 @@ TEST_P(LocalTrainerTest, EqualsSequentialLearners) {
       }
       for (int threads : {1, 2, 3}) {
         ThreadPool pool(threads);
-        LocalTrainer trainer(pool);
+        // Progress reporting (what a watcher thread reads) changes nothing
+        // and ends complete: every job, or every round, done.
+        TrainingProgress progress;
+        LocalTrainer trainer(pool, nullptr, &progress);
         RootQTable root(tree.rows(), tree.cols());
         const TrainingStats stats = trainer.Train(nodes, seeds, config, tree, scenario.grid, root);
         EXPECT_EQ(stats.jobs, static_cast<int64_t>(nodes.size()));
         EXPECT_GT(stats.steps, 0);
         ASSERT_EQ(root.table(), expected.table()) << "threads " << threads;
+        EXPECT_FALSE(progress.running);
+        EXPECT_EQ(progress.batches, 1);
+        EXPECT_EQ(progress.jobs_total, static_cast<int64_t>(nodes.size()));
+        EXPECT_DOUBLE_EQ(progress.Fraction(), 1.0);
+        if (progress.rounds_total > 0) {
+          EXPECT_EQ(progress.rounds_done, progress.rounds_total);
+        }
       }
     }
   }

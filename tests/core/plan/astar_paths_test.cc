@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -193,6 +194,29 @@ TEST(AStarPathsTest, IsDeterministic) {
   EXPECT_EQ(a.length, b.length);
   second.ComputeAllPaths(grid, b);
   EXPECT_EQ(a.next, b.next);
+}
+
+// Ctrl-C inside one step: a stop already requested ends the searches at
+// once (false, every start decided: unsearched ones unreachable); an unset
+// token changes nothing.
+TEST(AStarPathsTest, StopEndsTheSearchesEarlyAndAnUnsetTokenChangesNothing) {
+  const Grid grid = RandomGrid(60, 70, 200, 5, 11);
+  AStarPlanner planner;
+  StationPaths plain, unset, stopped;
+  ASSERT_TRUE(planner.ComputeAllPaths(grid, plain));
+  const std::atomic<bool> no{false}, yes{true};
+  ASSERT_TRUE(planner.ComputeAllPaths(grid, unset, &no));
+  EXPECT_EQ(unset.length, plain.length);
+  EXPECT_EQ(unset.next, plain.next);
+
+  EXPECT_FALSE(planner.ComputeAllPaths(grid, stopped, &yes));
+  EXPECT_EQ(planner.searches(), 0);
+  int unreachable = 0;
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    ASSERT_TRUE(stopped.length[cell] >= 0 || stopped.length[cell] == kUnreachable) << cell;
+    unreachable += stopped.length[cell] == kUnreachable && grid.at(cell) == Cell::kFree;
+  }
+  EXPECT_GT(unreachable, 0);
 }
 
 TEST(AStarPathsTest, StoredPathCrossingNewObstacleFails) {
