@@ -31,7 +31,8 @@ Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
     : bus_(bus),
       options_(std::move(options)),
       agents_(options_.agent_timeout_seconds),
-      trainer_(bus, inbox_, agents_, MakeTrainerOptions(options_)) {
+      trainer_(bus, inbox_, agents_, MakeTrainerOptions(options_)),
+      envsim_(bus, inbox_, options_.envsim_timeout_seconds, options_.give_up_seconds) {
   bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat, [this](heartbeat_t& beat) {
     // Wake the coordinator thread for a new agent:
     // the run starts as soon as enough are there.
@@ -99,6 +100,7 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
 
   // Every wait of the trainer (agents, outstanding batches) watches `stop`.
   trainer_.set_stop(&stop);
+  envsim_.set_stop(&stop);
   Status status = Ok{};
   try {
     status = RunExperiment(stop);
@@ -139,8 +141,7 @@ Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
   for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
   spdlog::info("coordinator: agents{} alive", ids);
 
-  EnvSimClient envsim(bus_, inbox_, options_.envsim_timeout_seconds, options_.give_up_seconds,
-                      &stop);
+  EnvSimClient& envsim = envsim_;
   const grid_t* maze = envsim.Connect(options_.agent_wait_seconds);
   if (maze == nullptr) return envsim.status();
   runtime::RunPlan plan = options_.plan;

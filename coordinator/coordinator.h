@@ -10,6 +10,7 @@
 
 #include "coordinator/agent_registry.h"
 #include "coordinator/distributed_trainer.h"
+#include "coordinator/envsim_client.h"
 #include "protocol/bus.h"
 #include "protocol/inbox.h"
 #include "runtime/run_driver.h"
@@ -47,6 +48,12 @@ class Coordinator {
   protocol::Inbox inbox_;
   AgentRegistry agents_;
   DistributedTrainer trainer_;
+  // A member, not a local of RunExperiment: its handlers are subscribed on
+  // the Bus, which keeps them until it is destroyed, and a subscription must
+  // be made before dispatching starts (a heartbeat delivered while a route
+  // is added read a reallocated route list; one delivered after a local
+  // client had gone wrote to its dead frame).
+  EnvSimClient envsim_;
 };
 
 }  // namespace dynapath::coordinator

@@ -22,9 +22,12 @@ namespace dynapath::coordinator {
 
 class EnvSimClient : public StepSource {
  public:
-  // `stop` (may be null) aborts waits: status() is then kCancelled.
+  // Subscribes on `bus`: construct it before dispatching starts, and keep it
+  // as long as the bus. `stop` (may be null) aborts waits: status() is then
+  // kCancelled.
   EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double timeout_seconds,
-               double give_up_seconds, const std::atomic<bool>* stop);
+               double give_up_seconds, const std::atomic<bool>* stop = nullptr);
+  void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
 
   // Fetches the maze of pass 0 (waiting up to `startup_seconds` for envsim):
   // the run's size, labels and seed; null when status() failed.

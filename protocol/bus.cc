@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -295,6 +296,9 @@ void Bus::RepairLoop() {
 }
 
 void Bus::AddRoute(const std::string& channel, int64_t fingerprint, Deliver deliver) {
+  // The dispatch thread reads routes_ without a lock: a route added while it
+  // runs can reallocate the list it is walking.
+  assert(!dispatching_ && "Bus::Subscribe after dispatching started");
   auto [it, inserted] = routes_.try_emplace(channel);
   it->second.push_back(Route{fingerprint, std::move(deliver)});
   if (inserted) {
@@ -308,6 +312,7 @@ void Bus::AddRoute(const std::string& channel, int64_t fingerprint, Deliver deli
 }
 
 void Bus::OnRaw(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  dispatching_.store(true, std::memory_order_relaxed);
   const auto* data = static_cast<const uint8_t*>(buffer->data);
   int size = 0;
   // Before anything reads the bytes: only messages of this run's key, once.

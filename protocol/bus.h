@@ -191,7 +191,10 @@ class Bus {
   lcm::LCM& lcm_;
   std::string run_id_;
   BusOptions options_;
+  // Written by Subscribe only before dispatching starts (checked: the route
+  // lists are read by the dispatch thread without a lock).
   std::map<std::string, std::vector<Route>> routes_;
+  std::atomic<bool> dispatching_{false};
   std::vector<lcm::Subscription*> subscriptions_;
   std::mutex fragments_mutex_;   // the dispatch and repair threads
   FragmentAssembler fragments_;  // guarded by fragments_mutex_
