@@ -1,5 +1,6 @@
 #include "coordinator/distributed_trainer.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -186,9 +187,16 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
     batch.split = ShouldSplit(batch, agents.size());
     StartEpoch(std::move(agents));
   }
+  const int64_t batch_start = AgentRegistry::NowMs();
+  constexpr int64_t kProgressIntervalMs = 5000;
+  int64_t next_progress = batch_start + kProgressIntervalMs;
   while (status_ && !Done() && Going()) {
     inbox_.RunFor(Ms(20));
     CheckAgents();
+    if (const int64_t now = AgentRegistry::NowMs(); now >= next_progress && batch_) {
+      LogProgress(now - batch_start);
+      next_progress = now + kProgressIntervalMs;
+    }
   }
   if (!status_) {  // nothing is committed: the run ends with status()
     batch_.reset();
@@ -205,6 +213,31 @@ TrainingStats DistributedTrainer::Train(const std::vector<NodeId>& nodes,
   }
   batch_.reset();
   return stats;
+}
+
+void DistributedTrainer::LogProgress(int64_t elapsed_ms) const {
+  const Batch& batch = *batch_;
+  const double elapsed = static_cast<double>(elapsed_ms) / 1000;
+  if (batch.split && batch.combiner) {
+    int64_t rounds = 0;
+    for (const protocol::RoundCombiner::Job& job : batch.combiner->jobs()) {
+      rounds = std::max(rounds, job.rounds);
+    }
+    const int64_t round = batch.combiner->round();
+    std::string left = "time left unknown yet";
+    if (rounds > 0 && round * 100 >= rounds) {
+      left = fmt::format("about {:.0f} s left",
+                         elapsed * static_cast<double>(rounds - round) / static_cast<double>(round));
+    }
+    spdlog::info("coordinator: training on agents: {} job(s) split, round {} of {}, {:.0f} s so "
+                 "far; {}",
+                 batch.jobs.size(), round, rounds, elapsed, left);
+    return;
+  }
+  size_t done = 0;
+  for (const JobState& state : batch.jobs) done += state.result ? 1 : 0;
+  spdlog::info("coordinator: training on agents: {} of {} jobs done, {:.0f} s so far", done,
+               batch.jobs.size(), elapsed);
 }
 
 bool DistributedTrainer::Done() const {

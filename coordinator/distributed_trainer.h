@@ -160,6 +160,9 @@ class DistributedTrainer : public Trainer {
   // False once status_ has failed; sets it to kCancelled when `stop` is set.
   bool Going();
   bool Done() const;
+  // A line on the batch in hand (jobs done, or the split round), logged every
+  // few seconds while a batch lasts: a large map's training takes minutes.
+  void LogProgress(int64_t elapsed_ms) const;
 
   protocol::Bus& bus_;
   protocol::Inbox& inbox_;

@@ -21,12 +21,16 @@ EnvSimClient::EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double ti
       give_up_seconds_(std::max(give_up_seconds, timeout_seconds)),
       stop_(stop) {
   namespace ch = protocol::channel;
+  // Any message of envsim's shows it alive, not only its heartbeats (the
+  // first may come after its first answer).
   bus_.Subscribe<grid_t>(ch::kEnvGrid, [this](grid_t& grid) {
+    envsim_seen_ms_ = protocol::SteadyMs();
     inbox_.Post([this, grid = std::move(grid)] {
       if (grid.pass == want_pass_ && want_step_ == 0) grid_answer_ = grid;
     });
   });
   bus_.Subscribe<changes_t>(ch::kEnvChanges, [this](changes_t& changes) {
+    envsim_seen_ms_ = protocol::SteadyMs();
     inbox_.Post([this, changes = std::move(changes)] {
       if (changes.pass == want_pass_ && changes.time_step == want_step_) changes_answer_ = changes;
     });

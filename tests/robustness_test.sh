@@ -8,7 +8,11 @@
 #   2. default agent ids are random: two agents on one host, and two in PID
 #      namespaces of their own (same host name, same pid), get distinct ids;
 #   3. two agents given the same --id: exactly one leaves with a clear error;
-#   4. `dynapath run --embedded --lcm-url URL` is refused.
+#   4. `dynapath run --embedded --lcm-url URL` is refused;
+#   5. paused is not dead: envsim stopped (SIGSTOP) for 7 s mid-run, then
+#      continued: the coordinator says it was silent and waits, envsim does
+#      not take its own pause for the coordinator's silence, and the results
+#      equal --local's.
 # (A batch that makes no progress over a lossy link is tested on the
 # simulated LAN, tests/lan/lan_test.sh.)
 # Usage: robustness_test.sh PATH_TO_DYNAPATH
@@ -147,6 +151,37 @@ if [ $code -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "lcm-url" "$w
   pass "--embedded --lcm-url refused: $(cat "$work/err")"
 else
   fail "--embedded --lcm-url: exit $code, $(cat "$work/err")"
+fi
+
+# 5. Paused is not dead.
+source "$(dirname "$0")/result_files.sh"  # same_result_files
+paused=(--size 30 --difficulty medium --steps 30 --approach fedAsynQ_EqAvg)
+"$dynapath" run --local "${paused[@]}" --out "$work/paused_local" --log-level warn >/dev/null ||
+  fail "paused: --local run"
+"$dynapath" run --agents 1 "${paused[@]}" --out "$work/paused" --log-level info \
+  >/dev/null 2>"$work/paused.log" &
+launcher=$!
+pids+=("$launcher")
+if wait_for_line "$work/paused.log" "coordinator: maze"; then
+  envsim=$(pgrep -P "$launcher" -f dynapath-envsim | head -1)
+  if [ -n "$envsim" ]; then
+    kill -STOP "$envsim"
+    sleep 7
+    kill -CONT "$envsim"
+  else
+    fail "paused: no envsim to pause"
+  fi
+else
+  fail "paused: the run did not start"
+fi
+wait "$launcher" || fail "paused: the run exited $? ($(grep -E 'error|gone' "$work/paused.log" | head -3))"
+grep -q "the environment simulator has been silent for" "$work/paused.log" ||
+  fail "paused: the coordinator did not say envsim was silent"
+grep -q "gone" "$work/paused.log" && fail "paused: $(grep gone "$work/paused.log" | head -1)"
+if same_result_files "$work/paused_local" "$work/paused" results.csv results_detailed.csv; then
+  pass "envsim paused 7 s mid-run: waited for, results as --local"
+else
+  fail "paused: results differ from --local"
 fi
 
 if [ $failures -gt 0 ]; then

@@ -413,7 +413,7 @@ class StudyRunner {
     record.ended.clear();
     record.wall_seconds = -1;
     record.error.clear();
-    Save();
+    (void)Save();  // a failure is logged; the study's last save is the one that counts
     const std::string name = "configuration " + Position(i) + " " + configuration.Label();
     spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
                  session_.options.approaches.size(), StudyModeName(session_.mode));
