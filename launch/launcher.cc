@@ -308,28 +308,50 @@ int LaunchProcesses(const DistributedRun& run) {
       return 1;
     }
   }
-  coordinator::CoordinatorCommandLine coordinator_options;
-  coordinator_options.run = run.run;
-  coordinator_options.agents = run.agents;
-  coordinator_options.out_lock_fd = run.out_lock_fd;
-  std::vector<int> coordinator_fds;
-  if (run.out_lock_fd >= 0) coordinator_fds.push_back(run.out_lock_fd);
-  bool started = start("coordinator", FindBinary("coordinator"), coordinator_options,
-                       coordinator::DeclareCoordinatorCommandLine, {}, coordinator_fds);
-  envsim::EnvSimCommandLine envsim_options;
-  envsim_options.scenario = run.scenario;
-  started = started &&
-            start("envsim", FindBinary("envsim"), envsim_options, envsim::DeclareEnvSimCommandLine);
-  for (int i = 1; i <= run.agents && started; ++i) {
-    agent::AgentCommandLine agent_options;
-    agent_options.threads.threads = run.threads_per_agent;
-    started = start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
-                    agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
-  }
-  if (!started) {  // the run cannot go on without one of them: stop the others now
+  // The run's own processes (not lcm-logger), started again on a restart.
+  auto start_run_processes = [&](bool resume) {
+    coordinator::CoordinatorCommandLine coordinator_options;
+    coordinator_options.run = run.run;
+    coordinator_options.run.resume_checkpoint = run.run.resume_checkpoint || resume;
+    coordinator_options.agents = run.agents;
+    coordinator_options.out_lock_fd = run.out_lock_fd;
+    std::vector<int> coordinator_fds;
+    if (run.out_lock_fd >= 0) coordinator_fds.push_back(run.out_lock_fd);
+    bool started = start("coordinator", FindBinary("coordinator"), coordinator_options,
+                         coordinator::DeclareCoordinatorCommandLine, {}, coordinator_fds);
+    envsim::EnvSimCommandLine envsim_options;
+    envsim_options.scenario = run.scenario;
+    started = started && start("envsim", FindBinary("envsim"), envsim_options,
+                               envsim::DeclareEnvSimCommandLine);
+    for (int i = 1; i <= run.agents && started; ++i) {
+      agent::AgentCommandLine agent_options;
+      agent_options.threads.threads = run.threads_per_agent;
+      started = started && start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
+                                 agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
+    }
+    return started;
+  };
+  if (!start_run_processes(false)) {  // the run cannot go on without one of them: stop the others now
     StopAll(children, std::chrono::milliseconds(3000));
     return 1;
   }
+  int restarts = 0;
+  // After the coordinator was killed: the others stopped and forgotten, and
+  // all of them started again from the checkpoint. False when that failed.
+  auto restart = [&](const Child& coordinator) {
+    ++restarts;
+    spdlog::warn(
+        "the coordinator {}; starting the run's processes again from the last checkpoint in {} "
+        "(restart {} of at most {})",
+        Describe(coordinator.status), run.run.checkpoint, restarts, run.coordinator_restarts);
+    std::vector<Child> kept, stopped;
+    for (Child& child : children) (child.name == "lcm-logger" ? kept : stopped).push_back(child);
+    StopAll(stopped, std::chrono::milliseconds(3000));
+    children = std::move(kept);
+    if (start_run_processes(true)) return true;
+    StopAll(children, std::chrono::milliseconds(3000));
+    return false;
+  };
 
   int exit_code = 0;
   std::vector<bool> reported(children.size(), false);
@@ -346,6 +368,13 @@ int LaunchProcesses(const DistributedRun& run) {
       if (child.running || reported[i]) continue;
       reported[i] = true;
       if (child.name == "coordinator") {
+        if (WIFSIGNALED(child.status) && !run.run.checkpoint.empty() &&
+            restarts < run.coordinator_restarts && !stop) {
+          const Child killed = child;
+          if (!restart(killed)) return 1;
+          reported.assign(children.size(), false);
+          break;  // the children changed: look again
+        }
         finished = true;
         if (!Succeeded(child.status)) {
           spdlog::error("the coordinator {}", Describe(child.status));

@@ -38,6 +38,11 @@ struct DistributedRun {
   // (runtime::OutputLock): the coordinator inherits and adopts it. Otherwise
   // the coordinator locks run.out itself.
   int out_lock_fd = -1;
+  // When the coordinator process is killed (a signal: SIGKILL, the OOM
+  // killer, a crash) and run.run.checkpoint is set: stop the run's other
+  // processes and start them all again from the last checkpoint
+  // (--resume-checkpoint), at most this many times.
+  int coordinator_restarts = 0;
   // When >= 0, the children's stderr goes to this descriptor (a log file)
   // instead of the launcher's.
   int child_stderr = -1;

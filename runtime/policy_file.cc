@@ -1,8 +1,6 @@
 // The policy file codec (docs/reference/POLICY_FORMAT.md describes the bytes).
 #include "runtime/policy_file.h"
 
-#include <sodium.h>
-#include <sys/stat.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -19,6 +17,7 @@
 #include "dynapath/mdp.h"
 #include "dynapath/text_file.h"
 #include "protocol/convert.h"
+#include "runtime/byte_codec.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -28,7 +27,6 @@ static_assert(std::endian::native == std::endian::little,
 
 constexpr char kMagic[8] = {'D', 'Y', 'N', 'A', 'P', 'O', 'L', '\n'};
 constexpr size_t kHeaderBytes = 24;  // magic, version, section count, body length
-constexpr size_t kChecksumBytes = 32;
 constexpr size_t kNameBytes = 32;
 constexpr size_t kMaxSections = 4;  // one per learning approach
 constexpr int kCompressionLevel = 3;
@@ -39,46 +37,8 @@ constexpr size_t kSingleAgentOptionCount = 0
 constexpr size_t kFederatedOptionCount = 0 DYNAPATH_FEDASYNQ_OPTIONS(DYNAPATH_COUNT_OPTION);
 #undef DYNAPATH_COUNT_OPTION
 
-class Writer {
- public:
-  template <class T>
-  void Put(T value) {
-    const size_t at = bytes_.size();
-    bytes_.resize(at + sizeof(T));
-    std::memcpy(bytes_.data() + at, &value, sizeof(T));
-  }
-  void PutBytes(const void* data, size_t size) {
-    const auto* begin = static_cast<const uint8_t*>(data);
-    bytes_.insert(bytes_.end(), begin, begin + size);
-  }
-  std::vector<uint8_t>& bytes() { return bytes_; }
-
- private:
-  std::vector<uint8_t> bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
-  template <class T>
-  bool Get(T& value) {
-    if (left() < sizeof(T)) return false;
-    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return true;
-  }
-  bool GetView(size_t size, std::string_view& view) {
-    if (left() < size) return false;
-    view = bytes_.substr(at_, size);
-    at_ += size;
-    return true;
-  }
-  size_t left() const { return bytes_.size() - at_; }
-
- private:
-  std::string_view bytes_;
-  size_t at_ = 0;
-};
+using Writer = ByteWriter;
+using Reader = ByteReader;
 
 Status Truncated(const std::string& what) { return Error::Corrupt("truncated in " + what); }
 
@@ -326,10 +286,7 @@ Result<std::vector<uint8_t>> EncodePolicyFile(const std::vector<PolicyState>& st
   out.Put<uint64_t>(body);
   for (const auto& section : sections) out.Put<uint64_t>(section.size());
   for (const auto& section : sections) out.PutBytes(section.data(), section.size());
-  unsigned char checksum[kChecksumBytes];
-  crypto_generichash(checksum, sizeof(checksum), out.bytes().data(), out.bytes().size(), nullptr,
-                     0);
-  out.PutBytes(checksum, sizeof(checksum));
+  AppendChecksum(out);
   return std::move(out.bytes());
 }
 
@@ -357,14 +314,8 @@ Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes, bool v
                           std::to_string(in.left() - std::min(in.left(), kChecksumBytes)) +
                           " (truncated or extended)");
   }
-  if (verify_checksum) {
-    unsigned char checksum[kChecksumBytes];
-    const size_t covered = bytes.size() - kChecksumBytes;
-    crypto_generichash(checksum, sizeof(checksum),
-                       reinterpret_cast<const unsigned char*>(bytes.data()), covered, nullptr, 0);
-    if (std::memcmp(checksum, bytes.data() + covered, kChecksumBytes) != 0) {
-      return Error::Corrupt("checksum mismatch (the file is damaged)");
-    }
+  if (verify_checksum && !ChecksumMatches(bytes)) {
+    return Error::Corrupt("checksum mismatch (the file is damaged)");
   }
   std::vector<uint64_t> lengths(count);
   uint64_t total = 0;
@@ -400,22 +351,9 @@ Status WritePolicyFile(const std::string& path, const std::vector<PolicyState>& 
 }
 
 Result<std::vector<PolicyState>> ReadPolicyFile(const std::string& path) {
-  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!file) return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
-  struct stat info {};
-  if (fstat(fileno(file.get()), &info) != 0)
-    return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
-  if (!S_ISREG(info.st_mode)) return Error::Corrupt("policy file " + path + ": not a regular file");
-  if (static_cast<uint64_t>(info.st_size) > kMaxPolicyFileBytes) {
-    return Error::Corrupt("policy file " + path + ": " + std::to_string(info.st_size) +
-                          " bytes, more than any policy file (" +
-                          std::to_string(kMaxPolicyFileBytes) + ")");
-  }
-  std::string bytes(static_cast<size_t>(info.st_size), '\0');
-  if (!bytes.empty() && std::fread(bytes.data(), 1, bytes.size(), file.get()) != bytes.size()) {
-    return Error::File(errno, "policy file " + path + ": " + std::strerror(errno));
-  }
-  Result<std::vector<PolicyState>> states = DecodePolicyFile(bytes);
+  Result<std::string> bytes = ReadBoundedFile(path, kMaxPolicyFileBytes, "policy file");
+  if (!bytes) return bytes.error();
+  Result<std::vector<PolicyState>> states = DecodePolicyFile(*bytes);
   if (!states) return Error::Corrupt("policy file " + path + ": " + states.error().message);
   return states;
 }

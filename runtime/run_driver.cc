@@ -6,12 +6,15 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
+#include "runtime/output_check.h"
 #include "runtime/policy_file.h"
 
 namespace dynapath::runtime {
@@ -136,6 +139,14 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
   DeclareLearnerOptions(group, o);
   DeclarePlacementOption(group, o);
   DeclarePolicyOptions(group, o.policy);
+  group.Option("--checkpoint", o.checkpoint, "DIR",
+               "write the run's state to DIR after every --checkpoint-every time steps, to "
+               "finish it with `dynapath run --resume DIR` if it dies (docs/howto/CHECKPOINTS.md)");
+  group.Option("--checkpoint-every", o.checkpoint_every, "K",
+               "time steps between checkpoints (1..1000000)");
+  group.Flag("--resume-checkpoint", o.resume_checkpoint,
+             "continue from --checkpoint's last checkpoint, or start when it has none (what "
+             "`dynapath run --resume DIR` sets)");
 }
 
 Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
@@ -169,8 +180,123 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   Result<PolicyPlan> policy = ResolvePolicyOptions(o.policy, plan.approaches);
   if (!policy) return policy.error();
   plan.policy = std::move(*policy);
+  Result<long long> every = InRange("checkpoint-every", o.checkpoint_every, 1, 1, 1'000'000);
+  if (!every) return every.error();
+  plan.checkpoint.dir = o.checkpoint;
+  plan.checkpoint.every = static_cast<int>(*every);
+  if (o.resume_checkpoint) {
+    if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
+    Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
+    if (!found && !found.error().IsNotFound()) return found.error();
+    if (found) {
+      for (size_t i = 0; i < found->runs.size(); ++i) {
+        if (i >= plan.approaches.size() || found->runs[i].approach != plan.approaches[i]) {
+          return Error::Option("checkpoint", o.checkpoint + " is of a run of other approaches");
+        }
+      }
+      plan.checkpoint.resume = std::make_shared<const RunCheckpoint>(std::move(*found));
+    }
+  }
   return plan;
 }
+
+namespace {
+
+// Writes a run's checkpoints (RunApproaches with plan.checkpoint.dir) on a
+// thread of its own: encoding and the two fsyncs of a durable write take
+// milliseconds, which would otherwise be added to every time step. At most
+// one write is pending; a newer checkpoint replaces it unwritten (the
+// newest is what a resume needs). Flush() waits for the last one and says
+// whether every write so far succeeded.
+class CheckpointWriter {
+ public:
+  CheckpointWriter(const CheckpointPlan& plan, uint64_t run_seed, int total_steps)
+      : plan_(plan), run_seed_(run_seed), total_steps_(total_steps) {
+    if (enabled()) thread_ = std::thread([this] { Loop(); });
+  }
+  ~CheckpointWriter() {
+    if (!thread_.joinable()) return;
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  bool enabled() const { return !plan_.dir.empty(); }
+
+  // After `run`'s rows so far of the approach in progress (the finished
+  // ones in `finished`), with its policy after the last row. Fails with the
+  // error of an earlier write.
+  Status InProgress(const std::vector<ApproachRun>& finished, const ApproachRun& run,
+                    PolicyState&& policy) {
+    RunCheckpoint checkpoint = Empty();
+    checkpoint.pass = static_cast<int>(finished.size());
+    checkpoint.runs = finished;
+    checkpoint.runs.push_back(run);
+    checkpoint.policy = std::move(policy);
+    return Submit(std::move(checkpoint));
+  }
+  // After the approaches in `finished`, written before it returns.
+  Status Finished(const std::vector<ApproachRun>& finished) {
+    RunCheckpoint checkpoint = Empty();
+    checkpoint.pass = static_cast<int>(finished.size());
+    checkpoint.runs = finished;
+    if (Status submitted = Submit(std::move(checkpoint)); !submitted) return submitted;
+    return Flush();
+  }
+  Status Flush() {
+    std::unique_lock lock(mutex_);
+    idle_.wait(lock, [this] { return !pending_ && !writing_; });
+    return status_;
+  }
+
+ private:
+  RunCheckpoint Empty() const {
+    RunCheckpoint checkpoint;
+    checkpoint.run_seed = run_seed_;
+    checkpoint.total_steps = total_steps_;
+    return checkpoint;
+  }
+  Status Submit(RunCheckpoint&& checkpoint) {
+    {
+      std::lock_guard lock(mutex_);
+      if (!status_) return status_;
+      pending_ = std::move(checkpoint);
+    }
+    wake_.notify_all();
+    return Ok{};
+  }
+  void Loop() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [this] { return done_ || pending_; });
+      if (!pending_) return;  // done, nothing left to write
+      RunCheckpoint checkpoint = std::move(*pending_);
+      pending_.reset();
+      writing_ = true;
+      lock.unlock();
+      Status written = WriteCheckpoint(plan_.dir, checkpoint);
+      lock.lock();
+      writing_ = false;
+      if (!written && status_) status_ = written.error().Prefixed("checkpoint: ");
+      idle_.notify_all();
+    }
+  }
+
+  const CheckpointPlan& plan_;
+  uint64_t run_seed_;
+  int total_steps_;
+  std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  std::optional<RunCheckpoint> pending_;
+  bool writing_ = false;
+  bool done_ = false;
+  Status status_ = Ok{};
+  std::thread thread_;  // last: started once the rest is ready
+};
+
+}  // namespace
 
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
@@ -181,8 +307,50 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   options.stop = stop;
   std::vector<ApproachRun> runs;
   std::vector<PolicyState> to_save;  // the learning approaches' so far
-  int pass = 0;
-  for (Approach approach : plan.approaches) {
+  CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps());
+  const RunCheckpoint* resume = plan.checkpoint.resume.get();
+  if (resume != nullptr &&
+      (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
+    return Error::Option(
+        "checkpoint", fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
+                                  "seed {}, {} time steps)",
+                                  plan.checkpoint.dir, resume->run_seed, resume->total_steps,
+                                  options.run_seed, source.total_steps()));
+  }
+  if (checkpoints.enabled()) {
+    if (Status ready = PrepareOutputDirectory(plan.checkpoint.dir, "checkpoint"); !ready) {
+      return ready.error();
+    }
+    // A writer killed mid-write leaves its temporary file; the directory is
+    // this run's alone now (its lock, or the launcher's that started us).
+    std::error_code ignored;
+    const std::string stale = std::string(kCheckpointFileName) + ".tmp.";
+    for (const auto& entry : std::filesystem::directory_iterator(plan.checkpoint.dir, ignored)) {
+      if (entry.path().filename().string().rfind(stale, 0) == 0) {
+        std::filesystem::remove(entry.path(), ignored);
+      }
+    }
+  }
+  if (resume != nullptr) {
+    runs.assign(resume->runs.begin(), resume->runs.begin() + resume->pass);
+    if (!runs.empty()) {
+      spdlog::info("resuming: {} approach{} finished before (rows from the checkpoint)",
+                   runs.size(), runs.size() == 1 ? "" : "es");
+    }
+    // A saved policy file keeps the sections of the approaches finished.
+    if (!plan.policy.save_path.empty()) {
+      Result<std::vector<PolicyState>> saved = ReadPolicyFile(plan.policy.save_path);
+      if (saved) {
+        for (PolicyState& state : *saved) {
+          for (const ApproachRun& run : runs) {
+            if (run.approach == state.approach) to_save.push_back(std::move(state));
+          }
+        }
+      }
+    }
+  }
+  for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
+    const Approach approach = plan.approaches[pass];
     ProgressLog progress(SteadyClock());
     const StepCallback on_step = [&](const StepView& view) {
       progress(view);
@@ -190,6 +358,17 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     };
     PolicyHooks hooks;
     hooks.load = plan.policy.Find(approach);
+    // The approach the checkpoint was taken in: its rows so far, and its
+    // policy to continue from.
+    const ApproachRun* resumed = nullptr;
+    if (resume != nullptr && pass == static_cast<size_t>(resume->pass) &&
+        resume->runs.size() > pass && resume->policy) {
+      resumed = &resume->runs[pass];
+      hooks.load = &*resume->policy;
+      hooks.must_continue = true;
+      spdlog::info("{}: resuming after step {} from the checkpoint", ApproachName(approach),
+                   resume->policy->step);
+    }
     bool saved = false;
     if (!plan.policy.save_path.empty()) {
       hooks.save_at = plan.policy.save_at;
@@ -198,17 +377,41 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
         saved = true;
       };
     }
-    Result<ApproachRun> result = RunApproach(stoppable, pass++, approach, options, &trainer,
-                                             labels, hooks, SteadyClock(), on_step);
+    Status checkpoint_status = Ok{};
+    if (checkpoints.enabled() && IsLearningApproach(approach)) {
+      hooks.checkpoint_every = plan.checkpoint.every;
+      hooks.checkpoint = [&](PolicyState&& state, const ApproachRun& so_far) {
+        if (!checkpoint_status) return;
+        if (resumed == nullptr) {
+          checkpoint_status = checkpoints.InProgress(runs, so_far, std::move(state));
+          return;
+        }
+        ApproachRun whole = *resumed;  // the rows before the checkpoint, then these
+        whole.steps.insert(whole.steps.end(), so_far.steps.begin(), so_far.steps.end());
+        checkpoint_status = checkpoints.InProgress(runs, whole, std::move(state));
+      };
+    }
+    Result<ApproachRun> result = RunApproach(stoppable, static_cast<int>(pass), approach, options,
+                                             &trainer, labels, hooks, SteadyClock(), on_step);
     // A run cut short by its source or trainer is not written.
     stoppable.Stopped();
     if (Status status = stoppable.status(); !status) return status.error();
     if (Status status = trainer.status(); !status) return status.error();
     if (!result) {
+      if (resumed != nullptr) {
+        return Error::Option("checkpoint", plan.checkpoint.dir + ": " + result.error().message);
+      }
       return Error::Option("load-policy", plan.policy.load_path + ": " + result.error().message);
     }
+    if (!checkpoint_status) return checkpoint_status.error();
+    if (resumed != nullptr) {
+      // The rows and times before the checkpoint, then the rest.
+      ApproachRun whole = *resumed;
+      whole.steps.insert(whole.steps.end(), result->steps.begin(), result->steps.end());
+      *result = std::move(whole);
+    }
     runs.push_back(std::move(*result));
-    if (hooks.load != nullptr) {
+    if (hooks.load != nullptr && resumed == nullptr) {
       spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
                    ApproachName(approach), hooks.load->step, runs.back().load_seconds);
     }
@@ -218,7 +421,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       }
       spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach),
                    to_save.back().step, plan.policy.save_path);
-    } else if (hooks.save && IsLearningApproach(approach)) {
+    } else if (hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
       return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
                                           " is not a step " + ApproachName(approach) +
                                           " ran (a loaded policy continues after its step)");
@@ -231,6 +434,9 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
     if (Status status = WriteParametersToml(plan.options, plan.out_dir); !status) {
       return status.error();
+    }
+    if (checkpoints.enabled()) {
+      if (Status written = checkpoints.Finished(runs); !written) return written.error();
     }
   }
   return runs;

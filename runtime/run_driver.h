@@ -10,6 +10,7 @@
 #include "dynapath/experiment.h"
 #include "dynapath/quadtree.h"
 #include "dynapath/results_csv.h"
+#include "runtime/checkpoint_file.h"
 #include "runtime/option_group.h"
 #include "runtime/parameter_options.h"
 #include "runtime/policy_options.h"
@@ -26,12 +27,21 @@ enum class Placement {
   kSplit,  // split learners whenever the batch has fewer jobs than agents
 };
 
+// --checkpoint, --checkpoint-every and the resumed checkpoint, resolved.
+struct CheckpointPlan {
+  std::string dir;  // "" writes none
+  int every = 1;    // time steps between checkpoints
+  // The checkpoint the run continues from (--resume-checkpoint found one).
+  std::shared_ptr<const RunCheckpoint> resume;
+};
+
 struct RunPlan {
   std::vector<Approach> approaches;
   PlannerOptions options;  // run_seed is set from the scenario
   std::string out_dir = "results";
   Placement placement = Placement::kAuto;
   PolicyPlan policy;  // --save-policy, --save-at, --load-policy
+  CheckpointPlan checkpoint;
 };
 
 // The words of --bootstrap, --semantics and --placement (also a study
@@ -51,6 +61,9 @@ struct RunOptions {
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
   ParameterOptions parameters;  // the learner and strategy parameters given
+  std::string checkpoint;           // DIR, "" none
+  long long checkpoint_every = 1;   // K
+  bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that
@@ -68,8 +81,8 @@ Result<int> ResolveLeafLimit(long long leaf_limit);
 void DeclareLearnerOptions(OptionGroup& group, RunOptions& options);
 // --placement (also `dynapath experiment`'s).
 void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
-// Declares --approach, --out, the learner options, --placement and the
-// policy options (runtime/policy_options.h).
+// Declares --approach, --out, the learner options, --placement, the
+// policy options (runtime/policy_options.h) and the checkpoint options.
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
@@ -79,7 +92,12 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 // atomically after every approach, so an interrupted run keeps what
 // finished. `extra` is called after every step. With plan.policy, each
 // learning approach starts from its loaded section and the saved policies
-// are (re)written after every learning approach.
+// are (re)written after every learning approach. With plan.checkpoint.dir,
+// a checkpoint is written after every `every` time steps of a learning
+// approach and after every approach; with plan.checkpoint.resume, the
+// finished approaches' rows are taken from it and the approach in progress
+// continues from its policy (a baseline runs again from step 0): the
+// result files are the uninterrupted run's, time columns aside.
 // Fails when the files cannot be written, with the source's or the
 // trainer's status() when one of them fails, and with kCancelled when
 // `stop` (may be null; checked before every time step and after every

@@ -87,14 +87,24 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
   auto failed = [&] { return !source.status() || (trainer != nullptr && !trainer->status()); };
   uint64_t initial_fingerprint = 0;
   const int save_at = hooks.save_at == kSaveAtEnd ? total_steps : hooks.save_at;
-  auto maybe_save = [&](int t, const Grid& grid) {
-    if (t != save_at || !hooks.save) return;
-    PolicyState state;
-    if (!planner->ExportPolicy(state)) return;
+  auto export_at = [&](int t, const Grid& grid, PolicyState& state) {
+    if (!planner->ExportPolicy(state)) return false;
     state.step = t;
     state.initial_fingerprint = initial_fingerprint;
     state.fingerprint = MazeFingerprint(grid);
-    hooks.save(std::move(state));
+    return true;
+  };
+  auto maybe_save = [&](int t, const Grid& grid) {
+    if (t != save_at || !hooks.save) return;
+    PolicyState state;
+    if (export_at(t, grid, state)) hooks.save(std::move(state));
+  };
+  auto maybe_checkpoint = [&](int t, const Grid& grid) {
+    if (hooks.checkpoint_every <= 0 || !hooks.checkpoint || t % hooks.checkpoint_every != 0) {
+      return;
+    }
+    PolicyState state;
+    if (export_at(t, grid, state)) hooks.checkpoint(std::move(state), run);
   };
 
   Grid grid = source.Initial(pass);
@@ -102,8 +112,16 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
   initial_fingerprint = MazeFingerprint(grid);
   int first_step = 1;
   const PolicyState* loaded = hooks.load;
-  if (loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint &&
-      loaded->run_seed == options.run_seed) {
+  const bool same_run = loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint &&
+                        loaded->run_seed == options.run_seed;
+  if (loaded != nullptr && hooks.must_continue && !same_run) {
+    return Error(loaded->run_seed != options.run_seed
+                     ? "the checkpoint is of a run with seed " + std::to_string(loaded->run_seed) +
+                           ", this run has " + std::to_string(options.run_seed)
+                     : "the maze at step 0 differs from the checkpointed run's (was the map or "
+                       "change file edited?)");
+  }
+  if (same_run) {
     // The maze it was saved from: catch up with the saved step, then go on.
     const int saved = loaded->step;
     if (saved > total_steps) {
@@ -147,6 +165,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     if (failed()) return run;
     run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
     maybe_save(0, grid);
+    maybe_checkpoint(0, grid);
     if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
   }
 
@@ -164,6 +183,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     if (failed()) return run;
     run.steps.push_back(Score(*planner, grid, t, step.requested_moves, seconds, details));
     maybe_save(t, grid);
+    maybe_checkpoint(t, grid);
     if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
   }
   return run;

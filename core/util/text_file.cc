@@ -39,7 +39,9 @@ Result<std::string> ReadTextFile(const std::string& path) {
   return contents.str();
 }
 
-Status WriteFileAtomically(const std::string& path, std::string_view contents) {
+namespace {
+
+Status WriteReplacing(const std::string& path, std::string_view contents, bool durable) {
   // Unique per process and call, so two threads writing one path do not
   // share a temporary file.
   static std::atomic<unsigned> counter{0};
@@ -64,6 +66,9 @@ Status WriteFileAtomically(const std::string& path, std::string_view contents) {
     }
     written += static_cast<size_t>(n);
   }
+  // Durable: the bytes reach the disk before the rename makes them the
+  // file, so a crash leaves the old file or the new one, never an empty one.
+  if (durable && error == 0 && ::fsync(fd) != 0) error = errno;
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0) {
     ::unlink(temporary.c_str());
@@ -74,7 +79,28 @@ Status WriteFileAtomically(const std::string& path, std::string_view contents) {
     ::unlink(temporary.c_str());
     return WriteFailure(path, error, "cannot rename into place");
   }
+  if (durable) {  // and the rename itself reaches the disk
+    const size_t slash = path.rfind('/');
+    const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
+    const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir >= 0) {
+      const int synced = ::fsync(dir);
+      error = errno;
+      ::close(dir);
+      if (synced != 0) return WriteFailure(path, error, "cannot sync its folder");
+    }
+  }
   return Ok{};
+}
+
+}  // namespace
+
+Status WriteFileAtomically(const std::string& path, std::string_view contents) {
+  return WriteReplacing(path, contents, false);
+}
+
+Status WriteFileDurably(const std::string& path, std::string_view contents) {
+  return WriteReplacing(path, contents, true);
 }
 
 }  // namespace dynapath

@@ -1,11 +1,16 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <fcntl.h>
+#include <spdlog/fmt/fmt.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <thread>
 
+#include "dynapath/text_file.h"
 #include "launch/launcher.h"
 #include "protocol/dispatcher.h"
 #include "runtime/output_check.h"
@@ -16,8 +21,91 @@
 #include "tools/cli/commands.h"
 
 namespace dynapath::cli {
+namespace {
 
-int RunCommand(const std::vector<std::string>& args) {
+// `--resume DIR` (or --resume=DIR) in `args`: its DIR, and `rest` the other
+// arguments; nullopt when absent.
+std::optional<std::string> TakeResume(const std::vector<std::string>& args,
+                                      std::vector<std::string>& rest) {
+  std::optional<std::string> dir;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--resume" && i + 1 < args.size()) {
+      dir = args[++i];
+    } else if (args[i].rfind("--resume=", 0) == 0) {
+      dir = args[i].substr(9);
+    } else {
+      rest.push_back(args[i]);
+    }
+  }
+  return dir;
+}
+
+// The arguments that resume the run whose checkpoints are in `dir`: its
+// recorded options (DIR/run.toml) as a config file over a pipe, then the
+// ones given now, which override them. A mode given now (--local, --agents,
+// --embedded) replaces the recorded one.
+Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
+                                            const std::vector<std::string>& given) {
+  for (const std::string& arg : given) {
+    if (arg == "--config" || arg.rfind("--config=", 0) == 0) {
+      return Error::Option("resume", "takes the run's options from " + dir + "; not with --config");
+    }
+  }
+  const std::string recorded_path = dir + "/" + runtime::kCheckpointOptionsName;
+  Result<std::string> recorded = ReadTextFile(recorded_path);
+  if (!recorded) {
+    return Error::Option("resume", dir + " is not the checkpoint directory of a run (" +
+                                       recorded.error().message + ")");
+  }
+  bool mode_given = false;
+  for (const std::string& arg : given) {
+    for (const char* mode : {"--local", "--agents", "--embedded"}) {
+      mode_given = mode_given || arg == mode || arg.rfind(std::string(mode) + "=", 0) == 0;
+    }
+  }
+  std::string text;
+  size_t at = 0;
+  while (at < recorded->size()) {
+    size_t end = recorded->find('\n', at);
+    if (end == std::string::npos) end = recorded->size();
+    const std::string line = recorded->substr(at, end - at);
+    at = end + 1;
+    const bool mode_line = line.rfind("local=", 0) == 0 || line.rfind("agents=", 0) == 0 ||
+                           line.rfind("embedded=", 0) == 0;
+    if (mode_given && mode_line) continue;
+    text += line + "\n";
+  }
+  int fds[2];
+  if (text.size() > 60000 || pipe2(fds, O_CLOEXEC) != 0) {
+    return Error::Io(recorded_path + ": cannot hand it to the run");
+  }
+  const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  close(fds[1]);
+  if (!written) {
+    close(fds[0]);
+    return Error::Io(recorded_path + ": cannot hand it to the run");
+  }
+  // DIR as given now: the recorded path may be relative to another folder,
+  // or the directory copied.
+  std::vector<std::string> args = {"--config", "/dev/fd/" + std::to_string(fds[0]),
+                                   "--resume-checkpoint", "--checkpoint", dir};
+  args.insert(args.end(), given.begin(), given.end());
+  return args;
+}
+
+}  // namespace
+
+int RunCommand(const std::vector<std::string>& given_args) {
+  std::vector<std::string> args;
+  const std::optional<std::string> resume_dir = TakeResume(given_args, args);
+  if (resume_dir) {
+    Result<std::vector<std::string>> resumed = ResumeArgs(*resume_dir, args);
+    if (!resumed) {
+      std::fprintf(stderr, "dynapath run: %s\n", resumed.error().message.c_str());
+      return kExitUsage;
+    }
+    args = std::move(*resumed);
+  }
   CLI::App app(
       "Runs the chosen approaches on one shared maze and change sequence and writes\n"
       "DIR/results.csv and DIR/results_detailed.csv (the report's columns).\n"
@@ -43,6 +131,15 @@ int RunCommand(const std::vector<std::string>& args) {
                "record the run's LCM messages with lcm-logger (--agents)");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
+  std::optional<std::string> resume_option;  // taken out of the arguments above
+  group.Option("--resume", resume_option, "DIR",
+               "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
+               "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  std::optional<long long> restarts;
+  group.Option("--restart-coordinator", restarts, "N",
+               "--agents with --checkpoint: when the coordinator process dies, start the run's "
+               "processes again from the last checkpoint, at most N times (0: never)",
+               "3 with --checkpoint, else 0");
   runtime::AddConfigOption(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
@@ -61,6 +158,13 @@ int RunCommand(const std::vector<std::string>& args) {
   if (!plan) return usage_error(plan.error().message);
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, false);
   if (!process) return usage_error(process.error().message);
+  const bool checkpointing = !plan->checkpoint.dir.empty();
+  Result<long long> restart_limit =
+      runtime::InRange("restart-coordinator", restarts, checkpointing ? 3 : 0, 0, 100);
+  if (!restart_limit) return usage_error(restart_limit.error().message);
+  if (*restart_limit > 0 && !checkpointing) {
+    return usage_error("--restart-coordinator restarts from checkpoints: give --checkpoint DIR");
+  }
   if (!distributed) {
     const std::pair<const char*, bool> network_options[] = {
         {"lcm-url", !process_options.lcm_url.empty()},
@@ -104,6 +208,44 @@ int RunCommand(const std::vector<std::string>& args) {
   }
   Result<runtime::OutputLock> out_lock = runtime::LockResultDirectory(plan->out_dir);
   if (!out_lock) return usage_error(out_lock.error().message);
+  std::optional<runtime::OutputLock> checkpoint_lock;
+  if (checkpointing) {
+    std::error_code ignored;
+    if (std::filesystem::weakly_canonical(plan->checkpoint.dir, ignored) !=
+        std::filesystem::weakly_canonical(plan->out_dir, ignored)) {  // else locked as --out
+      Result<runtime::OutputLock> locked =
+          runtime::OutputLock::Acquire(plan->checkpoint.dir, "checkpoint");
+      if (!locked) return usage_error(locked.error().message);
+      checkpoint_lock.emplace(std::move(*locked));
+    }
+    if (!run_options.resume_checkpoint) {
+      // What `run --resume DIR` runs again: every option of the run but the
+      // process and log ones (a new run id and secret are fine).
+      runtime::ConfigWriter recorded;
+      runtime::OptionGroup record(recorded);
+      runtime::DeclareModeOptions(record, mode);
+      runtime::DeclareScenarioOptions(record, scenario);
+      runtime::DeclareRunOptions(record, run_options);
+      runtime::DeclareThreadOptions(record, thread_options);
+      Status written = recorded.status();
+      if (written) {
+        written = WriteFileDurably(plan->checkpoint.dir + "/" + runtime::kCheckpointOptionsName,
+                                   recorded.Text());
+      }
+      if (!written) return usage_error("option --checkpoint: " + written.error().message);
+    } else if (plan->checkpoint.resume) {
+      const runtime::RunCheckpoint& from = *plan->checkpoint.resume;
+      spdlog::info("resuming from {}/{}: {} of {} approaches finished{}", plan->checkpoint.dir,
+                   runtime::kCheckpointFileName, from.pass, plan->approaches.size(),
+                   from.policy ? fmt::format(", {} after step {}",
+                                             ApproachName(from.runs.back().approach),
+                                             from.policy->step)
+                               : std::string());
+    } else {
+      spdlog::info("{} holds no checkpoint yet: the run starts from the beginning",
+                   plan->checkpoint.dir);
+    }
+  }
 
   if (distributed) {
     launch::DistributedRun run;
@@ -117,6 +259,7 @@ int RunCommand(const std::vector<std::string>& args) {
     run.log_level = log.log_level;
     run.log_file = log_file.value_or("");
     run.out_lock_fd = out_lock->fd();
+    run.coordinator_restarts = static_cast<int>(*restart_limit);
     bool embedded = run_mode->kind == runtime::RunMode::kEmbedded;
     if (!embedded) {
       const launch::ProcessNetwork network = launch::EnterProcessNetwork(process->lcm_url);
@@ -155,7 +298,9 @@ int RunCommand(const std::vector<std::string>& args) {
   Result<std::vector<ApproachRun>> runs = runtime::RunLocal(*plan, *setup, *threads, {}, &stop);
   if (!runs) {
     spdlog::error("{}", runs.error().message);
-    return runs.error().IsCancelled() ? 130 : kExitFailure;
+    if (runs.error().IsCancelled()) return 130;
+    // A checkpoint or loaded policy that does not fit the run is a usage error.
+    return runs.error().code == Error::Code::kInvalidArgument ? kExitUsage : kExitFailure;
   }
   std::printf("%s", SummaryResultsCsv(*runs).c_str());
   spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);

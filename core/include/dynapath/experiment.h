@@ -113,6 +113,16 @@ struct PolicyHooks {
   // last. Called only for planners that export one.
   int save_at = -1;
   std::function<void(PolicyState&&)> save;
+  // Every `checkpoint_every` time steps (0: never; step 0 included),
+  // `checkpoint` gets the policy after the step and the run's rows so far
+  // (a checkpoint of the run: runtime/checkpoint_file.h). Not called for
+  // the step a loaded policy continues from.
+  int checkpoint_every = 0;
+  std::function<void(PolicyState&&, const ApproachRun&)> checkpoint;
+  // The loaded policy must continue this run (a checkpoint of it): when the
+  // maze or run seed differ, fail instead of starting from it as on
+  // another maze.
+  bool must_continue = false;
 };
 // RunApproach with `hooks`; fails when the loaded policy does not fit the
 // run (CheckPolicyFits) or continuing it finds another change sequence.

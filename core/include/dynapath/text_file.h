@@ -19,6 +19,10 @@ inline Status WriteFileAtomically(const std::string& path, const std::vector<uin
   return WriteFileAtomically(
       path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
+// WriteFileAtomically that also syncs the file before the rename and the
+// folder after it: after a crash or power loss the path holds the old
+// contents or the new, whole (checkpoints).
+Status WriteFileDurably(const std::string& path, std::string_view contents);
 inline Status WriteTextFileAtomically(const std::string& path, const std::string& contents) {
   return WriteFileAtomically(path, std::string_view(contents));
 }

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# End to end: `dynapath run --checkpoint DIR` and `run --resume DIR`
+# (docs/howto/CHECKPOINTS.md). Checkpointing does not change the results; a
+# run SIGKILLed at a random moment and resumed writes the uninterrupted
+# run's result files (time columns aside), in --local, --embedded and
+# --agents 2, where the launcher also restarts a killed coordinator by
+# itself; damaged and foreign checkpoints get one error, exit 2.
+# Runs in a private network namespace (ctest starts it with `dynapath netns --`).
+# Under a sanitizer (DYNAPATH_SANITIZED=1) the maze is smaller.
+# Usage: checkpoint_test.sh DYNAPATH
+set -uo pipefail
+dynapath=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+source "$(dirname "$0")/result_files.sh"
+work=$(mktemp -d)
+run_id="ckpt-$$"
+trap 'pkill -9 -f -- "--run-id $run_id" 2>/dev/null; rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+pass() { echo "ok ($SECONDS s): $*"; }
+cd "$work"
+
+if [ "${DYNAPATH_SANITIZED:-0}" = 1 ]; then
+  maze=(--size 30 --difficulty hard --steps 30 --leaf-limit 8)
+else
+  maze=(--size 50 --difficulty hard --steps 50)
+fi
+approaches=onlyTrainLeafNodes,singleAgent,fedAsynQ_EqAvg,fedAsynQ_ImAvg,"BFS Oracle"
+run=(run "${maze[@]}" --approach "$approaches" --log-level warn)
+
+same() {  # same DIR LABEL
+  if same_result_files whole "$1" results.csv results_detailed.csv; then
+    pass "$2: identical to the uninterrupted run"
+  else
+    fail "$2: results differ from the uninterrupted run"
+  fi
+}
+
+# kill_when_checkpointed PID DIR: SIGKILL PID a random 0-0.9 s after DIR's
+# first checkpoint appears (or when it ends first).
+kill_when_checkpointed() {
+  local pid=$1 dir=$2
+  for _ in $(seq 600); do
+    [ -e "$dir/checkpoint.dpc" ] || ! kill -0 "$pid" 2>/dev/null && break
+    sleep 0.05
+  done
+  sleep "0.$((RANDOM % 10))"
+  kill -9 "$pid" 2>/dev/null
+  wait "$pid" 2>/dev/null
+}
+
+"$dynapath" "${run[@]}" --local --out whole >/dev/null 2>&1 || fail "the uninterrupted run failed"
+"$dynapath" "${run[@]}" --local --out checkpointed --checkpoint ck0 --checkpoint-every 7 \
+  >/dev/null 2>&1 || fail "the checkpointed run failed"
+same checkpointed "--checkpoint (every 7 steps)"
+[ -s ck0/checkpoint.dpc ] && [ -s ck0/run.toml ] || fail "no checkpoint.dpc and run.toml in ck0"
+
+# --local, killed twice at random moments, then resumed to the end.
+"$dynapath" "${run[@]}" --local --out local --checkpoint ck1 >/dev/null 2>&1 &
+kill_when_checkpointed $! ck1
+"$dynapath" run --resume ck1 --log-level warn >/dev/null 2>&1 &
+kill_when_checkpointed $! ck1
+"$dynapath" run --resume ck1 >resume.log 2>&1 || fail "run --resume failed: $(tail -3 resume.log)"
+grep -q "resuming from ck1/checkpoint.dpc" resume.log || fail "no 'resuming from' line: $(head -3 resume.log)"
+ls ck1 | grep -q 'checkpoint.dpc.tmp' && fail "temporary checkpoint files left in ck1: $(ls ck1)"
+same local "--local killed twice, resumed"
+
+# A checkpoint of --local resumed --embedded (a mode given replaces the recorded one).
+"$dynapath" "${run[@]}" --local --out embedded --checkpoint ck2 >/dev/null 2>&1 &
+kill_when_checkpointed $! ck2
+"$dynapath" run --resume ck2 --embedded --agents 2 --run-id "$run_id" >/dev/null 2>&1 ||
+  fail "run --resume --embedded failed"
+same embedded "--local killed, resumed --embedded"
+
+# --agents 2: the coordinator SIGKILLed; the launcher restarts the run's
+# processes from the checkpoint by itself.
+"$dynapath" "${run[@]}" --agents 2 --run-id "$run_id" --out agents --checkpoint ck3 \
+  >agents.log 2>&1 &
+launcher=$!
+for _ in $(seq 600); do [ -e ck3/checkpoint.dpc ] && break; sleep 0.05; done
+sleep "0.$((RANDOM % 10))"
+pkill -9 -f -- "dynapath-coordinator.*--run-id $run_id" || fail "no coordinator to kill"
+wait $launcher || fail "the restarted run failed: $(grep -E 'error|warn' agents.log | tail -3)"
+grep -q "starting the run's processes again from the last checkpoint" agents.log ||
+  fail "no restart logged: $(tail -3 agents.log)"
+same agents "--agents 2, coordinator killed, restarted by the launcher"
+
+# --restart-coordinator 0: the run fails; `run --resume` finishes it.
+"$dynapath" "${run[@]}" --agents 2 --run-id "$run_id" --out manual --checkpoint ck4 \
+  --restart-coordinator 0 >manual.log 2>&1 &
+launcher=$!
+for _ in $(seq 600); do [ -e ck4/checkpoint.dpc ] && break; sleep 0.05; done
+pkill -9 -f -- "dynapath-coordinator.*--run-id $run_id"
+wait $launcher && fail "the run whose coordinator was killed exited 0 without restarts"
+"$dynapath" run --resume ck4 --run-id "$run_id" >/dev/null 2>&1 || fail "run --resume of --agents 2 failed"
+same manual "--agents 2, coordinator killed, run --resume"
+
+# expect_error CODE TEXT ARGS...: exits CODE with a line containing TEXT.
+expect_error() {
+  local code=$1 text=$2 status=0
+  shift 2
+  "$dynapath" "$@" >/dev/null 2>err.txt || status=$?
+  [ "$status" -eq "$code" ] || fail "exit $status, not $code, for $*: $(cat err.txt)"
+  grep -qF -- "$text" err.txt || fail "no '$text' for $*: $(cat err.txt)"
+}
+cp -r ck0 damaged
+printf '\x55' | dd of=damaged/checkpoint.dpc bs=1 seek=100 conv=notrunc 2>/dev/null
+expect_error 2 "checksum mismatch" run --resume damaged
+cp -r ck0 cut
+truncate -s 1000 cut/checkpoint.dpc
+expect_error 2 "checkpoint cut/checkpoint.dpc" run --resume cut
+cp -r ck0 foreign
+sed -i 's/^seed=.*//' foreign/run.toml && echo "seed=53" >>foreign/run.toml
+expect_error 2 "seed" run --resume foreign --out foreign-out
+expect_error 2 "is not the checkpoint directory of a run" run --resume "$work/nothing"
+expect_error 2 "needs --checkpoint DIR" run --resume-checkpoint --size 20
+expect_error 2 "--restart-coordinator restarts from checkpoints" run --agents 2 --restart-coordinator 2
+expect_error 2 "option --checkpoint-every must be between" run --checkpoint x --checkpoint-every 0
+
+[ $failures -eq 0 ] && echo "all checkpoint checks passed ($SECONDS s)"
+[ $failures -eq 0 ]
