@@ -403,8 +403,10 @@ int LaunchProcesses(const DistributedRun& run) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   // The others exit by themselves once they hear the coordinator's final
-  // heartbeat; give them a moment, then stop whatever is left.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(3000);
+  // heartbeat; give them a moment, then stop whatever is left. A failed
+  // run's coordinator may have sent none (killed): stop them at once.
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(exit_code == 0 ? 3000 : 0);
   while (std::chrono::steady_clock::now() < deadline) {
     Reap(children);
     bool any = false;

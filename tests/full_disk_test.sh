@@ -19,10 +19,11 @@ if [ "${DYNAPATH_FULL_DISK_INSIDE:-}" != 1 ]; then
   DYNAPATH_FULL_DISK_INSIDE=1 exec unshare -rm bash "$0" "$dynapath"
 fi
 work=$(mktemp -d)
-trap 'umount "$work/full" "$work/ro" 2>/dev/null; rm -rf "$work"' EXIT
-mkdir -p "$work/full" "$work/ro"
+trap 'umount "$work/full" "$work/ro" "$work/ckfs" 2>/dev/null; rm -rf "$work"' EXIT
+mkdir -p "$work/full" "$work/ro" "$work/ckfs"
 if ! mount -t tmpfs -o size=64k tmpfs "$work/full" 2>/dev/null ||
-  ! mount -t tmpfs -o ro,size=64k tmpfs "$work/ro" 2>/dev/null; then
+  ! mount -t tmpfs -o ro,size=64k tmpfs "$work/ro" 2>/dev/null ||
+  ! mount -t tmpfs -o size=256k tmpfs "$work/ckfs" 2>/dev/null; then
   echo "skipped: cannot mount a tmpfs in a user namespace here"
   exit 77
 fi
@@ -93,6 +94,33 @@ grep -q "Read-only file system" "$work/ro_study.err" || fail "read-only study: $
 code=$?
 [ $code -eq 2 ] || fail "maze --save on a read-only file system exited $code, expected 2"
 grep -q "Read-only file system" "$work/ro_maze.err" || fail "read-only --save: $(cat "$work/ro_maze.err")"
+
+# 4. Checkpoints on a disk that fills up: the run fails with the reason,
+# the previous checkpoint stays whole and is resumed once there is room.
+ck_run=(run --local --size 30 --difficulty hard --steps 300 --approach fedAsynQ_EqAvg
+  --threads 1 --log-level warn)
+"$dynapath" "${ck_run[@]}" --out "$work/ck_whole" >/dev/null 2>&1 || fail "the uninterrupted run failed"
+"$dynapath" "${ck_run[@]}" --out "$work/ck_out" --checkpoint "$work/ckfs/ck" >/dev/null 2>&1 &
+ck_pid=$!
+for _ in $(seq 1000); do [ -e "$work/ckfs/ck/checkpoint.dpc" ] && break; sleep 0.002; done
+kill -9 $ck_pid 2>/dev/null
+wait $ck_pid 2>/dev/null
+[ -e "$work/ckfs/ck/checkpoint.dpc" ] || fail "no checkpoint written"
+cp "$work/ckfs/ck/checkpoint.dpc" "$work/ck_before"
+rm -f "$work/ckfs/ck/"checkpoint.dpc.tmp.*
+dd if=/dev/zero of="$work/ckfs/filler" bs=4k count=1000 2>/dev/null
+"$dynapath" run --resume "$work/ckfs/ck" >/dev/null 2>"$work/ck.err"
+code=$?
+[ $code -eq 1 ] || fail "resume with a full checkpoint disk exited $code, expected 1"
+grep -q "checkpoint: .*checkpoint.dpc: cannot write: No space left on device" "$work/ck.err" ||
+  fail "full checkpoint disk: $(cat "$work/ck.err")"
+cmp -s "$work/ck_before" "$work/ckfs/ck/checkpoint.dpc" || fail "the previous checkpoint was changed"
+rm -f "$work/ckfs/filler"
+"$dynapath" run --resume "$work/ckfs/ck" >/dev/null 2>"$work/ck2.err" ||
+  fail "resume after freeing room failed: $(cat "$work/ck2.err")"
+source "$(dirname "$0")/result_files.sh"
+same_result_files "$work/ck_whole" "$work/ck_out" results.csv results_detailed.csv ||
+  fail "the run resumed after a full disk differs from the uninterrupted run"
 
 [ $failures -eq 0 ] && echo "full_disk_test: all passed ($SECONDS s)"
 exit $((failures > 0))
