@@ -144,6 +144,8 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
                "finish it with `dynapath run --resume DIR` if it dies (docs/howto/CHECKPOINTS.md)");
   group.Option("--checkpoint-every", o.checkpoint_every, "K",
                "time steps between checkpoints (1..1000000)");
+  group.Option("--checkpoint-interval", o.checkpoint_interval, "SECONDS",
+               "and at least this long between checkpoints (0..86400; a study uses 2)");
   group.Flag("--resume-checkpoint", o.resume_checkpoint,
              "continue from --checkpoint's last checkpoint, or start when it has none (what "
              "`dynapath run --resume DIR` sets)");
@@ -184,6 +186,10 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (!every) return every.error();
   plan.checkpoint.dir = o.checkpoint;
   plan.checkpoint.every = static_cast<int>(*every);
+  if (!(o.checkpoint_interval >= 0 && o.checkpoint_interval <= 86400)) {
+    return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
+  }
+  plan.checkpoint.min_seconds = o.checkpoint_interval;
   if (o.resume_checkpoint) {
     if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
     Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
@@ -308,6 +314,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   std::vector<ApproachRun> runs;
   std::vector<PolicyState> to_save;  // the learning approaches' so far
   CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps());
+  double last_checkpoint = -1e300;  // SteadyClock() of the last one taken
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
@@ -380,7 +387,13 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     Status checkpoint_status = Ok{};
     if (checkpoints.enabled() && IsLearningApproach(approach)) {
       hooks.checkpoint_every = plan.checkpoint.every;
+      if (plan.checkpoint.min_seconds > 0) {
+        hooks.checkpoint_due = [&] {
+          return SteadyClock()() - last_checkpoint >= plan.checkpoint.min_seconds;
+        };
+      }
       hooks.checkpoint = [&](PolicyState&& state, const ApproachRun& so_far) {
+        last_checkpoint = SteadyClock()();
         if (!checkpoint_status) return;
         if (resumed == nullptr) {
           checkpoint_status = checkpoints.InProgress(runs, so_far, std::move(state));

@@ -31,6 +31,7 @@ enum class Placement {
 struct CheckpointPlan {
   std::string dir;  // "" writes none
   int every = 1;    // time steps between checkpoints
+  double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
 };
@@ -63,6 +64,7 @@ struct RunOptions {
   ParameterOptions parameters;  // the learner and strategy parameters given
   std::string checkpoint;           // DIR, "" none
   long long checkpoint_every = 1;   // K
+  double checkpoint_interval = 0;   // SECONDS
   bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
 };
 // The values the run plan's options accept, checked without naming the

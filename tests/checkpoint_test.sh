@@ -94,6 +94,26 @@ wait $launcher && fail "the run whose coordinator was killed exited 0 without re
 "$dynapath" run --resume ck4 --run-id "$run_id" >/dev/null 2>&1 || fail "run --resume of --agents 2 failed"
 same manual "--agents 2, coordinator killed, run --resume"
 
+# A study: a configuration killed after its first checkpoint goes on from it
+# when the study is run again; a finished one keeps no checkpoint.
+study=(experiment --steps 400 --sizes 50 --difficulties hard --no-edge-case
+  --approaches fedAsynQ_EqAvg,singleAgent --local)
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && study=(experiment --steps 30 --leaf-limit 8 --sizes 30
+  --difficulties hard --no-edge-case --approaches fedAsynQ_EqAvg,singleAgent --local)
+"$dynapath" "${study[@]}" --out study_whole >/dev/null 2>&1 || fail "the uninterrupted study failed"
+"$dynapath" "${study[@]}" --out study >/dev/null 2>&1 &
+study_size=50
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && study_size=30
+kill_when_checkpointed $! "study/runs/${study_size}_hard_52/checkpoint"
+"$dynapath" "${study[@]}" --out study >/dev/null 2>&1 || fail "the resumed study failed"
+if ls study/runs/*/checkpoint >/dev/null 2>&1; then fail "a finished study kept checkpoints"; fi
+grep -q "resuming" study/study.log || fail "the study did not resume its configuration from its checkpoint"
+for dir in study_whole/runs/*; do
+  same_result_files "$dir" "study/runs/$(basename "$dir")" results.csv results_detailed.csv ||
+    fail "study configuration $(basename "$dir") differs after a resume"
+done
+pass "a study killed and run again"
+
 # expect_error CODE TEXT ARGS...: exits CODE with a line containing TEXT.
 expect_error() {
   local code=$1 text=$2 status=0

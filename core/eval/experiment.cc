@@ -100,7 +100,8 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     if (export_at(t, grid, state)) hooks.save(std::move(state));
   };
   auto maybe_checkpoint = [&](int t, const Grid& grid) {
-    if (hooks.checkpoint_every <= 0 || !hooks.checkpoint || t % hooks.checkpoint_every != 0) {
+    if (hooks.checkpoint_every <= 0 || !hooks.checkpoint || t % hooks.checkpoint_every != 0 ||
+        (hooks.checkpoint_due && !hooks.checkpoint_due())) {
       return;
     }
     PolicyState state;

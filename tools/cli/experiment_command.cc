@@ -120,6 +120,9 @@ const std::vector<std::string>& StudyFiles() {
   return files;
 }
 
+// A configuration's checkpoints, in its directory until it is done.
+constexpr const char* kCheckpointFolder = "checkpoint";
+
 // Removes what an earlier study wrote into `out` (--force).
 Status RemovePreviousStudy(const fs::path& out) {
   std::error_code error;
@@ -158,7 +161,12 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
                         int index) {
   const std::string directory = (session.out / configuration.Directory()).string();
   const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
-  const runtime::RunOptions run_options = RunOptionsOf(session.options, directory);
+  runtime::RunOptions run_options = RunOptionsOf(session.options, directory);
+  // An interrupted configuration goes on from its last checkpoint (at most
+  // one every 2 s: small configurations take a step in milliseconds).
+  run_options.checkpoint = (fs::path(directory) / kCheckpointFolder).string();
+  run_options.checkpoint_interval = 2;
+  run_options.resume_checkpoint = true;
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
   Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
@@ -428,6 +436,7 @@ class StudyRunner {
     record.wall_seconds = wall;
     if (result && Complete(session_.out, configuration, session_.options)) {
       record.status = "done";
+      fs::remove_all(directory / kCheckpointFolder, error);  // nothing left to resume
     } else if ((!result && result.error().IsCancelled()) || session_.stop) {
       record.status = "interrupted";
       record.error = "interrupted";

@@ -119,6 +119,9 @@ struct PolicyHooks {
   // the step a loaded policy continues from.
   int checkpoint_every = 0;
   std::function<void(PolicyState&&, const ApproachRun&)> checkpoint;
+  // When set, a checkpoint step is skipped (nothing exported) unless this
+  // says one is due (a minimum time between checkpoints).
+  std::function<bool()> checkpoint_due;
   // The loaded policy must continue this run (a checkpoint of it): when the
   // maze or run seed differ, fail instead of starting from it as on
   // another maze.
