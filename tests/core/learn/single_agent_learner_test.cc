@@ -46,7 +46,7 @@ using test_maps::Quality;
 // implementation before settled updates were skipped): the reference the
 // fast learner must match bit for bit. `rules`: the report code's details
 // (SPEC 11), by default what the job's semantics select.
-// `clear_when_full`: a buffer emptied once full instead of a FIFO (what
+// `clear`: a buffer emptied once full instead of a FIFO (what
 // --semantics report did before SPEC 11.4, following the report's prose), to
 // show the learner does not do that.
 // V: the job's value type (double: --semantics report's tables).
