@@ -477,7 +477,9 @@ def main():
                      "`singleAgent` under `--semantics report` (SPEC 11: the report code's "
                      "single-agent learner) over learner seed streams 0-9 of "
                      "`bench/semantics_spread`, against ten runs of the report's code on this "
-                     "machine (`docs/reference/reference_code_singleAgent_runs.csv`).\n")
+                     "machine (`docs/reference/reference_code_singleAgent_runs.csv`). Ten streams alone: "
+                     "`build/bench/semantics_spread 50 hard 52 singleAgent 10 report` (and seed "
+                     "102), the first ten of the 15 above.\n")
             for seed, name in (("52", "Hard 50x50, seed 52"),
                                ("102", "Edge case (hard 50x50, seed 102)")):
                 lines = single_agent_runs_table(options["--spread"], seed)
