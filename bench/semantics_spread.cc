@@ -26,6 +26,7 @@
 #include "dynapath/approach.h"
 #include "dynapath/experiment.h"
 #include "dynapath/local_trainer.h"
+#include "dynapath/parameters.h"
 #include "dynapath/scenario.h"
 #include "dynapath/thread_pool.h"
 
@@ -99,6 +100,8 @@ int main(int argc, char** argv) {
     PlannerOptions options;
     options.run_seed = static_cast<uint64_t>(*seed) + static_cast<uint64_t>(k) * 1000003u;
     options.semantics = semantics == "ours" ? Semantics::kOurs : Semantics::kReport;
+    // As `dynapath run --semantics report`: the report's parameter values.
+    if (options.semantics == Semantics::kReport) ApplyReportPreset(options);
     if (semantics == "report-float") options.table_precision = QPrecision::kFloat;
     const ApproachRun run = RunApproach(scenario, *approach, options, &trainer, labels);
     int trained = 0;

@@ -119,8 +119,8 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
                    " (docs/concepts/DECISIONS.md)");
   group.Option("--semantics", o.semantics, "WHOSE",
                "learning semantics: " + SemanticsWords().List() +
-                   " (report: the report code's bootstrap, first training, replay buffer and "
-                   "double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+                   " (report: the report code's bootstrap, first training, single-agent "
+                   "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
                    (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
                    "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);

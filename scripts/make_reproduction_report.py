@@ -261,6 +261,36 @@ def spread_table(spread_dir, here_rows, seed):
     return lines
 
 
+def single_agent_runs_table(spread_dir, seed, streams=10):
+    """singleAgent under --semantics report over the first `streams` learner
+    seed streams against the report code's own ten runs of it
+    (reference_code_singleAgent_runs.csv), for one maze."""
+    path = os.path.join(spread_dir, f"double_singleAgent_{seed}.txt")
+    runs_path = os.path.join(REFERENCE, "reference_code_singleAgent_runs.csv")
+    if not os.path.exists(path) or not os.path.exists(runs_path):
+        return []
+    pairs = read_spread(path)[:streams]
+    runs = [r for r in read(runs_path) if r["Seed"] == seed]
+    mean = lambda values: sum(values) / len(values)
+    lines = ["| | runs | success min / median / max | success mean | path min / median / max "
+             "| path mean |", "|---|---|---|---|---|---|"]
+    columns = (("report's code", [float(r["AvgSuccessRate"]) for r in runs],
+                [float(r["AvgPathLength"]) for r in runs]),
+               ("ours, `--semantics report`", [p[0] for p in pairs], [p[1] for p in pairs]))
+    for label, success, length in columns:
+        lines.append(f"| {label} | {len(success)} | {min(success):.4f} / {median(success):.4f} / "
+                     f"{max(success):.4f} | {mean(success):.4f} | {min(length):.3f} / "
+                     f"{median(length):.3f} / {max(length):.3f} | {mean(length):.3f} |")
+    success = [float(r["AvgSuccessRate"]) for r in runs]
+    length = [float(r["AvgPathLength"]) for r in runs]
+    ours_s, ours_p = mean([p[0] for p in pairs]), mean([p[1] for p in pairs])
+    inside = lambda value, values: "inside" if min(values) <= value <= max(values) else "**outside**"
+    lines.append("")
+    lines.append(f"Our mean success {ours_s:.4f} is {inside(ours_s, success)} its ten-run range, "
+                 f"our mean path {ours_p:.3f} {inside(ours_p, length)}.")
+    return lines
+
+
 def like_for_like_table(rows):
     lines = ["| Approach | initial s, ours (min / median) | initial s, report's code | initial "
              "speed-up | adapt s/step, ours (min / median) | adapt s/step, report's code | "
@@ -416,7 +446,8 @@ def main():
                  "+-0.003 / +-0.05 on hard 50x50 and 0.966-0.977 / 9.29-10.58 on the edge case "
                  "(`docs/reference/README.md`). Ours is deterministic for a given run seed: one "
                  "run each here, its spread below. `--semantics report` is the report code's "
-                 "bootstrap, first-training rule and replay buffer (`docs/concepts/DECISIONS.md`).\n\n")
+                 "bootstrap, first-training rule, single-agent learner (SPEC 11) and double "
+                 "tables (`docs/concepts/DECISIONS.md`).\n\n")
         text += "### Hard 50x50, seed 52\n\n"
         text += "\n".join(code_here_table(
             ours, read(os.path.join(report_dir, "results.csv")), here, ref, "52", False)) + "\n"
@@ -442,6 +473,18 @@ def main():
                                ("102", "Edge case (hard 50x50, seed 102)")):
                 text += f"\n{name}:\n\n"
                 text += "\n".join(spread_table(options["--spread"], here, seed)) + "\n"
+            text += ("\n### Single agent against the report code's ten runs\n\n"
+                     "`singleAgent` under `--semantics report` (SPEC 11: the report code's "
+                     "single-agent learner) over learner seed streams 0-9 of "
+                     "`bench/semantics_spread`, against ten runs of the report's code on this "
+                     "machine (`docs/reference/reference_code_singleAgent_runs.csv`). Ten streams alone: "
+                     "`build/bench/semantics_spread 50 hard 52 singleAgent 10 report` (and seed "
+                     "102), the first ten of the 15 above.\n")
+            for seed, name in (("52", "Hard 50x50, seed 52"),
+                               ("102", "Edge case (hard 50x50, seed 102)")):
+                lines = single_agent_runs_table(options["--spread"], seed)
+                if lines:
+                    text += f"\n{name}:\n\n" + "\n".join(lines) + "\n"
     text += "\n## All configurations (against the report's published rows)\n\n" + "\n".join(main_lines) + "\n"
     if edge_lines:
         text += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"

@@ -37,8 +37,8 @@ auto Bits(V value) {
 
 // The learner on a table of value type V (float, or the report code's double).
 template <typename V>
-void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
-           TrainingResult& result) {
+void Train(const TrainingJob& job, const SingleAgentRules& rules, const RegionModel& model,
+           StopToken stop, TrainingResult& result) {
   const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
@@ -68,21 +68,22 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
   Rng rng(job.seed);
   const RngSkip& skip = RngSkip::For(std::max(0, options.replay_batch));
   // Everything the episode loop needs is allocated here, before it.
-  const int max_steps = job.region.rows() + job.region.cols();
+  const int max_steps = job.region.rows() + job.region.cols() - (rules.one_step_fewer ? 1 : 0);
   // The environment is deterministic, so (s, a) determines r and s': the
   // buffer stores the table index s * 8 + a of each transition.
   std::vector<uint32_t> replay(static_cast<size_t>(std::max(1, options.replay_capacity)));
   size_t replay_size = 0, replay_next = 0;
   QTable snapshot(model.cells(), result.table.precision());
   bool has_snapshot = false;
+  if (rules.first_check_against_start) {
+    // The first check compares with the table the training started from.
+    std::copy(result.table.Values<V>().begin(), result.table.Values<V>().end(),
+              snapshot.Values<V>().begin());
+    has_snapshot = true;
+  }
   int quiet_checks = 0;
   double epsilon = options.epsilon_start;
   int64_t episodes = 0, steps = 0;
-  // The report's replay buffer is "cleared and filled with more recent
-  // experiences" once full (report, "Experience Replay Buffer"), not a FIFO:
-  // under --semantics report, the only source of Bootstrap::kAllStored, a
-  // full buffer is emptied before the next transition is stored.
-  const bool clear_when_full = job.bootstrap == Bootstrap::kAllStored;
 
   for (int e = 0; e < options.max_episodes; ++e) {
     if (e % 64 == 0 && StopRequested(stop)) break;
@@ -105,8 +106,9 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
     Rng step_rng = rng;
     const bool replaying = e >= options.replay_start_episode;
     int s = start;
-    // A start on a station is an immediate success with no step.
-    bool success = model.is_station(s);
+    // A start on a station is an immediate success with no step (ours), or
+    // an ordinary start (the report's rule).
+    bool success = !rules.station_starts_step && model.is_station(s);
     for (int t = 0; !success && t < max_steps; ++t) {
       const int count = model.action_count(s);
       if (count == 0) break;  // a 1x1 region: nowhere to go
@@ -126,11 +128,6 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
       update(entry);
       const int next = model.target(s, a);
       ++steps;
-      if (clear_when_full && replay_size == replay.size()) {
-        for (size_t i = 0; i < replay_size; ++i) settled.Removed(replay[i]);
-        replay_size = 0;
-        replay_next = 0;
-      }
       if (replay_size == replay.size()) settled.Removed(replay[replay_next]);
       replay[replay_next] = entry;
       settled.Added(entry);
@@ -149,7 +146,9 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
       success = model.is_station(s);
     }
     rng = step_rng;
-    stats.Record(stats.SlotOf(start), success);
+    // The report's code never writes its start statistics: its starts stay
+    // uniform (StartStatistics draws uniformly until 10 are recorded).
+    if (!rules.uniform_starts) stats.Record(stats.SlotOf(start), success);
     epsilon = std::max(epsilon * options.epsilon_decay, options.epsilon_min);
     episodes = e + 1;
   }
@@ -160,12 +159,34 @@ void Train(const TrainingJob& job, const RegionModel& model, StopToken stop,
 
 }  // namespace
 
+SingleAgentRules ReportSingleAgentRules() {
+  SingleAgentRules rules;
+  rules.station_starts_step = true;
+  rules.uniform_starts = true;
+  rules.one_step_fewer = true;
+  rules.first_check_against_start = true;
+  return rules;
+}
+
+SingleAgentRules SingleAgentRulesOf(const TrainingJob& job) {
+  // Only --semantics report selects Bootstrap::kAllStored (run_driver.cc
+  // rejects --bootstrap with it), so agents learn the rules from the job's
+  // bootstrap field with no message change.
+  return job.bootstrap == Bootstrap::kAllStored ? ReportSingleAgentRules() : SingleAgentRules{};
+}
+
 TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop) {
+  return TrainSingleAgent(job, SingleAgentRulesOf(job), stop);
+}
+
+TrainingResult TrainSingleAgent(const TrainingJob& job, const SingleAgentRules& rules,
+                                StopToken stop) {
   TrainingResult result;
   result.node = job.node;
   result.table = StartingTable(job);  // validates the job first
   const RegionModel model(job);
-  WithValueType(result.table.precision(), [&]<typename V>(V*) { Train<V>(job, model, stop, result); });
+  WithValueType(result.table.precision(),
+                [&]<typename V>(V*) { Train<V>(job, rules, model, stop, result); });
   return result;
 }
 

@@ -122,19 +122,30 @@ double LearningPlanner::SuccessRate(NodeId node) {
   return evaluation_.Score(*grid_, root_->table(), node).success_rate();
 }
 
+bool LearningPlanner::AncestorTrained(NodeId node) const {
+  for (NodeId up = tree_->node(node).parent; up != kNoNode; up = tree_->node(up).parent) {
+    if (training_count_[up] > 0) return true;
+  }
+  return false;
+}
+
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
   std::vector<uint64_t> seeds;
   seeds.reserve(nodes.size());
   for (NodeId node : nodes) {
-    // The report's code keeps a table per node and creates it, all zeros, at
-    // the node's first training (only the root has one from the start).
+    // The report's code keeps a table per node (only the root has one from
+    // the start) and, after a node is trained, copies its table into every
+    // ancestor and every descendant, creating theirs. A node's first training
+    // therefore starts from zeros only when no ancestor of it has been
+    // trained (its table is created then, all zeros); otherwise it keeps the
+    // copy, which is the root's values over its region (SPEC 11.3).
     // Zeroing the root over the region before the job is built gives the
     // job exactly that warm start, with any trainer (local or distributed);
     // the job then commits its whole table over the region, as the report
     // copies a trained node's table into its ancestors. Nodes of one call are
     // disjoint, so no other job of the batch reads these values.
     if (options_.semantics == Semantics::kReport && training_count_[node] == 0 &&
-        node != tree_->root()) {
+        node != tree_->root() && !AncestorTrained(node)) {
       const Region& region = tree_->node(node).region;
       root_->Commit(region, QTable(region.cells(), root_->precision()));
     }

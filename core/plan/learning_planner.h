@@ -34,6 +34,9 @@ class LearningPlanner : public Planner, private TrainingContext {
   StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
   // Initialize's part before training: a fresh tree, table, counts, strategy.
   void Reset(const Grid& grid);
+  // Whether some ancestor of `node` has been trained (--semantics report's
+  // first-training rule).
+  bool AncestorTrained(NodeId node) const;
 
   const ApproachSpec& spec_;  // its learner and strategy
   PlannerOptions options_;

@@ -31,9 +31,9 @@ constexpr bool InRange(T value, T min, T max) {
   X(epsilon_decay,             double, 0.999, 0.999, 0.0,  1.0,      "epsilon is multiplied by this after every episode")              \
   X(epsilon_min,               double, 0.01,  0.01,  0.0,  1.0,      "epsilon's floor")                                                \
   X(replay_capacity,           int,    1000,  1000,  1,    10000000, "replay buffer: the last N transitions")                         \
-  X(replay_start_episode,      int,    500,   500,   0,    10000000, "replay from this 0-based episode on")                           \
+  X(replay_start_episode,      int,    500,   501,   0,    10000000, "replay from this 0-based episode on")                           \
   X(replay_batch,              int,    64,    64,    0,    10000,    "replayed updates after each real step (K)")                     \
-  X(convergence_start_episode, int,    500,   500,   0,    10000000, "first convergence check, before this 0-based episode")        \
+  X(convergence_start_episode, int,    500,   501,   0,    10000000, "first convergence check, before this 0-based episode")        \
   X(convergence_interval,      int,    50,    50,    1,    10000000, "episodes between convergence checks")                           \
   X(convergence_threshold,     double, 5e-4,  5e-4,  0.0,  1e300,    "converged: largest absolute change of the table below this")   \
   X(convergence_checks,        int,    21,    21,    1,    10000000, "converged after this many checks in a row below it")

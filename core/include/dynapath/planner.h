@@ -22,11 +22,13 @@ namespace dynapath {
 struct PolicyState;  // dynapath/policy_state.h
 
 // Whose learning semantics the learning approaches follow (docs/concepts/DECISIONS.md,
-// "Learning"). kReport reproduces the report's public code: the update's
-// bootstrap max over all 8 stored values (Bootstrap::kAllStored), a node
-// other than the root trained for the first time starts from zeros instead
-// of the root table cut to its region, a full replay buffer is emptied, and
-// the Q-tables hold doubles instead of floats.
+// "The report code's semantics"). kReport reproduces the report's public
+// code: the update's bootstrap max over all 8 stored values
+// (Bootstrap::kAllStored), a node other than the root trained for the first
+// time with no trained ancestor starts from zeros instead of the root table
+// cut to its region, the report code's single-agent learner
+// (SingleAgentRules, dynapath/single_agent_learner.h), and the Q-tables hold
+// doubles instead of floats.
 enum class Semantics { kOurs, kReport };
 
 // The learner options (the base: bootstrap, single_agent, federated) are

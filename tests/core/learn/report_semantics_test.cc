@@ -1,8 +1,12 @@
-// --semantics report (docs/concepts/DECISIONS.md, "Learning"): (a) the bootstrap max
-// over all 8 stored values, whose never-updated off-grid entries (0) make a
-// "phantom exit" at the outer wall; (b) a node other than the root trained
-// for the first time starts from zeros. Each checked to happen under the
-// switch only.
+// --semantics report (docs/concepts/DECISIONS.md, "The report code's semantics"):
+// (a) the bootstrap max over all 8 stored values, whose never-updated
+// off-grid entries (0) make a "phantom exit" at the outer wall; (b) a node
+// other than the root trained for the first time starts from zeros unless
+// an ancestor was trained (then it keeps the copy); the report code's
+// single-agent details (SPEC 11: station starts that step, uniform starts,
+// one step fewer, replay and convergence checks from episode 501, the first
+// check against the starting table), on hand-made grids with exact values.
+// Each checked to happen under the switch only.
 
 #include <gtest/gtest.h>
 
@@ -11,9 +15,11 @@
 #include <vector>
 
 #include "core/plan/learning_planner.h"
+#include "dynapath/parameters.h"
 #include "dynapath/region_model.h"
 #include "dynapath/single_agent_learner.h"
 #include "tests/grid_test_support.h"
+#include "dynapath/mdp.h"
 
 namespace dynapath {
 namespace {
@@ -183,6 +189,190 @@ TEST(ReportSemanticsTest, FirstTrainedNodeStartsFromZerosOnlyUnderTheSwitch) {
     planner.Adapt(changed, {0});
     ASSERT_FALSE(trainer.warm_starts[5].empty());
     EXPECT_TRUE(AllEqual(trainer.warm_starts[5][0], 1.0f));  // the root's values
+  }
+}
+
+
+// A single-agent job over the whole of a hand-made grid, with the report's
+// double tables; `report`: --semantics report's bootstrap (and with it the
+// report code's learner rules) and parameter values.
+TrainingJob ReportJob(const char* text, bool report, uint64_t seed = 5) {
+  const Grid grid = test_grids::FromText(text);
+  TrainingJob job;
+  job.node = 0;
+  job.region = Region{0, grid.rows() - 1, 0, grid.cols() - 1};
+  job.codes = RegionCodes(grid, job.region);
+  job.precision = QPrecision::kDouble;
+  job.seed = seed;
+  job.kind = LearnerKind::kSingleAgent;
+  if (report) {
+    PlannerOptions options;
+    ApplyReportPreset(options);
+    job.single_agent = options.single_agent;
+    job.bootstrap = Bootstrap::kAllStored;
+  }
+  return job;
+}
+
+// n updates of a blocked move on a station: v <- v + 0.4 (100 + 0.9 v - v),
+// in the learner's own arithmetic (its row's max is this value: the other
+// entries are 0 and v > 0).
+double BlockedStationValue(int n) {
+  double v = 0;
+  for (int i = 0; i < n; ++i) {
+    v = v + kLearningRateOf<double> *
+                (static_cast<double>(kStationReward) + kDiscountOf<double> * v - v);
+  }
+  return v;
+}
+
+TEST(ReportSemanticsTest, StationStartTakesAStepAndItsRowGrowsUnderABlockedMove) {
+  // "C#": the only start is the station, its only in-region move (E) is
+  // blocked. Report: every episode takes that step, stays, earns +100 and
+  // ends, so Q(C, E) follows BlockedStationValue exactly (no replay before
+  // episode 501). Ours: a station start is an immediate success, no step.
+  for (const bool report : {false, true}) {
+    SCOPED_TRACE(report ? "report" : "ours");
+    TrainingJob job = ReportJob("C#\n", report);
+    job.single_agent.max_episodes = 30;
+    const TrainingResult result = TrainSingleAgent(job);
+    EXPECT_EQ(result.episodes_or_rounds, 30);
+    EXPECT_EQ(result.steps, report ? 30 : 0);
+    const std::vector<double> v = Values(result.table);
+    for (size_t i = 0; i < v.size(); ++i) {
+      const bool east_of_station = i == 2;  // cell 0, action E
+      EXPECT_EQ(v[i], report && east_of_station ? BlockedStationValue(30) : 0.0) << i;
+    }
+  }
+  EXPECT_EQ(BlockedStationValue(1), 40.0);
+  // Trained to convergence the row reaches 100 / (1 - 0.9) = 1000. The
+  // checks (before episodes 501, 551, ...) start against the zero table, so
+  // the first is not quiet and the 21st quiet one is before episode 1551.
+  const TrainingResult converged = TrainSingleAgent(ReportJob("C#\n", true));
+  EXPECT_NEAR(converged.table.value(2), 1000.0, 1e-9);
+  EXPECT_EQ(converged.episodes_or_rounds, 1551);
+  EXPECT_EQ(converged.steps, 1551);
+}
+
+TEST(ReportSemanticsTest, StationStartThatMovesOffGoesOnAndTheStationRowIsLearned) {
+  // "C.": from the station the only move is E, onto the free cell (-1), and
+  // the episode goes on: back W onto the station (+100) ends it. Report:
+  // Q(C, E) = -1 + 0.9 Q(., W) is learned and positive. Ours: the station
+  // row is never updated and stays 0.
+  for (const bool report : {false, true}) {
+    SCOPED_TRACE(report ? "report" : "ours");
+    TrainingJob job = ReportJob("C.\n", report);
+    job.single_agent.max_episodes = 200;
+    const TrainingResult result = TrainSingleAgent(job);
+    const double station_east = result.table.value(0 * kNumActions + 2);
+    const double free_west = result.table.value(1 * kNumActions + 6);
+    EXPECT_GT(free_west, 99.0);
+    if (report) {
+      EXPECT_GT(station_east, 0.0);
+    } else {
+      EXPECT_EQ(station_east, 0.0);
+    }
+  }
+}
+
+TEST(ReportSemanticsTest, EpisodesHaveOneStepFewer) {
+  // No station in "....": every episode runs to the cap, region rows + cols
+  // steps (ours, 5) or one fewer (report, 4).
+  for (const bool report : {false, true}) {
+    TrainingJob job = ReportJob("....\n", report);
+    job.single_agent.max_episodes = 10;
+    EXPECT_EQ(TrainSingleAgent(job).steps, report ? 40 : 50);
+  }
+}
+
+TEST(ReportSemanticsTest, ReplayAndConvergenceChecksStartAfterEpisode500) {
+  const std::vector<Parameter>& parameters = Parameters();
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    if (parameters[i].name == "replay-start-episode" ||
+        parameters[i].name == "convergence-start-episode") {
+      EXPECT_EQ(parameters[i].default_value, 500.0);
+      EXPECT_EQ(parameters[i].report_value, 501.0);
+    }
+  }
+  // Replay: episodes 0..500 of the report's learner replay nothing (the
+  // same table as with no replay at all); episode 501 does.
+  constexpr const char* kMaze = "C..#\n.#..\n...C\n#...\n";
+  for (const int episodes : {501, 502}) {
+    TrainingJob job = ReportJob(kMaze, true, 7);
+    job.single_agent.max_episodes = episodes;
+    job.single_agent.convergence_start_episode = 100000;
+    const TrainingResult replayed = TrainSingleAgent(job);
+    job.single_agent.replay_batch = 0;
+    const TrainingResult plain = TrainSingleAgent(job);
+    EXPECT_EQ(Values(replayed.table) == Values(plain.table), episodes == 501) << episodes;
+  }
+  // Convergence, on a one-cell region (no step, the table never changes):
+  // ours snapshots before episode 500 and is quiet at 550, ..., 1550; the
+  // report compares with the starting table before episode 501 (quiet) and
+  // stops at its 21st quiet check, before episode 1501.
+  EXPECT_EQ(TrainSingleAgent(ReportJob(".\n", false)).episodes_or_rounds, 1550);
+  EXPECT_EQ(TrainSingleAgent(ReportJob(".\n", true)).episodes_or_rounds, 1501);
+  TrainingJob preset_only = ReportJob(".\n", true);
+  preset_only.bootstrap = Bootstrap::kInGrid;  // the report's numbers, our rules
+  EXPECT_EQ(TrainSingleAgent(preset_only).episodes_or_rounds, 1551);
+}
+
+TEST(ReportSemanticsTest, FirstTrainedChildOfATrainedAncestorKeepsItsCopy) {
+  // 16x16, leaves of 4x4: root 0, nodes 1-4 (8x8: TL, TR, BL, BR), leaves
+  // 5-20. Column 0 is all stations and the constant tables of
+  // RecordingTrainer send every start W or NW (ties go to the higher
+  // actions), so the bottom half succeeds; a wall at column 1 of the top
+  // half makes its starts fail. Initial training: all leaves, then nodes 1
+  // and 2 (top half, from zeros under the switch: no ancestor trained yet),
+  // then the root; nodes 3 and 4 stay untrained. Then column 0 of rows 8-11
+  // turns to obstacles: that leaf falls to 0.5, is retrained, and node 3 is
+  // trained for the first time, after its ancestor (the root) was: under
+  // both semantics it starts from the root's values over its region.
+  Grid grid(16, 16);
+  for (int r = 0; r < 16; ++r) grid.set(grid.Index(r, 0), Cell::kStation);
+  for (int r = 0; r < 8; ++r) grid.set(grid.Index(r, 1), Cell::kObstacle);
+  for (const Semantics semantics : {Semantics::kOurs, Semantics::kReport}) {
+    SCOPED_TRACE(semantics == Semantics::kReport ? "report" : "ours");
+    PlannerOptions options;
+    options.leaf_limit = 4;
+    options.semantics = semantics;
+    RecordingTrainer trainer;
+    LearningPlanner planner(Approach::kSingleAgent, options, trainer);
+    planner.Initialize(grid);
+    ASSERT_EQ(planner.tree().node_count(), 21);
+    for (NodeId node : {0, 1, 2}) ASSERT_EQ(trainer.warm_starts[node].size(), 1u) << node;
+    ASSERT_TRUE(trainer.warm_starts[3].empty());
+    ASSERT_TRUE(trainer.warm_starts[4].empty());
+    for (NodeId node : {1, 2}) {
+      const QTable& warm = trainer.warm_starts[node][0];
+      if (semantics == Semantics::kReport) EXPECT_TRUE(AllEqual(warm, 0.0)) << node;
+      if (semantics == Semantics::kOurs) EXPECT_FALSE(AllEqual(warm, 0.0)) << node;
+    }
+    trainer.warm_starts.clear();
+    Grid changed = grid;
+    std::vector<int> cells;
+    for (int r = 8; r < 12; ++r) {
+      cells.push_back(grid.Index(r, 0));
+      changed.set(cells.back(), Cell::kObstacle);
+    }
+    const NodeId leaf = planner.tree().LeafOf(grid.Index(8, 0));
+    planner.Adapt(changed, cells);
+    ASSERT_EQ(trainer.warm_starts[leaf].size(), 1u);
+    ASSERT_EQ(trainer.warm_starts[3].size(), 1u);
+    // The root committed 1 everywhere, then the leaf its own id + 1.
+    const Region& region = planner.tree().node(3).region;
+    const Region& leaf_region = planner.tree().node(leaf).region;
+    const QTable& warm = trainer.warm_starts[3][0];
+    for (int cell = 0; cell < region.cells(); ++cell) {
+      const int r = region.r0 + cell / region.cols(), c = region.c0 + cell % region.cols();
+      const bool in_leaf = r >= leaf_region.r0 && r <= leaf_region.r1 && c >= leaf_region.c0 &&
+                           c <= leaf_region.c1;
+      for (int a = 0; a < kNumActions; ++a) {
+        ASSERT_EQ(warm.value(static_cast<size_t>(cell) * kNumActions + a),
+                  in_leaf ? leaf + 1.0 : 1.0)
+            << cell << " " << a;
+      }
+    }
   }
 }
 
