@@ -155,7 +155,9 @@ fi
 
 # 5. Paused is not dead.
 source "$(dirname "$0")/result_files.sh"  # same_result_files
-paused=(--size 30 --difficulty medium --steps 30 --approach fedAsynQ_EqAvg)
+# Enough steps that the run is still going when envsim is looked for on a
+# loaded machine.
+paused=(--size 30 --difficulty medium --steps 300 --approach fedAsynQ_EqAvg)
 "$dynapath" run --local "${paused[@]}" --out "$work/paused_local" --log-level warn >/dev/null ||
   fail "paused: --local run"
 "$dynapath" run --agents 1 "${paused[@]}" --out "$work/paused" --log-level info \
