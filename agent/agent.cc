@@ -148,8 +148,14 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
       heartbeat.SendNow();  // join at once, not at the next heartbeat
       announced = true;
     }
-    switch (coordinator_.Check(options_.startup_timeout_seconds,
-                               options_.coordinator_timeout_seconds)) {
+    // Checked first: a pause of our own resets the coordinator's silence.
+    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
+                                               options_.coordinator_timeout_seconds);
+    if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
+      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+                   options_.id, silent, options_.coordinator_timeout_seconds);
+    }
+    switch (verdict) {
       case Verdict::kFinished:
         return AgentExit::kCoordinatorFinished;
       case Verdict::kFailed:

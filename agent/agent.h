@@ -33,7 +33,10 @@ struct AgentOptions {
   int threads = 1;
   // Exit when no coordinator heartbeat came for this long (after one was
   // seen), or when none was ever seen for startup_timeout_seconds.
-  double coordinator_timeout_seconds = 4.0;
+  // A silent coordinator may be paused (SIGSTOP, a debugger, a swapping
+  // host), not dead: waited for this long, with "silent for N s" logged. A
+  // launcher that sees its coordinator die stops the agents itself.
+  double coordinator_timeout_seconds = 60.0;
   double startup_timeout_seconds = 60.0;
   double heartbeat_seconds = 0.1;
   // Process mode: when the coordinator is gone while a long job is being

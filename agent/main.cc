@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   options.id = static_cast<int>(*agent_id);
   options.threads = *thread_count;
   options.startup_timeout_seconds = *wait_seconds;
+  options.coordinator_timeout_seconds = *wait_seconds;
   options.exit_process_when_orphaned = true;
   agent::Agent agent(bus, options);
   protocol::Dispatcher dispatcher(**lcm);

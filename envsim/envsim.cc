@@ -78,8 +78,14 @@ EnvSimExit EnvSim::Run(const std::atomic<bool>& stop) {
       waiting.swap(pending_);
       for (const step_request_t& request : waiting) OnRequest(request);
     }
-    switch (coordinator_.Check(options_.startup_timeout_seconds,
-                               options_.coordinator_timeout_seconds)) {
+    // Checked first: a pause of our own resets the coordinator's silence.
+    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
+                                               options_.coordinator_timeout_seconds);
+    if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
+      spdlog::warn("envsim: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+                   silent, options_.coordinator_timeout_seconds);
+    }
+    switch (verdict) {
       case Verdict::kFinished:
         return EnvSimExit::kCoordinatorFinished;
       case Verdict::kFailed:

@@ -21,7 +21,8 @@ namespace dynapath::envsim {
 
 struct EnvSimOptions {
   double hz = 0.0;  // 0: lock-step
-  double coordinator_timeout_seconds = 4.0;
+  // As an agent's: a silent coordinator is waited for this long.
+  double coordinator_timeout_seconds = 60.0;
   double startup_timeout_seconds = 60.0;
 };
 

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   Result<double> wait_seconds = runtime::ResolveWaitSeconds(given.wait);
   if (!wait_seconds) return fail(wait_seconds.error().message);
   options.startup_timeout_seconds = *wait_seconds;
+  options.coordinator_timeout_seconds = *wait_seconds;
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
   if (!lcm) return runtime::ProcessError("dynapath-envsim", lcm.error().message, 1);

@@ -36,7 +36,7 @@ CoordinatorWatch::Verdict CoordinatorWatch::Check(double startup_seconds,
   const int64_t previous_check = last_check_ms_.exchange(now);
   int64_t seen = seen_ms_;
   if (seen >= 0 && previous_check >= 0 &&
-      static_cast<double>(now - previous_check) > timeout_seconds * 500) {
+      static_cast<double>(now - previous_check) > std::min(timeout_seconds * 500, 2000.0)) {
     // We were not running: what we did not hear meanwhile says nothing
     // about the coordinator. (A heartbeat arriving now wins: max.)
     while (seen < now && !seen_ms_.compare_exchange_weak(seen, now)) {
@@ -49,6 +49,23 @@ CoordinatorWatch::Verdict CoordinatorWatch::Check(double startup_seconds,
   }
   return static_cast<double>(now - seen) > timeout_seconds * 1000 ? Verdict::kGone
                                                                   : Verdict::kRunning;
+}
+
+double CoordinatorWatch::SilentSeconds() const {
+  const int64_t seen = seen_ms_;
+  return seen < 0 ? -1.0 : static_cast<double>(SteadyMs() - seen) / 1000.0;
+}
+
+double CoordinatorWatch::SilenceToReport() const {
+  const double silent = SilentSeconds();
+  if (silent < 4.0) {
+    reported_silence_s_ = 0;
+    return -1.0;
+  }
+  const int64_t reported = reported_silence_s_;
+  if (reported != 0 && silent < static_cast<double>(reported) + 5.0) return -1.0;
+  reported_silence_s_ = static_cast<int64_t>(silent);
+  return silent;
 }
 
 HeartbeatSender::HeartbeatSender(Bus& bus, heartbeat_t base, double period_seconds,

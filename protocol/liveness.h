@@ -36,11 +36,19 @@ class CoordinatorWatch {
   // own: the coordinator's silence is counted again from now.
   Verdict Check(double startup_seconds, double timeout_seconds) const;
   std::string message() const;  // the coordinator's failure message
+  // Seconds since the last heartbeat of a coordinator seen before (as
+  // Check last counted them), or -1 when none was seen.
+  double SilentSeconds() const;
+  // The silence to log now: after 4 s without a heartbeat, and every 5 s
+  // after that while it lasts; otherwise -1 (for "the coordinator has been
+  // silent for N s").
+  double SilenceToReport() const;
 
  private:
   int64_t created_ms_;
   mutable std::atomic<int64_t> seen_ms_{-1};
   mutable std::atomic<int64_t> last_check_ms_{-1};
+  mutable std::atomic<int64_t> reported_silence_s_{0};  // the last SilenceToReport, 0: none
   std::atomic<int> state_{heartbeat_t::STATE_RUNNING};
 };
 

@@ -173,7 +173,8 @@ Result<RunMode> ResolveMode(const ModeOptions& o, long long max_agents) {
 void DeclareWaitOptions(OptionGroup& group, WaitOptions& options) {
   group.Option("--wait", options.wait, "SECONDS",
                "how long to wait for the other processes of the run to appear (the "
-               "coordinator: its agents and envsim; the others: the coordinator)");
+               "coordinator: its agents and envsim; the others: the coordinator), and (agents, "
+               "envsim) for a silent coordinator to be heard again");
 }
 
 Result<double> ResolveWaitSeconds(const WaitOptions& options) {

@@ -7,8 +7,8 @@
 # 2. An agent killed with SIGKILL mid-run changes nothing.
 # 3. Dropped and duplicated messages (fault injection) change nothing.
 # 4. Garbage on every channel is dropped and counted; results unchanged.
-# 5. A killed coordinator leaves no orphans after 5 s (processes started by
-#    hand with a secret file).
+# 5. A killed coordinator leaves no orphans: processes started by hand (with
+#    a secret file) wait for it up to --wait, saying it is silent, then exit.
 # 6. A run logged with --log replays with --replay to the same results.
 # 7. Bad options and secret files: one error line, exit 2.
 set -uo pipefail
@@ -147,18 +147,20 @@ wait $garbage_pid || fail "lcm_garbage"
 grep -q "dropped a message" "$work/garbage.log" || fail "garbage was not reported as dropped"
 same_results "$work/small_local" "$work/garbage" "garbage on every channel"
 
-# 5. Kill the coordinator: agents and envsim must exit within 5 s. Started by
-# hand, so they share a secret file made by `dynapath secret`.
+# 5. Kill the coordinator: agents and envsim started by hand (no launcher
+# sees it die) wait for a silent coordinator up to --wait (it may only be
+# paused), saying so, then exit. They share a secret file made by
+# `dynapath secret`.
 "$dynapath" secret "$work/run.key" || fail "dynapath secret"
 [ "$(stat -c %a "$work/run.key")" = 600 ] || fail "the secret file is not mode 600"
 key=(--secret-file "$work/run.key")
 # Hard 300: its initial training takes seconds on one thread, so the kill
 # half a second into the run always lands mid-run (hard 100 could finish first).
 "$bin_dir/envsim/dynapath-envsim" --run-id "$orphans_run" "${key[@]}" --size 300 --difficulty hard \
-  --log-level error &
+  --wait 8 --log-level warn 2>"$work/orphans_envsim.log" &
 envsim=$!
 "$bin_dir/agent/dynapath-agent" --run-id "$orphans_run" "${key[@]}" --id 1 --threads 1 \
-  --log-level error &
+  --wait 8 --log-level warn 2>"$work/orphans_agent.log" &
 agent=$!
 "$bin_dir/coordinator/dynapath-coordinator" --run-id "$orphans_run" "${key[@]}" \
   --approach fedAsynQ_EqAvg --out "$work/orphans" --log-level info 2>"$work/orphans.log" &
@@ -169,12 +171,16 @@ coordinator=$!
 wait_for_line "$work/orphans.log" "coordinator: maze" || fail "the hand-started run did not start"
 sleep 0.5
 kill -9 $coordinator
-sleep 5.5
+sleep 10
 if kill -0 $envsim 2>/dev/null || kill -0 $agent 2>/dev/null; then
-  fail "agent or envsim still running 5 s after the coordinator was killed"
+  fail "agent or envsim still running 10 s after the coordinator was killed (--wait 8)"
 else
-  pass "no orphans 5 s after the coordinator was killed"
+  pass "no orphans 10 s after the coordinator was killed (--wait 8)"
 fi
+grep -q "the coordinator has been silent for" "$work/orphans_envsim.log" ||
+  fail "envsim did not say the coordinator was silent: $(tail -2 "$work/orphans_envsim.log")"
+grep -q "the coordinator has been silent for" "$work/orphans_agent.log" ||
+  fail "the agent did not say the coordinator was silent: $(tail -2 "$work/orphans_agent.log")"
 wait $envsim $agent 2>/dev/null
 [ ! -e "$work/orphans/results.csv" ] || fail "a killed coordinator left a result file"
 

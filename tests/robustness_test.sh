@@ -186,6 +186,34 @@ else
   fail "paused: results differ from --local"
 fi
 
+# The coordinator paused 7 s: envsim and the agent wait for it (it is not
+# gone), the run finishes with --local's results.
+"$dynapath" run --agents 1 "${paused[@]}" --out "$work/paused_c" --log-level info \
+  >/dev/null 2>"$work/paused_c.log" &
+launcher=$!
+pids+=("$launcher")
+if wait_for_line "$work/paused_c.log" "coordinator: maze"; then
+  coordinator=$(pgrep -P "$launcher" -f dynapath-coordinator | head -1)
+  if [ -n "$coordinator" ]; then
+    kill -STOP "$coordinator"
+    sleep 7
+    kill -CONT "$coordinator"
+  else
+    fail "paused coordinator: no coordinator to pause"
+  fi
+else
+  fail "paused coordinator: the run did not start"
+fi
+wait "$launcher" || fail "paused coordinator: the run exited $? ($(grep -E 'error|gone' "$work/paused_c.log" | head -3))"
+grep -q "the coordinator has been silent for" "$work/paused_c.log" ||
+  fail "paused coordinator: nobody said the coordinator was silent"
+grep -q "gone" "$work/paused_c.log" && fail "paused coordinator: $(grep gone "$work/paused_c.log" | head -1)"
+if same_result_files "$work/paused_local" "$work/paused_c" results.csv results_detailed.csv; then
+  pass "coordinator paused 7 s mid-run: waited for, results as --local"
+else
+  fail "paused coordinator: results differ from --local"
+fi
+
 if [ $failures -gt 0 ]; then
   echo "$failures check(s) failed"
   exit 1
