@@ -1,8 +1,14 @@
 #include "tools/common/study_results.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <iterator>
+
 #include "dynapath/results_csv.h"
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
+#include "tools/common/repeat_statistics.h"
 
 namespace dynapath::cli {
 namespace {
@@ -75,6 +81,122 @@ Status MergeResultFiles(const std::vector<std::string>& directories, const std::
   }
   if (!failures.empty()) return Error::Io(failures);
   return Ok{};
+}
+
+}  // namespace dynapath::cli
+
+namespace dynapath::cli {
+namespace {
+
+std::string Number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+// The metrics of summary.csv, each a column of results.csv.
+struct Metric {
+  const char* name;
+  int column;  // in a repeats.csv row
+};
+constexpr Metric kMetrics[] = {
+    {"AvgSuccessRate", 8}, {"AvgPathLength", 9}, {"InitialTime", 6}, {"AdaptTimePerStep", 7}};
+constexpr int kRepeatsColumns = 10;
+
+}  // namespace
+
+std::string RepeatsCsvHeader() { return "Repeat,Seed,LearnerSeed," + Header(SummaryResultsCsv({})); }
+
+Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
+                        const std::string& prefix) {
+  std::string csv = RepeatsCsvHeader() + "\n";
+  for (const RepeatFiles& repeat : repeats) {
+    Result<std::string> text = ReadTextFile(repeat.directory + "/results.csv");
+    if (!text) return text.error().Prefixed(out_dir + "/" + prefix + "repeats.csv not written: ");
+    const std::vector<std::string> lines = Lines(*text);
+    for (size_t i = 1; i < lines.size(); ++i) {
+      csv += std::to_string(repeat.repeat) + "," + std::to_string(repeat.seed) + "," +
+             std::to_string(repeat.learner_seed) + "," + lines[i] + "\n";
+    }
+  }
+  Result<std::string> summary = SummaryCsv(csv);
+  if (!summary) return summary.error().Prefixed(out_dir + "/" + prefix + "summary.csv: ");
+  if (Status status = WriteTextFileAtomically(out_dir + "/" + prefix + "repeats.csv", csv);
+      !status) {
+    return status;
+  }
+  return WriteTextFileAtomically(out_dir + "/" + prefix + "summary.csv", *summary);
+}
+
+Result<std::string> SummaryCsv(const std::string& repeats_csv) {
+  const std::vector<std::string> lines = Lines(repeats_csv);
+  if (lines.empty() || lines[0] != RepeatsCsvHeader()) {
+    return Error{"line 1: expected the header " + RepeatsCsvHeader()};
+  }
+  // (configuration, approach) -> the metrics' values over repeats, in order.
+  struct Group {
+    std::string size, difficulty, approach;
+    std::vector<std::vector<double>> values = std::vector<std::vector<double>>(4);
+  };
+  std::vector<Group> groups;
+  std::vector<std::string> approaches;  // first-seen order
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<std::string> fields = Split(lines[i], ',');
+    const std::string where = "line " + std::to_string(i + 1) + ": ";
+    if (fields.size() != kRepeatsColumns) {
+      return Error{where + "expected " + std::to_string(kRepeatsColumns) + " fields, got " +
+                   std::to_string(fields.size())};
+    }
+    const std::string& approach = fields[3];
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const Group& g) {
+      return g.approach == approach && g.size == fields[4] && g.difficulty == fields[5];
+    });
+    if (group == groups.end()) {
+      groups.push_back(Group{fields[4], fields[5], approach});
+      group = groups.end() - 1;
+    }
+    if (std::find(approaches.begin(), approaches.end(), approach) == approaches.end()) {
+      approaches.push_back(approach);
+    }
+    for (size_t m = 0; m < std::size(kMetrics); ++m) {
+      const std::string& text = fields[static_cast<size_t>(kMetrics[m].column)];
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size()) {
+        return Error{where + kMetrics[m].name + ": not a number: '" + text + "'"};
+      }
+      group->values[m].push_back(value);
+    }
+  }
+  std::string csv =
+      "Approach,Size,Difficulty,Metric,Repeats,Mean,Std,Median,IQM,MeanCILow,MeanCIHigh,"
+      "IQMCILow,IQMCIHigh,Resamples,BootstrapSeed\n";
+  auto row = [&](const std::string& approach, const std::string& size,
+                 const std::string& difficulty, const char* metric,
+                 const std::vector<std::vector<double>>& strata) {
+    const SampleSummary s = Summarize(strata);
+    csv += approach + "," + size + "," + difficulty + "," + metric + "," +
+           std::to_string(s.count) + "," + Number(s.mean) + "," + Number(s.std) + "," +
+           Number(s.median) + "," + Number(s.iqm) + "," + Number(s.mean_ci.low) + "," +
+           Number(s.mean_ci.high) + "," + Number(s.iqm_ci.low) + "," + Number(s.iqm_ci.high) +
+           "," + std::to_string(kBootstrapResamples) + "," + std::to_string(kBootstrapSeed) + "\n";
+  };
+  for (const Group& group : groups) {
+    for (size_t m = 0; m < std::size(kMetrics); ++m) {
+      row(group.approach, group.size, group.difficulty, kMetrics[m].name, {group.values[m]});
+    }
+  }
+  // Over all configurations: one stratum per configuration.
+  for (const std::string& approach : approaches) {
+    for (size_t m = 0; m < std::size(kMetrics); ++m) {
+      std::vector<std::vector<double>> strata;
+      for (const Group& group : groups) {
+        if (group.approach == approach) strata.push_back(group.values[m]);
+      }
+      if (strata.size() > 1) row(approach, "all", "all", kMetrics[m].name, strata);
+    }
+  }
+  return csv;
 }
 
 }  // namespace dynapath::cli

@@ -2,6 +2,7 @@
 // The result files of a study: whether a configuration's own files are
 // complete, and the study-wide files merged from them.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,5 +26,34 @@ bool ConfigurationComplete(const std::string& directory, const std::vector<Appro
 // Both files are tried; the error names each one not written, with the reason.
 Status MergeResultFiles(const std::vector<std::string>& directories, const std::string& out_dir,
                         const std::string& prefix);
+
+// One finished repeat of a configuration: its directory (holding
+// results.csv), its repeat number, maze seed and learner seed.
+struct RepeatFiles {
+  std::string directory;
+  int repeat = 1;
+  unsigned seed = 0;
+  uint64_t learner_seed = 0;
+};
+
+// The header of repeats.csv: Repeat, Seed, LearnerSeed, then results.csv's.
+std::string RepeatsCsvHeader();
+// Writes OUT/<prefix>repeats.csv (every repeat's results.csv rows, after
+// its repeat, maze seed and learner seed) and OUT/<prefix>summary.csv (its
+// statistics, SummaryCsv) atomically.
+Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
+                        const std::string& prefix);
+
+// summary.csv of a repeats.csv text: for every configuration (Size,
+// Difficulty) and approach, in first-seen order, and each of the metrics
+// AvgSuccessRate, AvgPathLength, InitialTime and AdaptTimePerStep: the
+// number of repeats, mean, standard deviation, median, interquartile mean
+// and the 95% bootstrap intervals of the mean and of the IQM
+// (repeat_statistics.h); then, per approach, the same over every
+// configuration pooled (Size and Difficulty "all"; the bootstrap stratified
+// by configuration). Numbers as in results.csv (%.10g); the bootstrap's
+// resamples and seed end every row. An error names the line of a
+// malformed row.
+Result<std::string> SummaryCsv(const std::string& repeats_csv);
 
 }  // namespace dynapath::cli
