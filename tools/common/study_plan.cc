@@ -157,6 +157,18 @@ std::string StudyModeName(StudyMode mode) {
   return "local";
 }
 
+void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>& repeats,
+                          const std::string& default_text) {
+  group.Option("--repeats", repeats, "N",
+               "run N times (1 to " + std::to_string(kMaxRepeats) +
+                   "), repeat k with learner seed B + (k-1) x " +
+                   std::to_string(kRepeatSeedStride) +
+                   ", B the --learner-seed or the maze's seed (repeat 1: the default stream), "
+                   "--threads at once with --local; writes repeats.csv and summary.csv "
+                   "(docs/howto/STUDIES.md, Repeats)",
+               default_text);
+}
+
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   using runtime::ValueKind;
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
@@ -177,13 +189,7 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
              "none");
   runtime::DeclareMapPopulationOptions(group, o.stations, o.movers);
   runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
-  group.Option("--repeats", o.repeats, "N",
-               "run every configuration N times (1 to " + std::to_string(kMaxRepeats) +
-                   "), repeat k with learner seed B + (k-1) x " +
-                   std::to_string(kRepeatSeedStride) +
-                   ", B the --learner-seed or the maze's seed (repeat 1: the default stream); "
-                   "writes repeats.csv and summary.csv (docs/howto/STUDIES.md, Repeats)",
-               "1, or the number of --maze-seeds");
+  DeclareRepeatsOption(group, o.repeats, "1, or the number of --maze-seeds");
   group.List("--maze-seeds", o.maze_seeds, ValueKind::kIntegerList, "LIST",
              "comma-separated maze seeds, one per repeat: repeat k runs on the maze, change "
              "sequence (and a map's stations and movers) of the k-th; instead of --seed; the edge "

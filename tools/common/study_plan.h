@@ -104,6 +104,10 @@ struct StudyCommandLine {
   runtime::LogOptions log;
 };
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& options);
+// --repeats N, of `dynapath experiment` and `dynapath run` (which runs its
+// repeats in DIR/r<k>).
+void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>& repeats,
+                          const std::string& default_text);
 // The keys a study file may hold, with their kinds (from the declaration).
 const runtime::OptionKinds& StudyOptionKinds();
 // The options given on a parsed command line, as text values ("option
