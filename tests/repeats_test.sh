@@ -12,7 +12,8 @@
 #     summary.csv recomputed by an independent reference to the last digit
 #     (tests/summary_reference.py, bootstrap included), --parallel 1 = 2,
 #     resume, --maze-seeds.
-#  4. run --repeats 3 = the study's repeats; dynapath compare.
+#  4. run --repeats 3 = the study's repeats.
+#  5. dynapath compare: rows, --out, errors.
 set -uo pipefail
 dynapath=$(realpath "${1:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
 source_dir=$(realpath "${2:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
@@ -122,6 +123,16 @@ diff -q <(strip_times rr/repeats.csv) <(strip_times three16.csv) >/dev/null \
 python3 "$source_dir/tests/summary_reference.py" rr/repeats.csv rr/summary.csv || fail "run --repeats: summary.csv"
 cmp -s rr.out rr/summary.csv || fail "run --repeats prints summary.csv"
 pass "run --repeats"
+
+# 5. dynapath compare.
+"$dynapath" compare three singleAgent "BFS Oracle" --out cmp.csv >cmp.out 2>cmp.err || fail "compare: $(cat cmp.err)"
+cmp -s cmp.out cmp.csv || fail "compare --out differs from its output"
+[ "$(wc -l <cmp.out)" -eq $((1 + 4 * 2 + 4)) ] || fail "compare rows: $(wc -l <cmp.out)"
+grep -q '^singleAgent,BFS Oracle,all,all,AvgSuccessRate,6,' cmp.out || fail "compare: no row over all configurations"
+expect_usage_error "repeats.csv does not exist" compare one singleAgent "BFS Oracle"
+expect_usage_error "unknown approach 'magic'" compare three singleAgent magic
+expect_usage_error "has no repeats here" compare three singleAgent "A* Static"
+pass "compare"
 
 echo "repeats_test: $failures failure(s)"
 [ $failures -eq 0 ]

@@ -128,18 +128,29 @@ Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::stri
   return WriteTextFileAtomically(out_dir + "/" + prefix + "summary.csv", *summary);
 }
 
-Result<std::string> SummaryCsv(const std::string& repeats_csv) {
+namespace {
+
+// (configuration, approach) -> the metrics' values over repeats, in order,
+// with the repeat numbers.
+struct Group {
+  std::string size, difficulty, approach;
+  std::vector<std::vector<double>> values = std::vector<std::vector<double>>(4);
+  std::vector<long long> repeats;
+};
+
+struct RepeatsTable {
+  std::vector<Group> groups;
+  std::vector<std::string> approaches;  // first-seen order
+};
+
+Result<RepeatsTable> ParseRepeats(const std::string& repeats_csv) {
   const std::vector<std::string> lines = Lines(repeats_csv);
   if (lines.empty() || lines[0] != RepeatsCsvHeader()) {
     return Error{"line 1: expected the header " + RepeatsCsvHeader()};
   }
-  // (configuration, approach) -> the metrics' values over repeats, in order.
-  struct Group {
-    std::string size, difficulty, approach;
-    std::vector<std::vector<double>> values = std::vector<std::vector<double>>(4);
-  };
-  std::vector<Group> groups;
-  std::vector<std::string> approaches;  // first-seen order
+  RepeatsTable table;
+  std::vector<Group>& groups = table.groups;
+  std::vector<std::string>& approaches = table.approaches;
   for (size_t i = 1; i < lines.size(); ++i) {
     const std::vector<std::string> fields = Split(lines[i], ',');
     const std::string where = "line " + std::to_string(i + 1) + ": ";
@@ -158,9 +169,18 @@ Result<std::string> SummaryCsv(const std::string& repeats_csv) {
     if (std::find(approaches.begin(), approaches.end(), approach) == approaches.end()) {
       approaches.push_back(approach);
     }
+    char* end = nullptr;
+    const long long repeat = std::strtoll(fields[0].c_str(), &end, 10);
+    if (fields[0].empty() || end != fields[0].c_str() + fields[0].size() || repeat < 1) {
+      return Error{where + "Repeat: not a repeat number: '" + fields[0] + "'"};
+    }
+    if (std::find(group->repeats.begin(), group->repeats.end(), repeat) != group->repeats.end()) {
+      return Error{where + "repeat " + fields[0] + " of " + approach + " on " + fields[4] + " " +
+                   fields[5] + " is there twice"};
+    }
+    group->repeats.push_back(repeat);
     for (size_t m = 0; m < std::size(kMetrics); ++m) {
       const std::string& text = fields[static_cast<size_t>(kMetrics[m].column)];
-      char* end = nullptr;
       const double value = std::strtod(text.c_str(), &end);
       if (text.empty() || end != text.c_str() + text.size()) {
         return Error{where + kMetrics[m].name + ": not a number: '" + text + "'"};
@@ -168,6 +188,16 @@ Result<std::string> SummaryCsv(const std::string& repeats_csv) {
       group->values[m].push_back(value);
     }
   }
+  return table;
+}
+
+}  // namespace
+
+Result<std::string> SummaryCsv(const std::string& repeats_csv) {
+  Result<RepeatsTable> table = ParseRepeats(repeats_csv);
+  if (!table) return table.error();
+  const std::vector<Group>& groups = table->groups;
+  const std::vector<std::string>& approaches = table->approaches;
   std::string csv =
       "Approach,Size,Difficulty,Metric,Repeats,Mean,Std,Median,IQM,MeanCILow,MeanCIHigh,"
       "IQMCILow,IQMCIHigh,Resamples,BootstrapSeed\n";
@@ -194,6 +224,84 @@ Result<std::string> SummaryCsv(const std::string& repeats_csv) {
         if (group.approach == approach) strata.push_back(group.values[m]);
       }
       if (strata.size() > 1) row(approach, "all", "all", kMetrics[m].name, strata);
+    }
+  }
+  return csv;
+}
+
+Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string& a,
+                               const std::string& b) {
+  if (a == b) return Error{"compare two different approaches, not " + a + " with itself"};
+  Result<RepeatsTable> table = ParseRepeats(repeats_csv);
+  if (!table) return table.error();
+  for (const std::string& name : {a, b}) {
+    if (std::find(table->approaches.begin(), table->approaches.end(), name) ==
+        table->approaches.end()) {
+      std::string known;
+      for (const std::string& approach : table->approaches) {
+        known += (known.empty() ? "" : ", ") + approach;
+      }
+      return Error{"approach '" + name + "' has no repeats here (there are: " + known + ")"};
+    }
+  }
+  // Per configuration (in first-seen order) and metric: the differences of
+  // the repeats both approaches have, in A's order.
+  struct Pairs {
+    std::string size, difficulty;
+    std::vector<std::vector<double>> differences = std::vector<std::vector<double>>(4);
+    std::vector<std::vector<double>> greater = std::vector<std::vector<double>>(4);
+  };
+  std::vector<Pairs> configurations;
+  for (const Group& x : table->groups) {
+    if (x.approach != a) continue;
+    const auto y = std::find_if(table->groups.begin(), table->groups.end(), [&](const Group& g) {
+      return g.approach == b && g.size == x.size && g.difficulty == x.difficulty;
+    });
+    if (y == table->groups.end()) continue;
+    Pairs pairs{x.size, x.difficulty};
+    for (size_t i = 0; i < x.repeats.size(); ++i) {
+      const auto j = std::find(y->repeats.begin(), y->repeats.end(), x.repeats[i]);
+      if (j == y->repeats.end()) continue;
+      const size_t k = static_cast<size_t>(j - y->repeats.begin());
+      for (size_t m = 0; m < std::size(kMetrics); ++m) {
+        const double va = x.values[m][i], vb = y->values[m][k];
+        pairs.differences[m].push_back(va - vb);
+        pairs.greater[m].push_back(va > vb ? 1.0 : va == vb ? 0.5 : 0.0);
+      }
+    }
+    if (!pairs.differences[0].empty()) configurations.push_back(std::move(pairs));
+  }
+  if (configurations.empty()) {
+    return Error{"no repeat of " + a + " has a repeat of " + b + " on the same maze to pair with"};
+  }
+  std::string csv =
+      "A,B,Size,Difficulty,Metric,Pairs,MeanDifference,Std,Median,IQM,MeanCILow,MeanCIHigh,"
+      "ProbabilityAGreater,Resamples,BootstrapSeed\n";
+  auto row = [&](const std::string& size, const std::string& difficulty, const char* metric,
+                 const std::vector<std::vector<double>>& strata,
+                 const std::vector<double>& greater) {
+    const SampleSummary s = Summarize(strata);
+    csv += a + "," + b + "," + size + "," + difficulty + "," + metric + "," +
+           std::to_string(s.count) + "," + Number(s.mean) + "," + Number(s.std) + "," +
+           Number(s.median) + "," + Number(s.iqm) + "," + Number(s.mean_ci.low) + "," +
+           Number(s.mean_ci.high) + "," + Number(Mean(greater)) + "," +
+           std::to_string(kBootstrapResamples) + "," + std::to_string(kBootstrapSeed) + "\n";
+  };
+  for (const Pairs& pairs : configurations) {
+    for (size_t m = 0; m < std::size(kMetrics); ++m) {
+      row(pairs.size, pairs.difficulty, kMetrics[m].name, {pairs.differences[m]},
+          pairs.greater[m]);
+    }
+  }
+  if (configurations.size() > 1) {
+    for (size_t m = 0; m < std::size(kMetrics); ++m) {
+      std::vector<std::vector<double>> strata;
+      std::vector<double> greater;
+      for (const Pairs& pairs : configurations) {
+        strata.push_back(pairs.differences[m]);
+        greater.insert(greater.end(), pairs.greater[m].begin(), pairs.greater[m].end());
+      }
+      row("all", "all", kMetrics[m].name, strata, greater);
     }
   }
   return csv;

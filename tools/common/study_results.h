@@ -56,4 +56,15 @@ Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::stri
 // malformed row.
 Result<std::string> SummaryCsv(const std::string& repeats_csv);
 
+// `dynapath compare`: the paired differences A - B of two approaches over
+// the repeats of a repeats.csv text (repeat k of A against repeat k of B:
+// the same maze, change sequence and learner seed), per configuration and
+// metric, then over all configurations (bootstrap stratified by
+// configuration): pairs, mean, standard deviation, median and IQM of the
+// differences, the 95% bootstrap interval of the mean difference, and the
+// share of pairs where A's value is greater (ties count half). An error when
+// an approach is missing, A is B, or no repeat has both.
+Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string& a,
+                               const std::string& b);
+
 }  // namespace dynapath::cli
