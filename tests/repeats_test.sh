@@ -14,6 +14,7 @@
 #     resume, --maze-seeds.
 #  4. run --repeats 3 = the study's repeats.
 #  5. dynapath compare: rows, --out, errors.
+#  6. dynapath plot: by-size intervals, the performance profile, a bad summary.csv.
 set -uo pipefail
 dynapath=$(realpath "${1:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
 source_dir=$(realpath "${2:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
@@ -133,6 +134,22 @@ expect_usage_error "repeats.csv does not exist" compare one singleAgent "BFS Ora
 expect_usage_error "unknown approach 'magic'" compare three singleAgent magic
 expect_usage_error "has no repeats here" compare three singleAgent "A* Static"
 pass "compare"
+
+# 6. dynapath plot draws intervals and the performance profile (when built
+# and pandas and matplotlib are there).
+if [ -x "$(dirname "$dynapath")/dynapath-plot" ] && { python3 -c "import pandas, matplotlib" || /usr/bin/python3 -c "import pandas, matplotlib"; } 2>/dev/null; then
+  "$dynapath" plot rr --out figs >figs.txt 2>figs.err || fail "plot: $(cat figs.err)"
+  for figure in success_rate_by_size path_length_by_size adapt_time_by_size initial_time_by_size \
+    performance_profile_success; do
+    grep -q "figs/$figure.png" figs.txt && [ -s "figs/$figure.png" ] || fail "plot did not write $figure.png"
+  done
+  printf 'Approach,Size,Difficulty,Metric,Repeats,Mean,MeanCILow,MeanCIHigh\nX,16,Hard,AvgSuccessRate,3,high,0,1\n' >rr/summary.csv
+  "$dynapath" plot rr --out figs >/dev/null 2>figs.err && fail "plot took a malformed summary.csv"
+  grep -q "summary.csv: line 2: Mean 'high' is not a number" figs.err || fail "plot's error: $(cat figs.err)"
+  pass "plot"
+else
+  echo "(dynapath-plot, pandas or matplotlib missing: plot skipped)"
+fi
 
 echo "repeats_test: $failures failure(s)"
 [ $failures -eq 0 ]
