@@ -14,7 +14,8 @@
 #     resume, --maze-seeds.
 #  4. run --repeats 3 = the study's repeats.
 #  5. dynapath compare: rows, --out, errors.
-#  6. dynapath plot: by-size intervals, the performance profile, a bad summary.csv.
+#  6. A sweep study (epsilon-start = [0.25, 1.0]): points, params.toml, sweep files, resume.
+#  7. dynapath plot: by-size intervals, the performance profile, a bad summary.csv, a sweep.
 set -uo pipefail
 dynapath=$(realpath "${1:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
 source_dir=$(realpath "${2:?usage: repeats_test.sh DYNAPATH SOURCE_DIR}")
@@ -135,7 +136,33 @@ expect_usage_error "unknown approach 'magic'" compare three singleAgent magic
 expect_usage_error "has no repeats here" compare three singleAgent "A* Static"
 pass "compare"
 
-# 6. dynapath plot draws intervals and the performance profile (when built
+# 6. A sweep: a study file's parameter with several values runs the grid.
+cat >sweep.toml <<TOML
+sizes = [12]
+difficulties = ["hard"]
+steps = $steps
+edge-case = false
+approaches = ["BFS Oracle", "singleAgent", "fedAsynQ_EqAvg"]
+epsilon-start = [0.25, 1.0]
+TOML
+"$dynapath" experiment --config sweep.toml --out sweep --log-level warn 2>/dev/null || fail "sweep study"
+[ -s sweep/runs/12_hard_52_epsilon-start-0.25/results.csv ] && [ -s sweep/runs/12_hard_52_epsilon-start-1.0/results.csv ] \
+  || fail "sweep directories: $(ls sweep/runs)"
+grep -qx "epsilon-start = 0.25" sweep/runs/12_hard_52_epsilon-start-0.25/params.toml || fail "sweep point's params.toml"
+run --local --size 12 --difficulty hard --steps $steps --approach "BFS Oracle,$learning" \
+  --config sweep/runs/12_hard_52_epsilon-start-0.25/params.toml --out point
+same_result_files point sweep/runs/12_hard_52_epsilon-start-0.25 results.csv results_detailed.csv \
+  || fail "a sweep point is not its params.toml rerun"
+same_result_files one/runs/12_hard_52 sweep/runs/12_hard_52_epsilon-start-1.0 results.csv \
+  || fail "the sweep's default point differs from the study without it"
+[ "$(head -1 sweep/sweep.csv | cut -d, -f1-2)" = "epsilon-start,Repeat" ] || fail "sweep.csv header"
+[ "$(tail -n +2 sweep/sweep.csv | cut -d, -f1 | uniq | tr '\n' ' ')" = "0.25 1.0 " ] || fail "sweep.csv points"
+[ "$(wc -l <sweep/sweep_summary.csv)" -eq $((1 + 2 * 3 * 4)) ] || fail "sweep_summary.csv rows"
+"$dynapath" experiment --config sweep.toml --out sweep 2>resume.err || fail "sweep resume"
+grep -q "2 of 2 configurations were done before" resume.err || fail "sweep resume did not skip"
+pass "sweep"
+
+# 7. dynapath plot draws intervals and the performance profile (when built
 # and pandas and matplotlib are there).
 if [ -x "$(dirname "$dynapath")/dynapath-plot" ] && { python3 -c "import pandas, matplotlib" || /usr/bin/python3 -c "import pandas, matplotlib"; } 2>/dev/null; then
   "$dynapath" plot rr --out figs >figs.txt 2>figs.err || fail "plot: $(cat figs.err)"
@@ -146,6 +173,8 @@ if [ -x "$(dirname "$dynapath")/dynapath-plot" ] && { python3 -c "import pandas,
   printf 'Approach,Size,Difficulty,Metric,Repeats,Mean,MeanCILow,MeanCIHigh\nX,16,Hard,AvgSuccessRate,3,high,0,1\n' >rr/summary.csv
   "$dynapath" plot rr --out figs >/dev/null 2>figs.err && fail "plot took a malformed summary.csv"
   grep -q "summary.csv: line 2: Mean 'high' is not a number" figs.err || fail "plot's error: $(cat figs.err)"
+  "$dynapath" plot sweep --out sweepfigs >figs.txt 2>figs.err || fail "plot of a sweep: $(cat figs.err)"
+  grep -q "sweepfigs/sweep_epsilon-start.png" figs.txt || fail "plot drew no sweep_epsilon-start.png"
   pass "plot"
 else
   echo "(dynapath-plot, pandas or matplotlib missing: plot skipped)"

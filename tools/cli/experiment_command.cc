@@ -23,6 +23,7 @@
 #include <variant>
 
 #include "dynapath/experiment.h"
+#include "dynapath/parameters.h"
 #include "launch/launcher.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
@@ -119,7 +120,8 @@ const std::vector<std::string>& StudyFiles() {
       "manifest.json",    "study.log",          "results.csv",
       "results_detailed.csv", "edge_results.csv", "edge_results_detailed.csv",
       "repeats.csv",      "summary.csv",        "edge_repeats.csv",
-      "edge_summary.csv"};
+      "edge_summary.csv", "sweep.csv",          "sweep_summary.csv",
+      "edge_sweep.csv",   "edge_sweep_summary.csv"};
   return files;
 }
 
@@ -490,29 +492,58 @@ class StudyRunner {
   Status Merge() {
     std::vector<std::string> main_dirs, edge_dirs;
     std::vector<RepeatFiles> main_repeats, edge_repeats;
+    // With sweeps: the grid's points in order, main and edge.
+    std::vector<std::string> sweep_names;
+    for (const StudyOptions::Sweep& sweep : session_.options.sweeps) {
+      sweep_names.push_back(Parameters()[sweep.parameter].name);
+    }
+    std::vector<SweepPoint> main_points, edge_points;
+    std::vector<std::vector<std::pair<size_t, double>>> point_keys;
     bool has_edge = false;
     for (size_t i = 0; i < plan_.size(); ++i) {
       const StudyConfiguration& configuration = plan_[i];
       has_edge = has_edge || configuration.edge_case;
+      size_t point = 0;
+      if (!sweep_names.empty()) {
+        const auto found = std::find(point_keys.begin(), point_keys.end(), configuration.point);
+        point = static_cast<size_t>(found - point_keys.begin());
+        if (found == point_keys.end()) {
+          point_keys.push_back(configuration.point);
+          SweepPoint empty;
+          for (const auto& [index, value] : configuration.point) {
+            empty.values.push_back(ParameterText(Parameters()[index], value));
+          }
+          main_points.push_back(empty);
+          edge_points.push_back(empty);
+        }
+      }
       if (manifest_.configurations[i].status != "done") continue;
       const std::string directory = (session_.out / configuration.Directory()).string();
+      const RepeatFiles files{directory, configuration.repeat, configuration.seed,
+                              configuration.learner_seed.value_or(configuration.seed)};
+      if (!sweep_names.empty()) {
+        (configuration.edge_case ? edge_points : main_points)[point].repeats.push_back(files);
+      }
+      if (point != 0) continue;  // the merged files hold the sweep's first point
       if (configuration.repeat == 1) {
         (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
       }
-      (configuration.edge_case ? edge_repeats : main_repeats)
-          .push_back(RepeatFiles{directory, configuration.repeat, configuration.seed,
-                                 configuration.learner_seed.value_or(configuration.seed)});
+      (configuration.edge_case ? edge_repeats : main_repeats).push_back(files);
     }
     std::string failures;
     auto failed = [&](const Status& status) {
       if (!status) failures += (failures.empty() ? "" : "; ") + status.error().message;
     };
     const bool repeats = session_.options.repeats > 1;
-    failed(MergeResultFiles(main_dirs, session_.out.string(), ""));
-    if (repeats) failed(WriteRepeatFiles(main_repeats, session_.out.string(), ""));
+    const std::string out = session_.out.string();
+    const bool sweeps = !sweep_names.empty();
+    failed(MergeResultFiles(main_dirs, out, ""));
+    if (repeats) failed(WriteRepeatFiles(main_repeats, out, ""));
+    if (sweeps) failed(WriteSweepFiles(sweep_names, main_points, out, ""));
     if (has_edge) {
-      failed(MergeResultFiles(edge_dirs, session_.out.string(), "edge_"));
-      if (repeats) failed(WriteRepeatFiles(edge_repeats, session_.out.string(), "edge_"));
+      failed(MergeResultFiles(edge_dirs, out, "edge_"));
+      if (repeats) failed(WriteRepeatFiles(edge_repeats, out, "edge_"));
+      if (sweeps) failed(WriteSweepFiles(sweep_names, edge_points, out, "edge_"));
     }
     if (failures.empty()) return Ok{};
     spdlog::error("{}", failures);

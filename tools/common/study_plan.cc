@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "dynapath/experiment.h"
@@ -67,6 +68,17 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 }
 
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
+
+// The index of parameter `name` in Parameters(), or none.
+std::optional<size_t> ParameterIndex(const std::string& name) {
+  const std::vector<Parameter>& parameters = Parameters();
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    if (parameters[i].name == name) return i;
+  }
+  return std::nullopt;
+}
+
+bool IsParameter(const std::string& name) { return ParameterIndex(name).has_value(); }
 
 // Two maps of one study must be two files with two labels: a map's label
 // (runtime::MapLabel, its file name) names its run directory and its rows'
@@ -254,12 +266,29 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
     };
     using Kind = ConfigValue::Kind;
+    // A parameter may list values to sweep.
+    const bool sweepable = IsParameter(key) && value.kind == Kind::kArray;
     switch (spec->second) {
       case runtime::ValueKind::kInteger:
-        if (value.kind != Kind::kInteger) return wrong("an integer");
+        if (sweepable) {
+          if (value.items.empty() || value.items.front().kind != Kind::kInteger) {
+            return wrong("an integer or a non-empty array of integers");
+          }
+        } else if (value.kind != Kind::kInteger) {
+          return wrong("an integer");
+        }
         break;
       case runtime::ValueKind::kFloat:
-        if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) return wrong("a number");
+        if (sweepable) {
+          for (const ConfigValue& item : value.items) {
+            if (item.kind != Kind::kFloat && item.kind != Kind::kInteger) {
+              return wrong("a number or an array of numbers");
+            }
+          }
+          if (value.items.empty()) return wrong("a number or a non-empty array of numbers");
+        } else if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) {
+          return wrong("a number");
+        }
         break;
       case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
@@ -591,7 +620,50 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
 
 }  // namespace
 
-Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads) {
+namespace {
+
+// A parameter given several values (a study file's array, comma-joined):
+// the sweep, its values checked and distinct; the option value left with
+// the first, so that it is converted and checked as one value.
+Status TakeSweeps(OptionValues& values, std::vector<StudyOptions::Sweep>& sweeps) {
+  size_t points = 1;
+  for (auto& [name, value] : values) {
+    const std::optional<size_t> index = ParameterIndex(name);
+    if (!index || value.text.find(',') == std::string::npos) continue;
+    const Parameter& parameter = Parameters()[*index];
+    StudyOptions::Sweep sweep{*index, {}};
+    for (const std::string& item : Split(value.text, ',')) {
+      char* end = nullptr;
+      const double number = std::strtod(item.c_str(), &end);
+      if (item.empty() || end != item.c_str() + item.size()) {
+        return Error{value.origin + ": '" + item + "' is not a number"};
+      }
+      PlannerOptions check;
+      if (Status status = SetParameter(check, *index, number); !status) {
+        return Error{value.origin + ": " + status.error().Detail()};
+      }
+      if (std::find(sweep.values.begin(), sweep.values.end(), number) != sweep.values.end()) {
+        return Error{value.origin + ": " + ParameterText(parameter, number) + " is given twice"};
+      }
+      sweep.values.push_back(number);
+    }
+    points *= sweep.values.size();
+    if (points > kMaxSweepPoints) {
+      return Error{value.origin + ": the sweep's grid would have more than " +
+                   std::to_string(kMaxSweepPoints) + " points"};
+    }
+    value.text = Split(value.text, ',').front();
+    sweeps.push_back(std::move(sweep));
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<StudyOptions> ResolveStudyOptions(const OptionValues& given_values, int hardware_threads) {
+  OptionValues values = given_values;
+  std::vector<StudyOptions::Sweep> sweeps;
+  if (Status status = TakeSweeps(values, sweeps); !status) return status.error();
   Result<StudyCommandLine> converted = ConvertOptionValues(values);
   if (!converted) return converted.error();
   const GivenOptions given(values, std::move(*converted));
@@ -604,6 +676,12 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
   if (Status status = ResolveExecution(given, hardware_threads, options); !status) {
     return status.error();
   }
+  // The swept parameters are the points' own, not the study's.
+  for (const StudyOptions::Sweep& sweep : sweeps) {
+    options.learner.parameters.integers[sweep.parameter].reset();
+    options.learner.parameters.reals[sweep.parameter].reset();
+  }
+  options.sweeps = std::move(sweeps);
   return options;
 }
 
@@ -614,8 +692,19 @@ std::string StudyConfiguration::BaseName() const {
   return edge_case ? "edge_" + name : name;
 }
 
+std::string StudyConfiguration::PointToken() const {
+  std::string token;
+  for (const auto& [index, value] : point) {
+    const Parameter& parameter = Parameters()[index];
+    token += (token.empty() ? "" : "_") + parameter.name + "-" + ParameterText(parameter, value);
+  }
+  return token;
+}
+
 std::string StudyConfiguration::Name() const {
-  return repeat > 1 ? BaseName() + "_r" + std::to_string(repeat) : BaseName();
+  std::string name = BaseName();
+  if (!point.empty()) name += "_" + PointToken();
+  return repeat > 1 ? name + "_r" + std::to_string(repeat) : name;
 }
 
 std::string StudyConfiguration::SizeText() const {
@@ -629,8 +718,12 @@ std::string StudyConfiguration::DifficultyText() const {
 std::string StudyConfiguration::Directory() const { return "runs/" + Name(); }
 
 std::string StudyConfiguration::Label() const {
-  const std::string of_repeats =
+  std::string of_repeats =
       repeats > 1 ? ", repeat " + std::to_string(repeat) + "/" + std::to_string(repeats) : "";
+  for (const auto& [index, value] : point) {
+    const Parameter& parameter = Parameters()[index];
+    of_repeats += ", " + parameter.name + " " + ParameterText(parameter, value);
+  }
   if (!map.empty()) {
     return "map " + map_label + " " + SizeLabel(size, cols) + ", seed " + std::to_string(seed) +
            of_repeats;
@@ -640,7 +733,8 @@ std::string StudyConfiguration::Label() const {
 }
 
 std::string StudyConfiguration::ShortLabel() const {
-  const std::string of_repeats = repeats > 1 ? " r" + std::to_string(repeat) : "";
+  std::string of_repeats = repeats > 1 ? " r" + std::to_string(repeat) : "";
+  if (!point.empty()) of_repeats += " " + PointToken();
   if (!map.empty()) return map_label + " s" + std::to_string(seed) + of_repeats;
   return std::string(edge_case ? "edge " : "") + std::to_string(size) + " " +
          DifficultyName(difficulty) + " s" + std::to_string(seed) + of_repeats;
@@ -713,15 +807,30 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
                                    : std::optional<unsigned>(options.maze_seeds[size_t(k - 1)]);
     repeats.push_back(OneRepeat(options, seed));
   }
+  // The sweep's grid points, the first swept parameter varying slowest.
+  std::vector<std::vector<std::pair<size_t, double>>> points = {{}};
+  for (const StudyOptions::Sweep& sweep : options.sweeps) {
+    std::vector<std::vector<std::pair<size_t, double>>> next;
+    for (const auto& point : points) {
+      for (const double value : sweep.values) {
+        next.push_back(point);
+        next.back().emplace_back(sweep.parameter, value);
+      }
+    }
+    points = std::move(next);
+  }
   std::vector<StudyConfiguration> plan;
-  for (size_t i = 0; i < repeats.front().size(); ++i) {
-    for (int k = 1; k <= options.repeats; ++k) {
-      StudyConfiguration configuration = repeats[size_t(k - 1)][i];
-      configuration.repeat = k;
-      configuration.repeats = options.repeats;
-      configuration.learner_seed =
-          RepeatLearnerSeed(options.learner.learner_seed, configuration.seed, k);
-      plan.push_back(configuration);
+  for (const auto& point : points) {
+    for (size_t i = 0; i < repeats.front().size(); ++i) {
+      for (int k = 1; k <= options.repeats; ++k) {
+        StudyConfiguration configuration = repeats[size_t(k - 1)][i];
+        configuration.repeat = k;
+        configuration.repeats = options.repeats;
+        configuration.learner_seed =
+            RepeatLearnerSeed(options.learner.learner_seed, configuration.seed, k);
+        configuration.point = point;
+        plan.push_back(configuration);
+      }
     }
   }
   return plan;
@@ -758,6 +867,13 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options,
   run.learner_seed.reset();
   if (configuration.learner_seed) {
     run.learner_seed = static_cast<long long>(*configuration.learner_seed);
+  }
+  for (const auto& [index, value] : configuration.point) {
+    if (Parameters()[index].integer) {
+      run.parameters.integers[index] = static_cast<long long>(value);
+    } else {
+      run.parameters.reals[index] = value;
+    }
   }
   return run;
 }
@@ -817,6 +933,18 @@ Json StudyIdentityJson(const StudyOptions& options) {
   }
   Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(RunOptionsOf(options, options.out));
   json["parameters"] = ParametersJson(plan ? plan->options : PlannerOptions{});
+  // A swept parameter's entry is its list of values.
+  for (const StudyOptions::Sweep& sweep : options.sweeps) {
+    const Parameter& parameter = Parameters()[sweep.parameter];
+    Json& values = json["parameters"][parameter.name] = Json::array();
+    for (const double value : sweep.values) {
+      if (parameter.integer) {
+        values.push_back(static_cast<long long>(value));
+      } else {
+        values.push_back(value);
+      }
+    }
+  }
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
     for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);

@@ -58,6 +58,14 @@ struct StudyOptions {
   // its maze). Empty: every repeat on the same maze.
   int repeats = 1;
   std::vector<unsigned> maze_seeds;
+  // A study file's parameter given a list (`epsilon-start = [0.01, 0.1]`):
+  // the study runs the grid of every swept parameter's values (the first
+  // swept parameter varying slowest), each point with the whole plan.
+  struct Sweep {
+    size_t parameter = 0;  // index in Parameters()
+    std::vector<double> values;
+  };
+  std::vector<Sweep> sweeps;
   // leaf_limit, bootstrap, semantics and placement, with `dynapath run`'s
   // defaults and checks; approach and out are each configuration's
   // (RunOptionsOf).
@@ -145,11 +153,17 @@ struct StudyConfiguration {
   // the maze's seed, the stream of a run without --learner-seed).
   int repeat = 1, repeats = 1;
   std::optional<uint64_t> learner_seed;
+  // Its point of the sweep grid: (parameter index, value) per swept
+  // parameter; empty without sweeps.
+  std::vector<std::pair<size_t, double>> point;
+  // "epsilon-start-0.05" ("_"-joined for several); "" without sweeps.
+  std::string PointToken() const;
 
   // "20_easy_50"; the edge case is "edge_50_hard_102"; a map
-  // "map_warehouse-10-20-10-2-1_50"; repeat k > 1 "20_easy_50_r<k>".
+  // "map_warehouse-10-20-10-2-1_50"; then "_<point token>" at a sweep's
+  // point, and "_r<k>" for repeat k > 1: "20_easy_50_epsilon-start-0.05_r2".
   std::string Name() const;
-  // The name of its repeat 1 (every repeat's on the same maze).
+  // The name of the maze (without point and repeat).
   std::string BaseName() const;
   // Its Size and Difficulty columns in result files: "50" and "Hard", or
   // "63x161" and the map's label.
@@ -178,6 +192,7 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 // --learner-seed (the run's default stream, which is the maze seed).
 inline constexpr uint64_t kRepeatSeedStride = 1000003;
 inline constexpr int kMaxRepeats = 1000;
+inline constexpr size_t kMaxSweepPoints = 1000;
 std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed,
                                           unsigned maze_seed, int repeat);
 

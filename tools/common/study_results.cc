@@ -107,18 +107,62 @@ constexpr int kRepeatsColumns = 10;
 
 std::string RepeatsCsvHeader() { return "Repeat,Seed,LearnerSeed," + Header(SummaryResultsCsv({})); }
 
-Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
-                        const std::string& prefix) {
+namespace {
+
+// repeats.csv's text of `repeats`; an error names `file`.
+Result<std::string> RepeatsCsv(const std::vector<RepeatFiles>& repeats, const std::string& file) {
   std::string csv = RepeatsCsvHeader() + "\n";
   for (const RepeatFiles& repeat : repeats) {
     Result<std::string> text = ReadTextFile(repeat.directory + "/results.csv");
-    if (!text) return text.error().Prefixed(out_dir + "/" + prefix + "repeats.csv not written: ");
+    if (!text) return text.error().Prefixed(file + " not written: ");
     const std::vector<std::string> lines = Lines(*text);
     for (size_t i = 1; i < lines.size(); ++i) {
       csv += std::to_string(repeat.repeat) + "," + std::to_string(repeat.seed) + "," +
              std::to_string(repeat.learner_seed) + "," + lines[i] + "\n";
     }
   }
+  return csv;
+}
+
+// Every line of `csv` after the first, each after `prefix`.
+std::string PrefixedRows(const std::string& csv, const std::string& prefix) {
+  std::string rows;
+  const std::vector<std::string> lines = Lines(csv);
+  for (size_t i = 1; i < lines.size(); ++i) rows += prefix + lines[i] + "\n";
+  return rows;
+}
+
+}  // namespace
+
+Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<SweepPoint>& points,
+                       const std::string& out_dir, const std::string& prefix) {
+  std::string columns;
+  for (const std::string& name : names) columns += name + ",";
+  std::string sweep = columns + RepeatsCsvHeader() + "\n";
+  Result<std::string> empty_summary = SummaryCsv(RepeatsCsvHeader() + "\n");
+  if (!empty_summary) return empty_summary.error();
+  std::string summaries = columns + Lines(*empty_summary)[0] + "\n";
+  const std::string file = out_dir + "/" + prefix + "sweep.csv";
+  for (const SweepPoint& point : points) {
+    if (point.repeats.empty()) continue;
+    std::string values;
+    for (const std::string& value : point.values) values += value + ",";
+    Result<std::string> csv = RepeatsCsv(point.repeats, file);
+    if (!csv) return csv.error();
+    Result<std::string> summary = SummaryCsv(*csv);
+    if (!summary) return summary.error().Prefixed(out_dir + "/" + prefix + "sweep_summary.csv: ");
+    sweep += PrefixedRows(*csv, values);
+    summaries += PrefixedRows(*summary, values);
+  }
+  if (Status status = WriteTextFileAtomically(file, sweep); !status) return status;
+  return WriteTextFileAtomically(out_dir + "/" + prefix + "sweep_summary.csv", summaries);
+}
+
+Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
+                        const std::string& prefix) {
+  Result<std::string> repeats_csv = RepeatsCsv(repeats, out_dir + "/" + prefix + "repeats.csv");
+  if (!repeats_csv) return repeats_csv.error();
+  const std::string& csv = *repeats_csv;
   Result<std::string> summary = SummaryCsv(csv);
   if (!summary) return summary.error().Prefixed(out_dir + "/" + prefix + "summary.csv: ");
   if (Status status = WriteTextFileAtomically(out_dir + "/" + prefix + "repeats.csv", csv);

@@ -56,6 +56,19 @@ Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::stri
 // malformed row.
 Result<std::string> SummaryCsv(const std::string& repeats_csv);
 
+// One point of a sweep's grid: its parameters' values (as text, in the
+// order of the names) and its repeats done.
+struct SweepPoint {
+  std::vector<std::string> values;
+  std::vector<RepeatFiles> repeats;
+};
+// Writes OUT/<prefix>sweep.csv (the swept parameters' columns `names`,
+// then repeats.csv's, for every point and repeat) and
+// OUT/<prefix>sweep_summary.csv (the same columns before summary.csv's,
+// each point's summary; points without a repeat done are left out).
+Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<SweepPoint>& points,
+                       const std::string& out_dir, const std::string& prefix);
+
 // `dynapath compare`: the paired differences A - B of two approaches over
 // the repeats of a repeats.csv text (repeat k of A against repeat k of B:
 // the same maze, change sequence and learner seed), per configuration and

@@ -94,6 +94,8 @@ def parse_arguments(argv):
                "A study with repeats (summary.csv, repeats.csv): the by-size and edge summary "
                "figures show means over the repeats with 95% bootstrap intervals, and "
                "performance_profile_success (and edge_performance_profile_success) is added. "
+               "A study with a sweep (sweep_summary.csv): sweep_<parameter> per swept "
+               "parameter. "
                "See docs/howto/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
     parser.add_argument("study", metavar="DIR", help="the study directory (dynapath run --out DIR)")
     parser.add_argument("--out", metavar="DIR",
@@ -538,6 +540,82 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
         save(figure, out_dir / f"{name}.png", written)
 
 
+SWEEP_SUMMARY_FILE = "sweep_summary.csv"
+SWEEP_PANELS = [
+    ("AvgSuccessRate", "Average success rate (%)", "percent"),
+    ("AvgPathLength", "Average path length (steps)", "linear"),
+    ("AdaptTimePerStep", "Adaptation time per step (s)", "log"),
+]
+
+
+def read_sweep(path):
+    """sweep_summary.csv: (the swept parameters' names, the frame); None
+    when absent."""
+    import pandas as pd
+    if not path.exists():
+        return None
+    try:
+        header = pd.read_csv(path, nrows=0).columns.tolist()
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, ValueError) as error:
+        raise PlotError(f"{path}: not a readable CSV table: {error}") from None
+    if "Approach" not in header or header.index("Approach") == 0:
+        raise PlotError(f"{path}: expected the swept parameters' columns, then Approach")
+    names = header[:header.index("Approach")]
+    frame = read_table(path, names + REPEAT_SUMMARY_COLUMNS, names + REPEAT_SUMMARY_COLUMNS[4:],
+                       TEXT_COLUMNS + ["Metric"] + names)
+    return names, frame
+
+
+def plot_sweeps(sweep, styles, out_dir, written, prefix=""):
+    """One figure per swept parameter: success rate, path length and
+    adaptation time (means over all configurations and repeats, with their
+    95% bootstrap intervals) against the parameter's values, one line per
+    approach; the other swept parameters at their first value."""
+    plt = pyplot()
+    names, frame = sweep
+    pooled = frame[frame["Size"] == "all"]
+    if pooled.empty:  # one configuration: its own rows
+        pooled = frame
+    for name in names:
+        rows = pooled
+        fixed = []
+        for other in names:
+            if other != name:
+                first = frame[other].iloc[0]
+                rows = rows[rows[other] == first]
+                fixed.append(f"{other} {first:g}")
+        figure, axes = plt.subplots(1, len(SWEEP_PANELS), figsize=(15.0, 4.8))
+        for axis, (metric, ylabel, kind) in zip(axes, SWEEP_PANELS):
+            for approach in styles.ordered(rows["Approach"].unique()):
+                series = rows[(rows["Approach"] == approach) & (rows["Metric"] == metric)]
+                series = series.sort_values(name)
+                xs = series[name].tolist()
+                ys = series["Mean"].tolist()
+                low = [max(0.0, m - l) for m, l in zip(ys, series["MeanCILow"])]
+                high = [max(0.0, h - m) for m, h in zip(ys, series["MeanCIHigh"])]
+                if kind == "log":
+                    low = [min(d, y * 0.999) if y > 0 else 0 for d, y in zip(low, ys)]
+                    ys = positive_or_nan(ys)
+                axis.errorbar(xs, ys, yerr=[low, high], color=styles.colour(approach),
+                              marker=styles.marker(approach), markersize=6, linewidth=1.5,
+                              capsize=3, label=approach)
+            axis.set_xlabel(name)
+            axis.set_ylabel(ylabel)
+            axis.grid(True, alpha=0.3)
+            if kind == "log":
+                axis.set_yscale("log")
+                axis.yaxis.set_major_formatter(seconds_formatter())
+            elif kind == "percent":
+                axis.yaxis.set_major_formatter(percent_formatter(2))
+        axes[0].legend(fontsize=8.5, frameon=False)
+        where = "edge case" if prefix else "all configurations"
+        title = f"Sweep of {name} ({where}; mean and 95% bootstrap interval over runs"
+        title += (", " + ", ".join(fixed) if fixed else "") + ")"
+        figure.suptitle(title, fontsize=12)
+        figure.tight_layout()
+        save(figure, out_dir / f"{prefix}sweep_{file_token(name)}.png", written)
+
+
 def plot_performance_profile(repeats, styles, out_dir, written, prefix=""):
     """rliable's performance profile (score distribution) of the success
     rate: for each approach, the share of all its runs (configurations x
@@ -847,6 +925,8 @@ def run(argv):
     edge_intervals = read_intervals(study / (EDGE_PREFIX + REPEAT_SUMMARY_FILE))
     repeats = read_repeats(study / REPEATS_FILE)
     edge_repeats = read_repeats(study / (EDGE_PREFIX + REPEATS_FILE))
+    sweep = read_sweep(study / SWEEP_SUMMARY_FILE)
+    edge_sweep = read_sweep(study / (EDGE_PREFIX + SWEEP_SUMMARY_FILE))
 
     reference = edge_reference = None
     if reference_dir is not None:
@@ -876,11 +956,15 @@ def run(argv):
         plot_per_configuration(detailed, styles, out_dir, written)
         if repeats is not None:
             plot_performance_profile(repeats, styles, out_dir, written)
+        if sweep is not None:
+            plot_sweeps(sweep, styles, out_dir, written)
     if edge_summary is not None:
         plot_per_configuration(edge_detailed, styles, out_dir, written, prefix=EDGE_PREFIX)
         plot_edge_summary(edge_summary, edge_reference, styles, out_dir, written, edge_intervals)
         if edge_repeats is not None:
             plot_performance_profile(edge_repeats, styles, out_dir, written, prefix=EDGE_PREFIX)
+        if edge_sweep is not None:
+            plot_sweeps(edge_sweep, styles, out_dir, written, prefix=EDGE_PREFIX)
     for path in written:
         print(path)
     return 0
