@@ -389,7 +389,7 @@ class StudyRunner {
         }
         RunOne(i);
         std::lock_guard lock(mutex_);
-        (void)Merge();  // a failure is logged; the last merge below counts
+        (void)Merge(false);  // a failure is logged; the last merge below counts
         (void)Save();
       }
     };
@@ -403,7 +403,7 @@ class StudyRunner {
       for (std::thread& thread : threads) thread.join();
     }
     // The files that could not be written are told at the end, by name.
-    const Status merged = Merge();
+    const Status merged = Merge(true);
     if (!merged) unwritten_.push_back(merged.error().message);
     manifest_.status = interrupted_                    ? "interrupted"
                        : failures_ > 0 || !merged.ok() ? "failed"
@@ -488,8 +488,14 @@ class StudyRunner {
 
   // Rewrites the merged result files from the configurations done: the
   // first repeat's results*.csv, and with repeats every repeat's
-  // repeats.csv and their summary.csv.
-  Status Merge() {
+  // repeats.csv and their summary.csv (with a sweep the sweep's files).
+  // The summaries' bootstrap takes about a second for a large study, so
+  // they are rewritten at most every kSummaryInterval, and at the `last`
+  // merge.
+  static constexpr double kSummaryInterval = 30;
+  Status Merge(bool last) {
+    const bool summaries = last || Seconds() - last_summary_ >= kSummaryInterval;
+    if (summaries) last_summary_ = Seconds();
     std::vector<std::string> main_dirs, edge_dirs;
     std::vector<RepeatFiles> main_repeats, edge_repeats;
     // With sweeps: the grid's points in order, main and edge.
@@ -538,12 +544,12 @@ class StudyRunner {
     const std::string out = session_.out.string();
     const bool sweeps = !sweep_names.empty();
     failed(MergeResultFiles(main_dirs, out, ""));
-    if (repeats) failed(WriteRepeatFiles(main_repeats, out, ""));
-    if (sweeps) failed(WriteSweepFiles(sweep_names, main_points, out, ""));
+    if (repeats) failed(WriteRepeatFiles(main_repeats, out, "", summaries));
+    if (sweeps) failed(WriteSweepFiles(sweep_names, main_points, out, "", summaries));
     if (has_edge) {
       failed(MergeResultFiles(edge_dirs, out, "edge_"));
-      if (repeats) failed(WriteRepeatFiles(edge_repeats, out, "edge_"));
-      if (sweeps) failed(WriteSweepFiles(sweep_names, edge_points, out, "edge_"));
+      if (repeats) failed(WriteRepeatFiles(edge_repeats, out, "edge_", summaries));
+      if (sweeps) failed(WriteSweepFiles(sweep_names, edge_points, out, "edge_", summaries));
     }
     if (failures.empty()) return Ok{};
     spdlog::error("{}", failures);
@@ -562,6 +568,7 @@ class StudyRunner {
   const bool terminal_;
   SpaceReserve* reserve_;
   std::mutex mutex_;  // the manifest, the merged files, the counts below
+  double last_summary_ = Seconds();
   int failures_ = 0;
   std::atomic<bool> interrupted_{false};
   std::vector<std::string> unwritten_;

@@ -30,8 +30,11 @@ double InterquartileMean(std::vector<double> values);
 // percentile): position q * (n - 1).
 double SortedQuantile(const std::vector<double>& sorted, double q);
 
-// A statistic of a pooled sample (Mean, InterquartileMean).
-using Statistic = std::function<double(const std::vector<double>&)>;
+// A statistic of a pooled sample (Mean, InterquartileMean). The sample is
+// the bootstrap's scratch buffer: the statistic may reorder it.
+using Statistic = std::function<double(std::vector<double>&)>;
+// InterquartileMean without a copy: sorts `values` in place.
+double InterquartileMeanInPlace(std::vector<double>& values);
 
 struct Interval {
   double low = 0, high = 0;

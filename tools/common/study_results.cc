@@ -135,7 +135,7 @@ std::string PrefixedRows(const std::string& csv, const std::string& prefix) {
 }  // namespace
 
 Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<SweepPoint>& points,
-                       const std::string& out_dir, const std::string& prefix) {
+                       const std::string& out_dir, const std::string& prefix, bool with_summary) {
   std::string columns;
   for (const std::string& name : names) columns += name + ",";
   std::string sweep = columns + RepeatsCsvHeader() + "\n";
@@ -149,20 +149,23 @@ Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<
     for (const std::string& value : point.values) values += value + ",";
     Result<std::string> csv = RepeatsCsv(point.repeats, file);
     if (!csv) return csv.error();
+    sweep += PrefixedRows(*csv, values);
+    if (!with_summary) continue;
     Result<std::string> summary = SummaryCsv(*csv);
     if (!summary) return summary.error().Prefixed(out_dir + "/" + prefix + "sweep_summary.csv: ");
-    sweep += PrefixedRows(*csv, values);
     summaries += PrefixedRows(*summary, values);
   }
   if (Status status = WriteTextFileAtomically(file, sweep); !status) return status;
+  if (!with_summary) return Ok{};
   return WriteTextFileAtomically(out_dir + "/" + prefix + "sweep_summary.csv", summaries);
 }
 
 Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
-                        const std::string& prefix) {
+                        const std::string& prefix, bool with_summary) {
   Result<std::string> repeats_csv = RepeatsCsv(repeats, out_dir + "/" + prefix + "repeats.csv");
   if (!repeats_csv) return repeats_csv.error();
   const std::string& csv = *repeats_csv;
+  if (!with_summary) return WriteTextFileAtomically(out_dir + "/" + prefix + "repeats.csv", csv);
   Result<std::string> summary = SummaryCsv(csv);
   if (!summary) return summary.error().Prefixed(out_dir + "/" + prefix + "summary.csv: ");
   if (Status status = WriteTextFileAtomically(out_dir + "/" + prefix + "repeats.csv", csv);

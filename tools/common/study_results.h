@@ -40,9 +40,10 @@ struct RepeatFiles {
 std::string RepeatsCsvHeader();
 // Writes OUT/<prefix>repeats.csv (every repeat's results.csv rows, after
 // its repeat, maze seed and learner seed) and OUT/<prefix>summary.csv (its
-// statistics, SummaryCsv) atomically.
+// statistics, SummaryCsv) atomically; summary.csv only `with_summary`
+// (its bootstrap takes about a second for a large study).
 Status WriteRepeatFiles(const std::vector<RepeatFiles>& repeats, const std::string& out_dir,
-                        const std::string& prefix);
+                        const std::string& prefix, bool with_summary = true);
 
 // summary.csv of a repeats.csv text: for every configuration (Size,
 // Difficulty) and approach, in first-seen order, and each of the metrics
@@ -65,9 +66,11 @@ struct SweepPoint {
 // Writes OUT/<prefix>sweep.csv (the swept parameters' columns `names`,
 // then repeats.csv's, for every point and repeat) and
 // OUT/<prefix>sweep_summary.csv (the same columns before summary.csv's,
-// each point's summary; points without a repeat done are left out).
+// each point's summary; points without a repeat done are left out; only
+// `with_summary`).
 Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<SweepPoint>& points,
-                       const std::string& out_dir, const std::string& prefix);
+                       const std::string& out_dir, const std::string& prefix,
+                       bool with_summary = true);
 
 // `dynapath compare`: the paired differences A - B of two approaches over
 // the repeats of a repeats.csv text (repeat k of A against repeat k of B:
