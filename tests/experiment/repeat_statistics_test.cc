@@ -66,7 +66,8 @@ TEST(RepeatStatistics, OneValueOrEqualValuesGiveAPointInterval) {
 // equally likely resample (each stratum's draws independently): the
 // reference the Monte Carlo interval is checked against, sharing no code
 // with it.
-std::map<double, double> ExactBootstrapDistribution(const std::vector<std::vector<double>>& strata) {
+std::map<double, double> ExactBootstrapDistribution(
+    const std::vector<std::vector<double>>& strata) {
   std::map<double, double> distribution{{0.0, 1.0}};  // sum -> probability
   size_t total = 0;
   for (const std::vector<double>& stratum : strata) {
@@ -109,9 +110,9 @@ TEST(RepeatStatistics, BootstrapMatchesTheExactBootstrapDistribution) {
   // error of 0.0016; 0.006 is almost four of them.
   for (const std::vector<std::vector<double>>& strata :
        std::vector<std::vector<std::vector<double>>>{
-           {{0, 1, 2, 4, 8}},                         // one stratum: 3125 resamples
-           {{0.9, 0.95, 0.97, 1.0, 1.0, 0.99}},       // success rates
-           {{0, 10}, {100, 200, 300}},                // two strata of different size
+           {{0, 1, 2, 4, 8}},                    // one stratum: 3125 resamples
+           {{0.9, 0.95, 0.97, 1.0, 1.0, 0.99}},  // success rates
+           {{0, 10}, {100, 200, 300}},           // two strata of different size
        }) {
     const std::map<double, double> exact = ExactBootstrapDistribution(strata);
     const Interval ci = StratifiedBootstrap(strata, Mean);
@@ -144,9 +145,8 @@ TEST(RepeatStatistics, BootstrapIsFixedBySeed) {
   const Interval y = StratifiedBootstrap(irregular, Mean, kBootstrapResamples, 1);
   EXPECT_TRUE(x.low != y.low || x.high != y.high);
   // The interval of the IQM lies within the sample's range and holds its IQM.
-  const Interval iqm = StratifiedBootstrap(strata, [](const std::vector<double>& v) {
-    return InterquartileMean(v);
-  });
+  const Interval iqm = StratifiedBootstrap(
+      strata, [](const std::vector<double>& v) { return InterquartileMean(v); });
   EXPECT_GE(iqm.low, 1.0);
   EXPECT_LE(iqm.high, 9.0);
   EXPECT_LE(iqm.low, InterquartileMean(strata[0]));

@@ -437,8 +437,10 @@ TEST(StudyPlanTest, RepeatsGiveEachConfigurationItsRepeatsAndLearnerSeeds) {
   EXPECT_EQ(StudyIdentityJson(*options)["repeats"], 3);
 
   // --learner-seed is the base of every repeat; --maze-seeds the mazes.
-  options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"difficulties", "easy"},
-                                     {"maze-seeds", "7,9"}, {"learner-seed", "5"},
+  options = ResolveStudyOptions(Cli({{"sizes", "20"},
+                                     {"difficulties", "easy"},
+                                     {"maze-seeds", "7,9"},
+                                     {"learner-seed", "5"},
                                      {"edge-case", "false"}}),
                                 2);
   ASSERT_TRUE(options) << options.error().message;

@@ -8,8 +8,8 @@
 
 #include "dynapath/results_csv.h"
 #include "dynapath/text_file.h"
-#include "tests/temp_path.h"
 #include "dynapath/text_util.h"
+#include "tests/temp_path.h"
 #include "tools/common/repeat_statistics.h"
 
 namespace dynapath::cli {
@@ -108,8 +108,8 @@ size_t RowCount(const std::string& csv) {
 
 // Two approaches on 20 Hard over four repeats (values exact in binary).
 const std::vector<std::string> kRows = {
-    "1,52,52,X,20,Hard,1,0.5,1,4",       "1,52,52,Y,20,Hard,2,0.5,0.5,5",
-    "2,52,1000055,X,20,Hard,3,0.5,0.5,4", "2,52,1000055,Y,20,Hard,2,0.5,0.5,6",
+    "1,52,52,X,20,Hard,1,0.5,1,4",         "1,52,52,Y,20,Hard,2,0.5,0.5,5",
+    "2,52,1000055,X,20,Hard,3,0.5,0.5,4",  "2,52,1000055,Y,20,Hard,2,0.5,0.5,6",
     "3,52,2000058,X,20,Hard,1,0.5,0.75,8", "3,52,2000058,Y,20,Hard,2,0.5,0.25,5",
     "4,52,3000061,X,20,Hard,3,0.5,0.25,4", "4,52,3000061,Y,20,Hard,2,0.5,0.5,4",
 };
@@ -182,7 +182,8 @@ TEST(RepeatFilesTest, CompareTakesPairedDifferences) {
   // in 1: (2 + 0.5) / 4.
   const std::vector<std::string> success = Row(*compare, 1);
   ASSERT_EQ(success.size(), 15u);
-  EXPECT_EQ(success[0] + "," + success[1] + "," + success[4] + "," + success[5], "X,Y,AvgSuccessRate,4");
+  EXPECT_EQ(success[0] + "," + success[1] + "," + success[4] + "," + success[5],
+            "X,Y,AvgSuccessRate,4");
   EXPECT_EQ(success[6], "0.1875");
   EXPECT_EQ(success[7], "0.375");
   EXPECT_EQ(success[8], "0.25");

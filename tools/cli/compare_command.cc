@@ -42,14 +42,15 @@ int CompareCommand(const std::vector<std::string>& args) {
   };
   for (const std::string& name : {a, b}) {
     if (!ParseApproach(name)) {
-      return usage_error("unknown approach '" + name + "' (expected one of " +
-                         ApproachNamesText() + ")");
+      return usage_error("unknown approach '" + name + "' (expected one of " + ApproachNamesText() +
+                         ")");
     }
   }
   const std::string file = directory + "/" + (edge ? "edge_repeats.csv" : "repeats.csv");
   std::error_code error;
   if (!std::filesystem::exists(file, error)) {
-    return usage_error(file + " does not exist (a study or run with --repeats N, N > 1, writes it)");
+    return usage_error(file +
+                       " does not exist (a study or run with --repeats N, N > 1, writes it)");
   }
   Result<std::string> text = ReadTextFile(file);
   if (!text) return usage_error(text.error().message);

@@ -15,10 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <optional>
 #include <exception>
+#include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <variant>
 
@@ -116,12 +116,13 @@ std::string Differences(const Json& there, const Json& here) {
 
 // The files a study writes at its top.
 const std::vector<std::string>& StudyFiles() {
-  static const std::vector<std::string> files = {
-      "manifest.json",    "study.log",          "results.csv",
-      "results_detailed.csv", "edge_results.csv", "edge_results_detailed.csv",
-      "repeats.csv",      "summary.csv",        "edge_repeats.csv",
-      "edge_summary.csv", "sweep.csv",          "sweep_summary.csv",
-      "edge_sweep.csv",   "edge_sweep_summary.csv"};
+  static const std::vector<std::string> files = {"manifest.json",    "study.log",
+                                                 "results.csv",      "results_detailed.csv",
+                                                 "edge_results.csv", "edge_results_detailed.csv",
+                                                 "repeats.csv",      "summary.csv",
+                                                 "edge_repeats.csv", "edge_summary.csv",
+                                                 "sweep.csv",        "sweep_summary.csv",
+                                                 "edge_sweep.csv",   "edge_sweep_summary.csv"};
   return files;
 }
 

@@ -9,6 +9,7 @@
 #include <optional>
 #include <thread>
 
+#include "dynapath/text_file.h"
 #include "launch/launcher.h"
 #include "protocol/dispatcher.h"
 #include "runtime/output_check.h"
@@ -16,7 +17,6 @@
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
-#include "dynapath/text_file.h"
 #include "tools/cli/commands.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
@@ -28,8 +28,7 @@ namespace {
 // each; repeat 1 in the output directory, repeat k in DIR/r<k>; then
 // repeats.csv and summary.csv. Returns the exit status.
 int RunRepeats(const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup, int repeats,
-               std::optional<long long> learner_seed, int threads,
-               const std::atomic<bool>& stop) {
+               std::optional<long long> learner_seed, int threads, const std::atomic<bool>& stop) {
   std::vector<runtime::RunPlan> plans;
   std::vector<RepeatFiles> files;
   for (int k = 1; k <= repeats; ++k) {
@@ -191,7 +190,7 @@ int RunCommand(const std::vector<std::string>& args) {
       return usage_error("--repeats runs without --save-policy and --load-policy");
     }
     const long long last = static_cast<long long>(plan->RunSeed(setup->seed)) +
-                            (*repeat_count - 1) * static_cast<long long>(kRepeatSeedStride);
+                           (*repeat_count - 1) * static_cast<long long>(kRepeatSeedStride);
     if (last > runtime::kMaxLearnerSeed) {
       return usage_error("option --learner-seed: the last repeat's learner seed " +
                          std::to_string(last) + " would exceed " +

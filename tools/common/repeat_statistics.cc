@@ -88,7 +88,8 @@ Interval StratifiedBootstrap(const std::vector<std::vector<double>>& strata,
 
 SampleSummary Summarize(const std::vector<std::vector<double>>& strata) {
   std::vector<double> all;
-  for (const std::vector<double>& stratum : strata) all.insert(all.end(), stratum.begin(), stratum.end());
+  for (const std::vector<double>& stratum : strata)
+    all.insert(all.end(), stratum.begin(), stratum.end());
   SampleSummary s;
   s.count = static_cast<int>(all.size());
   const bool finite = AllFinite(all);

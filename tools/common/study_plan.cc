@@ -566,10 +566,10 @@ Status ResolveLearner(const GivenOptions& given, StudyOptions& options) {
                            (options.repeats - 1) * static_cast<long long>(kRepeatSeedStride);
     if (last > runtime::kMaxLearnerSeed) {
       const OptionValue* value = given.Find("learner-seed");
-      return Error{(value ? value->origin : std::string("option --learner-seed")) +
-                   ": with " + std::to_string(options.repeats) +
-                   " repeats the last repeat's learner seed " + std::to_string(last) +
-                   " would exceed " + std::to_string(runtime::kMaxLearnerSeed)};
+      return Error{(value ? value->origin : std::string("option --learner-seed")) + ": with " +
+                   std::to_string(options.repeats) + " repeats the last repeat's learner seed " +
+                   std::to_string(last) + " would exceed " +
+                   std::to_string(runtime::kMaxLearnerSeed)};
     }
   }
   return Ok{};
@@ -750,8 +750,8 @@ double StudyConfiguration::Work() const {
   return 15800.0 + std::pow(cell_steps, 0.8);
 }
 
-std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed,
-                                          unsigned maze_seed, int repeat) {
+std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, unsigned maze_seed,
+                                          int repeat) {
   if (repeat <= 1 && !learner_seed) return std::nullopt;
   const uint64_t base = learner_seed ? static_cast<uint64_t>(*learner_seed) : maze_seed;
   return base + static_cast<uint64_t>(repeat - 1) * kRepeatSeedStride;

@@ -105,7 +105,9 @@ constexpr int kRepeatsColumns = 10;
 
 }  // namespace
 
-std::string RepeatsCsvHeader() { return "Repeat,Seed,LearnerSeed," + Header(SummaryResultsCsv({})); }
+std::string RepeatsCsvHeader() {
+  return "Repeat,Seed,LearnerSeed," + Header(SummaryResultsCsv({}));
+}
 
 namespace {
 
@@ -252,11 +254,11 @@ Result<std::string> SummaryCsv(const std::string& repeats_csv) {
                  const std::string& difficulty, const char* metric,
                  const std::vector<std::vector<double>>& strata) {
     const SampleSummary s = Summarize(strata);
-    csv += approach + "," + size + "," + difficulty + "," + metric + "," +
-           std::to_string(s.count) + "," + Number(s.mean) + "," + Number(s.std) + "," +
-           Number(s.median) + "," + Number(s.iqm) + "," + Number(s.mean_ci.low) + "," +
-           Number(s.mean_ci.high) + "," + Number(s.iqm_ci.low) + "," + Number(s.iqm_ci.high) +
-           "," + std::to_string(kBootstrapResamples) + "," + std::to_string(kBootstrapSeed) + "\n";
+    csv += approach + "," + size + "," + difficulty + "," + metric + "," + std::to_string(s.count) +
+           "," + Number(s.mean) + "," + Number(s.std) + "," + Number(s.median) + "," +
+           Number(s.iqm) + "," + Number(s.mean_ci.low) + "," + Number(s.mean_ci.high) + "," +
+           Number(s.iqm_ci.low) + "," + Number(s.iqm_ci.high) + "," +
+           std::to_string(kBootstrapResamples) + "," + std::to_string(kBootstrapSeed) + "\n";
   };
   for (const Group& group : groups) {
     for (size_t m = 0; m < std::size(kMetrics); ++m) {
@@ -336,8 +338,7 @@ Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string
   };
   for (const Pairs& pairs : configurations) {
     for (size_t m = 0; m < std::size(kMetrics); ++m) {
-      row(pairs.size, pairs.difficulty, kMetrics[m].name, {pairs.differences[m]},
-          pairs.greater[m]);
+      row(pairs.size, pairs.difficulty, kMetrics[m].name, {pairs.differences[m]}, pairs.greater[m]);
     }
   }
   if (configurations.size() > 1) {
