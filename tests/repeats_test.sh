@@ -10,7 +10,7 @@
 #  3. experiment --repeats 3: runs/<name>_r<k>, repeat 1 = the study without
 #     repeats (same files), repeat k = `run --learner-seed`, repeats.csv,
 #     summary.csv recomputed by an independent reference to the last digit
-#     (tests/summary_reference.py, bootstrap included), --parallel 1 = 2,
+#     (tests/summary_reference.py, bootstrap included), two at once,
 #     resume, --maze-seeds.
 #  4. run --repeats 3 = the study's repeats.
 #  5. dynapath compare: rows, --out, errors.
@@ -27,7 +27,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 pass() { echo "ok ($SECONDS s): $*"; }
 cd "$work" || exit 1
 
-steps=6
+steps=4
 [ "${DYNAPATH_SANITIZED:-0}" = 1 ] && steps=3
 maze=(--size 16 --difficulty hard --steps $steps)  # seed 52
 learning=singleAgent,fedAsynQ_EqAvg
@@ -82,7 +82,7 @@ pass "bad values: exit 2, one line"
 common=(--difficulties hard --steps $steps --approaches "BFS Oracle,$learning" --no-edge-case --log-level warn)
 study=(--sizes 12,16 "${common[@]}")
 "$dynapath" experiment "${study[@]}" --out one 2>/dev/null || fail "study without repeats"
-"$dynapath" experiment "${study[@]}" --repeats 3 --parallel 1 --out three 2>three.err || fail "study with 3 repeats: $(tail -3 three.err)"
+"$dynapath" experiment "${study[@]}" --repeats 3 --parallel 2 --out three 2>three.err || fail "study with 3 repeats: $(tail -3 three.err)"
 for name in 12_hard_52 12_hard_52_r2 12_hard_52_r3 16_hard_52 16_hard_52_r2 16_hard_52_r3; do
   [ -s "three/runs/$name/results.csv" ] || fail "missing three/runs/$name/results.csv"
 done
@@ -102,8 +102,6 @@ python3 "$source_dir/tests/summary_reference.py" three/repeats.csv three/summary
   || fail "summary.csv does not agree with the reference computation"
 [ "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["options"]["study"]["repeats"])' three/manifest.json)" = 3 ] \
   || fail "manifest: repeats"
-"$dynapath" experiment "${study[@]}" --repeats 3 --parallel 2 --out par 2>/dev/null || fail "study with --parallel 2"
-same_result_files three par results.csv results_detailed.csv repeats.csv || fail "--parallel 2 differs from --parallel 1"
 cp three/repeats.csv before.csv
 "$dynapath" experiment "${study[@]}" --repeats 3 --out three 2>resume.err || fail "resume"
 grep -q "6 of 6 configurations were done before" resume.err || fail "resume did not skip: $(cat resume.err)"
@@ -144,6 +142,7 @@ steps = $steps
 edge-case = false
 approaches = ["BFS Oracle", "singleAgent", "fedAsynQ_EqAvg"]
 epsilon-start = [0.25, 1.0]
+repeats = 2
 TOML
 "$dynapath" experiment --config sweep.toml --out sweep --log-level warn 2>/dev/null || fail "sweep study"
 [ -s sweep/runs/12_hard_52_epsilon-start-0.25/results.csv ] && [ -s sweep/runs/12_hard_52_epsilon-start-1.0/results.csv ] \
@@ -156,25 +155,24 @@ same_result_files point sweep/runs/12_hard_52_epsilon-start-0.25 results.csv res
 same_result_files one/runs/12_hard_52 sweep/runs/12_hard_52_epsilon-start-1.0 results.csv \
   || fail "the sweep's default point differs from the study without it"
 [ "$(head -1 sweep/sweep.csv | cut -d, -f1-2)" = "epsilon-start,Repeat" ] || fail "sweep.csv header"
-[ "$(tail -n +2 sweep/sweep.csv | cut -d, -f1 | uniq | tr '\n' ' ')" = "0.25 1.0 " ] || fail "sweep.csv points"
+[ "$(tail -n +2 sweep/sweep.csv | cut -d, -f1,2 | uniq | tr '\n' ' ')" = "0.25,1 0.25,2 1.0,1 1.0,2 " ] || fail "sweep.csv points"
 [ "$(wc -l <sweep/sweep_summary.csv)" -eq $((1 + 2 * 3 * 4)) ] || fail "sweep_summary.csv rows"
 "$dynapath" experiment --config sweep.toml --out sweep 2>resume.err || fail "sweep resume"
-grep -q "2 of 2 configurations were done before" resume.err || fail "sweep resume did not skip"
+grep -q "4 of 4 configurations were done before" resume.err || fail "sweep resume did not skip"
 pass "sweep"
 
 # 7. dynapath plot draws intervals and the performance profile (when built
 # and pandas and matplotlib are there).
-if [ -x "$(dirname "$dynapath")/dynapath-plot" ] && { python3 -c "import pandas, matplotlib" || /usr/bin/python3 -c "import pandas, matplotlib"; } 2>/dev/null; then
-  "$dynapath" plot rr --out figs >figs.txt 2>figs.err || fail "plot: $(cat figs.err)"
+# (Not under a sanitizer: the plot runs no instrumented code.)
+if [ "${DYNAPATH_SANITIZED:-0}" != 1 ] && [ -x "$(dirname "$dynapath")/dynapath-plot" ] && { python3 -c "import pandas, matplotlib" || /usr/bin/python3 -c "import pandas, matplotlib"; } 2>/dev/null; then
+  "$dynapath" plot sweep --out figs >figs.txt 2>figs.err || fail "plot: $(cat figs.err)"
   for figure in success_rate_by_size path_length_by_size adapt_time_by_size initial_time_by_size \
-    performance_profile_success; do
+    performance_profile_success sweep_epsilon-start; do
     grep -q "figs/$figure.png" figs.txt && [ -s "figs/$figure.png" ] || fail "plot did not write $figure.png"
   done
   printf 'Approach,Size,Difficulty,Metric,Repeats,Mean,MeanCILow,MeanCIHigh\nX,16,Hard,AvgSuccessRate,3,high,0,1\n' >rr/summary.csv
   "$dynapath" plot rr --out figs >/dev/null 2>figs.err && fail "plot took a malformed summary.csv"
   grep -q "summary.csv: line 2: Mean 'high' is not a number" figs.err || fail "plot's error: $(cat figs.err)"
-  "$dynapath" plot sweep --out sweepfigs >figs.txt 2>figs.err || fail "plot of a sweep: $(cat figs.err)"
-  grep -q "sweepfigs/sweep_epsilon-start.png" figs.txt || fail "plot drew no sweep_epsilon-start.png"
   pass "plot"
 else
   echo "(dynapath-plot, pandas or matplotlib missing: plot skipped)"
