@@ -55,6 +55,8 @@ constexpr const char* kSummary =
     "  results.csv, results_detailed.csv            the whole study, in study order\n"
     "  edge_results.csv, edge_results_detailed.csv  the edge case\n"
     "  runs/<size>_<difficulty>_<seed>/             each configuration's own files\n"
+    "  repeats.csv, summary.csv                     with --repeats N: every repeat, and means,\n"
+    "                                               IQMs and 95% bootstrap intervals\n"
     "  manifest.json                                options, build, machine, times, status\n"
     "  study.log                                    everything the components log\n"
     "Run the same command again to resume: finished configurations are skipped and\n"
