@@ -175,7 +175,7 @@ if [ "${DYNAPATH_SANITIZED:-0}" != 1 ] && [ -x "$(dirname "$dynapath")/dynapath-
   grep -q "summary.csv: line 2: Mean 'high' is not a number" figs.err || fail "plot's error: $(cat figs.err)"
   pass "plot"
 else
-  echo "(dynapath-plot, pandas or matplotlib missing: plot skipped)"
+  echo "(plot skipped: under a sanitizer, or dynapath-plot, pandas or matplotlib missing)"
 fi
 
 echo "repeats_test: $failures failure(s)"

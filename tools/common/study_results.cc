@@ -212,7 +212,11 @@ Result<RepeatsTable> ParseRepeats(const std::string& repeats_csv) {
       return g.approach == approach && g.size == fields[4] && g.difficulty == fields[5];
     });
     if (group == groups.end()) {
-      groups.push_back(Group{fields[4], fields[5], approach});
+      Group added;
+      added.size = fields[4];
+      added.difficulty = fields[5];
+      added.approach = approach;
+      groups.push_back(std::move(added));
       group = groups.end() - 1;
     }
     if (std::find(approaches.begin(), approaches.end(), approach) == approaches.end()) {
@@ -307,7 +311,9 @@ Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string
       return g.approach == b && g.size == x.size && g.difficulty == x.difficulty;
     });
     if (y == table->groups.end()) continue;
-    Pairs pairs{x.size, x.difficulty};
+    Pairs pairs;
+    pairs.size = x.size;
+    pairs.difficulty = x.difficulty;
     for (size_t i = 0; i < x.repeats.size(); ++i) {
       const auto j = std::find(y->repeats.begin(), y->repeats.end(), x.repeats[i]);
       if (j == y->repeats.end()) continue;
