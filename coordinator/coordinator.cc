@@ -145,7 +145,7 @@ Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
   const grid_t* maze = envsim.Connect(options_.agent_wait_seconds);
   if (maze == nullptr) return envsim.status();
   runtime::RunPlan plan = options_.plan;
-  plan.options.run_seed = static_cast<uint64_t>(maze->seed);
+  plan.options.run_seed = plan.RunSeed(static_cast<uint64_t>(maze->seed));
   const RunLabels labels{maze->size_label, maze->difficulty};
   spdlog::info("coordinator: maze {} {} ({}), {} time steps, {} approaches", labels.size_label,
                labels.difficulty_label, maze->source, maze->total_steps, plan.approaches.size());

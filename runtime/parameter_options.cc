@@ -44,7 +44,7 @@ Status ApplyParameterOptions(const ParameterOptions& given, PlannerOptions& plan
   return Ok{};
 }
 
-std::string ParametersToml(const PlannerOptions& planner) {
+std::string ParametersToml(const PlannerOptions& planner, std::optional<uint64_t> learner_seed) {
   std::string text =
       "# Learner and strategy parameters (dynapath params); `dynapath run --config FILE` "
       "reads them.\n";
@@ -53,14 +53,16 @@ std::string ParametersToml(const PlannerOptions& planner) {
     text += parameters[i].name + " = " + ParameterText(parameters[i], ParameterValue(planner, i)) +
             "\n";
   }
+  if (learner_seed) text += "learner-seed = " + std::to_string(*learner_seed) + "\n";
   return text;
 }
 
-Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory) {
+Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory,
+                           std::optional<uint64_t> learner_seed) {
   std::error_code error;
   std::filesystem::create_directories(directory, error);
   if (error) return Error::Io(directory + ": cannot create directory: " + error.message());
-  return WriteTextFileAtomically(directory + "/params.toml", ParametersToml(planner));
+  return WriteTextFileAtomically(directory + "/params.toml", ParametersToml(planner, learner_seed));
 }
 
 }  // namespace dynapath::runtime

@@ -4,6 +4,7 @@
 // files: one option per parameter, declared from the table, checked once,
 // and the params.toml a run writes beside its result files.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,8 +36,11 @@ Status ApplyParameterOptions(const ParameterOptions& given, PlannerOptions& plan
 
 // Every parameter with its value in `planner`, as `name = value` lines that
 // `--config` reads back (params.toml).
-std::string ParametersToml(const PlannerOptions& planner);
+// With `learner_seed`, a last line `learner-seed = N` (--learner-seed).
+std::string ParametersToml(const PlannerOptions& planner,
+                           std::optional<uint64_t> learner_seed = std::nullopt);
 // Writes DIR/params.toml (atomically).
-Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory);
+Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory,
+                           std::optional<uint64_t> learner_seed = std::nullopt);
 
 }  // namespace dynapath::runtime

@@ -124,6 +124,10 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
                    (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
                    "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
+  group.Option("--learner-seed", o.learner_seed, "N",
+               "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
+               "the same N gives the same results in every mode (docs/howto/STUDIES.md, Repeats)",
+               "the maze's seed");
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
@@ -173,6 +177,11 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (*semantics == Semantics::kReport) ApplyReportPreset(plan.options);
   if (Status status = ApplyParameterOptions(o.parameters, plan.options); !status) {
     return status.error();
+  }
+  if (o.learner_seed) {
+    Result<long long> seed = InRange("learner-seed", o.learner_seed, 0, 0, kMaxLearnerSeed);
+    if (!seed) return seed.error();
+    plan.learner_seed = static_cast<uint64_t>(*seed);
   }
   plan.out_dir = o.out;
   if (plan.out_dir.empty()) return Error::Option("out", "must not be empty");
@@ -445,7 +454,8 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
         ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
         run.AverageSuccessRate(), run.AveragePathLength());
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
-    if (Status status = WriteParametersToml(plan.options, plan.out_dir); !status) {
+    if (Status status = WriteParametersToml(plan.options, plan.out_dir, plan.learner_seed);
+        !status) {
       return status.error();
     }
     if (checkpoints.enabled()) {
@@ -548,7 +558,7 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
     spdlog::warn("{}", warning);
   }
   RunPlan seeded = plan;
-  seeded.options.run_seed = setup.seed;
+  seeded.options.run_seed = plan.RunSeed(setup.seed);
   ThreadPool pool(threads);
   TrainingProgress progress;
   const TrainingProgressLog progress_log(progress);

@@ -4,6 +4,8 @@
 // coordinator process, so both produce the same files the same way.
 
 #include <atomic>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,7 +45,16 @@ struct RunPlan {
   Placement placement = Placement::kAuto;
   PolicyPlan policy;  // --save-policy, --save-at, --load-policy
   CheckpointPlan checkpoint;
+  // --learner-seed: the seed every learner's stream derives from. Unset: the
+  // maze's seed (the scenario's --seed), the stream of runs without it.
+  std::optional<uint64_t> learner_seed;
+  // The run seed the learners' seeds derive from on a maze of seed
+  // `maze_seed`: learner_seed when set, else maze_seed.
+  uint64_t RunSeed(uint64_t maze_seed) const { return learner_seed.value_or(maze_seed); }
 };
+
+// --learner-seed takes 0 to 2^53 - 1 (exact in JSON and in every TOML reader).
+inline constexpr long long kMaxLearnerSeed = (1LL << 53) - 1;
 
 // The words of --bootstrap, --semantics and --placement (also a study
 // file's keys), each written once: help texts, checks and parses read them.
@@ -66,6 +77,7 @@ struct RunOptions {
   long long checkpoint_every = 1;   // K
   double checkpoint_interval = 0;   // SECONDS
   bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
+  std::optional<long long> learner_seed;  // --learner-seed
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that

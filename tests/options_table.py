@@ -22,7 +22,8 @@ import sys
 # Names that are different options for different commands, each declared
 # once per meaning: (number of meanings, why).
 HOMONYMS = {
-    "--out": (3, "run's result directory; experiment's study directory; render's picture directory"),
+    "--out": (4, "run's result directory; experiment's study directory; render's picture directory; "
+                 "compare's CSV file"),
     "--approach": (2, "run's list of approaches to run; the one approach render and view show"),
     "--run-id": (2, "the run a process belongs to; the run render and view show"),
     "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
@@ -37,6 +38,7 @@ COMMANDS = [
     ("dynapath experiment", ["tools/dynapath", "experiment"]),
     ("dynapath secret", ["tools/dynapath", "secret"]),
     ("dynapath params", ["tools/dynapath", "params"]),
+    ("dynapath compare", ["tools/dynapath", "compare"]),
     ("dynapath netns", ["tools/dynapath", "netns"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),

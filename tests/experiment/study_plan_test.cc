@@ -416,5 +416,91 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   EXPECT_EQ(ExecutionJson(*b)["agents"].get<int>(), 2);
 }
 
+TEST(StudyPlanTest, RepeatsGiveEachConfigurationItsRepeatsAndLearnerSeeds) {
+  Result<StudyOptions> options = ResolveStudyOptions(
+      Cli({{"sizes", "20"}, {"difficulties", "easy,hard"}, {"repeats", "3"}}), 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->parallel, 2);  // --local repeats over the cores by default
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 9u);  // (20 easy, 20 hard, edge) x 3, repeats together
+  EXPECT_EQ(plan[0].Name(), "20_easy_50");
+  EXPECT_FALSE(plan[0].learner_seed);  // repeat 1: the default stream
+  EXPECT_EQ(plan[1].Name(), "20_easy_50_r2");
+  EXPECT_EQ(*plan[1].learner_seed, 50u + 1000003u);
+  EXPECT_EQ(*plan[2].learner_seed, 50u + 2 * 1000003u);
+  EXPECT_EQ(plan[3].Name(), "20_hard_52");
+  EXPECT_EQ(plan[8].Name(), "edge_50_hard_102_r3");
+  EXPECT_EQ(*plan[8].learner_seed, 102u + 2 * 1000003u);
+  EXPECT_EQ(plan[2].Label(), "20 Easy, seed 50, repeat 3/3");
+  EXPECT_EQ(*RunOptionsOf(*options, plan[2], "d").learner_seed, 2000056);
+  EXPECT_FALSE(RunOptionsOf(*options, plan[0], "d").learner_seed);
+  EXPECT_EQ(StudyIdentityJson(*options)["repeats"], 3);
+
+  // --learner-seed is the base of every repeat; --maze-seeds the mazes.
+  options = ResolveStudyOptions(Cli({{"sizes", "20"},
+                                     {"difficulties", "easy"},
+                                     {"maze-seeds", "7,9"},
+                                     {"learner-seed", "5"},
+                                     {"edge-case", "false"}}),
+                                2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->repeats, 2);
+  const std::vector<StudyConfiguration> seeded = MakeStudyPlan(*options);
+  ASSERT_EQ(seeded.size(), 2u);
+  EXPECT_EQ(seeded[0].Name(), "20_easy_7");
+  EXPECT_EQ(*seeded[0].learner_seed, 5u);
+  EXPECT_EQ(seeded[1].Name(), "20_easy_9_r2");
+  EXPECT_EQ(*seeded[1].learner_seed, 5u + 1000003u);
+
+  // Without repeats nothing changes: no suffix, no seed, no identity entry.
+  options = ResolveStudyOptions(Cli({{"sizes", "20"}}), 2);
+  ASSERT_TRUE(options);
+  EXPECT_EQ(options->parallel, 1);
+  EXPECT_EQ(MakeStudyPlan(*options)[0].Name(), "20_easy_50");
+  EXPECT_FALSE(StudyIdentityJson(*options).contains("repeats"));
+  EXPECT_FALSE(StudyIdentityJson(*options).contains("learner_seed"));
+}
+
+TEST(StudyPlanTest, ASweepRunsTheGridOfItsParametersValues) {
+  Result<StudyOptions> options = FromFile(
+      "sizes = [20]\ndifficulties = ['hard']\nedge-case = false\n"
+      "epsilon-start = [0.05, 0.1, 1.0]\nlearners = [2, 4]\nreplay-batch = 32\n");
+  ASSERT_TRUE(options) << options.error().message;
+  ASSERT_EQ(options->sweeps.size(), 2u);
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 6u);
+  EXPECT_EQ(plan[0].Name(), "20_hard_52_epsilon-start-0.05_learners-2");
+  EXPECT_EQ(plan[1].Name(), "20_hard_52_epsilon-start-0.05_learners-4");
+  EXPECT_EQ(plan[5].Name(), "20_hard_52_epsilon-start-1.0_learners-4");
+  EXPECT_EQ(plan[1].Label(), "20 Hard, seed 52, epsilon-start 0.05, learners 4");
+  // Each point's run options carry its values over the study's others.
+  Result<runtime::RunPlan> run = runtime::ResolveRunOptions(RunOptionsOf(*options, plan[3], "d"));
+  ASSERT_TRUE(run) << run.error().message;
+  EXPECT_EQ(run->options.single_agent.epsilon_start, 0.1);
+  EXPECT_EQ(run->options.federated.learners, 4);
+  EXPECT_EQ(run->options.single_agent.replay_batch, 32);
+  const Json identity = StudyIdentityJson(*options);
+  EXPECT_EQ(identity["parameters"]["epsilon-start"], Json::array({0.05, 0.1, 1.0}));
+  EXPECT_EQ(identity["parameters"]["learners"], Json::array({2, 4}));
+  EXPECT_EQ(identity["parameters"]["replay-batch"], 32);
+
+  // One value in an array is no sweep; the command line's value replaces a list.
+  options = FromFile("sizes = [20]\nepsilon-start = [0.5]\n");
+  ASSERT_TRUE(options);
+  EXPECT_TRUE(options->sweeps.empty());
+  const std::pair<const char*, const char*> bad[] = {
+      {"epsilon-start = [0.5, 1.5]\n", "s.toml:1: epsilon-start: must be a number from 0.0 to 1.0"},
+      {"learners = [2, 2]\n", "s.toml:1: learners: 2 is given twice"},
+      {"learners = [2.5, 3.5]\n", "s.toml:1: learners: expected an integer"},
+      {"learners = []\n", "s.toml:1: learners: expected an integer or a non-empty array"},
+      {"epsilon-start = ['a']\n", "s.toml:1: epsilon-start: expected a number or an array"},
+  };
+  for (const auto& [text, expected] : bad) {
+    Result<StudyOptions> refused = FromFile(text);
+    ASSERT_FALSE(refused) << text;
+    EXPECT_EQ(refused.error().message.rfind(expected, 0), 0u) << refused.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace dynapath::cli

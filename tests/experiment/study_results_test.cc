@@ -2,11 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "dynapath/results_csv.h"
 #include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 #include "tests/temp_path.h"
+#include "tools/common/repeat_statistics.h"
 
 namespace dynapath::cli {
 namespace {
@@ -81,6 +85,126 @@ TEST_F(StudyResultsTest, MergesInOrderWithOneHeader) {
   EXPECT_NE(missing.error().message.find("results.csv not written: "), std::string::npos);
   EXPECT_NE(missing.error().message.find("results_detailed.csv not written: "), std::string::npos)
       << missing.error().message;
+}
+
+// repeats.csv rows: Repeat,Seed,LearnerSeed,Approach,Size,Difficulty,
+// InitialTime,AdaptTimePerStep,AvgSuccessRate,AvgPathLength.
+std::string RepeatsCsv(const std::vector<std::string>& rows) {
+  std::string csv = RepeatsCsvHeader() + "\n";
+  for (const std::string& row : rows) csv += row + "\n";
+  return csv;
+}
+
+// The fields of row `index` (0 = header) of a CSV text.
+std::vector<std::string> Row(const std::string& csv, size_t index) {
+  size_t start = 0;
+  for (size_t i = 0; i < index; ++i) start = csv.find('\n', start) + 1;
+  return Split(csv.substr(start, csv.find('\n', start) - start), ',');
+}
+
+size_t RowCount(const std::string& csv) {
+  return static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n')) - 1;
+}
+
+// Two approaches on 20 Hard over four repeats (values exact in binary).
+const std::vector<std::string> kRows = {
+    "1,52,52,X,20,Hard,1,0.5,1,4",         "1,52,52,Y,20,Hard,2,0.5,0.5,5",
+    "2,52,1000055,X,20,Hard,3,0.5,0.5,4",  "2,52,1000055,Y,20,Hard,2,0.5,0.5,6",
+    "3,52,2000058,X,20,Hard,1,0.5,0.75,8", "3,52,2000058,Y,20,Hard,2,0.5,0.25,5",
+    "4,52,3000061,X,20,Hard,3,0.5,0.25,4", "4,52,3000061,Y,20,Hard,2,0.5,0.5,4",
+};
+
+TEST(RepeatFilesTest, SummaryHoldsTheStatisticsOfEachConfigurationAndApproach) {
+  Result<std::string> summary = SummaryCsv(RepeatsCsv(kRows));
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  EXPECT_EQ(Row(*summary, 0)[0], "Approach");
+  ASSERT_EQ(RowCount(*summary), 8u);  // one configuration: no rows over all
+  // X's success rates 1, 0.5, 0.75, 0.25: mean 0.625, deviations +-0.375
+  // and +-0.125, squares 0.3125 / 3; median and IQM (0.5 + 0.75) / 2.
+  const std::vector<std::string> success = Row(*summary, 1);
+  ASSERT_EQ(success.size(), 15u);
+  EXPECT_EQ(success[0], "X");
+  EXPECT_EQ(success[3], "AvgSuccessRate");
+  EXPECT_EQ(success[4], "4");
+  EXPECT_EQ(success[5], "0.625");
+  EXPECT_EQ(success[6], "0.3227486122");  // sqrt(0.3125 / 3)
+  EXPECT_EQ(success[7], "0.625");
+  EXPECT_EQ(success[8], "0.625");
+  const Interval ci = StratifiedBootstrap({{1, 0.5, 0.75, 0.25}}, Mean);
+  char low[32];
+  std::snprintf(low, sizeof low, "%.10g", ci.low);
+  EXPECT_EQ(success[9], low);
+  EXPECT_EQ(success[13], std::to_string(kBootstrapResamples));
+  EXPECT_EQ(success[14], std::to_string(kBootstrapSeed));
+  // X's path lengths 4, 4, 8, 4: median 4, IQM of {4, 4} 4, mean 5.
+  const std::vector<std::string> length = Row(*summary, 2);
+  EXPECT_EQ(length[3], "AvgPathLength");
+  EXPECT_EQ(length[5], "5");
+  EXPECT_EQ(length[7], "4");
+  EXPECT_EQ(length[8], "4");
+  EXPECT_EQ(Row(*summary, 3)[3], "InitialTime");
+  EXPECT_EQ(Row(*summary, 3)[5], "2");
+  EXPECT_EQ(Row(*summary, 5)[0], "Y");
+
+  // A second configuration adds its rows and, per approach, rows over all.
+  std::vector<std::string> rows = kRows;
+  rows.push_back("1,50,50,X,30,Easy,1,0.5,1,3");
+  rows.push_back("1,50,50,Y,30,Easy,1,0.5,1,3");
+  summary = SummaryCsv(RepeatsCsv(rows));
+  ASSERT_TRUE(summary.ok());
+  ASSERT_EQ(RowCount(*summary), 8u + 8u + 8u);
+  const std::vector<std::string> all = Row(*summary, 17);
+  EXPECT_EQ(all[0] + "," + all[1] + "," + all[2] + "," + all[3] + "," + all[4],
+            "X,all,all,AvgSuccessRate,5");
+  EXPECT_EQ(all[5], "0.7");  // (2.5 + 1) / 5
+}
+
+TEST(RepeatFilesTest, MalformedRepeatsAreOneErrorNamingTheLine) {
+  EXPECT_FALSE(SummaryCsv("Repeat,Seed\n1,2\n").ok());
+  Result<std::string> bad = SummaryCsv(RepeatsCsv({"1,52,52,X,20,Hard,1,0.5,one,4"}));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message, "line 2: AvgSuccessRate: not a number: 'one'");
+  bad = SummaryCsv(RepeatsCsv({"1,52,52,X,20,Hard,1,0.5,1"}));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message, "line 2: expected 10 fields, got 9");
+  bad = SummaryCsv(RepeatsCsv({kRows[0], kRows[0]}));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message, "line 3: repeat 1 of X on 20 Hard is there twice");
+}
+
+TEST(RepeatFilesTest, CompareTakesPairedDifferences) {
+  Result<std::string> compare = CompareCsv(RepeatsCsv(kRows), "X", "Y");
+  ASSERT_TRUE(compare.ok()) << compare.error().message;
+  ASSERT_EQ(RowCount(*compare), 4u);
+  // Success X - Y: 0.5, 0, 0.5, -0.25: mean 0.1875, deviations 0.3125,
+  // -0.1875, 0.3125, -0.4375, squares 0.421875 / 3 = 0.140625, std 0.375;
+  // sorted -0.25 0 0.5 0.5: median and IQM 0.25; X greater in 2 pairs, tied
+  // in 1: (2 + 0.5) / 4.
+  const std::vector<std::string> success = Row(*compare, 1);
+  ASSERT_EQ(success.size(), 15u);
+  EXPECT_EQ(success[0] + "," + success[1] + "," + success[4] + "," + success[5],
+            "X,Y,AvgSuccessRate,4");
+  EXPECT_EQ(success[6], "0.1875");
+  EXPECT_EQ(success[7], "0.375");
+  EXPECT_EQ(success[8], "0.25");
+  EXPECT_EQ(success[9], "0.25");
+  EXPECT_EQ(success[12], "0.625");
+  const Interval ci = StratifiedBootstrap({{0.5, 0, 0.5, -0.25}}, Mean);
+  char high[32];
+  std::snprintf(high, sizeof high, "%.10g", ci.high);
+  EXPECT_EQ(success[11], high);
+
+  // Pairs only where both have the repeat: Y's repeat 4 missing.
+  std::vector<std::string> rows(kRows.begin(), kRows.end() - 1);
+  compare = CompareCsv(RepeatsCsv(rows), "X", "Y");
+  ASSERT_TRUE(compare.ok());
+  EXPECT_EQ(Row(*compare, 1)[5], "3");
+
+  EXPECT_FALSE(CompareCsv(RepeatsCsv(kRows), "X", "X").ok());
+  Result<std::string> missing = CompareCsv(RepeatsCsv(kRows), "X", "Z");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "approach 'Z' has no repeats here (there are: X, Y)");
+  EXPECT_FALSE(CompareCsv(RepeatsCsv({kRows[0], "2,52,1,Y,30,Hard,1,1,1,1"}), "X", "Y").ok());
 }
 
 }  // namespace

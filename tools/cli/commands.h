@@ -19,6 +19,8 @@ int NetnsCommand(const std::vector<std::string>& args);
 int SecretCommand(const std::vector<std::string>& args);
 // Lists the learner and strategy parameters (dynapath/parameters.h).
 int ParamsCommand(const std::vector<std::string>& args);
+// The paired difference of two approaches over the repeats of a study.
+int CompareCommand(const std::vector<std::string>& args);
 // Replaces this process with the executable `tool` that sits next to the
 // dynapath binary (plot, view, render), passing `args`; when it is missing,
 // prints one error naming `missing_hint` and returns kExitFailure.

@@ -15,13 +15,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <optional>
 #include <exception>
+#include <filesystem>
+#include <mutex>
+#include <optional>
 #include <thread>
 #include <variant>
 
 #include "dynapath/experiment.h"
+#include "dynapath/parameters.h"
 #include "launch/launcher.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
@@ -53,6 +55,8 @@ constexpr const char* kSummary =
     "  results.csv, results_detailed.csv            the whole study, in study order\n"
     "  edge_results.csv, edge_results_detailed.csv  the edge case\n"
     "  runs/<size>_<difficulty>_<seed>/             each configuration's own files\n"
+    "  repeats.csv, summary.csv                     with --repeats N: every repeat, and means,\n"
+    "                                               IQMs and 95% bootstrap intervals\n"
     "  manifest.json                                options, build, machine, times, status\n"
     "  study.log                                    everything the components log\n"
     "Run the same command again to resume: finished configurations are skipped and\n"
@@ -116,7 +120,11 @@ std::string Differences(const Json& there, const Json& here) {
 const std::vector<std::string>& StudyFiles() {
   static const std::vector<std::string> files = {"manifest.json",    "study.log",
                                                  "results.csv",      "results_detailed.csv",
-                                                 "edge_results.csv", "edge_results_detailed.csv"};
+                                                 "edge_results.csv", "edge_results_detailed.csv",
+                                                 "repeats.csv",      "summary.csv",
+                                                 "edge_repeats.csv", "edge_summary.csv",
+                                                 "sweep.csv",        "sweep_summary.csv",
+                                                 "edge_sweep.csv",   "edge_sweep_summary.csv"};
   return files;
 }
 
@@ -149,6 +157,7 @@ double Seconds() {
 struct Session {
   const StudyOptions& options;
   StudyMode mode;  // after the fall-back to embedded
+  int threads;     // of each configuration (--threads / --parallel)
   fs::path out;
   ProgressDisplay& display;
   const std::atomic<bool>& stop;
@@ -161,7 +170,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
                         int index) {
   const std::string directory = (session.out / configuration.Directory()).string();
   const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
-  runtime::RunOptions run_options = RunOptionsOf(session.options, directory);
+  runtime::RunOptions run_options = RunOptionsOf(session.options, configuration, directory);
   // An interrupted configuration goes on from its last checkpoint (at most
   // one every 2 s: small configurations take a step in milliseconds).
   run_options.checkpoint = (fs::path(directory) / kCheckpointFolder).string();
@@ -176,10 +185,10 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
 
   if (session.mode == StudyMode::kLocal) {
     Result<std::vector<ApproachRun>> runs = runtime::RunLocal(
-        *plan, *setup, session.options.threads,
+        *plan, *setup, session.threads,
         [&](const StepView& view) {
-          display.Step(ApproachName(view.run.approach), view.pass, approaches,
-                       view.run.steps.back().time_step, view.total_steps);
+          display.StepOf(index, ApproachName(view.run.approach), view.pass, approaches,
+                         view.run.steps.back().time_step, view.total_steps);
         },
         &session.stop);
     if (!runs) return runs.error();
@@ -366,21 +375,46 @@ class StudyRunner {
 
   // Returns the exit status: 0, kExitFailure or 130 (interrupted).
   int Run() {
-    for (size_t i = 0; i < plan_.size() && !interrupted_; ++i) {
+    std::vector<size_t> to_run;
+    for (size_t i = 0; i < plan_.size(); ++i) {
       if (manifest_.configurations[i].status == "done") {
         spdlog::info("configuration {} {}: done before, skipped", Position(i), plan_[i].Label());
-        continue;
+      } else {
+        to_run.push_back(i);
       }
-      if (session_.stop) {
-        interrupted_ = true;
-        break;
+    }
+    // --parallel P: P workers take the configurations in study order.
+    std::mutex next_mutex;
+    size_t next = 0;
+    auto work = [&] {
+      for (;;) {
+        size_t i = 0;
+        {
+          std::lock_guard lock(next_mutex);
+          if (next == to_run.size() || interrupted_) return;
+          if (session_.stop) {
+            interrupted_ = true;
+            return;
+          }
+          i = to_run[next++];
+        }
+        RunOne(i);
+        std::lock_guard lock(mutex_);
+        (void)Merge(false);  // a failure is logged; the last merge below counts
+        (void)Save();
       }
-      RunOne(i);
-      (void)Merge();  // a failure is logged; the last merge below counts
-      (void)Save();
+    };
+    const int workers =
+        std::min(session_.options.parallel, static_cast<int>(std::max<size_t>(1, to_run.size())));
+    if (workers <= 1) {
+      work();
+    } else {
+      std::vector<std::thread> threads;
+      for (int w = 0; w < workers; ++w) threads.emplace_back(work);
+      for (std::thread& thread : threads) thread.join();
     }
     // The files that could not be written are told at the end, by name.
-    const Status merged = Merge();
+    const Status merged = Merge(true);
     if (!merged) unwritten_.push_back(merged.error().message);
     manifest_.status = interrupted_                    ? "interrupted"
                        : failures_ > 0 || !merged.ok() ? "failed"
@@ -406,37 +440,45 @@ class StudyRunner {
     return std::to_string(i + 1) + "/" + std::to_string(plan_.size());
   }
 
+  // Runs configuration i; with --parallel on several threads at once (the
+  // manifest and the files are touched under mutex_).
   void RunOne(size_t i) {
     const StudyConfiguration& configuration = plan_[i];
-    ConfigurationRecord& record = manifest_.configurations[i];
     const fs::path directory = session_.out / configuration.Directory();
-    std::error_code error;
-    fs::create_directories(directory, error);
-    // A run rewrites its files after every approach: drop an earlier partial run's.
-    fs::remove(directory / "results.csv", error);
-    fs::remove(directory / "results_detailed.csv", error);
-    record.status = "running";
-    record.mode = StudyModeName(session_.mode);
-    record.started = NowIso8601();
-    record.ended.clear();
-    record.wall_seconds = -1;
-    record.error.clear();
-    (void)Save();  // a failure is logged; the study's last save is the one that counts
     const std::string name = "configuration " + Position(i) + " " + configuration.Label();
-    spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
-                 session_.options.approaches.size(), StudyModeName(session_.mode));
-    if (!terminal_) session_.display.Print(name + ": started");
-    session_.display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
-                                        configuration.ShortLabel());
+    {
+      std::lock_guard lock(mutex_);
+      ConfigurationRecord& record = manifest_.configurations[i];
+      std::error_code error;
+      fs::create_directories(directory, error);
+      // A run rewrites its files after every approach: drop an earlier partial run's.
+      fs::remove(directory / "results.csv", error);
+      fs::remove(directory / "results_detailed.csv", error);
+      record.status = "running";
+      record.mode = StudyModeName(session_.mode);
+      record.started = NowIso8601();
+      record.ended.clear();
+      record.wall_seconds = -1;
+      record.error.clear();
+      (void)Save();  // a failure is logged; the study's last save is the one that counts
+      spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
+                   session_.options.approaches.size(), StudyModeName(session_.mode));
+      if (!terminal_) session_.display.Print(name + ": started");
+      session_.display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
+                                          configuration.ShortLabel());
+    }
 
     const double start = Seconds();
     const Status result = RunConfiguration(session_, configuration, static_cast<int>(i));
     const double wall = Seconds() - start;
+    std::lock_guard lock(mutex_);
+    ConfigurationRecord& record = manifest_.configurations[i];
     record.ended = NowIso8601();
     record.wall_seconds = wall;
     if (result && Complete(session_.out, configuration, session_.options)) {
       record.status = "done";
-      fs::remove_all(directory / kCheckpointFolder, error);  // nothing left to resume
+      std::error_code ignored;
+      fs::remove_all(directory / kCheckpointFolder, ignored);  // nothing left to resume
     } else if ((!result && result.error().IsCancelled()) || session_.stop) {
       record.status = "interrupted";
       record.error = "interrupted";
@@ -457,22 +499,70 @@ class StudyRunner {
     }
   }
 
-  // Rewrites the merged result files from the configurations done.
-  Status Merge() {
+  // Rewrites the merged result files from the configurations done: the
+  // first repeat's results*.csv, and with repeats every repeat's
+  // repeats.csv and their summary.csv (with a sweep the sweep's files).
+  // The summaries' bootstrap takes about a second for a large study, so
+  // they are rewritten at most every kSummaryInterval, and at the `last`
+  // merge.
+  static constexpr double kSummaryInterval = 30;
+  Status Merge(bool last) {
+    const bool summaries = last || Seconds() - last_summary_ >= kSummaryInterval;
+    if (summaries) last_summary_ = Seconds();
     std::vector<std::string> main_dirs, edge_dirs;
+    std::vector<RepeatFiles> main_repeats, edge_repeats;
+    // With sweeps: the grid's points in order, main and edge.
+    std::vector<std::string> sweep_names;
+    for (const StudyOptions::Sweep& sweep : session_.options.sweeps) {
+      sweep_names.push_back(Parameters()[sweep.parameter].name);
+    }
+    std::vector<SweepPoint> main_points, edge_points;
+    std::vector<std::vector<std::pair<size_t, double>>> point_keys;
     bool has_edge = false;
     for (size_t i = 0; i < plan_.size(); ++i) {
-      has_edge = has_edge || plan_[i].edge_case;
+      const StudyConfiguration& configuration = plan_[i];
+      has_edge = has_edge || configuration.edge_case;
+      size_t point = 0;
+      if (!sweep_names.empty()) {
+        const auto found = std::find(point_keys.begin(), point_keys.end(), configuration.point);
+        point = static_cast<size_t>(found - point_keys.begin());
+        if (found == point_keys.end()) {
+          point_keys.push_back(configuration.point);
+          SweepPoint empty;
+          for (const auto& [index, value] : configuration.point) {
+            empty.values.push_back(ParameterText(Parameters()[index], value));
+          }
+          main_points.push_back(empty);
+          edge_points.push_back(empty);
+        }
+      }
       if (manifest_.configurations[i].status != "done") continue;
-      (plan_[i].edge_case ? edge_dirs : main_dirs)
-          .push_back((session_.out / plan_[i].Directory()).string());
+      const std::string directory = (session_.out / configuration.Directory()).string();
+      const RepeatFiles files{directory, configuration.repeat, configuration.seed,
+                              configuration.learner_seed.value_or(configuration.seed)};
+      if (!sweep_names.empty()) {
+        (configuration.edge_case ? edge_points : main_points)[point].repeats.push_back(files);
+      }
+      if (point != 0) continue;  // the merged files hold the sweep's first point
+      if (configuration.repeat == 1) {
+        (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
+      }
+      (configuration.edge_case ? edge_repeats : main_repeats).push_back(files);
     }
     std::string failures;
-    const Status main = MergeResultFiles(main_dirs, session_.out.string(), "");
-    if (!main) failures = main.error().message;
+    auto failed = [&](const Status& status) {
+      if (!status) failures += (failures.empty() ? "" : "; ") + status.error().message;
+    };
+    const bool repeats = session_.options.repeats > 1;
+    const std::string out = session_.out.string();
+    const bool sweeps = !sweep_names.empty();
+    failed(MergeResultFiles(main_dirs, out, ""));
+    if (repeats) failed(WriteRepeatFiles(main_repeats, out, "", summaries));
+    if (sweeps) failed(WriteSweepFiles(sweep_names, main_points, out, "", summaries));
     if (has_edge) {
-      const Status edge = MergeResultFiles(edge_dirs, session_.out.string(), "edge_");
-      if (!edge) failures += (failures.empty() ? "" : "; ") + edge.error().message;
+      failed(MergeResultFiles(edge_dirs, out, "edge_"));
+      if (repeats) failed(WriteRepeatFiles(edge_repeats, out, "edge_", summaries));
+      if (sweeps) failed(WriteSweepFiles(sweep_names, edge_points, out, "edge_", summaries));
     }
     if (failures.empty()) return Ok{};
     spdlog::error("{}", failures);
@@ -490,8 +580,10 @@ class StudyRunner {
   Manifest& manifest_;
   const bool terminal_;
   SpaceReserve* reserve_;
+  std::mutex mutex_;  // the manifest, the merged files, the counts below
+  double last_summary_ = Seconds();
   int failures_ = 0;
-  bool interrupted_ = false;
+  std::atomic<bool> interrupted_{false};
   std::vector<std::string> unwritten_;
 };
 
@@ -583,7 +675,9 @@ int ExperimentCommand(const std::vector<std::string>& args) {
     const double seconds = manifest.configurations[i].wall_seconds;
     if (done[i] && seconds >= 0) display.AddHistory(work[i], seconds);
   }
-  const Session session{options, mode, out, display, stop, log_fd};
+  const int threads =
+      mode == StudyMode::kLocal ? std::max(1, options.threads / options.parallel) : options.threads;
+  const Session session{options, mode, threads, out, display, stop, log_fd};
   const double study_start = Seconds();
   // Room for the final manifest on a disk that fills up (twice its size).
   SpaceReserve reserve((out / ".manifest.reserve").string(),

@@ -5,8 +5,11 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -19,9 +22,74 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/study_plan.h"
+#include "tools/common/study_results.h"
 
 namespace dynapath::cli {
 namespace {
+
+// run --repeats N (N > 1, --local): `threads` repeats at once, one thread
+// each; repeat 1 in the output directory, repeat k in DIR/r<k>; then
+// repeats.csv and summary.csv. Returns the exit status.
+int RunRepeats(const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup, int repeats,
+               std::optional<long long> learner_seed, int threads, const std::atomic<bool>& stop) {
+  std::vector<runtime::RunPlan> plans;
+  std::vector<RepeatFiles> files;
+  for (int k = 1; k <= repeats; ++k) {
+    runtime::RunPlan repeat = plan;
+    repeat.learner_seed = RepeatLearnerSeed(learner_seed, setup.seed, k);
+    if (k > 1) repeat.out_dir = plan.out_dir + "/r" + std::to_string(k);
+    files.push_back(RepeatFiles{repeat.out_dir, k, setup.seed, repeat.RunSeed(setup.seed)});
+    plans.push_back(std::move(repeat));
+  }
+  const int workers = std::max(1, std::min(threads, repeats));
+  const int threads_each = std::max(1, threads / workers);
+  spdlog::info("{} repeats, {} at once with {} thread{} each", repeats, workers, threads_each,
+               threads_each == 1 ? "" : "s");
+  std::mutex mutex;
+  int next = 0;
+  std::vector<std::string> errors(static_cast<size_t>(repeats));
+  bool cancelled = false;
+  auto work = [&] {
+    for (;;) {
+      int k = 0;
+      {
+        std::lock_guard lock(mutex);
+        if (next == repeats || stop) return;
+        k = next++;
+      }
+      Result<std::vector<ApproachRun>> runs =
+          runtime::RunLocal(plans[static_cast<size_t>(k)], setup, threads_each, {}, &stop);
+      std::lock_guard lock(mutex);
+      if (!runs) {
+        errors[static_cast<size_t>(k)] = runs.error().message;
+        cancelled = cancelled || runs.error().IsCancelled();
+      } else {
+        spdlog::info("repeat {} of {} done (learner seed {})", k + 1, repeats,
+                     files[static_cast<size_t>(k)].learner_seed);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+  for (std::thread& thread : pool) thread.join();
+  if (cancelled || stop) return 130;
+  for (int k = 0; k < repeats; ++k) {
+    if (!errors[static_cast<size_t>(k)].empty()) {
+      spdlog::error("repeat {}: {}", k + 1, errors[static_cast<size_t>(k)]);
+      return kExitFailure;
+    }
+  }
+  if (Status status = WriteRepeatFiles(files, plan.out_dir, ""); !status) {
+    spdlog::error("{}", status.error().message);
+    return kExitFailure;
+  }
+  Result<std::string> summary = ReadTextFile(plan.out_dir + "/summary.csv");
+  if (summary) std::printf("%s", summary->c_str());
+  spdlog::info("wrote {}/repeats.csv and {}/summary.csv (repeat 1 in {}, repeat k in {}/r<k>)",
+               plan.out_dir, plan.out_dir, plan.out_dir, plan.out_dir);
+  return 0;
+}
 
 // `--resume DIR` (or --resume=DIR) in `args`: its DIR, and `rest` the other
 // arguments; nullopt when absent.
@@ -113,7 +181,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
       "  --agents N    envsim, coordinator and N agent processes over LCM, in a private\n"
       "                network namespace (or on --lcm-url's network)\n"
       "  --embedded    the same components as threads of this process over memq://\n"
-      "Results are identical in every mode (apart from the time columns).",
+      "Results are identical in every mode (apart from the time columns).\n"
+      "--repeats N (with --local) runs N times with independent learner streams: repeat 1\n"
+      "in DIR, repeat k in DIR/r<k>; DIR/repeats.csv and DIR/summary.csv (means and 95%\n"
+      "bootstrap intervals; docs/howto/STUDIES.md, Repeats).",
       "dynapath run");
   runtime::OptionGroup group(app);
   runtime::ModeOptions mode;
@@ -140,6 +211,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
                "processes again from the last checkpoint, at most N times (0: never)",
                "3 with --checkpoint, else 0");
+  std::optional<long long> repeats;
+  DeclareRepeatsOption(group, repeats, "1");
   runtime::AddConfigOption(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
@@ -204,6 +277,29 @@ int RunCommand(const std::vector<std::string>& given_args) {
   if (!plan->policy.save_path.empty()) {
     if (Status status = runtime::CheckOutputFile(plan->policy.save_path, "save-policy"); !status) {
       return usage_error(status.error().message);
+    }
+  }
+  Result<long long> repeat_count = runtime::InRange("repeats", repeats, 1, 1, kMaxRepeats);
+  if (!repeat_count) return usage_error(repeat_count.error().message);
+  if (*repeat_count > 1) {
+    if (distributed) {
+      return usage_error(
+          "--repeats needs --local (for agents: dynapath experiment --repeats N --agents M)");
+    }
+    if (!plan->policy.save_path.empty() || !plan->policy.load_path.empty()) {
+      return usage_error("--repeats runs without --save-policy and --load-policy");
+    }
+    if (!plan->checkpoint.dir.empty()) {
+      return usage_error(
+          "--repeats runs without --checkpoint (dynapath experiment --repeats N checkpoints each "
+          "repeat)");
+    }
+    const long long last = static_cast<long long>(plan->RunSeed(setup->seed)) +
+                           (*repeat_count - 1) * static_cast<long long>(kRepeatSeedStride);
+    if (last > runtime::kMaxLearnerSeed) {
+      return usage_error("option --learner-seed: the last repeat's learner seed " +
+                         std::to_string(last) + " would exceed " +
+                         std::to_string(runtime::kMaxLearnerSeed));
     }
   }
   Result<runtime::OutputLock> out_lock = runtime::LockResultDirectory(plan->out_dir);
@@ -295,6 +391,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
   const std::atomic<bool>& stop =
       protocol::StopOnSignals("\ndynapath run: stopping (Ctrl-C again: at once)\n",
                               "\ndynapath run: stopped at once\n");
+  if (*repeat_count > 1) {
+    return RunRepeats(*plan, *setup, static_cast<int>(*repeat_count), run_options.learner_seed,
+                      *threads, stop);
+  }
   Result<std::vector<ApproachRun>> runs = runtime::RunLocal(*plan, *setup, *threads, {}, &stop);
   if (!runs) {
     spdlog::error("{}", runs.error().message);

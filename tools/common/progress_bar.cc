@@ -168,6 +168,15 @@ void ProgressDisplay::Step(const std::string& approach, int approach_index, int 
   }
 }
 
+void ProgressDisplay::StepOf(int index, const std::string& approach, int approach_index,
+                             int approach_count, int step, int total_steps) {
+  {
+    std::lock_guard lock(mutex_);
+    if (current_ != index) return;
+  }
+  Step(approach, approach_index, approach_count, step, total_steps);
+}
+
 void ProgressDisplay::EndConfiguration(int index, double seconds, bool completed) {
   std::lock_guard lock(mutex_);
   if (index >= 0 && static_cast<size_t>(index) < work_.size()) {
@@ -176,6 +185,7 @@ void ProgressDisplay::EndConfiguration(int index, double seconds, bool completed
       finished_[static_cast<size_t>(index)] = true;
     }
   }
+  if (current_ != index) return;  // another one (run at once) is shown
   current_ = -1;
   if (terminal_) ClearLocked();
 }

@@ -77,6 +77,10 @@ class ProgressDisplay {
   // A time step of the current configuration (0-based approach index); any thread.
   void Step(const std::string& approach, int approach_index, int approach_count, int step,
             int total_steps);
+  // The same from configuration `index` only when it is the one shown
+  // (configurations run at once: the last one begun is shown).
+  void StepOf(int index, const std::string& approach, int approach_index, int approach_count,
+              int step, int total_steps);
   // `completed`: ran to its end (its time counts for the estimate).
   void EndConfiguration(int index, double seconds, bool completed);
   // A permanent line (above the bar); any thread.

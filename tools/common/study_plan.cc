@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "dynapath/experiment.h"
@@ -67,6 +68,17 @@ std::string Join(const std::vector<std::string>& pieces, const std::string& sepa
 }
 
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
+
+// The index of parameter `name` in Parameters(), or none.
+std::optional<size_t> ParameterIndex(const std::string& name) {
+  const std::vector<Parameter>& parameters = Parameters();
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    if (parameters[i].name == name) return i;
+  }
+  return std::nullopt;
+}
+
+bool IsParameter(const std::string& name) { return ParameterIndex(name).has_value(); }
 
 // Two maps of one study must be two files with two labels: a map's label
 // (runtime::MapLabel, its file name) names its run directory and its rows'
@@ -157,6 +169,18 @@ std::string StudyModeName(StudyMode mode) {
   return "local";
 }
 
+void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>& repeats,
+                          const std::string& default_text) {
+  group.Option("--repeats", repeats, "N",
+               "run N times (1 to " + std::to_string(kMaxRepeats) +
+                   "), repeat k with learner seed B + (k-1) x " +
+                   std::to_string(kRepeatSeedStride) +
+                   ", B the --learner-seed or the maze's seed (repeat 1: the default stream), "
+                   "--threads at once with --local; writes repeats.csv and summary.csv "
+                   "(docs/howto/STUDIES.md, Repeats)",
+               default_text);
+}
+
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   using runtime::ValueKind;
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
@@ -177,10 +201,20 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
              "none");
   runtime::DeclareMapPopulationOptions(group, o.stations, o.movers);
   runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
+  DeclareRepeatsOption(group, o.repeats, "1, or the number of --maze-seeds");
+  group.List("--maze-seeds", o.maze_seeds, ValueKind::kIntegerList, "LIST",
+             "comma-separated maze seeds, one per repeat: repeat k runs on the maze, change "
+             "sequence (and a map's stations and movers) of the k-th; instead of --seed; the edge "
+             "case keeps its maze",
+             "none: every repeat on the same maze");
   runtime::DeclareLearnerOptions(group, o.learner);
   runtime::DeclareModeOptions(group, o.mode);
   runtime::DeclarePlacementOption(group, o.learner);
   runtime::DeclareThreadOptions(group, o.threads);
+  group.Option("--parallel", o.parallel, "P",
+               "with --local: run P configurations (or repeats) at once, each with --threads / P "
+               "threads (results are the same; time columns then measure contended runs)",
+               "1; with --repeats, --threads");
   runtime::DeclareLcmUrlOption(group, o.lcm_url);
   runtime::DeclareLogOptions(group, o.log);
   group.Option("--out", o.out, "DIR", "study directory", kDefaultStudyDir);
@@ -232,12 +266,29 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
     };
     using Kind = ConfigValue::Kind;
+    // A parameter may list values to sweep.
+    const bool sweepable = IsParameter(key) && value.kind == Kind::kArray;
     switch (spec->second) {
       case runtime::ValueKind::kInteger:
-        if (value.kind != Kind::kInteger) return wrong("an integer");
+        if (sweepable) {
+          if (value.items.empty() || value.items.front().kind != Kind::kInteger) {
+            return wrong("an integer or a non-empty array of integers");
+          }
+        } else if (value.kind != Kind::kInteger) {
+          return wrong("an integer");
+        }
         break;
       case runtime::ValueKind::kFloat:
-        if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) return wrong("a number");
+        if (sweepable) {
+          for (const ConfigValue& item : value.items) {
+            if (item.kind != Kind::kFloat && item.kind != Kind::kInteger) {
+              return wrong("a number or an array of numbers");
+            }
+          }
+          if (value.items.empty()) return wrong("a number or a non-empty array of numbers");
+        } else if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) {
+          return wrong("a number");
+        }
         break;
       case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
@@ -467,6 +518,35 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   if (!steps) return given.Located(steps.error(), "steps");
   if (given->seed) options.seed = static_cast<unsigned>(*seed);
   if (given->steps) options.steps = static_cast<int>(*steps);
+
+  Result<long long> repeats = runtime::InRange("repeats", given->repeats, 1, 1, kMaxRepeats);
+  if (!repeats) return given.Located(repeats.error(), "repeats");
+  options.repeats = static_cast<int>(*repeats);
+  if (const OptionValue* maze_seeds = given.Find("maze-seeds")) {
+    if (given->seed) return Error{maze_seeds->origin + ": choose one of --seed and --maze-seeds"};
+    Result<std::vector<std::string>> items = ListItems(*maze_seeds);
+    if (!items) return items.error();
+    for (const std::string& item : *items) {
+      long long value = -1;
+      const char* end = item.data() + item.size();
+      const auto [last, error] = std::from_chars(item.data(), end, value);
+      if (error != std::errc() || last != end || value < 0 || value > runtime::kMaxSeed) {
+        return Error{maze_seeds->origin + ": seed '" + item + "' is not an integer from 0 to " +
+                     std::to_string(runtime::kMaxSeed)};
+      }
+      options.maze_seeds.push_back(static_cast<unsigned>(value));
+    }
+    const int count = static_cast<int>(options.maze_seeds.size());
+    if (!given->repeats) {
+      if (count > kMaxRepeats) {
+        return Error{maze_seeds->origin + ": at most " + std::to_string(kMaxRepeats) + " seeds"};
+      }
+      options.repeats = count;
+    } else if (count != options.repeats) {
+      return Error{maze_seeds->origin + ": " + std::to_string(count) + " seeds for " +
+                   std::to_string(options.repeats) + " repeats (one seed per repeat)"};
+    }
+  }
   return Ok{};
 }
 
@@ -480,6 +560,18 @@ Status ResolveLearner(const GivenOptions& given, StudyOptions& options) {
     return given.Located(plan.error(), "");
   }
   options.learner = given->learner;
+  // Every repeat's learner seed must be one --learner-seed accepts.
+  if (options.learner.learner_seed) {
+    const long long last = *options.learner.learner_seed +
+                           (options.repeats - 1) * static_cast<long long>(kRepeatSeedStride);
+    if (last > runtime::kMaxLearnerSeed) {
+      const OptionValue* value = given.Find("learner-seed");
+      return Error{(value ? value->origin : std::string("option --learner-seed")) + ": with " +
+                   std::to_string(options.repeats) + " repeats the last repeat's learner seed " +
+                   std::to_string(last) + " would exceed " +
+                   std::to_string(runtime::kMaxLearnerSeed)};
+    }
+  }
   return Ok{};
 }
 
@@ -500,6 +592,18 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
     if (!threads) return given.Located(threads.error(), "threads");
     options.threads = *threads;
   }
+  Result<long long> parallel = runtime::InRange("parallel", given->parallel, 1, 1, 256);
+  if (!parallel) return given.Located(parallel.error(), "parallel");
+  if (*parallel > 1 && options.mode.kind != StudyMode::kLocal) {
+    return Error{given.Find("parallel")->origin +
+                 ": runs configurations at once only with --local (agents spread one run's "
+                 "training over their cores)"};
+  }
+  options.parallel = static_cast<int>(*parallel);
+  // Repeats run at once over the cores by default (--local).
+  if (!given->parallel && options.repeats > 1 && options.mode.kind == StudyMode::kLocal) {
+    options.parallel = options.threads;
+  }
   if (Status status = runtime::CheckLogLevel(given->log.log_level); !status) {
     return given.Located(status.error(), "log-level");
   }
@@ -516,7 +620,50 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
 
 }  // namespace
 
-Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads) {
+namespace {
+
+// A parameter given several values (a study file's array, comma-joined):
+// the sweep, its values checked and distinct; the option value left with
+// the first, so that it is converted and checked as one value.
+Status TakeSweeps(OptionValues& values, std::vector<StudyOptions::Sweep>& sweeps) {
+  size_t points = 1;
+  for (auto& [name, value] : values) {
+    const std::optional<size_t> index = ParameterIndex(name);
+    if (!index || value.text.find(',') == std::string::npos) continue;
+    const Parameter& parameter = Parameters()[*index];
+    StudyOptions::Sweep sweep{*index, {}};
+    for (const std::string& item : Split(value.text, ',')) {
+      char* end = nullptr;
+      const double number = std::strtod(item.c_str(), &end);
+      if (item.empty() || end != item.c_str() + item.size()) {
+        return Error{value.origin + ": '" + item + "' is not a number"};
+      }
+      PlannerOptions check;
+      if (Status status = SetParameter(check, *index, number); !status) {
+        return Error{value.origin + ": " + status.error().Detail()};
+      }
+      if (std::find(sweep.values.begin(), sweep.values.end(), number) != sweep.values.end()) {
+        return Error{value.origin + ": " + ParameterText(parameter, number) + " is given twice"};
+      }
+      sweep.values.push_back(number);
+    }
+    points *= sweep.values.size();
+    if (points > kMaxSweepPoints) {
+      return Error{value.origin + ": the sweep's grid would have more than " +
+                   std::to_string(kMaxSweepPoints) + " points"};
+    }
+    value.text = Split(value.text, ',').front();
+    sweeps.push_back(std::move(sweep));
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<StudyOptions> ResolveStudyOptions(const OptionValues& given_values, int hardware_threads) {
+  OptionValues values = given_values;
+  std::vector<StudyOptions::Sweep> sweeps;
+  if (Status status = TakeSweeps(values, sweeps); !status) return status.error();
   Result<StudyCommandLine> converted = ConvertOptionValues(values);
   if (!converted) return converted.error();
   const GivenOptions given(values, std::move(*converted));
@@ -529,14 +676,35 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardwar
   if (Status status = ResolveExecution(given, hardware_threads, options); !status) {
     return status.error();
   }
+  // The swept parameters are the points' own, not the study's.
+  for (const StudyOptions::Sweep& sweep : sweeps) {
+    options.learner.parameters.integers[sweep.parameter].reset();
+    options.learner.parameters.reals[sweep.parameter].reset();
+  }
+  options.sweeps = std::move(sweeps);
   return options;
 }
 
-std::string StudyConfiguration::Name() const {
+std::string StudyConfiguration::BaseName() const {
   if (!map.empty()) return "map_" + map_label + "_" + std::to_string(seed);
   const std::string name =
       std::to_string(size) + "_" + LowerDifficulty(difficulty) + "_" + std::to_string(seed);
   return edge_case ? "edge_" + name : name;
+}
+
+std::string StudyConfiguration::PointToken() const {
+  std::string token;
+  for (const auto& [index, value] : point) {
+    const Parameter& parameter = Parameters()[index];
+    token += (token.empty() ? "" : "_") + parameter.name + "-" + ParameterText(parameter, value);
+  }
+  return token;
+}
+
+std::string StudyConfiguration::Name() const {
+  std::string name = BaseName();
+  if (!point.empty()) name += "_" + PointToken();
+  return repeat > 1 ? name + "_r" + std::to_string(repeat) : name;
 }
 
 std::string StudyConfiguration::SizeText() const {
@@ -550,17 +718,26 @@ std::string StudyConfiguration::DifficultyText() const {
 std::string StudyConfiguration::Directory() const { return "runs/" + Name(); }
 
 std::string StudyConfiguration::Label() const {
+  std::string of_repeats =
+      repeats > 1 ? ", repeat " + std::to_string(repeat) + "/" + std::to_string(repeats) : "";
+  for (const auto& [index, value] : point) {
+    const Parameter& parameter = Parameters()[index];
+    of_repeats += ", " + parameter.name + " " + ParameterText(parameter, value);
+  }
   if (!map.empty()) {
-    return "map " + map_label + " " + SizeLabel(size, cols) + ", seed " + std::to_string(seed);
+    return "map " + map_label + " " + SizeLabel(size, cols) + ", seed " + std::to_string(seed) +
+           of_repeats;
   }
   return std::string(edge_case ? "edge case " : "") + std::to_string(size) + " " +
-         DifficultyName(difficulty) + ", seed " + std::to_string(seed);
+         DifficultyName(difficulty) + ", seed " + std::to_string(seed) + of_repeats;
 }
 
 std::string StudyConfiguration::ShortLabel() const {
-  if (!map.empty()) return map_label + " s" + std::to_string(seed);
+  std::string of_repeats = repeats > 1 ? " r" + std::to_string(repeat) : "";
+  if (!point.empty()) of_repeats += " " + PointToken();
+  if (!map.empty()) return map_label + " s" + std::to_string(seed) + of_repeats;
   return std::string(edge_case ? "edge " : "") + std::to_string(size) + " " +
-         DifficultyName(difficulty) + " s" + std::to_string(seed);
+         DifficultyName(difficulty) + " s" + std::to_string(seed) + of_repeats;
 }
 
 double StudyConfiguration::Work() const {
@@ -573,14 +750,25 @@ double StudyConfiguration::Work() const {
   return 15800.0 + std::pow(cell_steps, 0.8);
 }
 
-std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
+std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, unsigned maze_seed,
+                                          int repeat) {
+  if (repeat <= 1 && !learner_seed) return std::nullopt;
+  const uint64_t base = learner_seed ? static_cast<uint64_t>(*learner_seed) : maze_seed;
+  return base + static_cast<uint64_t>(repeat - 1) * kRepeatSeedStride;
+}
+
+namespace {
+
+// The configurations of one repeat, in study order.
+std::vector<StudyConfiguration> OneRepeat(const StudyOptions& options,
+                                          std::optional<unsigned> seed) {
   std::vector<StudyConfiguration> plan;
   for (const int size : options.sizes) {
     for (const Difficulty difficulty : options.difficulties) {
       StudyConfiguration configuration;
       configuration.size = size;
       configuration.difficulty = difficulty;
-      configuration.seed = options.seed ? *options.seed : ReportSeed(difficulty);
+      configuration.seed = seed ? *seed : ReportSeed(difficulty);
       configuration.steps = options.steps ? *options.steps : ReportTimeSteps(size);
       plan.push_back(configuration);
     }
@@ -600,11 +788,50 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
     configuration.map_label = runtime::MapLabel(map.path);
     configuration.size = map.rows;
     configuration.cols = map.cols;
-    configuration.seed = options.seed ? *options.seed : ReportSeed(Difficulty::kEasy);
+    configuration.seed = seed ? *seed : ReportSeed(Difficulty::kEasy);
     configuration.steps = options.steps ? *options.steps : ReportTimeSteps(configuration.size);
     configuration.stations = options.stations;
     configuration.movers = options.movers;
     plan.push_back(configuration);
+  }
+  return plan;
+}
+
+}  // namespace
+
+std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
+  std::vector<std::vector<StudyConfiguration>> repeats;
+  for (int k = 1; k <= options.repeats; ++k) {
+    const std::optional<unsigned> seed =
+        options.maze_seeds.empty() ? options.seed
+                                   : std::optional<unsigned>(options.maze_seeds[size_t(k - 1)]);
+    repeats.push_back(OneRepeat(options, seed));
+  }
+  // The sweep's grid points, the first swept parameter varying slowest.
+  std::vector<std::vector<std::pair<size_t, double>>> points = {{}};
+  for (const StudyOptions::Sweep& sweep : options.sweeps) {
+    std::vector<std::vector<std::pair<size_t, double>>> next;
+    for (const auto& point : points) {
+      for (const double value : sweep.values) {
+        next.push_back(point);
+        next.back().emplace_back(sweep.parameter, value);
+      }
+    }
+    points = std::move(next);
+  }
+  std::vector<StudyConfiguration> plan;
+  for (const auto& point : points) {
+    for (size_t i = 0; i < repeats.front().size(); ++i) {
+      for (int k = 1; k <= options.repeats; ++k) {
+        StudyConfiguration configuration = repeats[size_t(k - 1)][i];
+        configuration.repeat = k;
+        configuration.repeats = options.repeats;
+        configuration.learner_seed =
+            RepeatLearnerSeed(options.learner.learner_seed, configuration.seed, k);
+        configuration.point = point;
+        plan.push_back(configuration);
+      }
+    }
   }
   return plan;
 }
@@ -630,6 +857,24 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string&
   runtime::RunOptions run = options.learner;
   run.approach = Join(names, ",");
   run.out = out_dir;
+  return run;
+}
+
+runtime::RunOptions RunOptionsOf(const StudyOptions& options,
+                                 const StudyConfiguration& configuration,
+                                 const std::string& out_dir) {
+  runtime::RunOptions run = RunOptionsOf(options, out_dir);
+  run.learner_seed.reset();
+  if (configuration.learner_seed) {
+    run.learner_seed = static_cast<long long>(*configuration.learner_seed);
+  }
+  for (const auto& [index, value] : configuration.point) {
+    if (Parameters()[index].integer) {
+      run.parameters.integers[index] = static_cast<long long>(value);
+    } else {
+      run.parameters.reals[index] = value;
+    }
+  }
   return run;
 }
 
@@ -679,8 +924,27 @@ Json StudyIdentityJson(const StudyOptions& options) {
   if (options.learner.semantics != runtime::RunOptions().semantics) {
     json["semantics"] = options.learner.semantics;
   }
+  if (options.learner.learner_seed) json["learner_seed"] = *options.learner.learner_seed;
+  // Only when used, so that studies without repeats keep their identity.
+  if (options.repeats > 1) json["repeats"] = options.repeats;
+  if (!options.maze_seeds.empty()) {
+    Json& seeds = json["maze_seeds"] = Json::array();
+    for (const unsigned seed : options.maze_seeds) seeds.push_back(seed);
+  }
   Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(RunOptionsOf(options, options.out));
   json["parameters"] = ParametersJson(plan ? plan->options : PlannerOptions{});
+  // A swept parameter's entry is its list of values.
+  for (const StudyOptions::Sweep& sweep : options.sweeps) {
+    const Parameter& parameter = Parameters()[sweep.parameter];
+    Json& values = json["parameters"][parameter.name] = Json::array();
+    for (const double value : sweep.values) {
+      if (parameter.integer) {
+        values.push_back(static_cast<long long>(value));
+      } else {
+        values.push_back(value);
+      }
+    }
+  }
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
     for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);
@@ -697,6 +961,7 @@ Json ExecutionJson(const StudyOptions& options) {
   json["agents"] = local ? Json() : Json(options.mode.agents);
   json["placement"] = local ? Json() : Json(options.learner.placement);
   json["threads"] = options.threads;
+  if (options.parallel > 1) json["parallel"] = options.parallel;
   json["lcm_url"] = options.lcm_url.empty() ? Json() : Json(options.lcm_url);
   json["log_level"] = options.log.log_level;
   json["out"] = options.out;

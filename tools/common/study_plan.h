@@ -3,6 +3,7 @@
 // command line and from a config file (study_config.h) under the same names,
 // and the list of maze configurations they give, in study order.
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -50,6 +51,21 @@ struct StudyOptions {
   std::string movers = kDefaultMovers;
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
+  // --repeats: each configuration runs this many times, repeat k with the
+  // learner seed RepeatLearnerSeed gives; --maze-seeds: repeat k on the maze
+  // (and change sequence, and a map's stations and movers) of seed
+  // maze_seeds[k - 1] instead of --seed or the report's (the edge case keeps
+  // its maze). Empty: every repeat on the same maze.
+  int repeats = 1;
+  std::vector<unsigned> maze_seeds;
+  // A study file's parameter given a list (`epsilon-start = [0.01, 0.1]`):
+  // the study runs the grid of every swept parameter's values (the first
+  // swept parameter varying slowest), each point with the whole plan.
+  struct Sweep {
+    size_t parameter = 0;  // index in Parameters()
+    std::vector<double> values;
+  };
+  std::vector<Sweep> sweeps;
   // leaf_limit, bootstrap, semantics and placement, with `dynapath run`'s
   // defaults and checks; approach and out are each configuration's
   // (RunOptionsOf).
@@ -57,6 +73,9 @@ struct StudyOptions {
   // How it runs; may change from one session of a study to the next.
   runtime::RunMode mode;  // kind and agents
   int threads = 1;        // ResolveStudyOptions: --threads or the hardware's
+  // --parallel: configurations run at once (--local only), each with
+  // threads / parallel threads.
+  int parallel = 1;
   runtime::LogOptions log;
   std::string lcm_url;
   std::string out = kDefaultStudyDir;
@@ -84,7 +103,8 @@ using OptionValues = std::map<std::string, OptionValue>;
 struct StudyCommandLine {
   std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
   bool edge_case = false, no_edge_case = false;
-  std::optional<long long> seed, steps;
+  std::optional<long long> seed, steps, repeats, parallel;
+  std::optional<std::string> maze_seeds;
   runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
   runtime::ModeOptions mode;
   runtime::ThreadOptions threads;
@@ -92,6 +112,10 @@ struct StudyCommandLine {
   runtime::LogOptions log;
 };
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& options);
+// --repeats N, of `dynapath experiment` and `dynapath run` (which runs its
+// repeats in DIR/r<k>).
+void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>& repeats,
+                          const std::string& default_text);
 // The keys a study file may hold, with their kinds (from the declaration).
 const runtime::OptionKinds& StudyOptionKinds();
 // The options given on a parsed command line, as text values ("option
@@ -124,10 +148,23 @@ struct StudyConfiguration {
   std::string map, map_label;
   int cols = 0;
   std::string stations, movers;  // as StudyOptions
+  // Its repeat (1..repeats) and the study's repeats; the learner seed of a
+  // repeat after the first, or of every repeat with --learner-seed (unset:
+  // the maze's seed, the stream of a run without --learner-seed).
+  int repeat = 1, repeats = 1;
+  std::optional<uint64_t> learner_seed;
+  // Its point of the sweep grid: (parameter index, value) per swept
+  // parameter; empty without sweeps.
+  std::vector<std::pair<size_t, double>> point;
+  // "epsilon-start-0.05" ("_"-joined for several); "" without sweeps.
+  std::string PointToken() const;
 
   // "20_easy_50"; the edge case is "edge_50_hard_102"; a map
-  // "map_warehouse-10-20-10-2-1_50".
+  // "map_warehouse-10-20-10-2-1_50"; then "_<point token>" at a sweep's
+  // point, and "_r<k>" for repeat k > 1: "20_easy_50_epsilon-start-0.05_r2".
   std::string Name() const;
+  // The name of the maze (without point and repeat).
+  std::string BaseName() const;
   // Its Size and Difficulty columns in result files: "50" and "Hard", or
   // "63x161" and the map's label.
   std::string SizeText() const;
@@ -145,8 +182,19 @@ struct StudyConfiguration {
 
 // Sizes in order, each with the difficulties in order; then the edge case
 // (hard 50x50 of seed 102, with --steps when given) when enabled; then the
-// maps in order (seed --seed or 50, steps --steps or 2 x rows).
+// maps in order (seed --seed or 50, steps --steps or 2 x rows). Each
+// configuration's repeats follow each other (repeat 1 first).
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
+
+// The learner seed of repeat `repeat` (1-based) on a maze of seed
+// `maze_seed`: base + (repeat - 1) x kRepeatSeedStride, base being
+// --learner-seed when given, else the maze seed. Unset for repeat 1 without
+// --learner-seed (the run's default stream, which is the maze seed).
+inline constexpr uint64_t kRepeatSeedStride = 1000003;
+inline constexpr int kMaxRepeats = 1000;
+inline constexpr size_t kMaxSweepPoints = 1000;
+std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, unsigned maze_seed,
+                                          int repeat);
 
 // The `dynapath run` maze options of a configuration (size, difficulty,
 // seed, steps), and its run options (approaches, out, leaf limit,
@@ -154,6 +202,10 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 // into, not spelled out as arguments.
 runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
 runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir);
+// The same with the configuration's learner seed.
+runtime::RunOptions RunOptionsOf(const StudyOptions& options,
+                                 const StudyConfiguration& configuration,
+                                 const std::string& out_dir);
 
 // The options that determine the results (compared to resume a study), and
 // the others, as manifest objects.

@@ -37,6 +37,12 @@ SUMMARY_COLUMNS = ["Approach", "Size", "Difficulty", "InitialTime", "AdaptTimePe
 DETAILED_COLUMNS = ["Approach", "Size", "Difficulty", "TimeStep", "NumChanges", "AdaptTime",
                     "SuccessRate", "AvgPathLength"]
 TEXT_COLUMNS = ["Approach", "Size", "Difficulty"]
+# Repeats (dynapath experiment --repeats N): every repeat's results.csv row,
+# and their statistics (mean and its 95% bootstrap interval, among others).
+REPEATS_FILE = "repeats.csv"
+REPEAT_SUMMARY_FILE = "summary.csv"
+REPEAT_SUMMARY_COLUMNS = ["Approach", "Size", "Difficulty", "Metric", "Repeats", "Mean",
+                          "MeanCILow", "MeanCIHigh"]
 
 DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # One colour and marker per approach in every figure (Okabe-Ito colours, which
@@ -85,6 +91,11 @@ def parse_arguments(argv):
                "adapt_box_<size>_<difficulty>, cumulative_adapt_<size>_<difficulty>, "
                "success_over_time_<size>_<difficulty>; for the edge case the same per-"
                "configuration figures prefixed edge_, and edge_summary_<size>_<difficulty>. "
+               "A study with repeats (summary.csv, repeats.csv): the by-size and edge summary "
+               "figures show means over the repeats with 95% bootstrap intervals, and "
+               "performance_profile_success (and edge_performance_profile_success) is added. "
+               "A study with a sweep (sweep_summary.csv): sweep_<parameter> per swept "
+               "parameter. "
                "See docs/howto/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
     parser.add_argument("study", metavar="DIR", help="the study directory (dynapath run --out DIR)")
     parser.add_argument("--out", metavar="DIR",
@@ -205,6 +216,28 @@ def read_summary(path):
 
 def read_detailed(path):
     return read_table(path, DETAILED_COLUMNS, DETAILED_COLUMNS[3:], TEXT_COLUMNS + ["TimeStep"])
+
+
+def read_intervals(path):
+    """summary.csv of a study with repeats, without its rows over all
+    configurations: {(approach, size, difficulty, metric): (repeats, mean,
+    low, high)}; None when the file is absent."""
+    if not path.exists():
+        return None
+    frame = read_table(path, REPEAT_SUMMARY_COLUMNS, REPEAT_SUMMARY_COLUMNS[4:],
+                       TEXT_COLUMNS + ["Metric"])
+    frame = frame[frame["Size"] != "all"]
+    return {(row.Approach, row.Size, row.Difficulty, row.Metric):
+            (int(row.Repeats), row.Mean, row.MeanCILow, row.MeanCIHigh)
+            for row in frame.itertuples(index=False)}
+
+
+def read_repeats(path):
+    """repeats.csv (every repeat's result row), or None when absent."""
+    if not path.exists():
+        return None
+    return read_table(path, ["Repeat"] + SUMMARY_COLUMNS, ["Repeat"] + SUMMARY_COLUMNS[3:],
+                      ["Repeat"] + TEXT_COLUMNS)
 
 
 def read_study(directory, prefix, optional):
@@ -382,7 +415,21 @@ BY_SIZE_FIGURES = [
 ]
 
 
-def plot_by_size(summary, reference, styles, out_dir, written):
+def interval_series(intervals, approach, difficulty, sizes, column):
+    """(sizes, means, lower errors, upper errors, fewest repeats) of one line
+    of a by-size figure from the repeats' statistics."""
+    found = [(size, intervals[(approach, size, difficulty, column)]) for size in sizes
+             if (approach, size, difficulty, column) in intervals]
+    means = [value[1] for _, value in found]
+    low = [max(0.0, value[1] - value[2]) for _, value in found]
+    high = [max(0.0, value[3] - value[1]) for _, value in found]
+    fewest = min((value[0] for _, value in found), default=0)
+    return [size for size, _ in found], means, low, high, fewest
+
+
+def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
+    """With `intervals` (a study with repeats), each point is the mean over
+    the repeats with its 95% bootstrap interval as an error bar."""
     sizes = sizes_of(summary)
     difficulties = difficulties_of(summary)
     approaches = styles.ordered(summary["Approach"].unique())
@@ -411,18 +458,33 @@ def plot_by_size(summary, reference, styles, out_dir, written):
             rows_of_legend = max(2, rows_of_legend)
         columns = math.ceil(len(approaches) / rows_of_legend)
         figure, axes, legend_axis = figure_with_legend_row(len(difficulties), rows_of_legend)
+        fewest_repeats = None
         for axis, difficulty in zip(axes, difficulties):
             rows = summary[summary["Difficulty"] == difficulty]
             for approach in approaches:
                 series = rows[rows["Approach"] == approach]
-                xs = [position[size] + offset[approach] for size in series["Size"]]
-                order = sorted(range(len(xs)), key=lambda i: xs[i])
-                xs = [xs[i] for i in order]
-                ys = [series[column].iloc[i] for i in order]
-                if kind == "log":
-                    ys = positive_or_nan(ys)
-                axis.plot(xs, ys, color=styles.colour(approach), marker=styles.marker(approach),
-                          markersize=6.5, linewidth=1.6, zorder=3)
+                if intervals is not None:
+                    at, ys, low, high, fewest = interval_series(intervals, approach, difficulty,
+                                                                sizes, column)
+                    fewest_repeats = fewest if fewest_repeats is None else min(fewest_repeats,
+                                                                               fewest)
+                    xs = [position[size] + offset[approach] for size in at]
+                    if kind == "log":  # bars that would reach 0 or below stop at the point
+                        low = [min(d, y * 0.999) if y > 0 else 0 for d, y in zip(low, ys)]
+                        ys = positive_or_nan(ys)
+                    axis.errorbar(xs, ys, yerr=[low, high], color=styles.colour(approach),
+                                  marker=styles.marker(approach), markersize=6.5, linewidth=1.6,
+                                  elinewidth=1.3, capsize=3, zorder=3)
+                else:
+                    xs = [position[size] + offset[approach] for size in series["Size"]]
+                    order = sorted(range(len(xs)), key=lambda i: xs[i])
+                    xs = [xs[i] for i in order]
+                    ys = [series[column].iloc[i] for i in order]
+                    if kind == "log":
+                        ys = positive_or_nan(ys)
+                    axis.plot(xs, ys, color=styles.colour(approach),
+                              marker=styles.marker(approach), markersize=6.5, linewidth=1.6,
+                              zorder=3)
                 if overlay:
                     published = reference[(reference["Difficulty"] == difficulty)
                                           & (reference["Approach"] == approach)]
@@ -470,9 +532,121 @@ def plot_by_size(summary, reference, styles, out_dir, written):
             columns += 1
         legend_axis.legend(handles=handles, loc="center", ncol=columns, frameon=False,
                            fontsize=9.5, handlelength=2.6, columnspacing=1.6)
+        if fewest_repeats:
+            title += (f" (mean of {fewest_repeats} repeats, "
+                      "95% stratified-bootstrap interval)")
         figure.suptitle(title, fontsize=13)
         figure.tight_layout()
         save(figure, out_dir / f"{name}.png", written)
+
+
+SWEEP_SUMMARY_FILE = "sweep_summary.csv"
+SWEEP_PANELS = [
+    ("AvgSuccessRate", "Average success rate (%)", "percent"),
+    ("AvgPathLength", "Average path length (steps)", "linear"),
+    ("AdaptTimePerStep", "Adaptation time per step (s)", "log"),
+]
+
+
+def read_sweep(path):
+    """sweep_summary.csv: (the swept parameters' names, the frame); None
+    when absent."""
+    import pandas as pd
+    if not path.exists():
+        return None
+    try:
+        header = pd.read_csv(path, nrows=0).columns.tolist()
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, ValueError) as error:
+        raise PlotError(f"{path}: not a readable CSV table: {error}") from None
+    if "Approach" not in header or header.index("Approach") == 0:
+        raise PlotError(f"{path}: expected the swept parameters' columns, then Approach")
+    names = header[:header.index("Approach")]
+    frame = read_table(path, names + REPEAT_SUMMARY_COLUMNS, names + REPEAT_SUMMARY_COLUMNS[4:],
+                       TEXT_COLUMNS + ["Metric"] + names)
+    return names, frame
+
+
+def plot_sweeps(sweep, styles, out_dir, written, prefix=""):
+    """One figure per swept parameter: success rate, path length and
+    adaptation time (means over all configurations and repeats, with their
+    95% bootstrap intervals) against the parameter's values, one line per
+    approach; the other swept parameters at their first value."""
+    plt = pyplot()
+    names, frame = sweep
+    pooled = frame[frame["Size"] == "all"]
+    if pooled.empty:  # one configuration: its own rows
+        pooled = frame
+    for name in names:
+        rows = pooled
+        fixed = []
+        for other in names:
+            if other != name:
+                first = frame[other].iloc[0]
+                rows = rows[rows[other] == first]
+                fixed.append(f"{other} {first:g}")
+        figure, axes = plt.subplots(1, len(SWEEP_PANELS), figsize=(15.0, 4.8))
+        for axis, (metric, ylabel, kind) in zip(axes, SWEEP_PANELS):
+            for approach in styles.ordered(rows["Approach"].unique()):
+                series = rows[(rows["Approach"] == approach) & (rows["Metric"] == metric)]
+                series = series.sort_values(name)
+                xs = series[name].tolist()
+                ys = series["Mean"].tolist()
+                low = [max(0.0, m - l) for m, l in zip(ys, series["MeanCILow"])]
+                high = [max(0.0, h - m) for m, h in zip(ys, series["MeanCIHigh"])]
+                if kind == "log":
+                    low = [min(d, y * 0.999) if y > 0 else 0 for d, y in zip(low, ys)]
+                    ys = positive_or_nan(ys)
+                axis.errorbar(xs, ys, yerr=[low, high], color=styles.colour(approach),
+                              marker=styles.marker(approach), markersize=6, linewidth=1.5,
+                              capsize=3, label=approach)
+            axis.set_xlabel(name)
+            axis.set_ylabel(ylabel)
+            axis.grid(True, alpha=0.3)
+            if kind == "log":
+                axis.set_yscale("log")
+                axis.yaxis.set_major_formatter(seconds_formatter())
+            elif kind == "percent":
+                axis.yaxis.set_major_formatter(percent_formatter(2))
+        axes[0].legend(fontsize=8.5, frameon=False)
+        where = "edge case" if prefix else "all configurations"
+        title = f"Sweep of {name} ({where}; mean and 95% bootstrap interval over runs"
+        title += (", " + ", ".join(fixed) if fixed else "") + ")"
+        figure.suptitle(title, fontsize=12)
+        figure.tight_layout()
+        save(figure, out_dir / f"{prefix}sweep_{file_token(name)}.png", written)
+
+
+def plot_performance_profile(repeats, styles, out_dir, written, prefix=""):
+    """rliable's performance profile (score distribution) of the success
+    rate: for each approach, the share of all its runs (configurations x
+    repeats) whose AvgSuccessRate exceeds tau, against tau; a curve further
+    up and right is better, and one that dominates another is better on
+    every threshold."""
+    import numpy as np
+    plt = pyplot()
+    approaches = styles.ordered(repeats["Approach"].unique())
+    values = repeats["AvgSuccessRate"]
+    low = max(0.0, float(values.min()) - 0.01)
+    taus = np.linspace(low, 1.0, 400)
+    figure, axis = plt.subplots(figsize=(8.0, 5.2))
+    for approach in approaches:
+        scores = np.sort(repeats.loc[repeats["Approach"] == approach, "AvgSuccessRate"].to_numpy())
+        share = 1.0 - np.searchsorted(scores, taus, side="right") / len(scores)
+        axis.step(taus, share, where="post", color=styles.colour(approach), linewidth=1.8,
+                  label=approach)
+    runs = repeats.groupby("Approach").size().min()
+    configurations = len(repeats[["Size", "Difficulty"]].drop_duplicates())
+    axis.set_xlabel("Average success rate τ")
+    axis.set_ylabel("Share of runs with success rate > τ")
+    axis.xaxis.set_major_formatter(percent_formatter(1 if 1.0 - low < 0.3 else 0))
+    axis.set_ylim(-0.02, 1.02)
+    axis.grid(True, alpha=0.3)
+    axis.legend(loc="lower left", fontsize=9, frameon=False)
+    what = "edge case" if prefix else f"{configurations} configurations"
+    axis.set_title(f"Performance profile of the success rate ({what}, {runs} runs per approach)",
+                   fontsize=11.5)
+    figure.tight_layout()
+    save(figure, out_dir / f"{prefix}performance_profile_success.png", written)
 
 
 # ----------------------------------------------------------------------------
@@ -646,7 +820,9 @@ EDGE_SUMMARY_PANELS = [
 ]
 
 
-def plot_edge_summary(summary, reference, styles, out_dir, written):
+def plot_edge_summary(summary, reference, styles, out_dir, written, intervals=None):
+    """With `intervals`, the bars are the means over the repeats, with their
+    95% bootstrap intervals."""
     plt = pyplot()
     for size, difficulty in configurations_of(summary):
         rows = summary[(summary["Size"] == size) & (summary["Difficulty"] == difficulty)]
@@ -661,10 +837,24 @@ def plot_edge_summary(summary, reference, styles, out_dir, written):
         for axis, (column, ylabel, kind) in zip(axes.flat, EDGE_SUMMARY_PANELS):
             values = [rows.loc[rows["Approach"] == approach, column].iloc[0]
                       for approach in approaches]
+            errors = None
+            if intervals is not None and all((a, size, difficulty, column) in intervals
+                                             for a in approaches):
+                stats = [intervals[(a, size, difficulty, column)] for a in approaches]
+                values = [value[1] for value in stats]
+                errors = [[max(0.0, value[1] - value[2]) for value in stats],
+                          [max(0.0, value[3] - value[1]) for value in stats]]
             heights = positive_or_nan(values) if kind == "log" else values
             axis.bar(range(len(approaches)), [0 if math.isnan(h) else h for h in heights],
                      color=[styles.colour(a) + "99" for a in approaches],
                      edgecolor=[styles.colour(a) for a in approaches], linewidth=1.3, width=0.65)
+            if errors is not None:
+                if kind == "log":
+                    errors[0] = [min(d, h * 0.999) if h > 0 else 0
+                                 for d, h in zip(errors[0], values)]
+                axis.errorbar(range(len(approaches)), [0 if math.isnan(h) else h for h in heights],
+                              yerr=errors, fmt="none", ecolor="black", elinewidth=1.2, capsize=4,
+                              zorder=5)
             if kind == "log":
                 axis.set_yscale("log")
                 axis.yaxis.set_major_formatter(seconds_formatter())
@@ -691,6 +881,10 @@ def plot_edge_summary(summary, reference, styles, out_dir, written):
                                  fontsize=9)
             axis.grid(True, axis="y", alpha=0.3)
         title = f"Edge case: {configuration_title(size, difficulty)}, averages per approach"
+        if intervals is not None:
+            repeats = min((value[0] for key, value in intervals.items()
+                           if key[1] == size and key[2] == difficulty), default=0)
+            title += f"\n(mean of {repeats} repeats, 95% bootstrap interval)"
         if published is not None:
             from matplotlib.lines import Line2D
             marker = Line2D([], [], linestyle="none", marker="o", markersize=8,
@@ -727,6 +921,12 @@ def run(argv):
                         "(expected the output directory of dynapath run)")
     summary, detailed = read_study(study, "", optional=edge_present)
     edge_summary, edge_detailed = read_study(study, EDGE_PREFIX, optional=True)
+    intervals = read_intervals(study / REPEAT_SUMMARY_FILE)
+    edge_intervals = read_intervals(study / (EDGE_PREFIX + REPEAT_SUMMARY_FILE))
+    repeats = read_repeats(study / REPEATS_FILE)
+    edge_repeats = read_repeats(study / (EDGE_PREFIX + REPEATS_FILE))
+    sweep = read_sweep(study / SWEEP_SUMMARY_FILE)
+    edge_sweep = read_sweep(study / (EDGE_PREFIX + SWEEP_SUMMARY_FILE))
 
     reference = edge_reference = None
     if reference_dir is not None:
@@ -752,11 +952,19 @@ def run(argv):
                               "xtick.labelsize": 9.5, "ytick.labelsize": 9.5})
     written = []
     if summary is not None:
-        plot_by_size(summary, reference, styles, out_dir, written)
+        plot_by_size(summary, reference, styles, out_dir, written, intervals)
         plot_per_configuration(detailed, styles, out_dir, written)
+        if repeats is not None:
+            plot_performance_profile(repeats, styles, out_dir, written)
+        if sweep is not None:
+            plot_sweeps(sweep, styles, out_dir, written)
     if edge_summary is not None:
         plot_per_configuration(edge_detailed, styles, out_dir, written, prefix=EDGE_PREFIX)
-        plot_edge_summary(edge_summary, edge_reference, styles, out_dir, written)
+        plot_edge_summary(edge_summary, edge_reference, styles, out_dir, written, edge_intervals)
+        if edge_repeats is not None:
+            plot_performance_profile(edge_repeats, styles, out_dir, written, prefix=EDGE_PREFIX)
+        if edge_sweep is not None:
+            plot_sweeps(edge_sweep, styles, out_dir, written, prefix=EDGE_PREFIX)
     for path in written:
         print(path)
     return 0
