@@ -15,14 +15,14 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "the checkpoint's numbers are little-endian");
 
-constexpr char kMagic[8] = {'D', 'Y', 'N', 'A', 'C', 'K', 'P', '\n'};
+constexpr char kCheckpointMagic[8] = {'D', 'Y', 'N', 'A', 'C', 'K', 'P', '\n'};
 // A run has at most one row per approach and time step.
 constexpr uint64_t kMaxRows = kMaxSteps + 1;
 constexpr size_t kMaxLabelBytes = 256;
 constexpr size_t kRowBytes = 4 + 4 + 8 + 8 + 8 + 4 + 4;
 constexpr uint64_t kMaxCheckpointBytes = kMaxPolicyFileBytes + (uint64_t{1} << 30);
 
-Error Truncated(const std::string& what) { return Error::Corrupt("truncated in " + what); }
+Error TruncatedIn(const std::string& what) { return Error::Corrupt("truncated in " + what); }
 
 void PutRun(ByteWriter& out, const ApproachRun& run) {
   out.PutText(ApproachName(run.approach));
@@ -54,7 +54,7 @@ Result<ApproachRun> GetRun(ByteReader& in) {
   run.approach = *parsed;
   uint64_t rows = 0;
   if (!in.Get(run.initial_seconds) || !in.Get(run.load_seconds) || !in.Get(rows)) {
-    return Truncated("an approach's header");
+    return TruncatedIn("an approach's header");
   }
   // Checked against the bytes left before anything is allocated.
   if (rows > kMaxRows || rows * kRowBytes > in.left()) {
@@ -94,7 +94,7 @@ Result<std::vector<uint8_t>> EncodeCheckpoint(const RunCheckpoint& checkpoint) {
     policy = std::move(*encoded);
   }
   ByteWriter out;
-  out.PutBytes(kMagic, sizeof(kMagic));
+  out.PutBytes(kCheckpointMagic, sizeof(kCheckpointMagic));
   out.Put<uint32_t>(kCheckpointFormatVersion);
   out.Put<uint64_t>(checkpoint.run_seed);
   out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.total_steps));
@@ -110,26 +110,26 @@ Result<std::vector<uint8_t>> EncodeCheckpoint(const RunCheckpoint& checkpoint) {
 Result<RunCheckpoint> DecodeCheckpoint(std::string_view bytes, bool verify_checksum) {
   ByteReader in(bytes);
   std::string_view magic;
-  if (!in.GetView(sizeof(kMagic), magic) || magic != std::string_view(kMagic, sizeof(kMagic))) {
+  if (!in.GetView(sizeof(kCheckpointMagic), magic) || magic != std::string_view(kCheckpointMagic, sizeof(kCheckpointMagic))) {
     return Error::Corrupt("not a DynaPath checkpoint (no DYNACKP magic)");
   }
   uint32_t version = 0, pass = 0, count = 0;
-  if (!in.Get(version)) return Truncated("the header");
+  if (!in.Get(version)) return TruncatedIn("the header");
   if (version != kCheckpointFormatVersion) {
     return Error::Corrupt("format version " + std::to_string(version) + ", this build reads " +
                           std::to_string(kCheckpointFormatVersion));
   }
-  if (in.left() < kChecksumBytes) return Truncated("the header");
+  if (in.left() < kChecksumBytes) return TruncatedIn("the header");
   if (verify_checksum && !ChecksumMatches(bytes)) {
     return Error::Corrupt("checksum mismatch (the file is damaged or cut short)");
   }
-  ByteReader body(bytes.substr(0, bytes.size() - kChecksumBytes).substr(sizeof(kMagic) + 4));
+  ByteReader body(bytes.substr(0, bytes.size() - kChecksumBytes).substr(sizeof(kCheckpointMagic) + 4));
   constexpr uint32_t kMaxRuns = 64;  // a run has at most one pass per approach
   uint32_t total_steps = 0;
   RunCheckpoint checkpoint;
   if (!body.Get(checkpoint.run_seed) || !body.Get(total_steps) || !body.Get(pass) ||
       !body.Get(count)) {
-    return Truncated("the header");
+    return TruncatedIn("the header");
   }
   if (total_steps > kMaxSteps) return Error::Corrupt("more time steps than any run has");
   checkpoint.total_steps = static_cast<int>(total_steps);
@@ -145,7 +145,7 @@ Result<RunCheckpoint> DecodeCheckpoint(std::string_view bytes, bool verify_check
   }
   uint64_t policy_bytes = 0;
   std::string_view policy;
-  if (!body.Get(policy_bytes)) return Truncated("the policy's length");
+  if (!body.Get(policy_bytes)) return TruncatedIn("the policy's length");
   if (policy_bytes != body.left()) {
     return Error::Corrupt("the policy's length is " + std::to_string(policy_bytes) + ", " +
                           std::to_string(body.left()) + " bytes are left");

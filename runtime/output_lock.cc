@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 std::string Reason(int error) { return std::strerror(error); }
 
-Error Bad(const std::string& option, const std::string& detail) {
+Error LockError(const std::string& option, const std::string& detail) {
   return Error("option --" + option + ": " + detail, Error::Code::kInvalidArgument, option);
 }
 
@@ -75,7 +75,7 @@ Result<OutputLock> OutputLock::Acquire(const std::string& dir, const std::string
     const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd < 0) {
       const int error = errno;
-      return Bad(option,
+      return LockError(option,
                  dir + ": cannot create its lock file " + kLockFileName + ": " + Reason(error));
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -87,7 +87,7 @@ Result<OutputLock> OutputLock::Acquire(const std::string& dir, const std::string
                          "; wait for it to end or choose another --" + option,
                      Error::Code::kUnavailable, option);
       }
-      return Bad(option, dir + ": cannot lock " + path + ": " + Reason(error));
+      return LockError(option, dir + ": cannot lock " + path + ": " + Reason(error));
     }
     if (!SameFile(fd, path)) {  // removed by its last holder meanwhile
       close(fd);
@@ -99,11 +99,11 @@ Result<OutputLock> OutputLock::Acquire(const std::string& dir, const std::string
       const int error = errno;
       unlink(path.c_str());  // still ours: locked
       close(fd);
-      return Bad(option, dir + ": cannot write its lock file: " + Reason(error));
+      return LockError(option, dir + ": cannot write its lock file: " + Reason(error));
     }
     return OutputLock(fd, path, true);
   }
-  return Bad(option, dir + ": its lock file keeps being replaced");
+  return LockError(option, dir + ": its lock file keeps being replaced");
 }
 
 Result<OutputLock> LockResultDirectory(const std::string& dir) {

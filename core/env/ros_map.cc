@@ -11,13 +11,13 @@
 namespace dynapath {
 namespace {
 
-Error LineError(int line, const std::string& message) {
+Error YamlLineError(int line, const std::string& message) {
   return Error::Corrupt("line " + std::to_string(line) + ": " + message);
 }
 
 bool IsSpace(char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\n'; }
 
-std::string_view Trim(std::string_view text) {
+std::string_view TrimView(std::string_view text) {
   while (!text.empty() && IsSpace(text.front())) text.remove_prefix(1);
   while (!text.empty() && IsSpace(text.back())) text.remove_suffix(1);
   return text;
@@ -25,7 +25,7 @@ std::string_view Trim(std::string_view text) {
 
 // A whole finite decimal number (strtod on a bounded copy).
 bool ParseNumber(std::string_view text, double& value) {
-  text = Trim(text);
+  text = TrimView(text);
   if (text.empty() || text.size() > 64) return false;
   const std::string copy(text);
   char* end = nullptr;
@@ -64,19 +64,19 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
     ++number;
     if (number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
     line = StripComment(line);
-    if (Trim(line).empty() || Trim(line) == "---") continue;
+    if (TrimView(line).empty() || TrimView(line) == "---") continue;
     if (IsSpace(line.front())) {
-      return LineError(number, "indented line: only flat 'key: value' lines are read");
+      return YamlLineError(number, "indented line: only flat 'key: value' lines are read");
     }
     const size_t colon = line.find(':');
-    if (colon == std::string_view::npos) return LineError(number, "expected 'key: value'");
-    const std::string key(Trim(line.substr(0, colon)));
-    const std::string_view value = Trim(line.substr(colon + 1));
-    if (!seen.insert(key).second) return LineError(number, "key '" + key + "' given twice");
-    if (value.empty()) return LineError(number, "key '" + key + "' has no value");
+    if (colon == std::string_view::npos) return YamlLineError(number, "expected 'key: value'");
+    const std::string key(TrimView(line.substr(0, colon)));
+    const std::string_view value = TrimView(line.substr(colon + 1));
+    if (!seen.insert(key).second) return YamlLineError(number, "key '" + key + "' given twice");
+    if (value.empty()) return YamlLineError(number, "key '" + key + "' has no value");
     const auto number_of = [&](double& out, const char* what) -> Status {
       if (!ParseNumber(value, out)) {
-        return LineError(number, "'" + key + "' must be " + what + ", got '" + std::string(value) + "'");
+        return YamlLineError(number, "'" + key + "' must be " + what + ", got '" + std::string(value) + "'");
       }
       return Ok{};
     };
@@ -86,14 +86,14 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
           name.back() == name.front()) {
         name = name.substr(1, name.size() - 2);
       }
-      if (name.empty()) return LineError(number, "'image' is empty");
+      if (name.empty()) return YamlLineError(number, "'image' is empty");
       info.image = std::string(name);
     } else if (key == "resolution") {
       if (Status s = number_of(info.resolution, "a number > 0"); !s) return s.error();
-      if (!(info.resolution > 0)) return LineError(number, "'resolution' must be a number > 0");
+      if (!(info.resolution > 0)) return YamlLineError(number, "'resolution' must be a number > 0");
     } else if (key == "origin") {
       if (value.size() < 2 || value.front() != '[' || value.back() != ']') {
-        return LineError(number, "'origin' must be [x, y, yaw]");
+        return YamlLineError(number, "'origin' must be [x, y, yaw]");
       }
       std::string_view rest = value.substr(1, value.size() - 2);
       for (int i = 0; i < 3; ++i) {
@@ -101,21 +101,21 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
         const bool last = i == 2;
         if (last != (comma == std::string_view::npos) ||
             !ParseNumber(rest.substr(0, comma), info.origin[i])) {
-          return LineError(number, "'origin' must be [x, y, yaw]");
+          return YamlLineError(number, "'origin' must be [x, y, yaw]");
         }
         if (!last) rest = rest.substr(comma + 1);
       }
     } else if (key == "occupied_thresh" || key == "free_thresh") {
       double& out = key == "free_thresh" ? info.free_thresh : info.occupied_thresh;
       if (Status s = number_of(out, "a number in 0..1"); !s) return s.error();
-      if (out < 0 || out > 1) return LineError(number, "'" + key + "' must be a number in 0..1");
+      if (out < 0 || out > 1) return YamlLineError(number, "'" + key + "' must be a number in 0..1");
     } else if (key == "negate") {
       if (value == "0" || value == "false") {
         info.negate = false;
       } else if (value == "1" || value == "true") {
         info.negate = true;
       } else {
-        return LineError(number, "'negate' must be 0 or 1, got '" + std::string(value) + "'");
+        return YamlLineError(number, "'negate' must be 0 or 1, got '" + std::string(value) + "'");
       }
     } else if (key == "mode") {
       if (value == "trinary") {
@@ -125,11 +125,11 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
       } else if (value == "raw") {
         info.mode = RosMapMode::kRaw;
       } else {
-        return LineError(number, "'mode' must be trinary, scale or raw, got '" +
+        return YamlLineError(number, "'mode' must be trinary, scale or raw, got '" +
                                      std::string(value) + "'");
       }
     } else {
-      return LineError(number, "unknown key '" + key +
+      return YamlLineError(number, "unknown key '" + key +
                                    "' (known: image resolution origin occupied_thresh "
                                    "free_thresh negate mode)");
     }
