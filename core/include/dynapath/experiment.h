@@ -113,6 +113,11 @@ struct PolicyHooks {
   // last. Called only for planners that export one.
   int save_at = -1;
   std::function<void(PolicyState&&)> save;
+  // Called once when `load` was taken over on the maze it was saved from
+  // (the view's grid is that of the saved step; run.steps may be empty):
+  // the step callback is not, as no step was scored. A service commits
+  // the loaded policy here before the next step.
+  StepCallback on_loaded;
 };
 // RunApproach with `hooks`; fails when the loaded policy does not fit the
 // run (CheckPolicyFits) or continuing it finds another change sequence.
