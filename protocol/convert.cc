@@ -300,9 +300,8 @@ Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int co
     const int32_t row = m.rows[i], col = m.cols[i];
     if (row < 0 || row >= rows || col < 0 || col >= cols) {
       *why = UpdateRefusal::kOutsideGrid;
-      return Error("cell (" + std::to_string(row) + ", " + std::to_string(col) +
-                                    ") outside the " + std::to_string(rows) + "x" +
-                                    std::to_string(cols) + " grid");
+      return Error("cell (" + std::to_string(row) + ", " + std::to_string(col) + ") outside the " +
+                   std::to_string(rows) + "x" + std::to_string(cols) + " grid");
     }
     if (m.states[i] != obstacle_update_t::OBSTACLE && m.states[i] != obstacle_update_t::FREE) {
       *why = UpdateRefusal::kUnknownState;
@@ -319,10 +318,9 @@ Result<MapUpdate> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid&
                                           UpdateRefusal* why) {
   if (m.rows != map.rows() || m.cols != map.cols()) {
     *why = UpdateRefusal::kGridShape;
-    return Error("occupancy grid of " + std::to_string(m.rows) + "x" +
-                                  std::to_string(m.cols) + " cells for a " +
-                                  std::to_string(map.rows()) + "x" + std::to_string(map.cols()) +
-                                  " map");
+    return Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+                 " cells for a " + std::to_string(map.rows()) + "x" + std::to_string(map.cols()) +
+                 " map");
   }
   MapUpdate update;
   update.source = m.source;

@@ -25,8 +25,8 @@ inline constexpr int32_t kMaxRequestStarts = 65536;
 // An upper bound of the encoded size of any message of a run whose grid has
 // `cells` cells. The largest are job batches of warm-started nodes (per cell:
 // its code, 8 table values, two start counters: 41 bytes, 73 with the double
-// tables of --semantics report), the final tables (32 or 64 bytes per cell) and policies (3 bytes per cell and 16 per region);
-// a batch's jobs cover the grid at most twice over (a node and its
+// tables of --semantics report), the final tables (32 or 64 bytes per cell) and policies (3 bytes
+// per cell and 16 per region); a batch's jobs cover the grid at most twice over (a node and its
 // children), and a round's shards hold at most one update per table entry
 // and learner.
 int64_t LargestMessageBytes(int64_t cells);

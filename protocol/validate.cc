@@ -255,9 +255,7 @@ std::string Validate(const policy_t& m) {
 
 namespace {
 
-bool PeerName(const std::string& name) {
-  return !name.empty() && name.size() <= kMaxPeerNameChars;
-}
+bool PeerName(const std::string& name) { return !name.empty() && name.size() <= kMaxPeerNameChars; }
 
 }  // namespace
 

@@ -30,9 +30,8 @@ class PathService::LiveSource : public StepSource {
       step = service_.config_.catch_up.steps[static_cast<size_t>(t - 1)];
     } else {
       std::unique_lock lock(service_.updates_mutex_);
-      service_.updates_ready_.wait(lock, [&] {
-        return service_.stop_.load() || service_.updates_.pending();
-      });
+      service_.updates_ready_.wait(
+          lock, [&] { return service_.stop_.load() || service_.updates_.pending(); });
       if (service_.stop_.load()) return {};
       step = service_.updates_.Take();
     }
@@ -187,9 +186,8 @@ std::shared_ptr<const RouteSnapshot> PathService::Current() const {
 
 bool PathService::WaitForVersion(int64_t version, double seconds) const {
   std::unique_lock lock(snapshot_mutex_);
-  return committed_.wait_for(lock, std::chrono::duration<double>(seconds), [&] {
-    return snapshot_ != nullptr && snapshot_->version >= version;
-  });
+  return committed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                             [&] { return snapshot_ != nullptr && snapshot_->version >= version; });
 }
 
 Answer PathService::Ask(const std::vector<QueryStart>& starts) {

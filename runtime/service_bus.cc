@@ -26,19 +26,18 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
       options_(options),
       approach_(ApproachName(service.config().approach)) {
   const Grid& maze = service_.maze();
-  bus_.Subscribe<obstacle_update_t>(protocol::channel::kMapUpdates,
-                                    [this, rows = maze.rows(), cols = maze.cols()](
-                                        obstacle_update_t& message) {
-                                      UpdateRefusal why{};
-                                      Result<MapUpdate> update =
-                                          protocol::UpdateFromMessage(message, rows, cols, &why);
-                                      if (!update) return service_.Refuse(why);
-                                      (void)service_.Submit(*update);
-                                    });
+  bus_.Subscribe<obstacle_update_t>(
+      protocol::channel::kMapUpdates,
+      [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
+        UpdateRefusal why{};
+        Result<MapUpdate> update = protocol::UpdateFromMessage(message, rows, cols, &why);
+        if (!update) return service_.Refuse(why);
+        (void)service_.Submit(*update);
+      });
   bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
     UpdateRefusal why{};
-    Result<MapUpdate> update = protocol::UpdateFromOccupancyGrid(message, service_.maze(),
-                                                                 options_.thresholds, &why);
+    Result<MapUpdate> update =
+        protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds, &why);
     if (!update) return service_.Refuse(why);
     (void)service_.Submit(*update);
   });
@@ -93,9 +92,9 @@ void ServiceBus::PublishCommit(const Commit& commit) {
   if (!options_.publish_policy) return;
   PolicyPicture picture;
   const bool pictured = view.planner.Picture(view.grid, picture);
-  policy_t policy = protocol::PolicyToMessage(bus_.run_id(), approach_, 0, commit.snapshot.time_step,
-                                              view.grid, pictured ? &picture : nullptr,
-                                              view.details.trained_regions);
+  policy_t policy =
+      protocol::PolicyToMessage(bus_.run_id(), approach_, 0, commit.snapshot.time_step, view.grid,
+                                pictured ? &picture : nullptr, view.details.trained_regions);
   bus_.Publish(protocol::channel::kPolicy, policy);
   std::lock_guard lock(policy_mutex_);
   last_policy_ = std::move(policy);

@@ -28,6 +28,8 @@ HOMONYMS = {
     "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
     "--config": (2, "a CLI11 config file (run, the processes); experiment's TOML study file, read by toml++"),
     "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
+    "--rate": (2, "query's requests per second; feed's time steps per second"),
+    "--timeout": (2, "view's wait for a run; query and feed's wait for the service"),
 }
 
 # The commands: how to run each one's --help, relative to the build directory.
@@ -38,6 +40,9 @@ COMMANDS = [
     ("dynapath secret", ["tools/dynapath", "secret"]),
     ("dynapath params", ["tools/dynapath", "params"]),
     ("dynapath netns", ["tools/dynapath", "netns"]),
+    ("dynapath serve", ["tools/dynapath", "serve"]),
+    ("dynapath query", ["tools/dynapath", "query"]),
+    ("dynapath feed", ["tools/dynapath", "feed"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),

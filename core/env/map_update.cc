@@ -6,11 +6,16 @@ namespace dynapath {
 
 const char* UpdateRefusalName(UpdateRefusal why) {
   switch (why) {
-    case UpdateRefusal::kStale: return "stale";
-    case UpdateRefusal::kOutsideGrid: return "outside_grid";
-    case UpdateRefusal::kUnknownState: return "unknown_state";
-    case UpdateRefusal::kStationToObstacle: return "station_to_obstacle";
-    case UpdateRefusal::kGridShape: return "grid_shape";
+    case UpdateRefusal::kStale:
+      return "stale";
+    case UpdateRefusal::kOutsideGrid:
+      return "outside_grid";
+    case UpdateRefusal::kUnknownState:
+      return "unknown_state";
+    case UpdateRefusal::kStationToObstacle:
+      return "station_to_obstacle";
+    case UpdateRefusal::kGridShape:
+      return "grid_shape";
   }
   return "unknown";
 }
@@ -51,7 +56,8 @@ std::optional<UpdateRefusal> UpdateQueue::Submit(const MapUpdate& update) {
   if (update.sequence <= it->second.last_sequence) return refuse(UpdateRefusal::kStale);
   it->second.last_sequence = update.sequence;
   for (const CellChange& change : update.changes) {
-    if (change.cell < 0 || change.cell >= latest_.size()) return refuse(UpdateRefusal::kOutsideGrid);
+    if (change.cell < 0 || change.cell >= latest_.size())
+      return refuse(UpdateRefusal::kOutsideGrid);
     if (change.code != Cell::kFree && change.code != Cell::kObstacle) {
       return refuse(UpdateRefusal::kUnknownState);
     }

@@ -90,7 +90,8 @@ Route ExactRoute(const RouteSnapshot& s, int start, size_t budget) {
     int next = -1;
     for (int a = 0; a < kNumActions && next < 0; ++a) {
       const int t = Target(s.grid, cell, a);
-      if (t >= 0 && s.grid.at(t) != Cell::kObstacle && s.distance[static_cast<size_t>(t)] == d - 1) {
+      if (t >= 0 && s.grid.at(t) != Cell::kObstacle &&
+          s.distance[static_cast<size_t>(t)] == d - 1) {
         next = t;
       }
     }
@@ -111,23 +112,34 @@ Route ExactRoute(const RouteSnapshot& s, int start, size_t budget) {
 
 const char* RouteStatusName(RouteStatus status) {
   switch (status) {
-    case RouteStatus::kReached: return "reached";
-    case RouteStatus::kLoops: return "loops";
-    case RouteStatus::kHitsObstacle: return "hits_obstacle";
-    case RouteStatus::kTooLong: return "too_long";
-    case RouteStatus::kStartObstacle: return "start_obstacle";
-    case RouteStatus::kOutsideGrid: return "outside_grid";
-    case RouteStatus::kUnreachable: return "unreachable";
-    case RouteStatus::kOverBudget: return "over_budget";
+    case RouteStatus::kReached:
+      return "reached";
+    case RouteStatus::kLoops:
+      return "loops";
+    case RouteStatus::kHitsObstacle:
+      return "hits_obstacle";
+    case RouteStatus::kTooLong:
+      return "too_long";
+    case RouteStatus::kStartObstacle:
+      return "start_obstacle";
+    case RouteStatus::kOutsideGrid:
+      return "outside_grid";
+    case RouteStatus::kUnreachable:
+      return "unreachable";
+    case RouteStatus::kOverBudget:
+      return "over_budget";
   }
   return "unknown";
 }
 
 const char* AnsweredByName(AnsweredBy by) {
   switch (by) {
-    case AnsweredBy::kNone: return "none";
-    case AnsweredBy::kLearned: return "learned";
-    case AnsweredBy::kExact: return "exact";
+    case AnsweredBy::kNone:
+      return "none";
+    case AnsweredBy::kLearned:
+      return "learned";
+    case AnsweredBy::kExact:
+      return "exact";
   }
   return "unknown";
 }

@@ -37,9 +37,8 @@ void LatencyHistogram::Merge(const LatencyHistogram& other) {
 
 int64_t LatencyHistogram::Quantile(double q) const {
   if (count_ == 0) return 0;
-  const int64_t rank =
-      std::clamp<int64_t>(static_cast<int64_t>(std::ceil(q * static_cast<double>(count_))), 1,
-                          count_);
+  const int64_t rank = std::clamp<int64_t>(
+      static_cast<int64_t>(std::ceil(q * static_cast<double>(count_))), 1, count_);
   int64_t seen = 0;
   for (size_t i = 0; i < counts_.size(); ++i) {
     seen += counts_[i];

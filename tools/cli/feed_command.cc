@@ -49,12 +49,12 @@ int FeedCommand(const std::vector<std::string>& args) {
   std::optional<double> rate;
   group.Option("--rate", rate, "R", "time steps per second (0.01-100000) instead of lock step",
                "lock step with the service's commits");
-  std::string source = "feed-" + std::to_string(getpid());
-  group.Option("--source", source, "NAME",
-               "the updates' source name (1-64 characters; sequence numbers count per source)");
+  std::optional<std::string> source_given;
+  group.Option("--source", source_given, "NAME",
+               "the updates' source name (1-64 characters; sequence numbers count per source)",
+               "feed-PID");
   double timeout = 60;
-  group.Option("--timeout", timeout, "SECONDS",
-               "how long to wait for the service (its first policy, each commit)");
+  DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
@@ -63,6 +63,7 @@ int FeedCommand(const std::vector<std::string>& args) {
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
   if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  const std::string source = source_given.value_or("feed-" + std::to_string(getpid()));
   if (source.empty() || source.size() > 64) {
     return runtime::ProcessError(kProgram, "--source must have 1-64 characters");
   }
@@ -83,10 +84,9 @@ int FeedCommand(const std::vector<std::string>& args) {
   const std::vector<std::pair<int32_t, int32_t>> probe = {{0, 0}};
   std::optional<path_reply_t> first = client.Ask(probe, timeout);
   if (!first || first->refused == path_reply_t::NOT_READY) {
-    return runtime::ProcessError(kProgram,
-                                 "no policy from a service of run " + process->run_id +
-                                     " within --timeout",
-                                 kExitFailure);
+    return runtime::ProcessError(
+        kProgram, "no policy from a service of run " + process->run_id + " within --timeout",
+        kExitFailure);
   }
   int expected_step = first->time_step;
   const auto start = std::chrono::steady_clock::now();

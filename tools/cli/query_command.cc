@@ -28,9 +28,12 @@ using Cell2 = std::pair<int32_t, int32_t>;
 
 std::string RefusalName(int8_t refused) {
   switch (refused) {
-    case path_reply_t::TOO_MANY_STARTS: return "too_many_starts";
-    case path_reply_t::NOT_READY: return "not_ready";
-    default: return "accepted";
+    case path_reply_t::TOO_MANY_STARTS:
+      return "too_many_starts";
+    case path_reply_t::NOT_READY:
+      return "not_ready";
+    default:
+      return "accepted";
   }
 }
 
@@ -96,8 +99,9 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
     std::optional<policy_t> policy = (*probe)->LatestPolicy(timeout);
     if (!policy) {
       return runtime::ProcessError(
-          kProgram, "no POLICY message from the service within --timeout (is it serving run " +
-                        process.run_id + "?)",
+          kProgram,
+          "no POLICY message from the service within --timeout (is it serving run " +
+              process.run_id + "?)",
           kExitFailure);
     }
     for (int i = 0; i < policy->num_cells; ++i) {
@@ -167,14 +171,14 @@ int QueryCommand(const std::vector<std::string>& args) {
   bool json = false;
   group.Flag("--json", json, "one JSON object per start");
   double timeout = 10;
-  group.Option("--timeout", timeout, "SECONDS",
-               "how long to wait for the service's reply (or, with --rate, its policy)");
+  DeclareServiceWaitOption(group, timeout);
   std::optional<double> rate, duration;
   group.Option("--rate", rate, "Q", "measure: requests per second (1-100000)");
   group.Option("--duration", duration, "SECONDS", "measure for this long (with --rate, 0.1-600)",
                "10");
-  std::string client = "query-" + std::to_string(getpid());
-  group.Option("--client", client, "NAME", "the name replies are addressed to (1-64 characters)");
+  std::optional<std::string> client_given;
+  group.Option("--client", client_given, "NAME",
+               "the name replies are addressed to (1-64 characters)", "query-PID");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
@@ -183,6 +187,7 @@ int QueryCommand(const std::vector<std::string>& args) {
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
   if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  const std::string client = client_given.value_or("query-" + std::to_string(getpid()));
   if (client.empty() || client.size() > 64) {
     return runtime::ProcessError(kProgram, "--client must have 1-64 characters");
   }
@@ -190,7 +195,8 @@ int QueryCommand(const std::vector<std::string>& args) {
     return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
   }
   if (rate) {
-    if (!from.empty()) return runtime::ProcessError(kProgram, "--rate picks its own starts: no --from");
+    if (!from.empty())
+      return runtime::ProcessError(kProgram, "--rate picks its own starts: no --from");
     const double seconds = duration.value_or(10);
     if (!(*rate >= 1 && *rate <= 100000)) {
       return runtime::ProcessError(kProgram, "--rate must be between 1 and 100000");
@@ -213,10 +219,9 @@ int QueryCommand(const std::vector<std::string>& args) {
   if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
   std::optional<path_reply_t> reply = (*opened)->Ask(starts, timeout);
   if (!reply) {
-    return runtime::ProcessError(kProgram,
-                                 "no reply from a service of run " + process->run_id +
-                                     " within --timeout",
-                                 kExitFailure);
+    return runtime::ProcessError(
+        kProgram, "no reply from a service of run " + process->run_id + " within --timeout",
+        kExitFailure);
   }
   PrintReply(*reply, json);
   std::fflush(stdout);

@@ -33,10 +33,10 @@ namespace {
 constexpr const char* kProgram = "dynapath serve";
 
 const runtime::WordTable<AnswerMode>& AnswerWords() {
-  static const runtime::WordTable<AnswerMode> words({{"learned", AnswerMode::kLearned},
-                                                     {"exact", AnswerMode::kExact},
-                                                     {"learned-else-exact",
-                                                      AnswerMode::kLearnedElseExact}});
+  static const runtime::WordTable<AnswerMode> words(
+      {{"learned", AnswerMode::kLearned},
+       {"exact", AnswerMode::kExact},
+       {"learned-else-exact", AnswerMode::kLearnedElseExact}});
   return words;
 }
 
@@ -110,7 +110,8 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (!starts_limit) return usage_error(starts_limit.error().message);
   if (!(occupied_thresh >= 0 && occupied_thresh <= 1 && free_thresh >= 0 &&
         free_thresh < occupied_thresh)) {
-    return usage_error("--free-thresh and --occupied-thresh must satisfy 0 <= free < occupied <= 1");
+    return usage_error(
+        "--free-thresh and --occupied-thresh must satisfy 0 <= free < occupied <= 1");
   }
   if (!(policy_every >= 0 && policy_every <= 3600)) {
     return usage_error("--policy-every must be between 0 and 3600 seconds");
@@ -120,9 +121,9 @@ int ServeCommand(const std::vector<std::string>& args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
   const Grid& maze = setup->scenario.grid;
-  if (Status policy =
-          runtime::CheckPolicyPlan(plan->policy, plan->approaches, plan->options, maze.rows(),
-                                   maze.cols(), static_cast<int>(setup->scenario.changes.steps.size()));
+  if (Status policy = runtime::CheckPolicyPlan(
+          plan->policy, plan->approaches, plan->options, maze.rows(), maze.cols(),
+          static_cast<int>(setup->scenario.changes.steps.size()));
       !policy) {
     return usage_error(policy.error().message);
   }
@@ -141,9 +142,10 @@ int ServeCommand(const std::vector<std::string>& args) {
     return usage_error("no private network can be made here: give --lcm-url");
   }
   if (network == launch::ProcessNetwork::kPrivate) {
-    spdlog::info("serving run {} in a private network; join it with: nsenter --target {} "
-                 "--user --net --preserve-credentials (or dynapath-spy --pid {})",
-                 process->run_id, getpid(), getpid());
+    spdlog::info(
+        "serving run {} in a private network; join it with: nsenter --target {} "
+        "--user --net --preserve-credentials (or dynapath-spy --pid {})",
+        process->run_id, getpid(), getpid());
   }
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(url);
   if (!lcm) {
@@ -210,8 +212,7 @@ int ServeCommand(const std::vector<std::string>& args) {
       spdlog::error("{}", written.error().message);
       return kExitFailure;
     }
-    spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir,
-                 plan->out_dir);
+    spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);
   }
   return 0;
 }

@@ -9,8 +9,7 @@
 namespace dynapath::cli {
 
 Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::ProcessSetup& process,
-                                                           std::string client,
-                                                           ReplyHook on_reply) {
+                                                           std::string client, ReplyHook on_reply) {
   std::unique_ptr<ServiceClient> c(new ServiceClient());
   c->client_ = std::move(client);
   c->on_reply_ = std::move(on_reply);
@@ -59,17 +58,16 @@ void ServiceClient::Send(int64_t request_id,
 
 std::optional<path_reply_t> ServiceClient::Ask(
     const std::vector<std::pair<int32_t, int32_t>>& starts, double seconds) {
-  const auto deadline =
-      std::chrono::steady_clock::now() +
-      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-          std::chrono::duration<double>(seconds));
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(seconds));
   std::optional<path_reply_t> last;
   while (std::chrono::steady_clock::now() < deadline) {
     const int64_t id = next_id_++;
     Send(id, starts);
     std::unique_lock lock(mutex_);
-    const auto retry = std::min(deadline, std::chrono::steady_clock::now() +
-                                              std::chrono::milliseconds(200));
+    const auto retry =
+        std::min(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(200));
     changed_.wait_until(lock, retry, [&] { return reply_ && reply_->request_id == id; });
     if (reply_ && reply_->request_id == id) {
       if (reply_->refused != path_reply_t::NOT_READY) return reply_;
@@ -84,8 +82,14 @@ std::optional<path_reply_t> ServiceClient::Ask(
 
 std::optional<policy_t> ServiceClient::LatestPolicy(double seconds) {
   std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return policy_.has_value(); });
+  changed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                    [&] { return policy_.has_value(); });
   return policy_;
+}
+
+void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds) {
+  group.Option("--timeout", seconds, "SECONDS",
+               "how long to wait for the service (a reply, its first policy, each commit)");
 }
 
 Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text) {

@@ -18,6 +18,7 @@
 #include "dynapath/policy_t.hpp"
 #include "protocol/bus.h"
 #include "protocol/dispatcher.h"
+#include "runtime/option_group.h"
 #include "runtime/process_options.h"
 
 namespace dynapath::cli {
@@ -56,6 +57,8 @@ class ServiceClient {
   int64_t next_id_ = 1;
 };
 
+// --timeout of query and feed: how long to wait for the service.
+void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds);
 // "R,C" as a cell, or an error naming the option.
 Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text);
 

@@ -19,13 +19,13 @@ namespace dynapath {
 // Values equal path_reply_t's (the wire keeps them; tests check).
 enum class RouteStatus : int8_t {
   kReached = 0,
-  kLoops = 1,          // the greedy policy cycles without reaching a station
-  kHitsObstacle = 2,   // it walks into an obstacle
-  kTooLong = 3,        // no station within rows + cols moves
+  kLoops = 1,         // the greedy policy cycles without reaching a station
+  kHitsObstacle = 2,  // it walks into an obstacle
+  kTooLong = 3,       // no station within rows + cols moves
   kStartObstacle = 4,
   kOutsideGrid = 5,
-  kUnreachable = 6,    // no station can be reached from the start at all
-  kOverBudget = 7,     // the path did not fit the reply's budget
+  kUnreachable = 6,  // no station can be reached from the start at all
+  kOverBudget = 7,   // the path did not fit the reply's budget
 };
 enum class AnsweredBy : int8_t { kNone = 0, kLearned = 1, kExact = 2 };
 // --answer: the policy's path only, the exact shortest path only, or the
@@ -66,8 +66,7 @@ struct Route {
 // (kOverBudget beyond). Paths are valid moves: each step to one of the 8
 // neighbours, never onto an obstacle, ending on a station; a learned path
 // has exactly the evaluation's depth, an exact one the optimum.
-Route AnswerRoute(const RouteSnapshot& snapshot, int row, int col, AnswerMode mode,
-                  size_t budget);
+Route AnswerRoute(const RouteSnapshot& snapshot, int row, int col, AnswerMode mode, size_t budget);
 
 // The exact shortest-path length from `cell` by a breadth-first search on
 // `grid` (kUnreachable when none): the check of every answer in tests.
