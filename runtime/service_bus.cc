@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "dynapath/changes_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_request_t.hpp"
@@ -40,6 +41,20 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
         protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds, &why);
     if (!update) return service_.Refuse(why);
     (void)service_.Submit(*update);
+  });
+  // A recorded run's environment changes (lcm-logplayer of a run's log,
+  // with that run's id and secret): its first pass's steps, each step's
+  // number as its sequence number, so a resent step counts as stale.
+  bus_.Subscribe<changes_t>(protocol::channel::kEnvChanges, [this](changes_t& message) {
+    if (message.pass != 0) return;  // the same sequence again for another approach
+    const Grid& grid = service_.maze();
+    Result<ChangeStep> step = protocol::ChangesFromMessage(message, grid.rows(), grid.cols());
+    if (!step) return service_.Refuse(UpdateRefusal::kOutsideGrid);
+    MapUpdate update;
+    update.source = "envsim";
+    update.sequence = message.time_step;
+    update.changes = std::move(step->changes);
+    (void)service_.Submit(update);
   });
   bus_.Subscribe<path_request_t>(protocol::channel::kPathRequest,
                                  [this](path_request_t& request) { OnRequest(request); });

@@ -1,7 +1,8 @@
 #pragma once
 // dynapath serve on the bus: the PathService's messages
 // (docs/howto/SERVICE.md). Updates (obstacle_update_t on MAP_UPDATES,
-// occupancy_grid_t on MAP_GRID) are converted and submitted; requests
+// occupancy_grid_t on MAP_GRID, and a recorded run's changes_t on
+// ENV_CHANGES replayed by lcm-logplayer) are converted and submitted; requests
 // (path_request_t on PATH_REQUEST) are answered on the dispatch thread
 // itself from the committed snapshot (a few microseconds of work: no queue
 // of ours to grow under a flood, LCM's own bounded one in front); every

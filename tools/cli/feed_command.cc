@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
 #include "runtime/process_options.h"
@@ -39,7 +40,9 @@ int FeedCommand(const std::vector<std::string>& args) {
       "one generated for the maze options as `run` would. The maze options must be the\n"
       "service's. Without --rate it waits for the service to commit each step before\n"
       "sending the next, so the service's time steps are the run's; with --rate R it\n"
-      "sends R steps a second whatever the service does.",
+      "sends R steps a second whatever the service does. Prints one JSON line: steps\n"
+      "sent and, in lock step, the service's last step and the time from publishing\n"
+      "an update to the first reply from the policy it made (commit_p50_ms, ...).",
       kProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
@@ -91,6 +94,7 @@ int FeedCommand(const std::vector<std::string>& args) {
   int expected_step = first->time_step;
   const auto start = std::chrono::steady_clock::now();
   int sent = 0;
+  LatencyHistogram commit;  // lock step: update published -> its policy answering
   for (const ChangeStep& step : setup->scenario.changes.steps) {
     obstacle_update_t update{};
     update.run_id = process->run_id;
@@ -110,6 +114,7 @@ int FeedCommand(const std::vector<std::string>& args) {
       client.bus().Publish(protocol::channel::kMapUpdates, update);
       continue;
     }
+    const auto published = std::chrono::steady_clock::now();
     client.bus().Publish(protocol::channel::kMapUpdates, update);
     if (step.changes.empty()) continue;  // the service makes no step of nothing
     ++expected_step;
@@ -121,8 +126,13 @@ int FeedCommand(const std::vector<std::string>& args) {
     while (!committed && std::chrono::steady_clock::now() < deadline) {
       std::optional<path_reply_t> reply = client.Ask(probe, 1.0);
       committed = reply && reply->time_step >= expected_step;
-      if (!committed) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      if (!committed) std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
+    // Publication to the first reply from the new policy (probes 0.5 ms
+    // apart: the figure is at most that much late).
+    commit.Add(std::chrono::duration_cast<std::chrono::microseconds>(
+                   std::chrono::steady_clock::now() - published)
+                   .count());
     if (!committed) {
       return runtime::ProcessError(kProgram,
                                    "the service did not commit time step " +
@@ -130,7 +140,16 @@ int FeedCommand(const std::vector<std::string>& args) {
                                    kExitFailure);
     }
   }
-  std::printf("{\"sent\":%d,\"service_step\":%d}\n", sent, expected_step);
+  if (rate) {
+    std::printf("{\"sent\":%d}\n", sent);
+  } else {
+    std::printf(
+        "{\"sent\":%d,\"service_step\":%d,\"commit_p50_ms\":%.3f,\"commit_p99_ms\":%.3f,"
+        "\"commit_max_ms\":%.3f}\n",
+        sent, expected_step, static_cast<double>(commit.Quantile(0.5)) / 1000.0,
+        static_cast<double>(commit.Quantile(0.99)) / 1000.0,
+        static_cast<double>(commit.max()) / 1000.0);
+  }
   return 0;
 }
 
