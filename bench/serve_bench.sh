@@ -30,7 +30,7 @@ trap '[ -n "$server" ] && kill -9 "$server" 2>/dev/null; rm -rf "$work"' EXIT
 "$dynapath" secret "$work/key" >/dev/null
 auth=(--run-id bench --secret-file "$work/key")
 "$dynapath" serve "${auth[@]}" "${maze[@]}" --steps 20 --approach fedAsynQ_EqAvg \
-  --threads "${THREADS:-2}" --policy-every 1 >"$work/serve.out" 2>"$work/serve.log" &
+  --threads "${THREADS:-2}" --policy-every 5 >"$work/serve.out" 2>"$work/serve.log" &
 server=$!
 start=$SECONDS
 "$dynapath" query "${auth[@]}" --from 0,0 --timeout 900 >/dev/null

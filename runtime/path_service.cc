@@ -1,6 +1,9 @@
 #include "runtime/path_service.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -102,6 +105,17 @@ void PathService::Train() {
                     "catch up with it, and has " +
                     std::to_string(config_.catch_up.steps.size()) + " steps");
     return;
+  }
+  // Training at a lower priority than the dispatch thread that answers
+  // queries: on a machine with fewer cores than busy threads, the kernel
+  // then runs an arriving request first instead of after a time slice of
+  // training. Threads inherit it, so the pool's workers made below have it
+  // too. Lowering one's own priority needs no privilege; failing changes
+  // only latency.
+  if (config_.training_nice > 0 &&
+      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), config_.training_nice) !=
+          0) {
+    spdlog::debug("serve: could not lower the training threads' priority");
   }
   try {
     ThreadPool pool(std::max(1, config_.threads));

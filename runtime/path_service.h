@@ -49,6 +49,9 @@ struct ServiceConfig {
   // Path cells one reply may carry (all its starts together): bounds a
   // reply's size; a start beyond it is answered kOverBudget.
   size_t reply_budget = size_t{1} << 20;
+  // The training threads' nice value (0: the process's own): above the
+  // dispatch thread's, so queries are answered first on a busy machine.
+  int training_nice = 5;
   // A policy to start from (runtime/policy_file.h) instead of the initial
   // training, and the changes that lead from the maze to the step it was
   // saved at (the scenario's change sequence; only its first steps are used).

@@ -43,6 +43,7 @@ COMMANDS = [
     ("dynapath serve", ["tools/dynapath", "serve"]),
     ("dynapath query", ["tools/dynapath", "query"]),
     ("dynapath feed", ["tools/dynapath", "feed"]),
+    ("dynapath robots", ["tools/dynapath", "robots"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),

@@ -14,6 +14,7 @@
 #    starts. Each is dropped or refused and counted; the service keeps
 #    answering; SIGINT ends it within a second with the counts printed.
 # 4. A query flood at a fixed rate is answered in full.
+# 5. A robot fleet in closed loop on a small map arrives.
 set -uo pipefail
 dynapath=${1:?usage: serve_test.sh DYNAPATH}
 work=$(mktemp -d)
@@ -186,6 +187,22 @@ sys.exit(1 if bad else 0)
 PY
   pass "success rate and path length of every step equal run --local's" ||
   fail "the service's steps differ from run --local's"
+
+# 5. A robot fleet in closed loop on a small map arrives.
+small=(--size 16 --difficulty hard --seed 5 --steps 30)
+"$dynapath" serve --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --threads 1 \
+  >/dev/null 2>"$work/fleet.log" &
+server_pid=$!
+fleet=$("$dynapath" robots --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --robots 10 \
+  --ticks 60 --timeout 60 2>>"$work/fleet.log")
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["arrived"] == 10 and o["queries"] >= 10 else 1)' "$fleet"; then
+  pass "a fleet of 10 robots arrived: $fleet"
+else
+  fail "fleet: $fleet $(tail -3 "$work/fleet.log")"
+fi
+kill -INT "$server_pid"
+wait "$server_pid" || fail "the fleet's service exited $?"
+server_pid=
 
 echo "$failures failures"
 [ "$failures" -eq 0 ]

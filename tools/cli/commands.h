@@ -23,6 +23,7 @@ int SecretCommand(const std::vector<std::string>& args);
 int ServeCommand(const std::vector<std::string>& args);
 int QueryCommand(const std::vector<std::string>& args);
 int FeedCommand(const std::vector<std::string>& args);
+int RobotsCommand(const std::vector<std::string>& args);
 // Lists the learner and strategy parameters (dynapath/parameters.h).
 int ParamsCommand(const std::vector<std::string>& args);
 // Replaces this process with the executable `tool` that sits next to the

@@ -25,6 +25,7 @@ constexpr const char* kUsage =
     "  serve       answer path queries over LCM while the map changes (a planning service)\n"
     "  query       ask a service for paths, or measure its query latency\n"
     "  feed        publish a change sequence to a service as live obstacle updates\n"
+    "  robots      a simulated robot fleet in closed loop with a service\n"
     "  netns       run a command in a private, loopback-only network (for LCM)\n"
     "  secret      write a new run secret to a file, for processes started by hand\n"
     "  params      list the learner and strategy parameters (defaults, ranges, help)\n"
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
   if (command == "serve") return dynapath::cli::ServeCommand(args);
   if (command == "query") return dynapath::cli::QueryCommand(args);
   if (command == "feed") return dynapath::cli::FeedCommand(args);
+  if (command == "robots") return dynapath::cli::RobotsCommand(args);
   if (command == "secret") return dynapath::cli::SecretCommand(args);
   if (command == "params") return dynapath::cli::ParamsCommand(args);
   if (command == "plot") {
