@@ -80,7 +80,8 @@ void PrintReply(const path_reply_t& r, bool json) {
 int MeasureRate(const runtime::ProcessSetup& process, const std::string& client, double rate,
                 double duration, double timeout) {
   const int64_t total = static_cast<int64_t>(rate * duration);
-  std::vector<int64_t> sent_us(static_cast<size_t>(total), 0);
+  // Written by the sending loop, read by the dispatch thread.
+  std::vector<std::atomic<int64_t>> sent_us(static_cast<size_t>(total));
   std::vector<std::atomic<uint8_t>> answered(static_cast<size_t>(total));
   std::mutex mutex;
   LatencyHistogram latency;
@@ -114,9 +115,11 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(process, client, [&](const path_reply_t& reply) {
         const int64_t id = reply.request_id;
-        if (id < 0 || id >= total || sent_us[static_cast<size_t>(id)] == 0) return;
+        if (id < 0 || id >= total) return;
+        const int64_t sent = sent_us[static_cast<size_t>(id)].load();
+        if (sent == 0) return;
         if (answered[static_cast<size_t>(id)].exchange(1) != 0) return;
-        const int64_t micros = now_us() - sent_us[static_cast<size_t>(id)];
+        const int64_t micros = now_us() - sent;
         std::lock_guard lock(mutex);
         latency.Add(micros);
         ++answered_count;
@@ -133,7 +136,7 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
     const int64_t wait = due - now_us();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::microseconds(wait));
     const Cell2 cell = free_cells[pick(random)];
-    sent_us[static_cast<size_t>(i)] = now_us();
+    sent_us[static_cast<size_t>(i)].store(now_us());
     c.Send(i, {cell});
   }
   // Replies still in flight: wait up to a second for the last ones.
