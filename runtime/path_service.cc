@@ -112,9 +112,8 @@ void PathService::Train() {
   // training. Threads inherit it, so the pool's workers made below have it
   // too. Lowering one's own priority needs no privilege; failing changes
   // only latency.
-  if (config_.training_nice > 0 &&
-      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), config_.training_nice) !=
-          0) {
+  if (config_.training_nice > 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)),
+                                               config_.training_nice) != 0) {
     spdlog::debug("serve: could not lower the training threads' priority");
   }
   try {
@@ -155,18 +154,20 @@ void PathService::OnStep(const StepView& view) {
     }
     exact = exact_.get();
   }
+  // A loaded policy taken over at its saved step has no step record yet.
+  const int time_step =
+      view.run.steps.empty() ? CatchUpSteps(config_, maze_) : view.run.steps.back().time_step;
   int64_t version;
   {
     std::lock_guard lock(stats_mutex_);
     version = ++stats_.commits;
     stats_.version = version;
-    stats_.time_step = view.run.steps.empty() ? 0 : view.run.steps.back().time_step;
+    stats_.time_step = time_step;
     if (view.details.nodes_trained > 0) {
       ++stats_.retrainings;
       stats_.nodes_trained += view.details.nodes_trained;
     }
   }
-  const int time_step = view.run.steps.empty() ? 0 : view.run.steps.back().time_step;
   auto snapshot = std::make_shared<const RouteSnapshot>(
       MakeRouteSnapshot(view.planner, view.grid, exact, version, time_step));
   {

@@ -174,5 +174,48 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
   EXPECT_NE(PathService::Summary(stats).find("1 station_to_obstacle"), std::string::npos);
 }
 
+// A policy saved at step 2 of a run is taken over at step 2 (its changes
+// caught up from the sequence) and answers as the run scored that step;
+// the next update makes step 3, scored as the run's.
+TEST(PathService, TakesOverALoadedPolicyAtItsStep) {
+  const unsigned seed = 3;
+  const Scenario scenario = GenerateScenario(20, 20, Difficulty::kHard, seed, 4);
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  PlannerOptions options;
+  options.run_seed = seed;
+  PolicyState saved;
+  PolicyHooks hooks;
+  hooks.save_at = 2;
+  hooks.save = [&](PolicyState&& state) { saved = std::move(state); };
+  ScenarioStepSource source(scenario);
+  Result<ApproachRun> run =
+      RunApproach(source, 0, Approach::kFedAsynQEqAvg, options, &trainer, RunLabels{}, hooks);
+  ASSERT_TRUE(run.ok());
+  ASSERT_EQ(saved.step, 2);
+
+  ServiceConfig config = Config(scenario, seed, 1000);
+  config.load = &saved;
+  PathService service(scenario.grid, config);
+  service.Start();
+  ASSERT_TRUE(service.WaitForVersion(1, kWait));
+  EXPECT_EQ(service.Current()->time_step, 2);
+  ASSERT_FALSE(service.Submit(UpdateOf(scenario.changes.steps[2], 1)));
+  ASSERT_TRUE(service.WaitForVersion(2, kWait));
+  const Answer answer = service.Ask(AllCells(scenario.grid));
+  EXPECT_EQ(answer.snapshot->time_step, 3);
+  int starts = 0, learned = 0;
+  for (const Route& route : answer.routes) {
+    if (route.status == RouteStatus::kStartObstacle) continue;
+    ++starts;
+    learned += route.answered_by == AnsweredBy::kLearned && route.status == RouteStatus::kReached;
+  }
+  EXPECT_DOUBLE_EQ(static_cast<double>(learned) / starts, run->steps[3].success_rate);
+  Result<ApproachRun> served = service.Stop();
+  ASSERT_TRUE(served.ok());
+  ASSERT_EQ(served->steps.size(), 1u);  // step 3 only: the saved step is not scored again
+  EXPECT_EQ(served->steps[0].success_rate, run->steps[3].success_rate);
+}
+
 }  // namespace
 }  // namespace dynapath::runtime
