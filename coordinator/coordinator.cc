@@ -60,30 +60,11 @@ void Coordinator::PublishStep(const StepView& view, int pass) {
   bus_.Publish(protocol::channel::kReport, report);
   if (!options_.publish_policy) return;
 
-  policy_t policy{};
-  policy.run_id = bus_.run_id();
-  policy.approach = report.approach;
-  policy.pass = pass;
-  policy.time_step = record.time_step;
-  policy.rows = view.grid.rows();
-  policy.cols = view.grid.cols();
-  policy.num_cells = view.grid.size();
-  policy.cells.assign(view.grid.codes().begin(), view.grid.codes().end());
   PolicyPicture picture;
-  if (view.planner.Picture(view.grid, picture)) {
-    policy.actions = std::move(picture.actions);
-    policy.reaches = std::move(picture.reaches);
-  } else {
-    policy.actions.assign(policy.cells.size(), -1);
-    policy.reaches.assign(policy.cells.size(), -1);
-  }
-  for (const Region& region : view.details.trained_regions) {
-    policy.region_row0.push_back(region.r0);
-    policy.region_col0.push_back(region.c0);
-    policy.region_rows.push_back(region.rows());
-    policy.region_cols.push_back(region.cols());
-  }
-  policy.num_regions = static_cast<int32_t>(policy.region_row0.size());
+  const bool pictured = view.planner.Picture(view.grid, picture);
+  const policy_t policy =
+      protocol::PolicyToMessage(bus_.run_id(), report.approach, pass, record.time_step, view.grid,
+                                pictured ? &picture : nullptr, view.details.trained_regions);
   bus_.Publish(protocol::channel::kPolicy, policy);
 }
 

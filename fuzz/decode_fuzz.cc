@@ -1,7 +1,7 @@
 // libFuzzer target: the bounds check, the checked decode and the validation
 // of every message type on arbitrary bytes, then the conversions to core
-// types of what passed. The type is the one whose fingerprint the bytes
-// start with (the seeds are real messages of every type); bytes with an
+// types of what passed (dynapath serve's updates and occupancy grids too). The type is the one
+// whose fingerprint the bytes start with (the seeds are real messages of every type); bytes with an
 // unknown fingerprint go through every type. Also a differential check: a
 // message the bounds check accepts is one LCM's own decoder reads exactly.
 
@@ -30,6 +30,15 @@ void ValidateAndConvert(const uint8_t* data, int size) {
     (void)dynapath::protocol::GridFromMessage(message);
   } else if constexpr (std::is_same_v<T, dynapath::changes_t>) {
     (void)dynapath::protocol::ChangesFromMessage(message, 64, 64);
+  } else if constexpr (std::is_same_v<T, dynapath::obstacle_update_t>) {
+    dynapath::UpdateRefusal why{};
+    (void)dynapath::protocol::UpdateFromMessage(message, 64, 64, &why);
+  } else if constexpr (std::is_same_v<T, dynapath::occupancy_grid_t>) {
+    // A map of the message's own size (the grid's), stations in one corner.
+    dynapath::Grid map(message.rows, message.cols);
+    map.set(0, dynapath::Cell::kStation);
+    dynapath::UpdateRefusal why{};
+    (void)dynapath::protocol::UpdateFromOccupancyGrid(message, map, {}, &why);
   } else if constexpr (std::is_same_v<T, dynapath::job_batch_t>) {
     for (int i = 0; i < message.num_jobs; ++i) (void)dynapath::protocol::JobFromBatch(message, i);
   }
@@ -70,5 +79,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ValidateAndConvert<dynapath::fragment_nack_t>(data, n);
   ValidateAndConvert<dynapath::step_report_t>(data, n);
   ValidateAndConvert<dynapath::policy_t>(data, n);
+  ValidateAndConvert<dynapath::obstacle_update_t>(data, n);
+  ValidateAndConvert<dynapath::occupancy_grid_t>(data, n);
+  ValidateAndConvert<dynapath::path_request_t>(data, n);
+  ValidateAndConvert<dynapath::path_reply_t>(data, n);
   return 0;
 }

@@ -20,6 +20,12 @@ inline constexpr std::string_view kShards = "SHARDS";
 inline constexpr std::string_view kResults = "RESULTS";
 inline constexpr std::string_view kReport = "REPORT";
 inline constexpr std::string_view kPolicy = "POLICY";
+// dynapath serve (docs/howto/SERVICE.md): obstacle updates and occupancy
+// grids in, path requests in and replies out.
+inline constexpr std::string_view kMapUpdates = "MAP_UPDATES";
+inline constexpr std::string_view kMapGrid = "MAP_GRID";
+inline constexpr std::string_view kPathRequest = "PATH_REQUEST";
+inline constexpr std::string_view kPathReply = "PATH_REPLY";
 // Selective repair of fragmented messages (any channel's): fragment_nack_t.
 inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel

@@ -1,5 +1,6 @@
 #include "protocol/convert.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "dynapath/learners.h"
@@ -257,6 +258,125 @@ Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
     step.changes.push_back(CellChange{m.cells[i], static_cast<Cell>(m.codes[i])});
   }
   return step;
+}
+
+policy_t PolicyToMessage(const std::string& run_id, const std::string& approach, int pass,
+                         int time_step, const Grid& grid, const PolicyPicture* picture,
+                         const std::vector<Region>& trained_regions) {
+  policy_t policy{};
+  policy.run_id = run_id;
+  policy.approach = approach;
+  policy.pass = pass;
+  policy.time_step = time_step;
+  policy.rows = grid.rows();
+  policy.cols = grid.cols();
+  policy.num_cells = grid.size();
+  policy.cells.assign(grid.codes().begin(), grid.codes().end());
+  if (picture != nullptr) {
+    policy.actions = picture->actions;
+    policy.reaches = picture->reaches;
+  } else {
+    policy.actions.assign(policy.cells.size(), -1);
+    policy.reaches.assign(policy.cells.size(), -1);
+  }
+  for (const Region& region : trained_regions) {
+    policy.region_row0.push_back(region.r0);
+    policy.region_col0.push_back(region.c0);
+    policy.region_rows.push_back(region.rows());
+    policy.region_cols.push_back(region.cols());
+  }
+  policy.num_regions = static_cast<int32_t>(policy.region_row0.size());
+  return policy;
+}
+
+Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
+                                    UpdateRefusal* why) {
+  MapUpdate update;
+  update.source = m.source;
+  update.sequence = m.sequence;
+  update.utime = m.utime;
+  update.changes.reserve(static_cast<size_t>(m.num_cells));
+  for (int i = 0; i < m.num_cells; ++i) {
+    const int32_t row = m.rows[i], col = m.cols[i];
+    if (row < 0 || row >= rows || col < 0 || col >= cols) {
+      *why = UpdateRefusal::kOutsideGrid;
+      return Error("cell (" + std::to_string(row) + ", " + std::to_string(col) + ") outside the " +
+                   std::to_string(rows) + "x" + std::to_string(cols) + " grid");
+    }
+    if (m.states[i] != obstacle_update_t::OBSTACLE && m.states[i] != obstacle_update_t::FREE) {
+      *why = UpdateRefusal::kUnknownState;
+      return Error("unknown state " + std::to_string(m.states[i]));
+    }
+    const Cell code = m.states[i] == obstacle_update_t::FREE ? Cell::kFree : Cell::kObstacle;
+    update.changes.push_back(CellChange{row * cols + col, code});
+  }
+  return update;
+}
+
+Result<MapUpdate> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
+                                          const OccupancyThresholds& thresholds,
+                                          UpdateRefusal* why) {
+  if (m.rows != map.rows() || m.cols != map.cols()) {
+    *why = UpdateRefusal::kGridShape;
+    return Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+                 " cells for a " + std::to_string(map.rows()) + "x" + std::to_string(map.cols()) +
+                 " map");
+  }
+  MapUpdate update;
+  update.source = m.source;
+  update.sequence = m.sequence;
+  update.utime = m.utime;
+  for (int i = 0; i < m.num_cells; ++i) {
+    const int8_t value = m.data[static_cast<size_t>(i)];
+    if (value < 0 || value > 100) continue;  // unknown
+    const double p = value / 100.0;
+    const int row = map.rows() - 1 - i / m.cols;  // ROS: data row 0 at the bottom
+    const int cell = map.Index(row, i % m.cols);
+    if (map.at(cell) == Cell::kStation) continue;
+    if (p > thresholds.occupied) {
+      update.changes.push_back(CellChange{cell, Cell::kObstacle});
+    } else if (p < thresholds.free) {
+      update.changes.push_back(CellChange{cell, Cell::kFree});
+    }
+  }
+  return update;
+}
+
+path_reply_t ReplyToMessage(const std::string& client, int64_t request_id, int8_t refused,
+                            const std::string& approach, const RouteSnapshot* snapshot,
+                            const std::vector<std::pair<int32_t, int32_t>>& starts,
+                            const std::vector<Route>& routes) {
+  path_reply_t m{};
+  m.client = client;
+  m.request_id = request_id;
+  m.refused = refused;
+  m.approach = approach;
+  if (snapshot != nullptr) {
+    m.version = snapshot->version;
+    m.time_step = snapshot->time_step;
+  }
+  const size_t n = refused == path_reply_t::ACCEPTED ? std::min(starts.size(), routes.size()) : 0;
+  m.num_starts = static_cast<int32_t>(n);
+  size_t cells = 0;
+  for (size_t i = 0; i < n; ++i) cells += routes[i].cells.size();
+  m.path_rows.reserve(cells);
+  m.path_cols.reserve(cells);
+  for (size_t i = 0; i < n; ++i) {
+    const Route& route = routes[i];
+    m.start_rows.push_back(starts[i].first);
+    m.start_cols.push_back(starts[i].second);
+    m.status.push_back(static_cast<int8_t>(route.status));
+    m.answered_by.push_back(static_cast<int8_t>(route.answered_by));
+    m.length.push_back(route.length);
+    m.path_offset.push_back(static_cast<int32_t>(m.path_rows.size()));
+    m.path_cells.push_back(static_cast<int32_t>(route.cells.size()));
+    for (int cell : route.cells) {
+      m.path_rows.push_back(snapshot->grid.RowOf(cell));
+      m.path_cols.push_back(snapshot->grid.ColOf(cell));
+    }
+  }
+  m.num_path = static_cast<int32_t>(m.path_rows.size());
+  return m;
 }
 
 }  // namespace dynapath::protocol

@@ -14,6 +14,14 @@
 #include "dynapath/grid_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/learner_shard_t.hpp"
+#include "dynapath/map_update.h"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/occupancy_grid_t.hpp"
+#include "dynapath/path_reply_t.hpp"
+#include "dynapath/planner.h"
+#include "dynapath/policy_t.hpp"
+#include "dynapath/region.h"
+#include "dynapath/routes.h"
 #include "dynapath/start_statistics.h"
 #include "dynapath/trainer.h"
 #include "dynapath/training_job.h"
@@ -96,5 +104,41 @@ Grid GridFromMessage(const grid_t& message);  // message validated
 changes_t ChangesToMessage(const ChangeStep& step, int time_step, int total_steps);
 // Fails when a cell lies outside a rows x cols grid.
 Result<ChangeStep> ChangesFromMessage(const changes_t& message, int rows, int cols);
+
+// The POLICY message of one step (coordinator and service alike):
+// `picture` null for approaches without a table (actions and reaches -1).
+policy_t PolicyToMessage(const std::string& run_id, const std::string& approach, int pass,
+                         int time_step, const Grid& grid, const PolicyPicture* picture,
+                         const std::vector<Region>& trained_regions);
+
+// A (validated) obstacle update for a rows x cols grid. Fails, with
+// `*why` set, when a cell lies outside the grid or a state is neither
+// OBSTACLE nor FREE; the update is then refused whole.
+Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& message, int rows, int cols,
+                                    UpdateRefusal* why);
+// Occupancy thresholds (ROS map_server's meaning and defaults): a value p
+// (0..100, percent) is an obstacle when p / 100 > occupied, free when
+// p / 100 < free, else (and -1, unknown) it changes nothing.
+struct OccupancyThresholds {
+  double occupied = 0.65;
+  double free = 0.196;
+};
+// A (validated) occupancy grid as an update of `map` (the service's grid:
+// its size and stations): one change per cell whose value is decidedly
+// free or occupied, stations left out (they never change). Data row 0 is
+// the map's bottom row (ROS's origin, see occupancy_grid_t.lcm). Fails
+// with kGridShape when the sizes differ.
+Result<MapUpdate> UpdateFromOccupancyGrid(const occupancy_grid_t& message, const Grid& map,
+                                          const OccupancyThresholds& thresholds,
+                                          UpdateRefusal* why);
+
+// The reply to request (`client`, `request_id`): `refused` one of
+// path_reply_t's ACCEPTED, TOO_MANY_STARTS, NOT_READY; `snapshot` (null
+// when not ready) the policy every route came from, `starts` and `routes`
+// one per start (empty when refused).
+path_reply_t ReplyToMessage(const std::string& client, int64_t request_id, int8_t refused,
+                            const std::string& approach, const RouteSnapshot* snapshot,
+                            const std::vector<std::pair<int32_t, int32_t>>& starts,
+                            const std::vector<Route>& routes);
 
 }  // namespace dynapath::protocol

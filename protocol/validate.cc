@@ -9,6 +9,7 @@
 #include "dynapath/mdp.h"
 #include "protocol/convert.h"
 #include "protocol/fragments.h"
+#include "protocol/limits.h"
 #include "protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -247,6 +248,71 @@ std::string Validate(const policy_t& m) {
     if (!Inside(m.region_row0[i], m.region_rows[i], m.rows) ||
         !Inside(m.region_col0[i], m.region_cols[i], m.cols)) {
       return "region outside the grid";
+    }
+  }
+  return {};
+}
+
+namespace {
+
+bool PeerName(const std::string& name) { return !name.empty() && name.size() <= kMaxPeerNameChars; }
+
+}  // namespace
+
+std::string Validate(const obstacle_update_t& m) {
+  if (!PeerName(m.source)) return "source name must have 1-64 characters";
+  if (m.sequence < 1) return "sequence numbers start at 1";
+  if (m.num_cells < 0 || m.num_cells > kMaxUpdateCells) return "too many cells";
+  if (!Count(m.num_cells, m.rows.size()) || m.cols.size() != m.rows.size() ||
+      m.states.size() != m.rows.size()) {
+    return "cell count mismatch";
+  }
+  return {};
+}
+
+std::string Validate(const occupancy_grid_t& m) {
+  if (!PeerName(m.source)) return "source name must have 1-64 characters";
+  if (m.sequence < 1) return "sequence numbers start at 1";
+  if (!GridSize(m.rows, m.cols)) return "bad grid size";
+  if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.data.size())) {
+    return "cell count does not match rows x cols";
+  }
+  return {};
+}
+
+std::string Validate(const path_request_t& m) {
+  if (!PeerName(m.client)) return "client name must have 1-64 characters";
+  if (m.num_starts < 1 || m.num_starts > kMaxRequestStarts) return "bad number of starts";
+  if (!Count(m.num_starts, m.start_rows.size()) || m.start_cols.size() != m.start_rows.size()) {
+    return "start count mismatch";
+  }
+  return {};
+}
+
+std::string Validate(const path_reply_t& m) {
+  if (!PeerName(m.client)) return "client name must have 1-64 characters";
+  if (m.refused < path_reply_t::ACCEPTED || m.refused > path_reply_t::NOT_READY) {
+    return "unknown refusal";
+  }
+  const size_t n = m.start_rows.size();
+  if (!Count(m.num_starts, n) || m.start_cols.size() != n || m.status.size() != n ||
+      m.answered_by.size() != n || m.length.size() != n || m.path_offset.size() != n ||
+      m.path_cells.size() != n) {
+    return "start count mismatch";
+  }
+  if (!Count(m.num_path, m.path_rows.size()) || m.path_cols.size() != m.path_rows.size()) {
+    return "path count mismatch";
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (m.status[i] < path_reply_t::REACHED || m.status[i] > path_reply_t::OVER_BUDGET) {
+      return "unknown status";
+    }
+    if (m.answered_by[i] < path_reply_t::BY_NONE || m.answered_by[i] > path_reply_t::BY_EXACT) {
+      return "unknown answerer";
+    }
+    if (m.path_offset[i] < 0 || m.path_cells[i] < 0 ||
+        Wide(m.path_offset[i]) + Wide(m.path_cells[i]) > Wide(m.num_path)) {
+      return "path outside the reply";
     }
   }
   return {};

@@ -15,6 +15,10 @@
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/limits.h"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/occupancy_grid_t.hpp"
+#include "dynapath/path_reply_t.hpp"
+#include "dynapath/path_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/shards_t.hpp"
 #include "dynapath/step_report_t.hpp"
@@ -36,5 +40,13 @@ std::string Validate(const fragment_t& message);
 std::string Validate(const fragment_nack_t& message);
 std::string Validate(const step_report_t& message);
 std::string Validate(const policy_t& message);
+// dynapath serve's messages: structure and the protocol's caps only; whether
+// the cells lie inside the service's grid and what they change is checked
+// against that grid (protocol/convert.h, ServiceUpdates), so that the
+// service counts each refusal by its reason.
+std::string Validate(const obstacle_update_t& message);
+std::string Validate(const occupancy_grid_t& message);
+std::string Validate(const path_request_t& message);
+std::string Validate(const path_reply_t& message);
 
 }  // namespace dynapath::protocol

@@ -29,6 +29,8 @@ HOMONYMS = {
     "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
     "--config": (2, "a CLI11 config file (run, the processes); experiment's TOML study file, read by toml++"),
     "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
+    "--rate": (2, "query's requests per second; feed's time steps per second"),
+    "--timeout": (2, "view's wait for a run; query and feed's wait for the service"),
 }
 
 # The commands: how to run each one's --help, relative to the build directory.
@@ -40,6 +42,10 @@ COMMANDS = [
     ("dynapath params", ["tools/dynapath", "params"]),
     ("dynapath compare", ["tools/dynapath", "compare"]),
     ("dynapath netns", ["tools/dynapath", "netns"]),
+    ("dynapath serve", ["tools/dynapath", "serve"]),
+    ("dynapath query", ["tools/dynapath", "query"]),
+    ("dynapath feed", ["tools/dynapath", "feed"]),
+    ("dynapath robots", ["tools/dynapath", "robots"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),

@@ -146,6 +146,10 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     run.load_seconds = clock() - start;
     first_step = saved + 1;
     maybe_save(saved, grid);
+    if (hooks.on_loaded) {
+      const StepDetails none;
+      hooks.on_loaded(StepView{run, pass, total_steps, *planner, grid, none});
+    }
   } else {
     StepDetails details;
     double start = clock();

@@ -53,6 +53,7 @@ class IncrementalOraclePlanner : public Planner {
 
   // Current distances (kUnreachable = -1 where no station is reachable).
   const std::vector<int32_t>& distances() const { return distances_.values(); }
+  const std::vector<int32_t>* ExactDistances() const override { return &distances_.values(); }
 
  private:
   // Adds (sign +1) or removes (-1) one cell's part of the score.

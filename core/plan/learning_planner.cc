@@ -107,6 +107,8 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
   const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
   picture.actions.assign(static_cast<size_t>(grid.size()), -1);
   picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
+  picture.second.assign(static_cast<size_t>(grid.size()), -1);
+  picture.depth = depth;
   for (int cell = 0; cell < grid.size(); ++cell) {
     if (grid.at(cell) == Cell::kObstacle) continue;
     picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
@@ -114,6 +116,7 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
     int best = -1, second = -1;
     TopTwoActions(grid, cell, root_->table(), best, second);
     picture.actions[cell] = static_cast<int8_t>(best);
+    picture.second[cell] = static_cast<int8_t>(second);
   }
   return true;
 }

@@ -10,8 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "dynapath/bfs_oracle.h"
 #include "dynapath/fedasynq.h"
 #include "dynapath/region_model.h"
+#include "dynapath/routes.h"
 #include "fuzz/combiner_job.h"
 #include "protocol/convert.h"
 #include "protocol/round_combiner.h"
@@ -63,6 +65,51 @@ int main(int argc, char** argv) {
   changes_t changes = protocol::ChangesToMessage(step, 1, 5);
   changes.run_id = "r1";
   ok = ok && Write(dir + "/decode_fuzz/changes_valid", Encoded(changes));
+
+  // dynapath serve's messages, valid ones (the schema encoder's have
+  // mismatched counts).
+  obstacle_update_t update{};
+  update.run_id = "r1";
+  update.source = "lidar";
+  update.sequence = 1;
+  update.num_cells = 2;
+  update.rows = {3, 4};
+  update.cols = {5, 6};
+  update.states = {obstacle_update_t::OBSTACLE, obstacle_update_t::FREE};
+  ok = ok && Write(dir + "/decode_fuzz/obstacle_update_valid", Encoded(update));
+  occupancy_grid_t occupancy{};
+  occupancy.run_id = "r1";
+  occupancy.source = "map";
+  occupancy.sequence = 1;
+  occupancy.rows = 3;
+  occupancy.cols = 4;
+  occupancy.num_cells = 12;
+  occupancy.data = {0, 100, -1, 50, 0, 0, 0, 100, 100, 0, -1, 0};
+  ok = ok && Write(dir + "/decode_fuzz/occupancy_grid_valid", Encoded(occupancy));
+  path_request_t request{};
+  request.run_id = "r1";
+  request.client = "robot-7";
+  request.request_id = 42;
+  request.num_starts = 2;
+  request.start_rows = {1, 2};
+  request.start_cols = {1, 3};
+  ok = ok && Write(dir + "/decode_fuzz/path_request_valid", Encoded(request));
+  {
+    RouteSnapshot snapshot;
+    snapshot.grid = grid;
+    snapshot.version = 2;
+    std::vector<int32_t> queue;
+    NearestStationDistances(grid, snapshot.distance, queue);
+    std::vector<std::pair<int32_t, int32_t>> starts = {{1, 1}, {-1, 0}};
+    std::vector<Route> routes;
+    for (const auto& [row, col] : starts) {
+      routes.push_back(AnswerRoute(snapshot, row, col, AnswerMode::kExact, 1000));
+    }
+    path_reply_t reply = protocol::ReplyToMessage("robot-7", 42, path_reply_t::ACCEPTED,
+                                                  "fedAsynQ_EqAvg", &snapshot, starts, routes);
+    reply.run_id = "r1";
+    ok = ok && Write(dir + "/decode_fuzz/path_reply_valid", Encoded(reply));
+  }
 
   // Two rounds of the round combiner target's job (fuzz/round_combiner_fuzz.cc).
   const TrainingJob job = fuzz::CombinerTrainingJob(Averaging::kEqual);

@@ -18,6 +18,10 @@
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/job_t.hpp"
 #include "dynapath/learner_shard_t.hpp"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/occupancy_grid_t.hpp"
+#include "dynapath/path_reply_t.hpp"
+#include "dynapath/path_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/shards_t.hpp"
 #include "dynapath/step_report_t.hpp"
@@ -59,13 +63,15 @@ MessageType MakeMessageType() {
 
 inline const std::vector<MessageType>& AllMessageTypes() {
   static const std::vector<MessageType> types = {
-      MakeMessageType<changes_t>(),       MakeMessageType<fragment_t>(),
-      MakeMessageType<fragment_nack_t>(), MakeMessageType<grid_t>(),
-      MakeMessageType<heartbeat_t>(),     MakeMessageType<job_batch_t>(),
-      MakeMessageType<job_result_t>(),    MakeMessageType<job_t>(),
-      MakeMessageType<learner_shard_t>(), MakeMessageType<policy_t>(),
-      MakeMessageType<shards_t>(),        MakeMessageType<step_report_t>(),
-      MakeMessageType<step_request_t>(),
+      MakeMessageType<changes_t>(),        MakeMessageType<fragment_t>(),
+      MakeMessageType<fragment_nack_t>(),  MakeMessageType<grid_t>(),
+      MakeMessageType<heartbeat_t>(),      MakeMessageType<job_batch_t>(),
+      MakeMessageType<job_result_t>(),     MakeMessageType<job_t>(),
+      MakeMessageType<learner_shard_t>(),  MakeMessageType<policy_t>(),
+      MakeMessageType<shards_t>(),         MakeMessageType<step_report_t>(),
+      MakeMessageType<step_request_t>(),   MakeMessageType<obstacle_update_t>(),
+      MakeMessageType<occupancy_grid_t>(), MakeMessageType<path_request_t>(),
+      MakeMessageType<path_reply_t>(),
   };
   return types;
 }

@@ -17,6 +17,13 @@ int ExperimentCommand(const std::vector<std::string>& args);
 int NetnsCommand(const std::vector<std::string>& args);
 // Writes a new run secret to a file (mode 600) for processes started by hand.
 int SecretCommand(const std::vector<std::string>& args);
+// The planning service on the bus and its clients (docs/howto/SERVICE.md).
+// serve enters a private network without --lcm-url, so it must be called
+// while the process has a single thread.
+int ServeCommand(const std::vector<std::string>& args);
+int QueryCommand(const std::vector<std::string>& args);
+int FeedCommand(const std::vector<std::string>& args);
+int RobotsCommand(const std::vector<std::string>& args);
 // Lists the learner and strategy parameters (dynapath/parameters.h).
 int ParamsCommand(const std::vector<std::string>& args);
 // The paired difference of two approaches over the repeats of a study.

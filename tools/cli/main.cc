@@ -22,6 +22,10 @@ constexpr const char* kUsage =
     "  maze        generate or load a maze and print it with its facts\n"
     "  run         run approaches on a maze and its change sequence, write result CSVs\n"
     "  experiment  run a whole study (sizes x difficulties, edge case), resumable\n"
+    "  serve       answer path queries over LCM while the map changes (a planning service)\n"
+    "  query       ask a service for paths, or measure its query latency\n"
+    "  feed        publish a change sequence to a service as live obstacle updates\n"
+    "  robots      a simulated robot fleet in closed loop with a service\n"
     "  netns       run a command in a private, loopback-only network (for LCM)\n"
     "  secret      write a new run secret to a file, for processes started by hand\n"
     "  params      list the learner and strategy parameters (defaults, ranges, help)\n"
@@ -59,6 +63,11 @@ int main(int argc, char** argv) {
   // Still single-threaded here, as unshare(CLONE_NEWUSER) requires: the
   // synchronous stderr logger starts no thread.
   if (command == "netns") return dynapath::cli::NetnsCommand(args);
+  // Single-threaded too (without --lcm-url it enters a private network).
+  if (command == "serve") return dynapath::cli::ServeCommand(args);
+  if (command == "query") return dynapath::cli::QueryCommand(args);
+  if (command == "feed") return dynapath::cli::FeedCommand(args);
+  if (command == "robots") return dynapath::cli::RobotsCommand(args);
   if (command == "secret") return dynapath::cli::SecretCommand(args);
   if (command == "params") return dynapath::cli::ParamsCommand(args);
   if (command == "compare") return dynapath::cli::CompareCommand(args);

@@ -126,6 +126,11 @@ struct PolicyHooks {
   // maze or run seed differ, fail instead of starting from it as on
   // another maze.
   bool must_continue = false;
+  // Called once when `load` was taken over on the maze it was saved from
+  // (the view's grid is that of the saved step; run.steps may be empty):
+  // the step callback is not, as no step was scored. A service commits
+  // the loaded policy here before the next step.
+  StepCallback on_loaded;
 };
 // RunApproach with `hooks`; fails when the loaded policy does not fit the
 // run (CheckPolicyFits) or continuing it finds another change sequence.

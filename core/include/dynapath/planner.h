@@ -58,10 +58,16 @@ struct StepDetails {
 
 // The policy as a picture (for viewers): per cell, the greedy action (-1 for
 // obstacles and stations) and whether following the policy from the cell
-// reaches a station (1), fails (0) or the cell is no start (-1).
+// reaches a station (1), fails (0) or the cell is no start (-1). `second`
+// (the second-best action, -1 where `actions` is) and `depth` (the policy
+// evaluation's path length to a station, kNoPath for failing starts and
+// obstacles) are what a path query needs to walk the path that evaluation
+// counted (dynapath/routes.h).
 struct PolicyPicture {
   std::vector<int8_t> actions;
   std::vector<int8_t> reaches;
+  std::vector<int8_t> second;
+  std::vector<int32_t> depth;
 };
 
 class Planner {
@@ -84,6 +90,10 @@ class Planner {
   // over on `grid`, which the next Adapt call changes.
   virtual bool ExportPolicy(PolicyState& /*state*/) const { return false; }
   virtual Status ImportPolicy(const PolicyState& state, const Grid& grid);
+  // The exact distance of every cell to its nearest station on the current
+  // grid (kUnreachable where none), for planners that keep them up to date
+  // (Incremental Oracle); null for the others.
+  virtual const std::vector<int32_t>* ExactDistances() const { return nullptr; }
 };
 
 // The approach's planner (its factory in core/plan/approach_registry.h).

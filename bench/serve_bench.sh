@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# dynapath serve's figures (docs/PERFORMANCE.md, "Planning service"): query
+# latency from a client in another process over udpm, idle and while the
+# service retrains, and the time from publishing an update to the first
+# reply from the policy it made. Runs in a private network of its own:
+#
+#   build/tools/dynapath netns -- bench/serve_bench.sh build [MAZE OPTIONS...]
+#
+# MAZE OPTIONS default to the report's hard 300x300 maze (--size 300
+# --difficulty hard --seed 1); e.g. --maze city-1000-1000.map --stations
+# 0.5% --movers 2% for a map. Prints one line per figure.
+set -euo pipefail
+build=${1:-build}
+shift || true
+maze=("$@")
+churn=("$@" --seed 99)
+if [ ${#maze[@]} -eq 0 ]; then
+  maze=(--size 300 --difficulty hard --seed 1)
+  churn=(--size 300 --difficulty hard --seed 99)
+fi
+dynapath=$build/tools/dynapath
+if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
+  echo "run it in a private network: $dynapath netns -- $0 $build ${maze[*]}" >&2
+  exit 2
+fi
+export LCM_DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
+work=$(mktemp -d)
+server=
+trap '[ -n "$server" ] && kill -9 "$server" 2>/dev/null; rm -rf "$work"' EXIT
+"$dynapath" secret "$work/key" >/dev/null
+auth=(--run-id bench --secret-file "$work/key")
+"$dynapath" serve "${auth[@]}" "${maze[@]}" --steps 20 --approach fedAsynQ_EqAvg \
+  --threads "${THREADS:-2}" --policy-every 5 >"$work/serve.out" 2>"$work/serve.log" &
+server=$!
+start=$SECONDS
+"$dynapath" query "${auth[@]}" --from 0,0 --timeout 900 >/dev/null
+echo "initial training and first commit: $((SECONDS - start)) s"
+for rate in 1000 10000; do
+  echo "idle, $rate/s: $("$dynapath" query "${auth[@]}" --rate "$rate" --duration 5)"
+done
+# Lock step over the maze's own change sequence: publication to new policy.
+echo "update to new policy (lock step, 20 steps): $("$dynapath" feed "${auth[@]}" "${maze[@]}" \
+  --steps 20 --timeout 600)"
+# Another maze's changes at 4 steps a second: retraining all along.
+"$dynapath" feed "${auth[@]}" "${churn[@]}" --steps 20 --rate 4 --source churn \
+  --timeout 600 >/dev/null &
+feeder=$!
+echo "during retraining, 1000/s: $("$dynapath" query "${auth[@]}" --rate 1000 --duration 5)"
+wait "$feeder" || echo "the retraining feed failed"
+kill -INT "$server"
+wait "$server" || true
+server=
+cat "$work/serve.out"

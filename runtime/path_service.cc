@@ -1,0 +1,292 @@
+#include "runtime/path_service.h"
+
+#include <spdlog/spdlog.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+
+#include "dynapath/local_trainer.h"
+#include "dynapath/thread_pool.h"
+#include "runtime/scenario_options.h"
+
+namespace dynapath::runtime {
+
+// Time steps from live updates, one per batch; ends (kCancelled) when the
+// service stops. A loaded policy's first steps come from the change
+// sequence it was saved on (RunApproach catches up with them).
+class PathService::LiveSource : public StepSource {
+ public:
+  LiveSource(PathService& service, int catch_up_steps)
+      : service_(service), catch_up_steps_(catch_up_steps) {}
+  // RunApproach needs a last step; a service runs until stopped, and a
+  // million steps of updates is far beyond any session.
+  int total_steps() const override { return static_cast<int>(kMaxSteps); }
+  Grid Initial(int /*pass*/) override { return service_.maze_; }
+  ChangeStep Changes(int /*pass*/, int t) override {
+    ChangeStep step;
+    if (t <= catch_up_steps_) {
+      step = service_.config_.catch_up.steps[static_cast<size_t>(t - 1)];
+    } else {
+      std::unique_lock lock(service_.updates_mutex_);
+      service_.updates_ready_.wait(
+          lock, [&] { return service_.stop_.load() || service_.updates_.pending(); });
+      if (service_.stop_.load()) return {};
+      step = service_.updates_.Take();
+    }
+    service_.last_changed_.clear();
+    for (const CellChange& change : step.changes) service_.last_changed_.push_back(change.cell);
+    return step;
+  }
+  Status status() const override {
+    if (service_.stop_.load()) return Error::Cancelled();
+    return Ok{};
+  }
+
+ private:
+  PathService& service_;
+  int catch_up_steps_;
+};
+
+namespace {
+
+// The step a loaded policy continues from on this maze (RunApproach's own
+// test), 0 when it starts at step 0 (or adapts to another maze).
+int CatchUpSteps(const ServiceConfig& config, const Grid& maze) {
+  const PolicyState* loaded = config.load;
+  if (loaded == nullptr || loaded->initial_fingerprint != MazeFingerprint(maze) ||
+      loaded->run_seed != config.options.run_seed) {
+    return 0;
+  }
+  return loaded->step;
+}
+
+Grid GridAfter(Grid grid, const ChangeSequence& changes, int steps) {
+  for (int t = 0; t < steps && t < static_cast<int>(changes.steps.size()); ++t) {
+    ApplyChanges(changes.steps[static_cast<size_t>(t)], grid);
+  }
+  return grid;
+}
+
+}  // namespace
+
+PathService::PathService(Grid maze, ServiceConfig config, CommitHook on_commit)
+    : maze_(std::move(maze)),
+      config_(std::move(config)),
+      on_commit_(std::move(on_commit)),
+      updates_(GridAfter(maze_, config_.catch_up, CatchUpSteps(config_, maze_))) {}
+
+PathService::~PathService() { (void)Stop(); }
+
+void PathService::Start() {
+  if (thread_.joinable()) return;
+  thread_ = std::thread([this] { Train(); });
+}
+
+Result<ApproachRun> PathService::Stop() {
+  stop_ = true;
+  {
+    std::lock_guard lock(updates_mutex_);  // no lost wake-up
+  }
+  updates_ready_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  return result_;
+}
+
+void PathService::Train() {
+  const int catch_up = CatchUpSteps(config_, maze_);
+  if (catch_up > static_cast<int>(config_.catch_up.steps.size())) {
+    result_ = Error("the policy was saved at time step " + std::to_string(catch_up) +
+                    " of its run; the service needs that run's change sequence (--changes) to "
+                    "catch up with it, and has " +
+                    std::to_string(config_.catch_up.steps.size()) + " steps");
+    return;
+  }
+  // Training at a lower priority than the dispatch thread that answers
+  // queries: on a machine with fewer cores than busy threads, the kernel
+  // then runs an arriving request first instead of after a time slice of
+  // training. Threads inherit it, so the pool's workers made below have it
+  // too. Lowering one's own priority needs no privilege; failing changes
+  // only latency.
+  if (config_.training_nice > 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)),
+                                               config_.training_nice) != 0) {
+    spdlog::debug("serve: could not lower the training threads' priority");
+  }
+  try {
+    ThreadPool pool(std::max(1, config_.threads));
+    LocalTrainer trainer(pool, &stop_);
+    PlannerOptions options = config_.options;
+    options.stop = &stop_;
+    LiveSource source(*this, catch_up);
+    PolicyHooks hooks;
+    hooks.load = config_.load;
+    hooks.on_loaded = [this](const StepView& view) { OnStep(view); };
+    Result<ApproachRun> run =
+        RunApproach(source, 0, config_.approach, options, &trainer, config_.labels, hooks,
+                    SteadyClock(), [this](const StepView& view) { OnStep(view); });
+    if (run && !trainer.status() && !trainer.status().error().IsCancelled()) {
+      result_ = trainer.status().error();
+    } else {
+      result_ = std::move(run);
+    }
+  } catch (const std::exception& e) {  // a broken invariant
+    result_ = Error::Internal(e.what());
+  }
+  if (!result_) spdlog::error("serve: training stopped: {}", result_.error().message);
+}
+
+void PathService::OnStep(const StepView& view) {
+  const bool want_exact = config_.answer != AnswerMode::kLearned;
+  const Planner* exact = nullptr;
+  if (want_exact && view.planner.ExactDistances() == nullptr) {
+    // The exact distances beside a learner: Incremental Oracle repairs them
+    // from the step's changed cells only.
+    if (!exact_ready_) {
+      exact_ = MakePlanner(Approach::kIncrementalOracle, config_.options, nullptr);
+      exact_->Initialize(view.grid);
+      exact_ready_ = true;
+    } else {
+      exact_->Adapt(view.grid, last_changed_);
+    }
+    exact = exact_.get();
+  }
+  // A loaded policy taken over at its saved step has no step record yet.
+  const int time_step =
+      view.run.steps.empty() ? CatchUpSteps(config_, maze_) : view.run.steps.back().time_step;
+  int64_t version;
+  {
+    std::lock_guard lock(stats_mutex_);
+    version = ++stats_.commits;
+    stats_.version = version;
+    stats_.time_step = time_step;
+    if (view.details.nodes_trained > 0) {
+      ++stats_.retrainings;
+      stats_.nodes_trained += view.details.nodes_trained;
+    }
+  }
+  auto snapshot = std::make_shared<const RouteSnapshot>(
+      MakeRouteSnapshot(view.planner, view.grid, exact, version, time_step));
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_ = snapshot;
+  }
+  committed_.notify_all();
+  if (on_commit_) on_commit_(Commit{view, *snapshot});
+}
+
+std::optional<UpdateRefusal> PathService::Submit(const MapUpdate& update) {
+  std::optional<UpdateRefusal> refused;
+  {
+    std::lock_guard lock(updates_mutex_);
+    refused = updates_.Submit(update);
+    if (refused || !updates_.pending()) return refused;
+  }
+  updates_ready_.notify_one();
+  return refused;
+}
+
+void PathService::Refuse(UpdateRefusal why) {
+  std::lock_guard lock(updates_mutex_);
+  updates_.Refuse(why);
+}
+
+std::shared_ptr<const RouteSnapshot> PathService::Current() const {
+  std::lock_guard lock(snapshot_mutex_);
+  return snapshot_;
+}
+
+bool PathService::WaitForVersion(int64_t version, double seconds) const {
+  std::unique_lock lock(snapshot_mutex_);
+  return committed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                             [&] { return snapshot_ != nullptr && snapshot_->version >= version; });
+}
+
+Answer PathService::Ask(const std::vector<QueryStart>& starts) {
+  Answer answer;
+  answer.snapshot = Current();
+  if (answer.snapshot == nullptr) {
+    answer.refused = Answer::kNotReady;
+  } else if (starts.size() > static_cast<size_t>(std::max(0, config_.max_starts))) {
+    answer.refused = Answer::kTooManyStarts;
+  } else {
+    size_t budget = config_.reply_budget;
+    answer.routes.reserve(starts.size());
+    for (const QueryStart& start : starts) {
+      answer.routes.push_back(
+          AnswerRoute(*answer.snapshot, start.first, start.second, config_.answer, budget));
+      budget -= std::min(budget, answer.routes.back().cells.size());
+    }
+  }
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.requests;
+  if (answer.refused == Answer::kNotReady) ++stats_.refused_not_ready;
+  if (answer.refused == Answer::kTooManyStarts) ++stats_.refused_too_many_starts;
+  for (const Route& route : answer.routes) {
+    ++stats_.starts;
+    ++stats_.by_status[static_cast<size_t>(route.status)];
+    if (route.status == RouteStatus::kReached) {
+      if (route.answered_by == AnsweredBy::kLearned) ++stats_.by_learned;
+      if (route.answered_by == AnsweredBy::kExact) ++stats_.by_exact;
+    }
+  }
+  return answer;
+}
+
+void PathService::RecordLatency(int64_t micros) {
+  std::lock_guard lock(stats_mutex_);
+  stats_.latency.Add(micros);
+}
+
+ServiceStats PathService::stats() const {
+  ServiceStats stats;
+  {
+    std::lock_guard lock(stats_mutex_);
+    stats = stats_;
+  }
+  std::lock_guard lock(updates_mutex_);
+  stats.updates = updates_.counts();
+  return stats;
+}
+
+std::string PathService::Summary(const ServiceStats& s) {
+  std::string text = "served: " + std::to_string(s.requests) + " queries (" +
+                     std::to_string(s.starts) + " starts: ";
+  for (size_t i = 0; i < s.by_status.size(); ++i) {
+    if (i > 0) text += ", ";
+    text += std::to_string(s.by_status[i]) + " " + RouteStatusName(static_cast<RouteStatus>(i));
+  }
+  text += "; reached by learned " + std::to_string(s.by_learned) + ", by exact " +
+          std::to_string(s.by_exact) + "), refused " + std::to_string(s.refused_too_many_starts) +
+          " too many starts, " + std::to_string(s.refused_not_ready) + " not ready\n";
+  text += "updates: " + std::to_string(s.updates.received) + " received, " +
+          std::to_string(s.updates.accepted) + " accepted (" +
+          std::to_string(s.updates.cells_changed) + " cells changed, " +
+          std::to_string(s.updates.cells_unchanged) + " unchanged), " +
+          std::to_string(s.updates.refused_total()) + " dropped (";
+  for (size_t i = 0; i < kUpdateRefusalCount; ++i) {
+    if (i > 0) text += ", ";
+    text += std::to_string(s.updates.refused[i]) + " " +
+            UpdateRefusalName(static_cast<UpdateRefusal>(i));
+  }
+  text += ")\n";
+  text += "policy: version " + std::to_string(s.version) + ", time step " +
+          std::to_string(s.time_step) + ", " + std::to_string(s.updates.steps) +
+          " steps of updates, " + std::to_string(s.retrainings) + " retrainings (" +
+          std::to_string(s.nodes_trained) + " nodes trained)\n";
+  char latency[160];
+  std::snprintf(latency, sizeof latency,
+                "query latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "
+                "over %lld queries\n",
+                static_cast<double>(s.latency.Quantile(0.5)) / 1000.0,
+                static_cast<double>(s.latency.Quantile(0.99)) / 1000.0,
+                static_cast<double>(s.latency.max()) / 1000.0,
+                static_cast<long long>(s.latency.count()));
+  text += latency;
+  return text;
+}
+
+}  // namespace dynapath::runtime

@@ -1,0 +1,159 @@
+#pragma once
+// The planning service of `dynapath serve`, without LCM (the bus glue is
+// runtime/service_bus.h): a maze, one approach trained on it, live updates
+// merged into time steps, and path queries answered from the last committed
+// policy while the next one trains.
+//
+// Threads. The training thread runs the same RunApproach as `run` (core's
+// experiment.h) over a LiveStepSource: each time step is the batch of
+// updates accepted since the previous one began, so the retraining strategy
+// decides exactly as in a run given that change sequence. After each step
+// it builds a RouteSnapshot (dynapath/routes.h) and commits it by swapping
+// one shared_ptr under a mutex: a query copies the pointer and answers every
+// start of its request from that one snapshot, so it never waits for
+// training and never mixes two versions. Submit and Answer are safe from
+// any thread.
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "dynapath/approach.h"
+#include "dynapath/change_sequence.h"
+#include "dynapath/experiment.h"
+#include "dynapath/latency_histogram.h"
+#include "dynapath/map_update.h"
+#include "dynapath/planner.h"
+#include "dynapath/policy_state.h"
+#include "dynapath/routes.h"
+
+namespace dynapath::runtime {
+
+struct ServiceConfig {
+  Approach approach = Approach::kFedAsynQEqAvg;
+  AnswerMode answer = AnswerMode::kLearnedElseExact;
+  PlannerOptions options;  // run_seed set from the scenario
+  RunLabels labels;
+  int threads = 1;
+  // Starts one request may carry; larger requests are refused whole.
+  int max_starts = 64;
+  // Path cells one reply may carry (all its starts together): bounds a
+  // reply's size; a start beyond it is answered kOverBudget.
+  size_t reply_budget = size_t{1} << 20;
+  // The training threads' nice value (0: the process's own): above the
+  // dispatch thread's, so queries are answered first on a busy machine.
+  int training_nice = 5;
+  // A policy to start from (runtime/policy_file.h) instead of the initial
+  // training, and the changes that lead from the maze to the step it was
+  // saved at (the scenario's change sequence; only its first steps are used).
+  const PolicyState* load = nullptr;
+  ChangeSequence catch_up;
+};
+
+// What the training thread hands the glue at every commit (policy
+// publishing, step reports).
+struct Commit {
+  const StepView& view;
+  const RouteSnapshot& snapshot;
+};
+
+struct Answer {
+  enum Refusal { kAccepted = 0, kTooManyStarts = 1, kNotReady = 2 };
+  Refusal refused = kAccepted;
+  std::shared_ptr<const RouteSnapshot> snapshot;  // the one every route came from
+  std::vector<Route> routes;                      // one per start
+};
+
+struct ServiceStats {
+  int64_t requests = 0;
+  int64_t starts = 0;
+  int64_t refused_too_many_starts = 0;
+  int64_t refused_not_ready = 0;
+  std::array<int64_t, 8> by_status{};  // RouteStatus
+  int64_t by_learned = 0, by_exact = 0;
+  UpdateCounts updates;
+  int64_t commits = 0;
+  int64_t retrainings = 0;  // steps that trained at least one node
+  int64_t nodes_trained = 0;
+  LatencyHistogram latency;  // request received to reply sent, microseconds
+  int64_t version = 0;
+  int time_step = 0;
+};
+
+// Starts (row, col) of one request.
+using QueryStart = std::pair<int32_t, int32_t>;
+
+class PathService {
+ public:
+  using CommitHook = std::function<void(const Commit&)>;
+  // `maze`: the grid at time step 0. `on_commit` (may be empty) runs on the
+  // training thread after each commit.
+  PathService(Grid maze, ServiceConfig config, CommitHook on_commit = {});
+  ~PathService();  // stops and joins
+  PathService(const PathService&) = delete;
+  PathService& operator=(const PathService&) = delete;
+
+  // Starts training (the initial policy, or taking over the loaded one).
+  void Start();
+  // Ends the training thread within about a second (the trainer checks
+  // the stop flag inside long jobs) and returns the run as far as it got:
+  // one step record per committed step. Fails when training failed.
+  Result<ApproachRun> Stop();
+
+  // Any thread. An update: nullopt when accepted (it goes into the next
+  // time step), else why it was refused (counted).
+  std::optional<UpdateRefusal> Submit(const MapUpdate& update);
+  void Refuse(UpdateRefusal why);
+  // Answers `starts` from the current snapshot.
+  Answer Ask(const std::vector<QueryStart>& starts);
+  void RecordLatency(int64_t micros);
+
+  std::shared_ptr<const RouteSnapshot> Current() const;
+  // Blocks until a snapshot of at least `version` is committed or
+  // `seconds` pass; true when it was (tests, feeding in lock step).
+  bool WaitForVersion(int64_t version, double seconds) const;
+  ServiceStats stats() const;
+  // The grid of the service's map (size and stations never change).
+  const Grid& maze() const { return maze_; }
+  const ServiceConfig& config() const { return config_; }
+  // Multi-line summary of stats() for the end of a service.
+  static std::string Summary(const ServiceStats& stats);
+
+ private:
+  class LiveSource;
+  void Train();
+  void OnStep(const StepView& view);
+
+  const Grid maze_;
+  ServiceConfig config_;
+  CommitHook on_commit_;
+  std::atomic<bool> stop_{false};
+
+  mutable std::mutex updates_mutex_;  // guards updates_
+  std::condition_variable updates_ready_;
+  UpdateQueue updates_;
+  std::vector<int> last_changed_;  // training thread: the step being adapted
+
+  mutable std::mutex snapshot_mutex_;
+  mutable std::condition_variable committed_;
+  std::shared_ptr<const RouteSnapshot> snapshot_;  // guarded by snapshot_mutex_
+
+  mutable std::mutex stats_mutex_;  // guards stats_ (but its updates)
+  ServiceStats stats_;
+
+  std::unique_ptr<Planner> exact_;  // Incremental Oracle beside a learner
+  bool exact_ready_ = false;
+  Result<ApproachRun> result_ = ApproachRun{};
+  std::thread thread_;
+};
+
+}  // namespace dynapath::runtime

@@ -1,0 +1,127 @@
+#include "runtime/service_bus.h"
+
+#include <chrono>
+#include <utility>
+
+#include "dynapath/changes_t.hpp"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/occupancy_grid_t.hpp"
+#include "dynapath/path_request_t.hpp"
+#include "dynapath/step_report_t.hpp"
+#include "protocol/channels.h"
+
+namespace dynapath::runtime {
+namespace {
+
+int64_t NowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptions options)
+    : bus_(bus),
+      service_(service),
+      options_(options),
+      approach_(ApproachName(service.config().approach)) {
+  const Grid& maze = service_.maze();
+  bus_.Subscribe<obstacle_update_t>(
+      protocol::channel::kMapUpdates,
+      [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
+        UpdateRefusal why{};
+        Result<MapUpdate> update = protocol::UpdateFromMessage(message, rows, cols, &why);
+        if (!update) return service_.Refuse(why);
+        (void)service_.Submit(*update);
+      });
+  bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
+    UpdateRefusal why{};
+    Result<MapUpdate> update =
+        protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds, &why);
+    if (!update) return service_.Refuse(why);
+    (void)service_.Submit(*update);
+  });
+  // A recorded run's environment changes (lcm-logplayer of a run's log,
+  // with that run's id and secret): its first pass's steps, each step's
+  // number as its sequence number, so a resent step counts as stale.
+  bus_.Subscribe<changes_t>(protocol::channel::kEnvChanges, [this](changes_t& message) {
+    if (message.pass != 0) return;  // the same sequence again for another approach
+    const Grid& grid = service_.maze();
+    Result<ChangeStep> step = protocol::ChangesFromMessage(message, grid.rows(), grid.cols());
+    if (!step) return service_.Refuse(UpdateRefusal::kOutsideGrid);
+    MapUpdate update;
+    update.source = "envsim";
+    update.sequence = message.time_step;
+    update.changes = std::move(step->changes);
+    (void)service_.Submit(update);
+  });
+  bus_.Subscribe<path_request_t>(protocol::channel::kPathRequest,
+                                 [this](path_request_t& request) { OnRequest(request); });
+}
+
+void ServiceBus::OnRequest(const path_request_t& request) {
+  const int64_t received = NowMicros();
+  std::vector<QueryStart> starts;
+  // A request above the service's limit is refused unread: no work in
+  // proportion to what a sender announces.
+  if (request.num_starts <= service_.config().max_starts) {
+    starts.reserve(static_cast<size_t>(request.num_starts));
+    for (int32_t i = 0; i < request.num_starts; ++i) {
+      starts.emplace_back(request.start_rows[static_cast<size_t>(i)],
+                          request.start_cols[static_cast<size_t>(i)]);
+    }
+  } else {
+    starts.resize(static_cast<size_t>(service_.config().max_starts) + 1);
+  }
+  const Answer answer = service_.Ask(starts);
+  path_reply_t reply = protocol::ReplyToMessage(request.client, request.request_id,
+                                                static_cast<int8_t>(answer.refused), approach_,
+                                                answer.snapshot.get(), starts, answer.routes);
+  reply.run_id = bus_.run_id();
+  bus_.Publish(protocol::channel::kPathReply, reply);
+  service_.RecordLatency(NowMicros() - received);
+}
+
+void ServiceBus::PublishCommit(const Commit& commit) {
+  const StepView& view = commit.view;
+  if (!view.run.steps.empty()) {
+    const StepRecord& record = view.run.steps.back();
+    step_report_t report{};
+    report.run_id = bus_.run_id();
+    report.approach = approach_;
+    report.size_label = view.run.size_label;
+    report.difficulty = view.run.difficulty_label;
+    report.pass = 0;
+    report.time_step = record.time_step;
+    report.total_steps = record.time_step;  // a service has no last step
+    report.num_changes = record.num_changes;
+    report.initial_seconds = view.run.initial_seconds;
+    report.adapt_seconds = record.adapt_seconds;
+    report.success_rate = record.success_rate;
+    report.average_path_length = record.average_path_length;
+    report.nodes_trained = record.nodes_trained;
+    report.highest_level = record.highest_level;
+    bus_.Publish(protocol::channel::kReport, report);
+  }
+  if (!options_.publish_policy) return;
+  PolicyPicture picture;
+  const bool pictured = view.planner.Picture(view.grid, picture);
+  policy_t policy =
+      protocol::PolicyToMessage(bus_.run_id(), approach_, 0, commit.snapshot.time_step, view.grid,
+                                pictured ? &picture : nullptr, view.details.trained_regions);
+  bus_.Publish(protocol::channel::kPolicy, policy);
+  std::lock_guard lock(policy_mutex_);
+  last_policy_ = std::move(policy);
+}
+
+void ServiceBus::RepublishPolicy() {
+  std::optional<policy_t> policy;
+  {
+    std::lock_guard lock(policy_mutex_);
+    policy = last_policy_;
+  }
+  if (policy) bus_.Publish(protocol::channel::kPolicy, *policy);
+}
+
+}  // namespace dynapath::runtime

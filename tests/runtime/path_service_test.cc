@@ -1,0 +1,221 @@
+#include "runtime/path_service.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <thread>
+
+#include "dynapath/bfs_oracle.h"
+#include "dynapath/local_trainer.h"
+#include "dynapath/scenario.h"
+#include "dynapath/thread_pool.h"
+
+namespace dynapath::runtime {
+namespace {
+
+constexpr double kWait = 120;  // seconds: a loaded machine, a sanitizer
+
+// Each path valid on the grid it was answered on: neighbouring non-obstacle
+// cells ending on a station.
+bool ValidOn(const Grid& grid, const Route& route) {
+  if (route.status != RouteStatus::kReached) return true;
+  if (route.cells.size() != static_cast<size_t>(route.length) + 1) return false;
+  for (size_t i = 0; i < route.cells.size(); ++i) {
+    if (grid.at(route.cells[i]) == Cell::kObstacle) return false;
+    if (i == 0) continue;
+    const int dr = grid.RowOf(route.cells[i]) - grid.RowOf(route.cells[i - 1]);
+    const int dc = grid.ColOf(route.cells[i]) - grid.ColOf(route.cells[i - 1]);
+    if (std::abs(dr) > 1 || std::abs(dc) > 1 || (dr == 0 && dc == 0)) return false;
+  }
+  return grid.at(route.cells.back()) == Cell::kStation;
+}
+
+std::vector<QueryStart> AllCells(const Grid& grid) {
+  std::vector<QueryStart> starts;
+  for (int r = 0; r < grid.rows(); ++r) {
+    for (int c = 0; c < grid.cols(); ++c) starts.emplace_back(r, c);
+  }
+  return starts;
+}
+
+MapUpdate UpdateOf(const ChangeStep& step, int64_t sequence) {
+  MapUpdate update;
+  update.source = "test";
+  update.sequence = sequence;
+  update.changes = step.changes;
+  return update;
+}
+
+ServiceConfig Config(const Scenario& scenario, unsigned seed, int max_starts) {
+  ServiceConfig config;
+  config.approach = Approach::kFedAsynQEqAvg;
+  config.answer = AnswerMode::kLearnedElseExact;
+  config.options.run_seed = seed;
+  config.threads = 1;
+  config.max_starts = max_starts;
+  config.catch_up = scenario.changes;
+  return config;
+}
+
+// The service fed a run's change sequence one update per step scores every
+// step as the run does (the same planner, strategy and trainer path), and
+// each snapshot's learned answers reach exactly the evaluated successes.
+TEST(PathService, StepsFromUpdatesScoreAsTheRun) {
+  const unsigned seed = 3;
+  const Scenario scenario = GenerateScenario(20, 20, Difficulty::kHard, seed, 6);
+  for (const ChangeStep& step : scenario.changes.steps) ASSERT_FALSE(step.changes.empty());
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  PlannerOptions options;
+  options.run_seed = seed;
+  const ApproachRun run =
+      RunApproach(scenario, Approach::kFedAsynQEqAvg, options, &trainer, RunLabels{});
+
+  PathService service(scenario.grid, Config(scenario, seed, 1000));
+  EXPECT_EQ(service.Ask({{0, 0}}).refused, Answer::kNotReady);
+  service.Start();
+  ASSERT_TRUE(service.WaitForVersion(1, kWait));
+  for (size_t t = 0; t <= scenario.changes.steps.size(); ++t) {
+    if (t > 0) {
+      ASSERT_FALSE(
+          service.Submit(UpdateOf(scenario.changes.steps[t - 1], static_cast<int64_t>(t))));
+      ASSERT_TRUE(service.WaitForVersion(static_cast<int64_t>(t) + 1, kWait));
+    }
+    const Answer answer = service.Ask(AllCells(scenario.grid));
+    ASSERT_EQ(answer.refused, Answer::kAccepted);
+    EXPECT_EQ(answer.snapshot->time_step, static_cast<int>(t));
+    std::vector<int32_t> distance, queue;
+    NearestStationDistances(answer.snapshot->grid, distance, queue);
+    int starts = 0, learned = 0;
+    for (size_t i = 0; i < answer.routes.size(); ++i) {
+      const Route& route = answer.routes[i];
+      EXPECT_TRUE(ValidOn(answer.snapshot->grid, route));
+      if (route.status == RouteStatus::kStartObstacle) continue;
+      ++starts;
+      if (route.answered_by == AnsweredBy::kLearned && route.status == RouteStatus::kReached) {
+        ++learned;
+      }
+      // learned-else-exact answers every start that can reach a station.
+      EXPECT_EQ(route.status == RouteStatus::kReached, distance[i] != kUnreachable);
+      if (route.status == RouteStatus::kReached) {
+        EXPECT_GE(route.length, distance[i]);
+      }
+    }
+    EXPECT_DOUBLE_EQ(static_cast<double>(learned) / starts, run.steps[t].success_rate);
+  }
+  Result<ApproachRun> served = service.Stop();
+  ASSERT_TRUE(served.ok());
+  ASSERT_EQ(served->steps.size(), run.steps.size());
+  for (size_t t = 0; t < run.steps.size(); ++t) {
+    EXPECT_EQ(served->steps[t].success_rate, run.steps[t].success_rate) << "step " << t;
+    EXPECT_EQ(served->steps[t].average_path_length, run.steps[t].average_path_length);
+    EXPECT_EQ(served->steps[t].nodes_trained, run.steps[t].nodes_trained);
+  }
+}
+
+// Bad input is refused and counted; the service keeps answering; a burst
+// of updates is one step; concurrent queries never see a half-made policy.
+TEST(PathService, RefusesBadInputAndKeepsAnswering) {
+  const unsigned seed = 5;
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, seed, 4);
+  PathService service(scenario.grid, Config(scenario, seed, 8));
+  service.Start();
+  ASSERT_TRUE(service.WaitForVersion(1, kWait));
+  int station = -1;
+  for (int cell = 0; cell < scenario.grid.size() && station < 0; ++cell) {
+    if (scenario.grid.at(cell) == Cell::kStation) station = cell;
+  }
+  ASSERT_GE(station, 0);
+  EXPECT_EQ(service.Submit(UpdateOf(ChangeStep{0, {{station, Cell::kObstacle}}}, 1)),
+            UpdateRefusal::kStationToObstacle);
+  EXPECT_EQ(service.Submit(UpdateOf(ChangeStep{0, {{16 * 16, Cell::kObstacle}}}, 2)),
+            UpdateRefusal::kOutsideGrid);
+  EXPECT_EQ(service.Submit(UpdateOf(ChangeStep{}, 2)), UpdateRefusal::kStale);
+  service.Refuse(UpdateRefusal::kUnknownState);
+  EXPECT_EQ(service.Ask(std::vector<QueryStart>(9, {0, 0})).refused, Answer::kTooManyStarts);
+
+  // Queries from another thread while every step's updates arrive as a
+  // burst of single-cell updates.
+  std::atomic<bool> done{false};
+  std::atomic<int> answers{0}, invalid{0};
+  std::thread asker([&] {
+    const std::vector<QueryStart> starts = {{0, 0}, {3, 3}, {8, 8}, {15, 15}, {7, 2}};
+    while (!done.load()) {
+      const Answer answer = service.Ask(starts);
+      for (const Route& route : answer.routes) {
+        if (!ValidOn(answer.snapshot->grid, route)) ++invalid;
+      }
+      ++answers;
+    }
+  });
+  int64_t sequence = 10;
+  int64_t version = service.Current()->version;
+  for (const ChangeStep& step : scenario.changes.steps) {
+    {
+      for (const CellChange& change : step.changes) {
+        ASSERT_FALSE(service.Submit(UpdateOf(ChangeStep{0, {change}}, sequence++)));
+      }
+    }
+    ASSERT_TRUE(service.WaitForVersion(version + 1, kWait));
+    version = service.Current()->version;
+  }
+  done = true;
+  asker.join();
+  EXPECT_GT(answers.load(), 0);
+  EXPECT_EQ(invalid.load(), 0);
+  const ServiceStats stats = service.stats();
+  EXPECT_EQ(stats.updates.refused_total(), 4);
+  EXPECT_EQ(stats.refused_too_many_starts, 1);
+  EXPECT_GE(stats.updates.steps, static_cast<int64_t>(scenario.changes.steps.size()));
+  EXPECT_LE(stats.updates.steps, stats.updates.cells_changed);
+  EXPECT_GE(stats.commits, 2);
+  EXPECT_TRUE(service.Stop().ok());
+  EXPECT_NE(PathService::Summary(stats).find("1 station_to_obstacle"), std::string::npos);
+}
+
+// A policy saved at step 2 of a run is taken over at step 2 (its changes
+// caught up from the sequence) and answers as the run scored that step;
+// the next update makes step 3, scored as the run's.
+TEST(PathService, TakesOverALoadedPolicyAtItsStep) {
+  const unsigned seed = 3;
+  const Scenario scenario = GenerateScenario(20, 20, Difficulty::kHard, seed, 4);
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  PlannerOptions options;
+  options.run_seed = seed;
+  PolicyState saved;
+  PolicyHooks hooks;
+  hooks.save_at = 2;
+  hooks.save = [&](PolicyState&& state) { saved = std::move(state); };
+  ScenarioStepSource source(scenario);
+  Result<ApproachRun> run =
+      RunApproach(source, 0, Approach::kFedAsynQEqAvg, options, &trainer, RunLabels{}, hooks);
+  ASSERT_TRUE(run.ok());
+  ASSERT_EQ(saved.step, 2);
+
+  ServiceConfig config = Config(scenario, seed, 1000);
+  config.load = &saved;
+  PathService service(scenario.grid, config);
+  service.Start();
+  ASSERT_TRUE(service.WaitForVersion(1, kWait));
+  EXPECT_EQ(service.Current()->time_step, 2);
+  ASSERT_FALSE(service.Submit(UpdateOf(scenario.changes.steps[2], 1)));
+  ASSERT_TRUE(service.WaitForVersion(2, kWait));
+  const Answer answer = service.Ask(AllCells(scenario.grid));
+  EXPECT_EQ(answer.snapshot->time_step, 3);
+  int starts = 0, learned = 0;
+  for (const Route& route : answer.routes) {
+    if (route.status == RouteStatus::kStartObstacle) continue;
+    ++starts;
+    learned += route.answered_by == AnsweredBy::kLearned && route.status == RouteStatus::kReached;
+  }
+  EXPECT_DOUBLE_EQ(static_cast<double>(learned) / starts, run->steps[3].success_rate);
+  Result<ApproachRun> served = service.Stop();
+  ASSERT_TRUE(served.ok());
+  ASSERT_EQ(served->steps.size(), 1u);  // step 3 only: the saved step is not scored again
+  EXPECT_EQ(served->steps[0].success_rate, run->steps[3].success_rate);
+}
+
+}  // namespace
+}  // namespace dynapath::runtime

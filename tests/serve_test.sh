@@ -1,0 +1,209 @@
+#!/usr/bin/env bash
+# End-to-end test of `dynapath serve` and its clients over udpm, inside a
+# private network namespace (ctest starts it with `dynapath netns --`).
+# Usage: serve_test.sh PATH_TO_DYNAPATH
+#
+# 1. Replies: every path valid on the maze (neighbouring free cells, ends
+#    at a station, no shorter than the exact optimum); outside the grid and
+#    obstacle starts answered with their status; learned-else-exact answers
+#    every start that can reach a station.
+# 2. A change file fed in lock step: the service's success rate and path
+#    length per step equal `run --local`'s on the same maze and changes.
+# 3. Bad input, all from the network: an unauthenticated sender, stale
+#    sequence numbers, updates outside the grid, a request with too many
+#    starts. Each is dropped or refused and counted; the service keeps
+#    answering; SIGINT ends it within a second with the counts printed.
+# 4. A query flood at a fixed rate is answered (95% at least: udpm may
+#    drop a datagram on a loaded machine; what is answered is measured).
+# 5. A robot fleet in closed loop on a small map arrives.
+set -uo pipefail
+dynapath=${1:?usage: serve_test.sh DYNAPATH}
+work=$(mktemp -d)
+server_pid=
+trap '[ -n "$server_pid" ] && kill -9 "$server_pid" 2>/dev/null; rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+pass() { echo "ok ($SECONDS s): $*"; }
+
+if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
+  echo "serve_test.sh must run in a private network (dynapath netns --)" >&2
+  exit 2
+fi
+# Inside this namespace: serve uses this URL instead of making another one.
+export LCM_DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
+steps=8
+[ -n "${DYNAPATH_SANITIZED:-}" ] && steps=4
+maze=(--size 20 --difficulty hard --seed 3 --steps "$steps")
+"$dynapath" secret "$work/key" || fail "dynapath secret"
+"$dynapath" secret "$work/other.key" || fail "dynapath secret"
+"$dynapath" maze "${maze[@]}" --save "$work/maze.txt" --save-changes "$work/changes.txt" \
+  >/dev/null 2>&1 || fail "dynapath maze --save"
+"$dynapath" run --local --maze "$work/maze.txt" --changes "$work/changes.txt" --approach fedAsynQ_EqAvg --threads 1 --out "$work/run" \
+  >/dev/null 2>"$work/run.log" || fail "run --local: $(tail -2 "$work/run.log")"
+
+auth=(--run-id serve-$$ --secret-file "$work/key")
+"$dynapath" serve "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
+  --approach fedAsynQ_EqAvg --threads 1 --max-starts 8 --policy-every 1 --out "$work/serve" \
+  >"$work/serve.out" 2>"$work/serve.log" &
+server_pid=$!
+
+# 1. Replies on the step-0 maze.
+starts=()
+for cell in 0,0 0,19 5,5 10,10 19,0 19,19 7,13 13,7; do starts+=(--from "$cell"); done
+if "$dynapath" query "${auth[@]}" "${starts[@]}" --json --timeout 60 >"$work/q0.json" \
+     2>"$work/q0.log"; then
+  pass "query answered"
+else
+  fail "query: $(cat "$work/q0.log")"
+fi
+"$dynapath" query "${auth[@]}" --from 25,3 --from -1,2 --json >"$work/q1.json" 2>&1
+check_replies() {  # check_replies JSON MAZE: every path valid, optimum respected
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+from collections import deque
+rows = [l for l in open(sys.argv[2]).read().split("\n") if l and not l.startswith(";")]
+R, C = len(rows), len(rows[0])
+def cell(r, c): return rows[r][c]
+dist = {}
+q = deque()
+for r in range(R):
+    for c in range(C):
+        if cell(r, c) == "C": dist[(r, c)] = 0; q.append((r, c))
+while q:
+    r, c = q.popleft()
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            n = (r + dr, c + dc)
+            if (dr or dc) and 0 <= n[0] < R and 0 <= n[1] < C and cell(*n) != "#" and n not in dist:
+                dist[n] = dist[(r, c)] + 1; q.append(n)
+bad = 0
+for line in open(sys.argv[1]):
+    o = json.loads(line)
+    s = tuple(o["start"])
+    inside = 0 <= s[0] < R and 0 <= s[1] < C
+    if not inside:
+        bad += o["status"] != "outside_grid"; continue
+    if cell(*s) == "#":
+        bad += o["status"] != "start_obstacle"; continue
+    if s in dist and o["status"] != "reached":
+        print("reachable start not answered:", o); bad += 1; continue
+    if o["status"] != "reached": continue
+    p = [tuple(x) for x in o["path"]]
+    ok = p[0] == s and cell(*p[-1]) == "C" and len(p) == o["length"] + 1
+    ok = ok and all(cell(*x) != "#" for x in p)
+    ok = ok and all(max(abs(a[0]-b[0]), abs(a[1]-b[1])) == 1 for a, b in zip(p, p[1:]))
+    ok = ok and o["length"] >= dist[s] and o["answered_by"] in ("learned", "exact")
+    ok = ok and o["version"] >= 1 and o["step"] == 0
+    if not ok: print("bad reply:", o); bad += 1
+sys.exit(1 if bad else 0)
+PY
+}
+if [ "$(wc -l <"$work/q0.json")" -eq 8 ] && check_replies "$work/q0.json" "$work/maze.txt"; then
+  pass "8 replies, every path valid and no shorter than the optimum"
+else
+  fail "replies: $(cat "$work/q0.json")"
+fi
+if grep -q '"start":\[25,3\],"status":"outside_grid"' "$work/q1.json" &&
+   grep -q '"start":\[-1,2\],"status":"outside_grid"' "$work/q1.json"; then
+  pass "starts outside the grid answered outside_grid"
+else
+  fail "outside starts: $(cat "$work/q1.json")"
+fi
+
+# 2. The change file in lock step, then the results against run's.
+if "$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
+     --source lockstep --timeout 60 >"$work/feed.out" 2>"$work/feed.log"; then
+  pass "feed: $(cat "$work/feed.out")"
+else
+  fail "feed: $(cat "$work/feed.log")"
+fi
+
+# 3. Bad input.
+# Another secret: dropped unread; the feed finds no service and gives up.
+if "$dynapath" feed --run-id serve-$$ --secret-file "$work/other.key" --maze "$work/maze.txt" \
+     --changes "$work/changes.txt" --timeout 1 >/dev/null 2>&1; then
+  fail "a feed with another secret was answered"
+fi
+# The lock-step source's numbers again: stale.
+"$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
+  --source lockstep --rate 1000 --timeout 10 >/dev/null 2>&1 || fail "stale feed did not run"
+# A 30x30 maze's changes: cells outside the 20x20 grid.
+"$dynapath" feed "${auth[@]}" --size 30 --difficulty hard --seed 4 --steps 3 --rate 1000 \
+  --source big --timeout 10 >/dev/null 2>&1 || fail "outside feed did not run"
+nine=()
+for i in 1 2 3 4 5 6 7 8 9; do nine+=(--from "$i,$i"); done
+if "$dynapath" query "${auth[@]}" "${nine[@]}" --json >"$work/q9.json" 2>&1; then
+  fail "9 starts with --max-starts 8 were answered"
+elif grep -q '"refused":"too_many_starts"' "$work/q9.json"; then
+  pass "a request with too many starts refused"
+else
+  fail "too many starts: $(cat "$work/q9.json")"
+fi
+if "$dynapath" query "${auth[@]}" --from 0,0 --json >"$work/q2.json" 2>&1; then
+  pass "still answering after bad input"
+else
+  fail "no answer after bad input: $(cat "$work/q2.json")"
+fi
+
+# 4. A flood at a fixed rate.
+rate_json=$("$dynapath" query "${auth[@]}" --rate 2000 --duration 1 2>"$work/rate.log")
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["sent"] == 2000 and o["answered"] >= 1900 else 1)' "$rate_json"; then
+  pass "2000 queries at 2000/s answered: $rate_json"
+else
+  fail "rate: $rate_json $(cat "$work/rate.log")"
+fi
+
+start_ns=$(date +%s%N)
+kill -INT "$server_pid"
+wait "$server_pid"
+status=$?
+server_pid=
+stop_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
+[ "$status" -eq 0 ] || fail "serve exited $status: $(tail -3 "$work/serve.log")"
+if [ "$stop_ms" -le 1000 ] || [ -n "${DYNAPATH_SANITIZED:-}" ]; then
+  pass "SIGINT: stopped in $stop_ms ms"
+else
+  fail "SIGINT: stopped in $stop_ms ms (over a second)"
+fi
+summary=$(cat "$work/serve.out")
+echo "$summary"
+grep -Eq 'dropped [0-9]+ \([1-9][0-9]* unauthenticated' <<<"$summary" || fail "no unauthenticated drop counted"
+grep -Eq '[1-9][0-9]* stale' <<<"$summary" || fail "no stale update counted"
+grep -Eq '[1-9][0-9]* outside_grid' <<<"$summary" || fail "no update outside the grid counted"
+grep -Eq 'refused 1 too many starts' <<<"$summary" || fail "the refused request was not counted"
+grep -q 'query latency' <<<"$summary" || fail "no latency figures printed"
+
+# The first 1 + steps rows (the lock-step part) against run's.
+python3 - "$work/run/results_detailed.csv" "$work/serve/results_detailed.csv" "$steps" <<'PY' &&
+import csv, sys
+run = list(csv.DictReader(open(sys.argv[1])))
+served = list(csv.DictReader(open(sys.argv[2])))
+n = int(sys.argv[3]) + 1
+bad = len(served) < n or len(run) != n
+for a, b in zip(run[:n], served[:n]):
+    for key in ("TimeStep", "SuccessRate", "AvgPathLength", "NodesTrained", "HighestLevel"):
+        if a[key] != b[key]:
+            print("step", a["TimeStep"], key, a[key], "!=", b[key]); bad = True
+sys.exit(1 if bad else 0)
+PY
+  pass "success rate and path length of every step equal run --local's" ||
+  fail "the service's steps differ from run --local's"
+
+# 5. A robot fleet in closed loop on a small map arrives.
+small=(--size 16 --difficulty hard --seed 5 --steps 30)
+"$dynapath" serve --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --threads 1 \
+  >/dev/null 2>"$work/fleet.log" &
+server_pid=$!
+fleet=$("$dynapath" robots --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --robots 10 \
+  --ticks 60 --timeout 60 2>>"$work/fleet.log")
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["arrived"] == 10 and o["queries"] >= 10 else 1)' "$fleet"; then
+  pass "a fleet of 10 robots arrived: $fleet"
+else
+  fail "fleet: $fleet $(tail -3 "$work/fleet.log")"
+fi
+kill -INT "$server_pid"
+wait "$server_pid" || fail "the fleet's service exited $?"
+server_pid=
+
+echo "$failures failures"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,156 @@
+// dynapath feed: publishes a change sequence to a running `dynapath serve`
+// as live obstacle updates, one obstacle_update_t per time step, either in
+// lock step with the service's commits (the default: the service then
+// makes exactly the run's time steps) or at a fixed rate.
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+
+#include "dynapath/latency_histogram.h"
+#include "dynapath/obstacle_update_t.hpp"
+#include "protocol/channels.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/service_client.h"
+
+namespace dynapath::cli {
+namespace {
+
+constexpr const char* kProgram = "dynapath feed";
+
+int64_t NowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+int FeedCommand(const std::vector<std::string>& args) {
+  CLI::App app(
+      "Publishes a maze's change sequence to a running `dynapath serve` as live updates\n"
+      "(obstacle_update_t on DYNAPATH/<run>/MAP_UPDATES, one per time step): the\n"
+      "sequence of --changes FILE (as `dynapath maze --save-changes` writes it), or the\n"
+      "one generated for the maze options as `run` would. The maze options must be the\n"
+      "service's. Without --rate it waits for the service to commit each step before\n"
+      "sending the next, so the service's time steps are the run's; with --rate R it\n"
+      "sends R steps a second whatever the service does. Prints one JSON line: steps\n"
+      "sent and, in lock step, the service's last step and the time from publishing\n"
+      "an update to the first reply from the policy it made (commit_p50_ms, ...).",
+      kProgram);
+  runtime::OptionGroup group(app);
+  runtime::ScenarioOptions scenario;
+  runtime::DeclareScenarioOptions(group, scenario);
+  runtime::ProcessOptions process_options;
+  runtime::DeclareProcessOptions(group, process_options, true);
+  std::optional<double> rate;
+  group.Option("--rate", rate, "R", "time steps per second (0.01-100000) instead of lock step",
+               "lock step with the service's commits");
+  std::optional<std::string> source_given;
+  group.Option("--source", source_given, "NAME",
+               "the updates' source name (1-64 characters; sequence numbers count per source)",
+               "feed-PID");
+  double timeout = 60;
+  DeclareServiceWaitOption(group, timeout);
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
+  Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
+  if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  const std::string source = source_given.value_or("feed-" + std::to_string(getpid()));
+  if (source.empty() || source.size() > 64) {
+    return runtime::ProcessError(kProgram, "--source must have 1-64 characters");
+  }
+  if (rate && !(*rate >= 0.01 && *rate <= 100000)) {
+    return runtime::ProcessError(kProgram, "--rate must be between 0.01 and 100000");
+  }
+  if (!(timeout > 0 && timeout <= 3600)) {
+    return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
+  }
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
+  if (!setup) return runtime::ProcessError(kProgram, setup.error().message);
+  const Grid& grid = setup->scenario.grid;
+  Result<std::unique_ptr<ServiceClient>> opened =
+      ServiceClient::Open(*process, "feed-" + std::to_string(getpid()));
+  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  ServiceClient& client = **opened;
+  // The step the service is at: its first commit answers this probe.
+  const std::vector<std::pair<int32_t, int32_t>> probe = {{0, 0}};
+  std::optional<path_reply_t> first = client.Ask(probe, timeout);
+  if (!first || first->refused == path_reply_t::NOT_READY) {
+    return runtime::ProcessError(
+        kProgram, "no policy from a service of run " + process->run_id + " within --timeout",
+        kExitFailure);
+  }
+  int expected_step = first->time_step;
+  const auto start = std::chrono::steady_clock::now();
+  int sent = 0;
+  LatencyHistogram commit;  // lock step: update published -> its policy answering
+  for (const ChangeStep& step : setup->scenario.changes.steps) {
+    obstacle_update_t update{};
+    update.run_id = process->run_id;
+    update.source = source;
+    update.sequence = ++sent;
+    update.utime = NowMicros();
+    for (const CellChange& change : step.changes) {
+      update.rows.push_back(grid.RowOf(change.cell));
+      update.cols.push_back(grid.ColOf(change.cell));
+      update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
+                                                             : obstacle_update_t::FREE);
+    }
+    update.num_cells = static_cast<int32_t>(update.rows.size());
+    if (rate) {
+      std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                std::chrono::duration<double>((sent - 1) / *rate)));
+      client.bus().Publish(protocol::channel::kMapUpdates, update);
+      continue;
+    }
+    const auto published = std::chrono::steady_clock::now();
+    client.bus().Publish(protocol::channel::kMapUpdates, update);
+    if (step.changes.empty()) continue;  // the service makes no step of nothing
+    ++expected_step;
+    // Lock step: probe until a reply comes from the step this update made.
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(timeout));
+    bool committed = false;
+    while (!committed && std::chrono::steady_clock::now() < deadline) {
+      std::optional<path_reply_t> reply = client.Ask(probe, 1.0);
+      committed = reply && reply->time_step >= expected_step;
+      if (!committed) std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    // Publication to the first reply from the new policy (probes 0.5 ms
+    // apart: the figure is at most that much late).
+    commit.Add(std::chrono::duration_cast<std::chrono::microseconds>(
+                   std::chrono::steady_clock::now() - published)
+                   .count());
+    if (!committed) {
+      return runtime::ProcessError(kProgram,
+                                   "the service did not commit time step " +
+                                       std::to_string(expected_step) + " within --timeout",
+                                   kExitFailure);
+    }
+  }
+  if (rate) {
+    std::printf("{\"sent\":%d}\n", sent);
+  } else {
+    std::printf(
+        "{\"sent\":%d,\"service_step\":%d,\"commit_p50_ms\":%.3f,\"commit_p99_ms\":%.3f,"
+        "\"commit_max_ms\":%.3f}\n",
+        sent, expected_step, static_cast<double>(commit.Quantile(0.5)) / 1000.0,
+        static_cast<double>(commit.Quantile(0.99)) / 1000.0,
+        static_cast<double>(commit.max()) / 1000.0);
+  }
+  return 0;
+}
+
+}  // namespace dynapath::cli

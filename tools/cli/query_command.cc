@@ -1,0 +1,234 @@
+// dynapath query: asks a running `dynapath serve` for paths, or measures
+// its query latency at a fixed rate (docs/howto/SERVICE.md).
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dynapath/latency_histogram.h"
+#include "dynapath/routes.h"
+#include "runtime/process_options.h"
+#include "runtime/scenario_options.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/service_client.h"
+
+namespace dynapath::cli {
+namespace {
+
+constexpr const char* kProgram = "dynapath query";
+
+using Cell2 = std::pair<int32_t, int32_t>;
+
+std::string RefusalName(int8_t refused) {
+  switch (refused) {
+    case path_reply_t::TOO_MANY_STARTS:
+      return "too_many_starts";
+    case path_reply_t::NOT_READY:
+      return "not_ready";
+    default:
+      return "accepted";
+  }
+}
+
+void PrintReply(const path_reply_t& r, bool json) {
+  if (r.refused != path_reply_t::ACCEPTED) {
+    if (json) {
+      std::printf("{\"refused\":\"%s\",\"version\":%lld,\"step\":%d}\n",
+                  RefusalName(r.refused).c_str(), static_cast<long long>(r.version), r.time_step);
+    } else {
+      std::printf("refused: %s\n", RefusalName(r.refused).c_str());
+    }
+    return;
+  }
+  for (int i = 0; i < r.num_starts; ++i) {
+    const auto status = static_cast<RouteStatus>(r.status[i]);
+    const auto by = static_cast<AnsweredBy>(r.answered_by[i]);
+    std::string path;
+    for (int k = 0; k < r.path_cells[i]; ++k) {
+      const size_t at = static_cast<size_t>(r.path_offset[i] + k);
+      if (k > 0) path += json ? "," : " ";
+      path += (json ? "[" : "(") + std::to_string(r.path_rows[at]) + "," +
+              std::to_string(r.path_cols[at]) + (json ? "]" : ")");
+    }
+    if (json) {
+      std::printf(
+          "{\"start\":[%d,%d],\"status\":\"%s\",\"length\":%d,\"path\":[%s],\"version\":%lld,"
+          "\"step\":%d,\"answered_by\":\"%s\"}\n",
+          r.start_rows[i], r.start_cols[i], RouteStatusName(status), r.length[i], path.c_str(),
+          static_cast<long long>(r.version), r.time_step, AnsweredByName(by));
+    } else {
+      std::printf("(%d,%d): %s", r.start_rows[i], r.start_cols[i], RouteStatusName(status));
+      if (status == RouteStatus::kReached) {
+        std::printf(", %d moves by %s policy version %lld (step %d): %s", r.length[i],
+                    AnsweredByName(by), static_cast<long long>(r.version), r.time_step,
+                    path.c_str());
+      }
+      std::printf("\n");
+    }
+  }
+}
+
+// --rate: Q requests a second, one random free start each, for S seconds;
+// latencies from publishing to the reply's arrival.
+int MeasureRate(const runtime::ProcessSetup& process, const std::string& client, double rate,
+                double duration, double timeout) {
+  const int64_t total = static_cast<int64_t>(rate * duration);
+  // Written by the sending loop, read by the dispatch thread.
+  std::vector<std::atomic<int64_t>> sent_us(static_cast<size_t>(total));
+  std::vector<std::atomic<uint8_t>> answered(static_cast<size_t>(total));
+  std::mutex mutex;
+  LatencyHistogram latency;
+  std::atomic<int64_t> answered_count{0};
+  auto now_us = [] {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
+  // Starts come from the service's policy message; the measuring client
+  // only counts replies (the policy client below is another connection).
+  std::vector<Cell2> free_cells;
+  {
+    Result<std::unique_ptr<ServiceClient>> probe = ServiceClient::Open(process, client + "-map");
+    if (!probe) return runtime::ProcessError(kProgram, probe.error().message, kExitFailure);
+    std::optional<policy_t> policy = (*probe)->LatestPolicy(timeout);
+    if (!policy) {
+      return runtime::ProcessError(
+          kProgram,
+          "no POLICY message from the service within --timeout (is it serving run " +
+              process.run_id + "?)",
+          kExitFailure);
+    }
+    for (int i = 0; i < policy->num_cells; ++i) {
+      if (policy->cells[static_cast<size_t>(i)] != 0) {
+        free_cells.emplace_back(i / policy->cols, i % policy->cols);
+      }
+    }
+    if (free_cells.empty()) return runtime::ProcessError(kProgram, "the map has no free cell", 1);
+  }
+  Result<std::unique_ptr<ServiceClient>> opened =
+      ServiceClient::Open(process, client, [&](const path_reply_t& reply) {
+        const int64_t id = reply.request_id;
+        if (id < 0 || id >= total) return;
+        const int64_t sent = sent_us[static_cast<size_t>(id)].load();
+        if (sent == 0) return;
+        if (answered[static_cast<size_t>(id)].exchange(1) != 0) return;
+        const int64_t micros = now_us() - sent;
+        std::lock_guard lock(mutex);
+        latency.Add(micros);
+        ++answered_count;
+      });
+  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  ServiceClient& c = **opened;
+  std::mt19937_64 random(static_cast<uint64_t>(getpid()));
+  std::uniform_int_distribution<size_t> pick(0, free_cells.size() - 1);
+  const int64_t start = now_us();
+  for (int64_t i = 0; i < total; ++i) {
+    const int64_t due = start + static_cast<int64_t>(static_cast<double>(i) * 1e6 / rate);
+    // Sleep, not spin: on a small machine a spinning client takes the
+    // core the service answers on.
+    const int64_t wait = due - now_us();
+    if (wait > 0) std::this_thread::sleep_for(std::chrono::microseconds(wait));
+    const Cell2 cell = free_cells[pick(random)];
+    sent_us[static_cast<size_t>(i)].store(now_us());
+    c.Send(i, {cell});
+  }
+  // Replies still in flight: wait up to a second for the last ones.
+  const int64_t grace_end = now_us() + 1000000;
+  while (answered_count.load() < total && now_us() < grace_end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::lock_guard lock(mutex);
+  std::printf(
+      "{\"sent\":%lld,\"answered\":%lld,\"rate\":%g,\"duration_s\":%g,\"p50_ms\":%.3f,"
+      "\"p99_ms\":%.3f,\"max_ms\":%.3f}\n",
+      static_cast<long long>(total), static_cast<long long>(answered_count.load()), rate, duration,
+      static_cast<double>(latency.Quantile(0.5)) / 1000.0,
+      static_cast<double>(latency.Quantile(0.99)) / 1000.0,
+      static_cast<double>(latency.max()) / 1000.0);
+  std::fflush(stdout);
+  return answered_count.load() > 0 ? 0 : kExitFailure;
+}
+
+}  // namespace
+
+int QueryCommand(const std::vector<std::string>& args) {
+  CLI::App app(
+      "Asks a running `dynapath serve` for the path to a station from each --from cell\n"
+      "and prints the reply (with --json one object per start: start, status, length,\n"
+      "path, version, step, answered_by). With --rate Q --duration S it measures\n"
+      "instead: Q requests a second from random free cells for S seconds, and prints\n"
+      "one JSON line with sent, answered, p50_ms, p99_ms and max_ms.",
+      kProgram);
+  runtime::OptionGroup group(app);
+  runtime::ProcessOptions process_options;
+  runtime::DeclareProcessOptions(group, process_options, true);
+  std::vector<std::string> from;
+  app.add_option("--from", from, "a start cell ROW,COL (repeat for more)")->type_name("ROW,COL");
+  bool json = false;
+  group.Flag("--json", json, "one JSON object per start");
+  double timeout = 10;
+  DeclareServiceWaitOption(group, timeout);
+  std::optional<double> rate, duration;
+  group.Option("--rate", rate, "Q", "measure: requests per second (1-100000)");
+  group.Option("--duration", duration, "SECONDS", "measure for this long (with --rate, 0.1-600)",
+               "10");
+  std::optional<std::string> client_given;
+  group.Option("--client", client_given, "NAME",
+               "the name replies are addressed to (1-64 characters)", "query-PID");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return runtime::ProcessError(kProgram, status.error().message);
+  }
+  Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
+  if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  const std::string client = client_given.value_or("query-" + std::to_string(getpid()));
+  if (client.empty() || client.size() > 64) {
+    return runtime::ProcessError(kProgram, "--client must have 1-64 characters");
+  }
+  if (!(timeout > 0 && timeout <= 3600)) {
+    return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
+  }
+  if (rate) {
+    if (!from.empty())
+      return runtime::ProcessError(kProgram, "--rate picks its own starts: no --from");
+    const double seconds = duration.value_or(10);
+    if (!(*rate >= 1 && *rate <= 100000)) {
+      return runtime::ProcessError(kProgram, "--rate must be between 1 and 100000");
+    }
+    if (!(seconds >= 0.1 && seconds <= 600)) {
+      return runtime::ProcessError(kProgram, "--duration must be between 0.1 and 600 seconds");
+    }
+    return MeasureRate(*process, client, *rate, seconds, timeout);
+  }
+  if (duration) return runtime::ProcessError(kProgram, "--duration needs --rate");
+  if (from.empty()) return runtime::ProcessError(kProgram, "give a start with --from ROW,COL");
+  if (from.size() > 65536) return runtime::ProcessError(kProgram, "at most 65536 --from cells");
+  std::vector<Cell2> starts;
+  for (const std::string& text : from) {
+    Result<Cell2> cell = ParseCell(text);
+    if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
+    starts.push_back(*cell);
+  }
+  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(*process, client);
+  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  std::optional<path_reply_t> reply = (*opened)->Ask(starts, timeout);
+  if (!reply) {
+    return runtime::ProcessError(
+        kProgram, "no reply from a service of run " + process->run_id + " within --timeout",
+        kExitFailure);
+  }
+  PrintReply(*reply, json);
+  std::fflush(stdout);
+  return reply->refused == path_reply_t::ACCEPTED ? 0 : kExitFailure;
+}
+
+}  // namespace dynapath::cli

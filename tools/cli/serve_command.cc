@@ -1,0 +1,224 @@
+// dynapath serve: the planner on the bus (docs/howto/SERVICE.md). Loads a
+// maze, trains one approach on it (or takes over a saved policy), then
+// answers path requests and takes obstacle updates until SIGINT/SIGTERM;
+// the service itself is runtime/path_service.h, its messages
+// runtime/service_bus.h.
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <thread>
+
+#include "dynapath/results_csv.h"
+#include "launch/launcher.h"
+#include "protocol/channels.h"
+#include "protocol/dispatcher.h"
+#include "runtime/output_check.h"
+#include "runtime/output_lock.h"
+#include "runtime/path_service.h"
+#include "runtime/process_options.h"
+#include "runtime/run_driver.h"
+#include "runtime/scenario_options.h"
+#include "runtime/service_bus.h"
+#include "runtime/word_table.h"
+#include "tools/cli/commands.h"
+
+namespace dynapath::cli {
+namespace {
+
+constexpr const char* kProgram = "dynapath serve";
+
+const runtime::WordTable<AnswerMode>& AnswerWords() {
+  static const runtime::WordTable<AnswerMode> words(
+      {{"learned", AnswerMode::kLearned},
+       {"exact", AnswerMode::kExact},
+       {"learned-else-exact", AnswerMode::kLearnedElseExact}});
+  return words;
+}
+
+}  // namespace
+
+int ServeCommand(const std::vector<std::string>& args) {
+  CLI::App app(
+      "Serves paths to stations over LCM while the map changes: loads the maze, trains\n"
+      "one approach on it in this process (or takes over --load-policy's policy), then\n"
+      "until Ctrl-C or SIGTERM answers path_request_t on DYNAPATH/<run>/PATH_REQUEST\n"
+      "from the last committed policy and takes obstacle_update_t on MAP_UPDATES and\n"
+      "occupancy_grid_t on MAP_GRID: the updates that arrive while a step trains make\n"
+      "the next time step, and the retraining strategy decides as in `run`. Publishes\n"
+      "the policy on POLICY (dynapath view) and each step on REPORT. Without --lcm-url\n"
+      "it runs in a private network of its own (join it with nsenter, see dynapath-spy\n"
+      "--pid). On stop it prints what it served. Guide: docs/howto/SERVICE.md.",
+      kProgram);
+  runtime::OptionGroup group(app);
+  runtime::ScenarioOptions scenario;
+  runtime::DeclareScenarioOptions(group, scenario);
+  runtime::RunOptions run_options;
+  run_options.approach = ApproachName(Approach::kFedAsynQEqAvg);
+  runtime::DeclareRunOptions(group, run_options);
+  runtime::ProcessOptions process_options;
+  runtime::DeclareProcessOptions(group, process_options, true);
+  runtime::ThreadOptions thread_options;
+  runtime::DeclareThreadOptions(group, thread_options);
+  std::string answer = AnswerWords().Name(AnswerMode::kLearnedElseExact);
+  group.Option("--answer", answer, "HOW",
+               "answer from the " + AnswerWords().List() +
+                   " (exact: Incremental Oracle's shortest paths; learned-else-exact: the "
+                   "policy's path, the exact one where the policy fails)");
+  long long max_starts = 64;
+  group.Option("--max-starts", max_starts, "N",
+               "starts one request may carry (1-65536); larger requests are refused");
+  double occupied_thresh = 0.65, free_thresh = 0.196;
+  group.Option("--occupied-thresh", occupied_thresh, "P",
+               "occupancy grids: a value above P (0-1) is an obstacle");
+  group.Option("--free-thresh", free_thresh, "P",
+               "occupancy grids: a value below P (0-1) is free; between: unchanged");
+  double policy_every = 5;
+  group.Option("--policy-every", policy_every, "SECONDS",
+               "publish the current policy again every SECONDS for late viewers (0: only "
+               "at commits)");
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  runtime::AddConfigOption(app);
+  auto usage_error = [](const std::string& message) {
+    std::fprintf(stderr, "%s: %s\n", kProgram, message.c_str());
+    return kExitUsage;
+  };
+  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (Status status = runtime::ApplyLogLevel(log); !status) {
+    return usage_error(status.error().message);
+  }
+  Result<int> threads = runtime::ResolveThreads(thread_options);
+  if (!threads) return usage_error(threads.error().message);
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
+  if (!plan) return usage_error(plan.error().message);
+  if (plan->approaches.size() != 1 || (!IsLearningApproach(plan->approaches[0]) &&
+                                       plan->approaches[0] != Approach::kIncrementalOracle)) {
+    return usage_error("--approach must name one learning approach or Incremental Oracle");
+  }
+  if (!plan->policy.save_path.empty() || app.count("--save-at") > 0) {
+    return usage_error("--save-policy and --save-at are run's: save a policy with dynapath run");
+  }
+  if (!plan->checkpoint.dir.empty() || plan->checkpoint.resume) {
+    return usage_error(
+        "--checkpoint is run's: a service starts from a policy file (--load-policy)");
+  }
+  if (app.count("--placement") > 0) return usage_error("--placement is for runs with agents");
+  Result<AnswerMode> answer_mode = AnswerWords().ParseOption("answer", answer);
+  if (!answer_mode) return usage_error(answer_mode.error().message);
+  Result<long long> starts_limit = runtime::InRange("max-starts", max_starts, 64, 1, 65536);
+  if (!starts_limit) return usage_error(starts_limit.error().message);
+  if (!(occupied_thresh >= 0 && occupied_thresh <= 1 && free_thresh >= 0 &&
+        free_thresh < occupied_thresh)) {
+    return usage_error(
+        "--free-thresh and --occupied-thresh must satisfy 0 <= free < occupied <= 1");
+  }
+  if (!(policy_every >= 0 && policy_every <= 3600)) {
+    return usage_error("--policy-every must be between 0 and 3600 seconds");
+  }
+  Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
+  if (!process) return usage_error(process.error().message);
+  Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
+  if (!setup) return usage_error(setup.error().message);
+  const Grid& maze = setup->scenario.grid;
+  if (Status policy = runtime::CheckPolicyPlan(
+          plan->policy, plan->approaches, plan->options, maze.rows(), maze.cols(),
+          static_cast<int>(setup->scenario.changes.steps.size()));
+      !policy) {
+    return usage_error(policy.error().message);
+  }
+  const bool write_results = app.count("--out") > 0;
+  std::optional<runtime::OutputLock> out_lock;
+  if (write_results) {
+    Result<runtime::OutputLock> lock = runtime::LockResultDirectory(plan->out_dir);
+    if (!lock) return usage_error(lock.error().message);
+    out_lock.emplace(std::move(*lock));
+  }
+
+  // Still single-threaded: a private network needs that.
+  const launch::ProcessNetwork network = launch::EnterProcessNetwork(process->lcm_url);
+  std::string url = process->lcm_url;
+  if (network == launch::ProcessNetwork::kNone) {
+    return usage_error("no private network can be made here: give --lcm-url");
+  }
+  if (network == launch::ProcessNetwork::kPrivate) {
+    spdlog::info(
+        "serving run {} in a private network; join it with: nsenter --target {} "
+        "--user --net --preserve-credentials (or dynapath-spy --pid {})",
+        process->run_id, getpid(), getpid());
+  }
+  Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(url);
+  if (!lcm) {
+    spdlog::error("{}", lcm.error().message);
+    return kExitFailure;
+  }
+  protocol::BusOptions bus_options = process->bus;
+  bus_options.max_grid_cells = static_cast<int64_t>(maze.rows()) * maze.cols();
+  protocol::Bus bus(**lcm, process->run_id, bus_options);
+
+  runtime::ServiceConfig config;
+  config.approach = plan->approaches[0];
+  config.answer = *answer_mode;
+  config.options = plan->options;
+  config.options.run_seed = setup->seed;
+  config.labels = setup->labels;
+  config.threads = *threads;
+  config.max_starts = static_cast<int>(*starts_limit);
+  config.load = plan->policy.Find(config.approach);
+  config.catch_up = setup->scenario.changes;
+  runtime::ServiceBus* glue = nullptr;
+  runtime::PathService service(maze, config, [&glue](const runtime::Commit& commit) {
+    if (glue != nullptr) glue->PublishCommit(commit);
+  });
+  runtime::ServiceBusOptions glue_options;
+  glue_options.thresholds = {occupied_thresh, free_thresh};
+  runtime::ServiceBus service_bus(bus, service, glue_options);
+  glue = &service_bus;
+
+  const std::atomic<bool>& stop =
+      protocol::StopOnSignals("\ndynapath serve: stopping (Ctrl-C again: at once)\n",
+                              "\ndynapath serve: stopped at once\n");
+  spdlog::info("serve: run {}, maze {} {} ({}), {}, answers {}, {} threads", process->run_id,
+               setup->labels.size_label, setup->labels.difficulty_label, setup->source,
+               ApproachName(config.approach), answer, *threads);
+  protocol::Dispatcher dispatcher(**lcm);
+  service.Start();
+  bool announced = false;
+  auto last_publish = std::chrono::steady_clock::now();
+  while (!stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (!announced && service.Current() != nullptr) {
+      spdlog::info("serve: policy committed, answering on {}",
+                   bus.Channel(protocol::channel::kPathRequest));
+      announced = true;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (policy_every > 0 && now - last_publish >= std::chrono::duration<double>(policy_every)) {
+      service_bus.RepublishPolicy();
+      last_publish = now;
+    }
+  }
+  Result<ApproachRun> run = service.Stop();
+  const runtime::ServiceStats stats = service.stats();
+  std::printf("%s", runtime::PathService::Summary(stats).c_str());
+  std::printf("messages: %s\n", bus.TrafficSummary().c_str());
+  std::fflush(stdout);
+  if (!run) {
+    spdlog::error("{}", run.error().message);
+    return kExitFailure;
+  }
+  if (write_results) {
+    if (Status written = WriteResultFiles({*run}, plan->out_dir); !written) {
+      spdlog::error("{}", written.error().message);
+      return kExitFailure;
+    }
+    spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);
+  }
+  return 0;
+}
+
+}  // namespace dynapath::cli

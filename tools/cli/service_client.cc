@@ -1,0 +1,114 @@
+#include "tools/cli/service_client.h"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "protocol/channels.h"
+
+namespace dynapath::cli {
+
+Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::ProcessSetup& process,
+                                                           std::string client, ReplyHook on_reply) {
+  std::unique_ptr<ServiceClient> c(new ServiceClient());
+  c->client_ = std::move(client);
+  c->on_reply_ = std::move(on_reply);
+  Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(process.lcm_url);
+  if (!lcm) return lcm.error();
+  c->lcm_ = std::move(*lcm);
+  c->bus_ = std::make_unique<protocol::Bus>(*c->lcm_, process.run_id, process.bus);
+  ServiceClient* self = c.get();
+  c->bus_->Subscribe<path_reply_t>(protocol::channel::kPathReply, [self](path_reply_t& reply) {
+    if (reply.client != self->client_) return;  // another client's
+    if (self->on_reply_) return self->on_reply_(reply);
+    {
+      std::lock_guard lock(self->mutex_);
+      self->reply_ = std::move(reply);
+    }
+    self->changed_.notify_all();
+  });
+  if (!c->on_reply_) {
+    c->bus_->Subscribe<policy_t>(protocol::channel::kPolicy, [self](policy_t& policy) {
+      {
+        std::lock_guard lock(self->mutex_);
+        self->policy_ = std::move(policy);
+      }
+      self->changed_.notify_all();
+    });
+  }
+  c->dispatcher_ = std::make_unique<protocol::Dispatcher>(*c->lcm_);
+  return c;
+}
+
+ServiceClient::~ServiceClient() { dispatcher_.reset(); }
+
+void ServiceClient::Send(int64_t request_id,
+                         const std::vector<std::pair<int32_t, int32_t>>& starts) {
+  path_request_t request{};
+  request.run_id = bus_->run_id();
+  request.client = client_;
+  request.request_id = request_id;
+  request.num_starts = static_cast<int32_t>(starts.size());
+  for (const auto& [row, col] : starts) {
+    request.start_rows.push_back(row);
+    request.start_cols.push_back(col);
+  }
+  bus_->Publish(protocol::channel::kPathRequest, request);
+}
+
+std::optional<path_reply_t> ServiceClient::Ask(
+    const std::vector<std::pair<int32_t, int32_t>>& starts, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(seconds));
+  std::optional<path_reply_t> last;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const int64_t id = next_id_++;
+    Send(id, starts);
+    std::unique_lock lock(mutex_);
+    const auto retry =
+        std::min(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(200));
+    changed_.wait_until(lock, retry, [&] { return reply_ && reply_->request_id == id; });
+    if (reply_ && reply_->request_id == id) {
+      if (reply_->refused != path_reply_t::NOT_READY) return reply_;
+      last = reply_;
+      lock.unlock();
+      // Not ready: the service is still training its first policy.
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  return last;
+}
+
+std::optional<policy_t> ServiceClient::LatestPolicy(double seconds) {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                    [&] { return policy_.has_value(); });
+  return policy_;
+}
+
+void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds) {
+  group.Option("--timeout", seconds, "SECONDS",
+               "how long to wait for the service (a reply, its first policy, each commit)");
+}
+
+Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text) {
+  const size_t comma = text.find(',');
+  auto number = [](const std::string& part) -> std::optional<int32_t> {
+    if (part.empty() || part.size() > 9) return std::nullopt;
+    size_t i = part[0] == '-' ? 1 : 0;
+    if (i == part.size()) return std::nullopt;
+    for (size_t k = i; k < part.size(); ++k) {
+      if (part[k] < '0' || part[k] > '9') return std::nullopt;
+    }
+    return static_cast<int32_t>(std::stol(part));
+  };
+  if (comma != std::string::npos) {
+    const auto row = number(text.substr(0, comma));
+    const auto col = number(text.substr(comma + 1));
+    if (row && col) return std::make_pair(*row, *col);
+  }
+  return Error::Option("from", "must be ROW,COL (two integers), got '" + text + "'");
+}
+
+}  // namespace dynapath::cli

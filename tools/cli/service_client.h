@@ -1,0 +1,65 @@
+#pragma once
+// A client of `dynapath serve` (query, feed): the run's bus, path requests
+// matched with their replies, and the service's latest policy message.
+
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dynapath/path_reply_t.hpp"
+#include "dynapath/path_request_t.hpp"
+#include "dynapath/policy_t.hpp"
+#include "protocol/bus.h"
+#include "protocol/dispatcher.h"
+#include "runtime/option_group.h"
+#include "runtime/process_options.h"
+
+namespace dynapath::cli {
+
+class ServiceClient {
+ public:
+  // `on_reply`, when given, sees every reply to this client (the dispatch
+  // thread) instead of Ask's matching.
+  using ReplyHook = std::function<void(const path_reply_t&)>;
+  static Result<std::unique_ptr<ServiceClient>> Open(const runtime::ProcessSetup& process,
+                                                     std::string client, ReplyHook on_reply = {});
+  ~ServiceClient();
+
+  const std::string& client() const { return client_; }
+  protocol::Bus& bus() { return *bus_; }
+  // Publishes a request for `starts` with id `request_id`.
+  void Send(int64_t request_id, const std::vector<std::pair<int32_t, int32_t>>& starts);
+  // Sends (again every 200 ms) until a reply that is not NOT_READY comes,
+  // or `seconds` pass (nullopt; the last NOT_READY reply if one came).
+  std::optional<path_reply_t> Ask(const std::vector<std::pair<int32_t, int32_t>>& starts,
+                                  double seconds);
+  // The latest POLICY message, waiting up to `seconds` for one.
+  std::optional<policy_t> LatestPolicy(double seconds);
+
+ private:
+  ServiceClient() = default;
+  std::string client_;
+  ReplyHook on_reply_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::unique_ptr<protocol::Bus> bus_;
+  std::unique_ptr<protocol::Dispatcher> dispatcher_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<path_reply_t> reply_;  // the latest reply to this client
+  std::optional<policy_t> policy_;
+  int64_t next_id_ = 1;
+};
+
+// --timeout of query and feed: how long to wait for the service.
+void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds);
+// "R,C" as a cell, or an error naming the option.
+Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text);
+
+}  // namespace dynapath::cli
