@@ -111,8 +111,14 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
   // job and cannot notice that the coordinator is gone.
   const auto watchdog = [this] {
     if (!options_.exit_process_when_orphaned) return;
-    if (coordinator_.Check(options_.startup_timeout_seconds,
-                           options_.coordinator_timeout_seconds + 0.5) == Verdict::kGone) {
+    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
+                                               options_.coordinator_timeout_seconds + 0.5);
+    // Said here too: the agent thread may be inside a long job.
+    if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
+      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+                   options_.id, silent, options_.coordinator_timeout_seconds);
+    }
+    if (verdict == Verdict::kGone) {
       spdlog::error("agent {}: the coordinator is gone; exiting", options_.id);
       std::fflush(nullptr);
       _exit(3);
