@@ -57,29 +57,6 @@ struct Child {
   int status = 0;
 };
 
-// A pipe holding `text`, read end returned (close-on-exec), write end
-// closed: the child reads it once through /dev/fd/N. The run's secret and
-// each child's options (a CLI11 config file) go this way. Unlike an
-// argument the secret is not in /proc/PID/cmdline (world-readable); unlike
-// the environment it is not inherited by whatever the child starts; unlike a
-// file it leaves nothing on disk. -1 on failure.
-int TextPipe(const std::string& text) {
-  // A pipe holds 64 KiB before a write blocks; options are a few hundred bytes.
-  if (text.size() > 60000) {
-    errno = E2BIG;
-    return -1;
-  }
-  int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0) return -1;
-  const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
-  close(fds[1]);
-  if (!written) {
-    close(fds[0]);
-    return -1;
-  }
-  return fds[0];
-}
-
 // Starts `argv`. `keep_fds`: TextPipes the child keeps open across exec
 // (argv or its config names them as /dev/fd/N).
 pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
@@ -188,6 +165,23 @@ std::string RecordedSoFar(const std::string& path) {
 }
 
 }  // namespace
+
+int TextPipe(const std::string& text) {
+  // A pipe holds 64 KiB before a write blocks; options are a few hundred bytes.
+  if (text.size() > 60000) {
+    errno = E2BIG;
+    return -1;
+  }
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) return -1;
+  const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  close(fds[1]);
+  if (!written) {
+    close(fds[0]);
+    return -1;
+  }
+  return fds[0];
+}
 
 ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
   if (!lcm_url.empty() || std::getenv("LCM_DEFAULT_URL") != nullptr) return ProcessNetwork::kHost;

@@ -56,6 +56,14 @@ struct DistributedRun {
 enum class ProcessNetwork { kHost, kPrivate, kNone };
 ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
 
+// A pipe holding `text` (at most 60,000 bytes), its read end returned
+// (close-on-exec) and its write end closed: a process reads it once through
+// /dev/fd/N. The run's secret and each child's options (a CLI11 config
+// file) go this way: unlike an argument the secret is not in
+// /proc/PID/cmdline, unlike the environment it is not inherited, unlike a
+// file it leaves nothing on disk. -1 on failure (errno set).
+int TextPipe(const std::string& text);
+
 // Starts the processes, waits for the coordinator, stops every child on
 // Ctrl-C or failure. Returns the exit code. With a log file, lcm-logger must
 // be recording before the run starts, and a logger that dies during the run

@@ -143,19 +143,11 @@ Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
     if (mode_given && mode_line) continue;
     text += line + "\n";
   }
-  int fds[2];
-  if (text.size() > 60000 || pipe2(fds, O_CLOEXEC) != 0) {
-    return Error::Io(recorded_path + ": cannot hand it to the run");
-  }
-  const bool written = write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size());
-  close(fds[1]);
-  if (!written) {
-    close(fds[0]);
-    return Error::Io(recorded_path + ": cannot hand it to the run");
-  }
+  const int fd = launch::TextPipe(text);
+  if (fd < 0) return Error::Io(recorded_path + ": cannot hand it to the run");
   // DIR as given now: the recorded path may be relative to another folder,
   // or the directory copied.
-  std::vector<std::string> args = {"--config", "/dev/fd/" + std::to_string(fds[0]),
+  std::vector<std::string> args = {"--config", "/dev/fd/" + std::to_string(fd),
                                    "--resume-checkpoint", "--checkpoint", dir};
   args.insert(args.end(), given.begin(), given.end());
   return args;
