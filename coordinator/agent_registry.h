@@ -4,6 +4,7 @@
 // the coordinator thread is busy evaluating a policy) and read by the
 // coordinator thread.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <iterator>
@@ -83,11 +84,16 @@ class AgentRegistry {
     return live;
   }
 
-  bool IsLive(int id) const {
+  // `silence_counted_from_ms`: silence before this time is not held against
+  // the agent (the coordinator itself was not running then).
+  bool IsLive(int id, int64_t silence_counted_from_ms = 0) const {
     std::lock_guard lock(mutex_);
     auto it = agents_.find(id);
-    return it != agents_.end() && NowMs() - it->second.last_seen_ms <= timeout_ms_;
+    return it != agents_.end() &&
+           NowMs() - std::max(it->second.last_seen_ms, silence_counted_from_ms) <= timeout_ms_;
   }
+
+  int64_t timeout_ms() const { return timeout_ms_; }
 
   // Heartbeats of new agents ignored because kMaxAgents were live.
   int64_t ignored() const {

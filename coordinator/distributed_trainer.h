@@ -173,6 +173,11 @@ class DistributedTrainer : public Trainer {
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
   double round_trip_ms_ = -1;              // smoothed, over all agents
+  // CheckAgents' last call, and when the coordinator last resumed after not
+  // running (SIGSTOP, a debugger, starvation): agents' silence is counted
+  // from then, since heartbeats sent meanwhile are still being read.
+  int64_t last_check_ms_ = -1;
+  int64_t silence_counted_from_ms_ = 0;
   int64_t slow_round_ms_ = 0;              // the slowest recent split round (SlowRoundMs)
   TrafficStats traffic_;
   Status status_ = Ok{};
