@@ -77,7 +77,7 @@ Route ExactRoute(const RouteSnapshot& s, int start, size_t budget) {
   route.answered_by = AnsweredBy::kExact;
   const int32_t distance = s.distance[static_cast<size_t>(start)];
   if (distance == kUnreachable) {
-    route.status = RouteStatus::kUnreachable;
+    route.status = RouteStatus::kNoRoute;
     return route;
   }
   if (static_cast<size_t>(distance) + 1 > budget) {
@@ -97,7 +97,7 @@ Route ExactRoute(const RouteSnapshot& s, int start, size_t budget) {
     }
     if (next < 0) {
       route.cells.clear();
-      route.status = RouteStatus::kUnreachable;
+      route.status = RouteStatus::kNoRoute;
       return route;
     }
     cell = next;
@@ -124,7 +124,7 @@ const char* RouteStatusName(RouteStatus status) {
       return "start_obstacle";
     case RouteStatus::kOutsideGrid:
       return "outside_grid";
-    case RouteStatus::kUnreachable:
+    case RouteStatus::kNoRoute:
       return "unreachable";
     case RouteStatus::kOverBudget:
       return "over_budget";

@@ -22,7 +22,7 @@
 namespace dynapath::cli {
 namespace {
 
-constexpr const char* kProgram = "dynapath feed";
+constexpr const char* kFeedProgram = "dynapath feed";
 
 int64_t NowMicros() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -43,7 +43,7 @@ int FeedCommand(const std::vector<std::string>& args) {
       "sends R steps a second whatever the service does. Prints one JSON line: steps\n"
       "sent and, in lock step, the service's last step and the time from publishing\n"
       "an update to the first reply from the policy it made (commit_p50_ms, ...).",
-      kProgram);
+      kFeedProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
   runtime::DeclareScenarioOptions(group, scenario);
@@ -60,35 +60,35 @@ int FeedCommand(const std::vector<std::string>& args) {
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseCommandLine(app, args, kFeedProgram); code >= 0) return code;
   if (Status status = runtime::ApplyLogLevel(log); !status) {
-    return runtime::ProcessError(kProgram, status.error().message);
+    return runtime::ProcessError(kFeedProgram, status.error().message);
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
-  if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  if (!process) return runtime::ProcessError(kFeedProgram, process.error().message);
   const std::string source = source_given.value_or("feed-" + std::to_string(getpid()));
   if (source.empty() || source.size() > 64) {
-    return runtime::ProcessError(kProgram, "--source must have 1-64 characters");
+    return runtime::ProcessError(kFeedProgram, "--source must have 1-64 characters");
   }
   if (rate && !(*rate >= 0.01 && *rate <= 100000)) {
-    return runtime::ProcessError(kProgram, "--rate must be between 0.01 and 100000");
+    return runtime::ProcessError(kFeedProgram, "--rate must be between 0.01 and 100000");
   }
   if (!(timeout > 0 && timeout <= 3600)) {
-    return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
+    return runtime::ProcessError(kFeedProgram, "--timeout must be between 0 and 3600 seconds");
   }
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
-  if (!setup) return runtime::ProcessError(kProgram, setup.error().message);
+  if (!setup) return runtime::ProcessError(kFeedProgram, setup.error().message);
   const Grid& grid = setup->scenario.grid;
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(*process, "feed-" + std::to_string(getpid()));
-  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  if (!opened) return runtime::ProcessError(kFeedProgram, opened.error().message, kExitFailure);
   ServiceClient& client = **opened;
   // The step the service is at: its first commit answers this probe.
   const std::vector<std::pair<int32_t, int32_t>> probe = {{0, 0}};
   std::optional<path_reply_t> first = client.Ask(probe, timeout);
   if (!first || first->refused == path_reply_t::NOT_READY) {
     return runtime::ProcessError(
-        kProgram, "no policy from a service of run " + process->run_id + " within --timeout",
+        kFeedProgram, "no policy from a service of run " + process->run_id + " within --timeout",
         kExitFailure);
   }
   int expected_step = first->time_step;
@@ -134,7 +134,7 @@ int FeedCommand(const std::vector<std::string>& args) {
                    std::chrono::steady_clock::now() - published)
                    .count());
     if (!committed) {
-      return runtime::ProcessError(kProgram,
+      return runtime::ProcessError(kFeedProgram,
                                    "the service did not commit time step " +
                                        std::to_string(expected_step) + " within --timeout",
                                    kExitFailure);

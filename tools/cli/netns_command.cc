@@ -22,7 +22,7 @@ namespace {
 
 // What a shell returns for a command it cannot run.
 constexpr int kExitCannotRun = 127;
-constexpr const char* kProgram = "dynapath netns";
+constexpr const char* kNetnsProgram = "dynapath netns";
 
 constexpr const char* kDescription =
     "Runs COMMAND in a private network: a new user and network namespace whose\n"
@@ -74,25 +74,25 @@ int Exec(const std::vector<std::string>& command) {
   argv.push_back(nullptr);
   std::fflush(nullptr);  // execvp discards anything still buffered
   execvp(argv[0], argv.data());
-  std::fprintf(stderr, "%s: cannot run '%s': %s\n", kProgram, argv[0], std::strerror(errno));
+  std::fprintf(stderr, "%s: cannot run '%s': %s\n", kNetnsProgram, argv[0], std::strerror(errno));
   return kExitCannotRun;
 }
 
 }  // namespace
 
 int NetnsCommand(const std::vector<std::string>& args) {
-  CLI::App app(kDescription, kProgram);
+  CLI::App app(kDescription, kNetnsProgram);
   app.formatter(std::make_shared<CommandUsage>());
   app.footer(kFooter);
   app.prefix_command();
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseCommandLine(app, args, kNetnsProgram); code >= 0) return code;
   Result<std::vector<std::string>> command = CommandOf(app.remaining());
   if (!command) {
-    std::fprintf(stderr, "%s: %s\n", kProgram, command.error().message.c_str());
+    std::fprintf(stderr, "%s: %s\n", kNetnsProgram, command.error().message.c_str());
     return kExitUsage;
   }
   if (Status status = launch::EnterPrivateNetwork(); !status) {
-    std::fprintf(stderr, "%s: %s\n", kProgram, status.error().message.c_str());
+    std::fprintf(stderr, "%s: %s\n", kNetnsProgram, status.error().message.c_str());
     return kExitFailure;
   }
   return Exec(*command);

@@ -22,7 +22,7 @@
 namespace dynapath::cli {
 namespace {
 
-constexpr const char* kProgram = "dynapath query";
+constexpr const char* kQueryProgram = "dynapath query";
 
 using Cell2 = std::pair<int32_t, int32_t>;
 
@@ -96,11 +96,11 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
   std::vector<Cell2> free_cells;
   {
     Result<std::unique_ptr<ServiceClient>> probe = ServiceClient::Open(process, client + "-map");
-    if (!probe) return runtime::ProcessError(kProgram, probe.error().message, kExitFailure);
+    if (!probe) return runtime::ProcessError(kQueryProgram, probe.error().message, kExitFailure);
     std::optional<policy_t> policy = (*probe)->LatestPolicy(timeout);
     if (!policy) {
       return runtime::ProcessError(
-          kProgram,
+          kQueryProgram,
           "no POLICY message from the service within --timeout (is it serving run " +
               process.run_id + "?)",
           kExitFailure);
@@ -110,7 +110,7 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
         free_cells.emplace_back(i / policy->cols, i % policy->cols);
       }
     }
-    if (free_cells.empty()) return runtime::ProcessError(kProgram, "the map has no free cell", 1);
+    if (free_cells.empty()) return runtime::ProcessError(kQueryProgram, "the map has no free cell", 1);
   }
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(process, client, [&](const path_reply_t& reply) {
@@ -124,7 +124,7 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
         latency.Add(micros);
         ++answered_count;
       });
-  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
   ServiceClient& c = **opened;
   std::mt19937_64 random(static_cast<uint64_t>(getpid()));
   std::uniform_int_distribution<size_t> pick(0, free_cells.size() - 1);
@@ -165,7 +165,7 @@ int QueryCommand(const std::vector<std::string>& args) {
       "path, version, step, answered_by). With --rate Q --duration S it measures\n"
       "instead: Q requests a second from random free cells for S seconds, and prints\n"
       "one JSON line with sent, answered, p50_ms, p99_ms and max_ms.",
-      kProgram);
+      kQueryProgram);
   runtime::OptionGroup group(app);
   runtime::ProcessOptions process_options;
   runtime::DeclareProcessOptions(group, process_options, true);
@@ -184,46 +184,46 @@ int QueryCommand(const std::vector<std::string>& args) {
                "the name replies are addressed to (1-64 characters)", "query-PID");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseCommandLine(app, args, kQueryProgram); code >= 0) return code;
   if (Status status = runtime::ApplyLogLevel(log); !status) {
-    return runtime::ProcessError(kProgram, status.error().message);
+    return runtime::ProcessError(kQueryProgram, status.error().message);
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
-  if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  if (!process) return runtime::ProcessError(kQueryProgram, process.error().message);
   const std::string client = client_given.value_or("query-" + std::to_string(getpid()));
   if (client.empty() || client.size() > 64) {
-    return runtime::ProcessError(kProgram, "--client must have 1-64 characters");
+    return runtime::ProcessError(kQueryProgram, "--client must have 1-64 characters");
   }
   if (!(timeout > 0 && timeout <= 3600)) {
-    return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
+    return runtime::ProcessError(kQueryProgram, "--timeout must be between 0 and 3600 seconds");
   }
   if (rate) {
     if (!from.empty())
-      return runtime::ProcessError(kProgram, "--rate picks its own starts: no --from");
+      return runtime::ProcessError(kQueryProgram, "--rate picks its own starts: no --from");
     const double seconds = duration.value_or(10);
     if (!(*rate >= 1 && *rate <= 100000)) {
-      return runtime::ProcessError(kProgram, "--rate must be between 1 and 100000");
+      return runtime::ProcessError(kQueryProgram, "--rate must be between 1 and 100000");
     }
     if (!(seconds >= 0.1 && seconds <= 600)) {
-      return runtime::ProcessError(kProgram, "--duration must be between 0.1 and 600 seconds");
+      return runtime::ProcessError(kQueryProgram, "--duration must be between 0.1 and 600 seconds");
     }
     return MeasureRate(*process, client, *rate, seconds, timeout);
   }
-  if (duration) return runtime::ProcessError(kProgram, "--duration needs --rate");
-  if (from.empty()) return runtime::ProcessError(kProgram, "give a start with --from ROW,COL");
-  if (from.size() > 65536) return runtime::ProcessError(kProgram, "at most 65536 --from cells");
+  if (duration) return runtime::ProcessError(kQueryProgram, "--duration needs --rate");
+  if (from.empty()) return runtime::ProcessError(kQueryProgram, "give a start with --from ROW,COL");
+  if (from.size() > 65536) return runtime::ProcessError(kQueryProgram, "at most 65536 --from cells");
   std::vector<Cell2> starts;
   for (const std::string& text : from) {
     Result<Cell2> cell = ParseCell(text);
-    if (!cell) return runtime::ProcessError(kProgram, cell.error().message);
+    if (!cell) return runtime::ProcessError(kQueryProgram, cell.error().message);
     starts.push_back(*cell);
   }
   Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(*process, client);
-  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
   std::optional<path_reply_t> reply = (*opened)->Ask(starts, timeout);
   if (!reply) {
     return runtime::ProcessError(
-        kProgram, "no reply from a service of run " + process->run_id + " within --timeout",
+        kQueryProgram, "no reply from a service of run " + process->run_id + " within --timeout",
         kExitFailure);
   }
   PrintReply(*reply, json);

@@ -27,7 +27,7 @@
 namespace dynapath::cli {
 namespace {
 
-constexpr const char* kProgram = "dynapath robots";
+constexpr const char* kRobotsProgram = "dynapath robots";
 
 struct Robot {
   int cell = 0;
@@ -53,7 +53,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
       "Prints one JSON line: robots, arrived, arrival_rate, ticks_over_optimal (ticks\n"
       "of the arrived robots over their exact optimum at tick 0), blocked_moves,\n"
       "queries, requeries, queries_per_s.",
-      kProgram);
+      kRobotsProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
   runtime::DeclareScenarioOptions(group, scenario);
@@ -69,9 +69,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseCommandLine(app, args, kRobotsProgram); code >= 0) return code;
   if (Status status = runtime::ApplyLogLevel(log); !status) {
-    return runtime::ProcessError(kProgram, status.error().message);
+    return runtime::ProcessError(kRobotsProgram, status.error().message);
   }
   for (const auto& [name, value, max] :
        {std::tuple{"robots", robots, 10000LL}, std::tuple{"ticks", ticks, 1000000LL},
@@ -79,15 +79,15 @@ int RobotsCommand(const std::vector<std::string>& args) {
         std::tuple{"robot-seed", robot_seed, 4294967295LL}}) {
     Result<long long> checked =
         runtime::InRange(name, value, value, name == std::string("robot-seed") ? 0 : 1, max);
-    if (!checked) return runtime::ProcessError(kProgram, checked.error().message);
+    if (!checked) return runtime::ProcessError(kRobotsProgram, checked.error().message);
   }
   if (!(timeout > 0 && timeout <= 3600)) {
-    return runtime::ProcessError(kProgram, "--timeout must be between 0 and 3600 seconds");
+    return runtime::ProcessError(kRobotsProgram, "--timeout must be between 0 and 3600 seconds");
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
-  if (!process) return runtime::ProcessError(kProgram, process.error().message);
+  if (!process) return runtime::ProcessError(kRobotsProgram, process.error().message);
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
-  if (!setup) return runtime::ProcessError(kProgram, setup.error().message);
+  if (!setup) return runtime::ProcessError(kRobotsProgram, setup.error().message);
   Grid grid = setup->scenario.grid;
   const std::vector<ChangeStep>& steps = setup->scenario.changes.steps;
 
@@ -99,7 +99,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
     if (grid.at(cell) == Cell::kFree && distance[cell] > 0) candidates.push_back(cell);
   }
   if (candidates.empty()) {
-    return runtime::ProcessError(kProgram, "no free cell of the maze reaches a station", 1);
+    return runtime::ProcessError(kRobotsProgram, "no free cell of the maze reaches a station", 1);
   }
   std::mt19937_64 random(static_cast<uint64_t>(robot_seed));
   std::uniform_int_distribution<size_t> pick(0, candidates.size() - 1);
@@ -111,7 +111,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
 
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(*process, "robots-" + std::to_string(getpid()));
-  if (!opened) return runtime::ProcessError(kProgram, opened.error().message, kExitFailure);
+  if (!opened) return runtime::ProcessError(kRobotsProgram, opened.error().message, kExitFailure);
   ServiceClient& client = **opened;
   const std::string source = "robots-" + std::to_string(getpid());
   int64_t latest_version = 0;
@@ -193,7 +193,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
     }
     if (!needing.empty() && !ask(needing)) {
       return runtime::ProcessError(
-          kProgram, "no answer from a service of run " + process->run_id + " within --timeout",
+          kRobotsProgram, "no answer from a service of run " + process->run_id + " within --timeout",
           kExitFailure);
     }
     for (Robot& robot : fleet) {

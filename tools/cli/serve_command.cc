@@ -30,7 +30,7 @@
 namespace dynapath::cli {
 namespace {
 
-constexpr const char* kProgram = "dynapath serve";
+constexpr const char* kServeProgram = "dynapath serve";
 
 const runtime::WordTable<AnswerMode>& AnswerWords() {
   static const runtime::WordTable<AnswerMode> words(
@@ -53,7 +53,7 @@ int ServeCommand(const std::vector<std::string>& args) {
       "the policy on POLICY (dynapath view) and each step on REPORT. Without --lcm-url\n"
       "it runs in a private network of its own (join it with nsenter, see dynapath-spy\n"
       "--pid). On stop it prints what it served. Guide: docs/howto/SERVICE.md.",
-      kProgram);
+      kServeProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
   runtime::DeclareScenarioOptions(group, scenario);
@@ -85,10 +85,10 @@ int ServeCommand(const std::vector<std::string>& args) {
   runtime::DeclareLogOptions(group, log);
   runtime::AddConfigOption(app);
   auto usage_error = [](const std::string& message) {
-    std::fprintf(stderr, "%s: %s\n", kProgram, message.c_str());
+    std::fprintf(stderr, "%s: %s\n", kServeProgram, message.c_str());
     return kExitUsage;
   };
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+  if (int code = runtime::ParseCommandLine(app, args, kServeProgram); code >= 0) return code;
   if (Status status = runtime::ApplyLogLevel(log); !status) {
     return usage_error(status.error().message);
   }

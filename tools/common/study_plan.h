@@ -193,7 +193,7 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 inline constexpr uint64_t kRepeatSeedStride = 1000003;
 inline constexpr int kMaxRepeats = 1000;
 inline constexpr size_t kMaxSweepPoints = 1000;
-std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, unsigned maze_seed,
+std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, uint64_t maze_seed,
                                           int repeat);
 
 // The `dynapath run` maze options of a configuration (size, difficulty,

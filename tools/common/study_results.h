@@ -32,7 +32,7 @@ Status MergeResultFiles(const std::vector<std::string>& directories, const std::
 struct RepeatFiles {
   std::string directory;
   int repeat = 1;
-  unsigned seed = 0;
+  uint64_t seed = 0;
   uint64_t learner_seed = 0;
 };
 

@@ -345,8 +345,11 @@ TEST(ReportSemanticsTest, FirstTrainedChildOfATrainedAncestorKeepsItsCopy) {
     ASSERT_TRUE(trainer.warm_starts[4].empty());
     for (NodeId node : {1, 2}) {
       const QTable& warm = trainer.warm_starts[node][0];
-      if (semantics == Semantics::kReport) EXPECT_TRUE(AllEqual(warm, 0.0)) << node;
-      if (semantics == Semantics::kOurs) EXPECT_FALSE(AllEqual(warm, 0.0)) << node;
+      if (semantics == Semantics::kReport) {
+        EXPECT_TRUE(AllEqual(warm, 0.0)) << node;
+      } else {
+        EXPECT_FALSE(AllEqual(warm, 0.0)) << node;
+      }
     }
     trainer.warm_starts.clear();
     Grid changed = grid;

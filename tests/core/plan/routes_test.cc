@@ -44,7 +44,7 @@ TEST(Routes, ExactRoutesAreShortestAndValid) {
     if (grid.at(cell) == Cell::kObstacle) {
       EXPECT_EQ(route.status, RouteStatus::kStartObstacle);
     } else if (s.distance[cell] == kUnreachable) {
-      EXPECT_EQ(route.status, RouteStatus::kUnreachable);
+      EXPECT_EQ(route.status, RouteStatus::kNoRoute);
     } else {
       ExpectValidPath(grid, route);
       EXPECT_EQ(route.length, ExactDistanceFrom(grid, cell));
@@ -90,7 +90,7 @@ TEST(Routes, LearnedFailuresSayWhy) {
   ExpectValidPath(grid, exact);
   EXPECT_EQ(exact.answered_by, AnsweredBy::kExact);
   EXPECT_EQ(AnswerRoute(s, 0, 5, AnswerMode::kLearnedElseExact, 100).status,
-            RouteStatus::kUnreachable);
+            RouteStatus::kNoRoute);
 }
 
 // A trained policy: the starts the evaluation counts as successes are
