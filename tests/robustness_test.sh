@@ -69,7 +69,10 @@ start_run() {  # start_run NAME AGENTS: envsim, coordinator and AGENTS agents of
   pids+=($!)
   agent=
   if [ "$agents" -gt 0 ]; then
-    "$bin/agent/dynapath-agent" --run-id "$name" --secret-file "$work/run.key" --threads 1 2>"$work/$name.agent.log" &
+    # --wait 5: an agent stopped across the coordinator's last heartbeat
+    # (the cases below) may have missed it and would wait the default 60 s.
+    "$bin/agent/dynapath-agent" --run-id "$name" --secret-file "$work/run.key" --threads 1 --wait 5 \
+      2>"$work/$name.agent.log" &
     agent=$!
     pids+=("$agent")
   fi
