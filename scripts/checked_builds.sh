@@ -45,7 +45,9 @@ for step in "${steps[@]}"; do
       # this pass's wall time with one core idle. Nor the checks that run
       # no instrumented code: the plots (Python on committed CSVs), the
       # layering of the tree and the CLI reference (--help texts).
-      ctest --test-dir build-asan --output-on-failure -j"$jobs" \
+      # Twice as many tests as cores: the end-to-end scripts spend much of
+      # their time waiting (process start-up, pauses, timeouts), not computing.
+      ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
         -E '^(lan|plot_figures|plot_reference_overlay|layering|layering_self_test|options_table)$' \
         | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
