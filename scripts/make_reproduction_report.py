@@ -4,12 +4,14 @@
 Usage: scripts/make_reproduction_report.py STUDY_DIR [OUTPUT]
            [--more-sizes STUDY_DIR2] [--report-semantics REPORT_STUDY_DIR]
            [--like-for-like CSV] [--spread SPREAD_DIR] [--dynapath PATH]
+           [--figures FIGURES_DIR]
 
 STUDY_DIR is a study of `dynapath experiment` (results.csv, edge_results.csv,
 manifest.json; with `--repeats N` also summary.csv, repeats.csv and their
 edge_ files) whose figures `dynapath plot STUDY_DIR --overlay-reference`
-drew into STUDY_DIR/figures; the figures the report shows are copied to
-docs/images/reproduction/. With repeats every row gives our mean over the
+drew into STUDY_DIR/figures (or FIGURES_DIR: those of a study merged from
+STUDY_DIR and STUDY_DIR2, so that they show every size); the figures the
+report shows are copied to docs/images/reproduction/. With repeats every row gives our mean over the
 repeats and its 95% bootstrap interval (summary.csv) and says whether the
 report's published value lies inside it; without, the single run's values.
 STUDY_DIR2 is a study of other sizes (200 and 300, typically with fewer
@@ -538,15 +540,15 @@ def like_for_like_range(rows, key):
     return "–" if not values else f"{min(values):.0f} to {max(values):.0f}"
 
 
-def copy_figures(results_dir):
-    """Copies FIGURES from the study to docs/images/reproduction; returns markdown."""
-    source = os.path.join(results_dir, "figures")
+def copy_figures(source):
+    """Copies FIGURES from the folder of `dynapath plot`'s figures to
+    docs/images/reproduction; returns markdown."""
     lines = []
     os.makedirs(IMAGES, exist_ok=True)
     for name, caption in FIGURES:
         path = os.path.join(source, name)
         if not os.path.exists(path):
-            print(f"note: {path} missing (run dynapath plot {results_dir} --overlay-reference)",
+            print(f"note: {path} missing (run dynapath plot --overlay-reference)",
                   file=sys.stderr)
             continue
         shutil.copyfile(path, os.path.join(IMAGES, name))
@@ -660,7 +662,7 @@ def claim_sentence(row, metric, smaller_is_claimed):
             f"{signed(scale * hi, digits)}]")
     if smaller_is_claimed is None:  # "similar": the interval should hold 0 or be tiny
         return text + (" (the interval holds 0)" if lo <= 0 <= hi else
-                       " (the interval excludes 0)")
+                       f" (the interval excludes 0: EqAvg {'higher' if lo > 0 else 'lower'})")
     if hi < 0:
         return text + (" (below 0: as claimed)" if smaller_is_claimed else " (below 0)")
     if lo > 0:
@@ -818,6 +820,22 @@ def study_facts(study):
             f"{len(configurations)} runs in {elapsed(study)}")
 
 
+def few_repeats_note(studies):
+    """A sentence on the sizes run with fewer than 5 repeats, if any."""
+    few = [size for size in studies.sizes() if 1 < studies.by_size[size].repeat_count() < 5]
+    single = [size for size in studies.sizes() if studies.by_size[size].repeat_count() == 1]
+    text = ""
+    if few:
+        counts = sorted({studies.by_size[size].repeat_count() for size in few})
+        text += (f" Sizes {', '.join(few)} ran {' or '.join(map(str, counts))} repeats only (time): "
+                 "a bootstrap interval of so few values lies within their range and understates "
+                 "the uncertainty.")
+    if single:
+        text += (f" Sizes {', '.join(single)} are **single runs** (no repeats, no interval: "
+                 "`Runs` 1).")
+    return text
+
+
 def range_text(values, digits):
     lo, hi = min(values), max(values)
     return f"{lo:.{digits}f}" if f"{lo:.{digits}f}" == f"{hi:.{digits}f}" else \
@@ -842,7 +860,7 @@ def main():
     while argv:
         arg = argv.pop(0)
         if arg in ("--report-semantics", "--like-for-like", "--spread", "--more-sizes",
-                   "--dynapath"):
+                   "--dynapath", "--figures"):
             if not argv:
                 sys.exit(f"{arg} needs a value\n\n{__doc__}")
             if arg == "--more-sizes":
@@ -993,7 +1011,7 @@ def main():
              "approaches that do not learn are deterministic, so theirs is a point, and any "
              "difference in the published figure's 4th or 5th digit puts it outside. Times are "
              "means; ours ran two at a time on a shared 2-core machine, the report's on an "
-             "8-thread laptop.\n\n" + "\n".join(main_lines) + "\n")
+             "8-thread laptop." + few_repeats_note(studies) + "\n\n" + "\n".join(main_lines) + "\n")
     if edge_lines:
         body += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"
     body += "\n## RL adaptation time against the BFS Oracle\n\n"
@@ -1002,13 +1020,17 @@ def main():
              "Means over the repeats.\n\n")
     body += "\n".join(rl_vs_bfs(means, sizes)) + "\n"
     body += "\n## Oracle over the change sequence\n\n" + "\n".join(oracle_table(means, ref, sizes)) + "\n"
-    figures = copy_figures(results_dir)
+    figures_dir = options.get("--figures", os.path.join(results_dir, "figures"))
+    figures = copy_figures(figures_dir)
     if figures:
         body += ("\n## Figures\n\nDrawn by `dynapath plot` from the study; solid lines and filled "
                  "markers are ours (with repeats: means over the repeats with their 95% intervals "
                  "as error bars), dashed lines and hollow markers the report's published values. "
                  "All figures of the study (per configuration too) are in the study's "
-                 "`figures/`.\n\n")
+                 "`figures/`." + (" The by-size figures' titles give the fewest repeats of any "
+                                  "size; the sizes' own counts are those of the table."
+                                  if len({s.repeat_count() for s in studies.studies}) > 1
+                                  else "") + "\n\n")
         body += "\n".join(figures)
     body += maps_section(map_rows, results_dir, output)
 
@@ -1018,8 +1040,18 @@ def main():
         commands.append(experiment_command(study, "the larger sizes"))
     if report is not None:
         commands.append(experiment_command(report, "hard 50x50 + edge case, report semantics"))
-    commands.append(f"build/tools/dynapath plot {main_study.name} --overlay-reference"
-                    f"{'':<20} # {main_study.name}/figures")
+    plotted = main_study.name
+    if "--figures" in options and more:
+        # The figures of a study merged from the main one and those of more sizes.
+        plotted = os.path.basename(os.path.dirname(os.path.normpath(figures_dir)))
+        others = " ".join(f"tail -n +2 {s.name}/$f;" for s in more)
+        commands.append(
+            f"mkdir {plotted}; for f in results.csv results_detailed.csv summary.csv; do  "
+            f"# {' and '.join(s.name for s in [main_study] + more)} in one, for the figures\n"
+            f"  {{ cat {main_study.name}/$f; {others} }} | grep -v ',all,all,' > {plotted}/$f; "
+            f"done; cp {main_study.name}/edge_* {plotted}/")
+    commands.append(f"build/tools/dynapath plot {plotted} --overlay-reference"
+                    f"{'':<20} # {plotted}/figures")
     if blocks:
         names = " ".join(s.name for s in [main_study] + more + ([report] if report else [])
                          if s.has_repeats)
@@ -1046,6 +1078,8 @@ def main():
         script.append(f"--like-for-like {options['--like-for-like']}")
     if "--spread" in options:
         script.append("--spread spread")
+    if "--figures" in options:
+        script.append(f"--figures {plotted}/figures")
     commands.append(" \\\n  ".join([" ".join(script[:3])] + [" ".join(script[3:])]
                                    if len(script) > 3 else [" ".join(script)])
                     + "  # writes this file and docs/images/reproduction/")
