@@ -551,7 +551,8 @@ class TrainingProgressLog {
 
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
                                           int threads, const StepCallback& extra,
-                                          const std::atomic<bool>* stop) {
+                                          const std::atomic<bool>* stop,
+                                          TrainingProgress* progress) {
   for (const std::string& warning :
        LongRunWarnings(plan, setup.scenario.grid,
                        static_cast<int>(setup.scenario.changes.steps.size()))) {
@@ -560,9 +561,10 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
   RunPlan seeded = plan;
   seeded.options.run_seed = plan.RunSeed(setup.seed);
   ThreadPool pool(threads);
-  TrainingProgress progress;
-  const TrainingProgressLog progress_log(progress);
-  LocalTrainer trainer(pool, stop, &progress);
+  TrainingProgress own_progress;
+  TrainingProgress& counted = progress != nullptr ? *progress : own_progress;
+  const TrainingProgressLog progress_log(counted);
+  LocalTrainer trainer(pool, stop, &counted);
   ScenarioStepSource source(setup.scenario);
   try {
     return RunApproaches(source, trainer, seeded, setup.labels, extra, stop);

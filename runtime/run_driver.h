@@ -12,6 +12,7 @@
 #include "dynapath/experiment.h"
 #include "dynapath/quadtree.h"
 #include "dynapath/results_csv.h"
+#include "dynapath/training_progress.h"
 #include "runtime/checkpoint_file.h"
 #include "runtime/option_group.h"
 #include "runtime/parameter_options.h"
@@ -130,9 +131,12 @@ std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, 
 // `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
 // seed set from it) with a LocalTrainer on a pool of `threads` threads.
 // An exception thrown by `extra` ends the run and comes back as a kInternal
-// error, after the approaches before it were written.
+// error, after the approaches before it were written. `progress` (may be
+// null): where the training batch in hand is counted, for a watcher such as
+// a study's progress line; the run's own log lines read it too.
 Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSetup& setup,
                                           int threads, const StepCallback& extra = {},
-                                          const std::atomic<bool>* stop = nullptr);
+                                          const std::atomic<bool>* stop = nullptr,
+                                          TrainingProgress* progress = nullptr);
 
 }  // namespace dynapath::runtime

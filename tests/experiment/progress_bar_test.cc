@@ -58,6 +58,44 @@ TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
   s.remaining.reset();
   EXPECT_EQ(PlainLine(s),
             "[12:03] configuration 3/13 50 Hard, seed 52 | starting; time left unknown");
+  s.training = "training 3/12 jobs";
+  EXPECT_EQ(PlainLine(s),
+            "[12:03] configuration 3/13 50 Hard, seed 52 | starting, training 3/12 jobs; time left "
+            "unknown");
+}
+
+// A watched training batch shows on the line (jobs, or rounds when the batch
+// runs in rounds) while it runs, and not once it finished or is unwatched.
+TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  TrainingProgress training;
+  {
+    ProgressDisplay display(out, false);
+    display.Start({100}, {false});
+    display.BeginConfiguration(0, "300 Hard, seed 52", "300 Hard s52");
+    display.WatchTraining(0, &training);
+    training.Start(12, 0);
+    training.jobs_done = 3;
+    display.Step("singleAgent", 0, 2, 0, 10);  // a new approach: a line
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    training.Start(4, 225);
+    training.rounds_done = 40;
+    display.Step("fedAsynQ_EqAvg", 1, 2, 0, 10);
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    training.Finish();
+    display.WatchTraining(0, nullptr);
+    display.EndConfiguration(0, 1.0, true);
+    display.Stop();
+  }
+  std::rewind(out);
+  std::string text;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, out) != nullptr) text += buffer;
+  std::fclose(out);
+  EXPECT_NE(text.find("singleAgent 1/2 step 0/10, training 3/12 jobs"), std::string::npos) << text;
+  EXPECT_NE(text.find("fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225"), std::string::npos)
+      << text;
 }
 
 TEST(ProgressBarTest, PlainDisplayPrintsLinesPerApproach) {

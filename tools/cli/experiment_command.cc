@@ -184,13 +184,20 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   ProgressDisplay& display = session.display;
 
   if (session.mode == StudyMode::kLocal) {
+    TrainingProgress training;
+    display.WatchTraining(index, &training);
+    struct Unwatch {
+      ProgressDisplay& display;
+      int index;
+      ~Unwatch() { display.WatchTraining(index, nullptr); }
+    } unwatch{display, index};
     Result<std::vector<ApproachRun>> runs = runtime::RunLocal(
         *plan, *setup, session.threads,
         [&](const StepView& view) {
           display.StepOf(index, ApproachName(view.run.approach), view.pass, approaches,
                          view.run.steps.back().time_step, view.total_steps);
         },
-        &session.stop);
+        &session.stop, &training);
     if (!runs) return runs.error();
     return Ok{};
   }

@@ -22,11 +22,13 @@ size_t TerminalWidth(std::FILE* out) {
   return 100;
 }
 
-// Where the current configuration is, 0..1, by approaches and time steps.
-double ConfigurationFraction(int approach_index, int approach_count, int step, int total_steps) {
+// Where the current configuration is, 0..1, by approaches and time steps;
+// `in_step`: the fraction of the step in progress done (its training).
+double ConfigurationFraction(int approach_index, int approach_count, int step, int total_steps,
+                             double in_step) {
   if (approach_count <= 0 || approach_index <= 0) return 0.0;
-  const double in_approach =
-      step < 0 ? 0.0 : (static_cast<double>(step) + 1.0) / (static_cast<double>(total_steps) + 1.0);
+  const double in_approach = (static_cast<double>(std::max(step, -1)) + 1.0 + in_step) /
+                             (static_cast<double>(total_steps) + 1.0);
   return std::clamp((approach_index - 1 + in_approach) / approach_count, 0.0, 1.0);
 }
 
@@ -39,6 +41,7 @@ std::string Where(const ProgressSnapshot& s) {
   } else {
     text += " | starting";
   }
+  if (!s.training.empty()) text += ", " + s.training;
   return text;
 }
 
@@ -177,6 +180,13 @@ void ProgressDisplay::StepOf(int index, const std::string& approach, int approac
   Step(approach, approach_index, approach_count, step, total_steps);
 }
 
+void ProgressDisplay::WatchTraining(int index, const TrainingProgress* progress) {
+  std::lock_guard lock(mutex_);
+  if (progress == nullptr && index != training_index_) return;  // another one is watched
+  training_ = progress;
+  training_index_ = progress != nullptr ? index : -1;
+}
+
 void ProgressDisplay::EndConfiguration(int index, double seconds, bool completed) {
   std::lock_guard lock(mutex_);
   if (index >= 0 && static_cast<size_t>(index) < work_.size()) {
@@ -233,8 +243,17 @@ ProgressSnapshot ProgressDisplay::Snapshot() const {
       after += work_[i];
     }
   }
+  double in_step = 0.0;
+  if (training_ != nullptr && training_index_ == current_ && training_->running) {
+    in_step = std::clamp(training_->Fraction(), 0.0, 1.0);
+    const int64_t rounds = training_->rounds_total, jobs = training_->jobs_total;
+    s.training = rounds > 0 ? "training round " + std::to_string(training_->rounds_done.load()) +
+                                  "/" + std::to_string(rounds)
+                            : "training " + std::to_string(training_->jobs_done.load()) + "/" +
+                                  std::to_string(jobs) + " jobs";
+  }
   const double fraction =
-      ConfigurationFraction(approach_index_, approach_count_, step_, total_steps_);
+      ConfigurationFraction(approach_index_, approach_count_, step_, total_steps_, in_step);
   s.done_fraction = total > 0 ? (done + current * fraction) / total : 0.0;
   s.remaining = estimator_.Remaining(current, now - current_start_, fraction, after);
   return s;

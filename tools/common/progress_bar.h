@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/training_progress.h"
+
 namespace dynapath::cli {
 
 // The time left in a study, from the wall times of finished configurations
@@ -46,6 +48,7 @@ struct ProgressSnapshot {
   int approach_count = 0;
   int step = -1;  // time step reached, -1: none yet
   int total_steps = 0;
+  std::string training;  // the training batch in hand ("training 3/12 jobs"), or empty
   double elapsed = 0.0;        // the whole session
   double done_fraction = 0.0;  // of the study's work
   std::optional<double> remaining;
@@ -81,6 +84,10 @@ class ProgressDisplay {
   // (configurations run at once: the last one begun is shown).
   void StepOf(int index, const std::string& approach, int approach_index, int approach_count,
               int step, int total_steps);
+  // The training batch counter of configuration `index` (null: none any
+  // more), shown while a batch lasts: a large map's step takes minutes.
+  // `progress` must outlive the watch (watch null before it goes).
+  void WatchTraining(int index, const TrainingProgress* progress);
   // `completed`: ran to its end (its time counts for the estimate).
   void EndConfiguration(int index, double seconds, bool completed);
   // A permanent line (above the bar); any thread.
@@ -110,6 +117,8 @@ class ProgressDisplay {
   double current_start_ = 0.0;
   std::string approach_;
   int approach_index_ = 0, approach_count_ = 0, step_ = -1, total_steps_ = 0;
+  const TrainingProgress* training_ = nullptr;
+  int training_index_ = -1;
   bool bar_shown_ = false;
   // Plain mode: what the last line showed and when.
   int plain_config_ = -1, plain_approach_ = -1;
