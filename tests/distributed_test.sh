@@ -94,7 +94,7 @@ fi
 
 # 2. SIGKILL an agent in the middle of a federated run: during the initial
 # training (whole jobs), and while learners are split over the agents.
-big=(--size 100 --difficulty hard --approach fedAsynQ_EqAvg --steps "$(scaled 100 20)")
+big=(--size "$(scaled 100 60)" --difficulty hard --approach fedAsynQ_EqAvg --steps "$(scaled 100 20)")
 "$dynapath" run --local "${big[@]}" --out "$work/big_local" --log-level warn >/dev/null || fail "big --local"
 # The kill waits for a log line, not a fixed delay, so that it lands while
 # agent 2 owes work however loaded the machine is: "maze" starts the initial
