@@ -147,11 +147,13 @@ TEST(SingleAgentTest, SkippingSettledUpdatesChangesNothing) {
   // equal the reference's bit for bit.
   const Scenario scenario = GenerateScenario(40, 40, Difficulty::kHard, 52, 6);
   const QuadTree tree(40, 40, 20);
-  for (const auto& [bootstrap, precision] :
+  for (const auto& [bootstrap, precision_of_case] :
        {std::pair{Bootstrap::kInGrid, QPrecision::kFloat},
         std::pair{Bootstrap::kInRegion, QPrecision::kFloat},
         std::pair{Bootstrap::kAllStored, QPrecision::kFloat},
         std::pair{Bootstrap::kAllStored, QPrecision::kDouble}}) {
+    // A copy: clang 14 cannot capture a structured binding in a lambda.
+    const QPrecision precision = precision_of_case;
     Grid grid = scenario.grid;
     RootQTable root(40, 40, precision);
     LearnerConfig config;
