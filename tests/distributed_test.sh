@@ -13,7 +13,11 @@
 # 7. Bad options and secret files: one error line, exit 2.
 set -uo pipefail
 dynapath=${1:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
-garbage=${2:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE}
+garbage=${2:?usage: distributed_test.sh DYNAPATH LCM_GARBAGE [answers|faults]}
+# PART: "answers" runs checks 1-2, "faults" 3-7, none all (ctest runs the
+# two parts as two tests, at once).
+part=${3:-all}
+in_part() { [ "$part" = all ] || [ "$part" = "$1" ]; }
 bin_dir=$(cd "$(dirname "$dynapath")/.." && pwd)
 work=$(mktemp -d)
 # Processes this script starts itself carry this run id; runs started through
@@ -40,6 +44,30 @@ same_results() {  # same_results DIR_A DIR_B LABEL
   fi
 }
 
+wait_for_line() {  # FILE PATTERN: up to 120 s (a sanitizer build on a loaded machine)
+  for _ in $(seq 6000); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
+  return 1
+}
+# kill_agent_mid_run LOCAL_DIR NAME PLACEMENT LINE RUN_ARGS...: a run with 2
+# agents whose agent 2 gets SIGKILL once LINE is logged: it must finish, the
+# coordinator must reassign the work, and the results equal LOCAL_DIR's.
+kill_agent_mid_run() {
+  local local_dir=$1 name=$2 placement=$3 line=$4
+  shift 4
+  "$dynapath" run --agents 2 --placement "$placement" "$@" --out "$work/$name" \
+    --log-level info >/dev/null 2>"$work/$name.log" &
+  local launcher=$!
+  wait_for_line "$work/$name.log" "$line" || fail "no '$line' line ($name)"
+  # Agent 2 of this run: a child of this launcher (other tests run agents too).
+  local victim
+  victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
+  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($name)"; fi
+  wait $launcher || fail "run with a killed agent exited $? ($name)"
+  grep -q "reassigning its work" "$work/$name.log" ||
+    fail "the coordinator did not reassign the killed agent's work ($name)"
+  same_results "$local_dir" "$work/$name" "agent killed with SIGKILL ($name, $placement)"
+}
+
 # Under a sanitizer (ctest sets DYNAPATH_SANITIZED=1 there) every case runs
 # on fewer time steps and with at most two agent processes: five
 # instrumented processes on two cores made a split round of 3 agents take
@@ -50,6 +78,7 @@ scaled() {  # scaled FULL SMALL: FULL normally, SMALL under a sanitizer
   if [ "$sanitized" = 1 ]; then echo "$2"; else echo "$1"; fi
 }
 
+if in_part answers; then
 # 1. Same answers everywhere, all seven approaches (30x30: four leaves, so
 # batches of several jobs and of one job), with whole-job placement (auto, the
 # default, chooses it for rounds this short) and with learners split over the
@@ -100,32 +129,12 @@ big=(--size "$(scaled 100 60)" --difficulty hard --approach fedAsynQ_EqAvg --ste
 # agent 2 owes work however loaded the machine is: "maze" starts the initial
 # training (whole jobs on both agents); "initial training" starts the
 # adaptation (split: agent 2 hosts learners of every batch).
-wait_for_line() {  # FILE PATTERN: up to 120 s (a sanitizer build on a loaded machine)
-  for _ in $(seq 6000); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.02; done
-  return 1
-}
-# kill_agent_mid_run LOCAL_DIR NAME PLACEMENT LINE RUN_ARGS...: a run with 2
-# agents whose agent 2 gets SIGKILL once LINE is logged: it must finish, the
-# coordinator must reassign the work, and the results equal LOCAL_DIR's.
-kill_agent_mid_run() {
-  local local_dir=$1 name=$2 placement=$3 line=$4
-  shift 4
-  "$dynapath" run --agents 2 --placement "$placement" "$@" --out "$work/$name" \
-    --log-level info >/dev/null 2>"$work/$name.log" &
-  local launcher=$!
-  wait_for_line "$work/$name.log" "$line" || fail "no '$line' line ($name)"
-  # Agent 2 of this run: a child of this launcher (other tests run agents too).
-  local victim
-  victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
-  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($name)"; fi
-  wait $launcher || fail "run with a killed agent exited $? ($name)"
-  grep -q "reassigning its work" "$work/$name.log" ||
-    fail "the coordinator did not reassign the killed agent's work ($name)"
-  same_results "$local_dir" "$work/$name" "agent killed with SIGKILL ($name, $placement)"
-}
 kill_agent_mid_run "$work/big_local" big_killed_auto auto "coordinator: maze" "${big[@]}"
 kill_agent_mid_run "$work/big_local" big_killed_split split "initial training" "${big[@]}"
 
+fi
+
+if in_part faults; then
 # 3. Dropped and duplicated messages.
 small=(--size 20 --difficulty easy --approach fedAsynQ_ImAvg,singleAgent --steps "$(scaled 20 10)")
 "$dynapath" run --local "${small[@]}" --out "$work/small_local" --log-level warn >/dev/null || fail "small --local"
@@ -274,6 +283,7 @@ before=$(cat "$work/run.key")
 "$dynapath" secret "$work/run.key" 2>"$work/err" && fail "dynapath secret overwrote a file"
 grep -q "exists" "$work/err" && [ "$(cat "$work/run.key")" = "$before" ] ||
   fail "dynapath secret on an existing file: $(cat "$work/err")"
+fi
 
 if [ $failures -gt 0 ]; then
   echo "$failures check(s) failed"
