@@ -54,9 +54,14 @@ expect_refused() {  # NAME HOLDER_PID COMMAND...
   [ $((SECONDS - start)) -le 5 ] || fail "$name: refused only after $((SECONDS - start)) s"
 }
 
+# The first writer's runs: long enough to be running when the second comes
+# (shorter under a sanitizer, DYNAPATH_SANITIZED=1, where a step is slower).
+long=400
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && long=100
+
 # 1. Two runs into one --out.
 scenario=(--local --size 50 --difficulty hard --approach fedAsynQ_EqAvg --threads 1)
-"$dynapath" run "${scenario[@]}" --steps 400 --out X >/dev/null 2>first.err &
+"$dynapath" run "${scenario[@]}" --steps $long --out X >/dev/null 2>first.err &
 first=$!
 pids+=("$first")
 wait_for_file X/.dynapath.lock || fail "no lock file in X"
@@ -65,11 +70,11 @@ expect_refused second_run "$first" "$dynapath" run "${scenario[@]}" --steps 99 -
 wait "$first"
 code=$?
 [ $code -eq 0 ] || fail "the first run exited $code"
-[ "$(rows X/results_detailed.csv)" -eq 401 ] || fail "X/results_detailed.csv is not the first run's 401 rows"
+[ "$(rows X/results_detailed.csv)" -eq $((long + 1)) ] || fail "X/results_detailed.csv is not the first run's $((long + 1)) rows"
 [ -e X/.dynapath.lock ] && fail "the lock file stayed after the run"
 pass "two runs into one --out"
 
-"$dynapath" run "${scenario[@]}" --steps 400 --out K >/dev/null 2>&1 &
+"$dynapath" run "${scenario[@]}" --steps $long --out K >/dev/null 2>&1 &
 killed=$!
 pids+=("$killed")
 wait_for_file K/.dynapath.lock || fail "no lock file in K"
@@ -80,7 +85,7 @@ wait "$killed" 2>/dev/null
 pass "a SIGKILLed holder does not block"
 
 # 2. Two studies in one directory, with other approaches.
-study=(experiment --sizes 50 --difficulties hard --no-edge-case --steps 300 --local --threads 1)
+study=(experiment --sizes 50 --difficulties hard --no-edge-case --steps $long --local --threads 1)
 "$dynapath" "${study[@]}" --approaches fedAsynQ_EqAvg --out S >/dev/null 2>study1.err &
 first=$!
 pids+=("$first")
@@ -93,14 +98,14 @@ grep -q '"fedAsynQ_EqAvg"' S/manifest.json || fail "S/manifest.json is not the f
 pass "two studies in one directory"
 
 # 3. A coordinator by hand, into a locked --out; an --agents run's --out.
-"$dynapath" run "${scenario[@]}" --steps 400 --out C >/dev/null 2>&1 &
+"$dynapath" run "${scenario[@]}" --steps $long --out C >/dev/null 2>&1 &
 first=$!
 pids+=("$first")
 wait_for_file C/.dynapath.lock || fail "no lock file in C"
 expect_refused coordinator "$first" "$bin/coordinator/dynapath-coordinator" --insecure --run-id hand \
   --agents 1 --wait 5 --approach fedAsynQ_EqAvg --out C
 wait "$first"
-"$dynapath" run --agents 1 --size 100 --difficulty hard --steps 400 --approach fedAsynQ_EqAvg \
+"$dynapath" run --agents 1 --size 100 --difficulty hard --steps $long --approach fedAsynQ_EqAvg \
   --out A >/dev/null 2>agents.err &
 first=$!
 pids+=("$first")
@@ -109,7 +114,7 @@ expect_refused into_agents_run "$first" "$dynapath" run "${scenario[@]}" --steps
 wait "$first"
 code=$?
 [ $code -eq 0 ] || fail "the --agents run exited $code: $(tail -3 agents.err)"
-[ "$(rows A/results_detailed.csv)" -eq 401 ] || fail "A/results_detailed.csv is not the --agents run's"
+[ "$(rows A/results_detailed.csv)" -eq $((long + 1)) ] || fail "A/results_detailed.csv is not the --agents run's"
 pass "a hand-started coordinator and an --agents run"
 
 # 4. Output paths checked before any work.
@@ -138,7 +143,7 @@ pass "output paths checked first"
 
 # 5. lcm-logger dies during the run.
 if command -v lcm-logger >/dev/null; then
-  "$dynapath" run --agents 1 --size 200 --difficulty hard --steps 400 --approach fedAsynQ_EqAvg \
+  "$dynapath" run --agents 1 --size 200 --difficulty hard --steps $long --approach fedAsynQ_EqAvg \
     --log run.lcm --out G >/dev/null 2>logger.err &
   first=$!
   pids+=("$first")

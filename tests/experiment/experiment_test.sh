@@ -30,13 +30,13 @@ if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
 fi
 
 cd "$work" || exit 1
-# Under a sanitizer (ctest sets DYNAPATH_SANITIZED=1) 4 time steps instead
+# Under a sanitizer (ctest sets DYNAPATH_SANITIZED=1) 2 time steps instead
 # of 10: every check below holds for any count, and the study runs three
 # times over;
 # and its second size is 30 instead of 50 (the edge case stays hard 50).
 steps=10
 big=50
-[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && steps=4 && big=30
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && steps=2 && big=30
 study=(--sizes 20,$big --difficulties easy,hard --steps $steps)
 # The approaches of `all`, from the registry's one list (core/include/dynapath/approach_list.h).
 registered=$(grep -o '^ *X(k[A-Za-z0-9]*, *"[^"]*"' "$(dirname "$0")/../../core/include/dynapath/approach_list.h" \
