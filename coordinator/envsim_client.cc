@@ -61,8 +61,15 @@ bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
           ? 10
           : std::clamp<int64_t>(static_cast<int64_t>(2 * round_trip_ms_) + 5, 10, 250);
   int sends = 0;
+  // Envsim's silence is counted from this request at the earliest (a pause
+  // of the coordinator before it asked is not envsim's silence), and again
+  // from any moment the coordinator itself did not run for a second (this
+  // loop turns every few milliseconds).
+  int64_t counted_from = start, previous = start;
   while (!grid_answer_ && !changes_answer_) {
     const int64_t now = protocol::SteadyMs();
+    if (now - previous > 1000) counted_from = now;
+    previous = now;
     if (stop_ != nullptr && *stop_) {
       status_ = Error::Cancelled();
       return false;
@@ -78,7 +85,8 @@ bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
       status_ = Error::Unavailable("no environment simulator answered for run " + bus_.run_id());
       return false;
     }
-    const double silent_seconds = seen < 0 ? 0.0 : static_cast<double>(now - seen) / 1000;
+    const double silent_seconds =
+        seen < 0 ? 0.0 : static_cast<double>(now - std::max(seen, counted_from)) / 1000;
     if (silent_seconds > give_up_seconds_) {
       status_ = Error::Unavailable(
           fmt::format("the environment simulator has been silent for {:.0f} s (--give-up); "

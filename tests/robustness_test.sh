@@ -229,6 +229,8 @@ if paused_run paused_c dynapath-coordinator "initial training"; then
   grep -q "gone" "$work/paused_c.log" && fail "paused coordinator: $(grep gone "$work/paused_c.log" | head -1)"
   grep -q "is silent; reassigning" "$work/paused_c.log" &&
     fail "paused coordinator: $(grep "is silent; reassigning" "$work/paused_c.log" | head -1)"
+  grep -q "the environment simulator has been silent" "$work/paused_c.log" &&
+    fail "paused coordinator: $(grep "the environment simulator has been silent" "$work/paused_c.log" | head -1)"
   if same_result_files "$work/paused_local" "$work/paused_c" results.csv results_detailed.csv; then
     pass "coordinator paused 7 s mid-run: waited for, results as --local"
   else
