@@ -424,12 +424,9 @@ void DistributedTrainer::CheckAgents() {
   if (Done()) return;
   Batch& batch = *batch_;
   const int64_t now = AgentRegistry::NowMs();
-  // Called every 20 ms while a batch lasts: a longer gap means this process
-  // did not run, so what it did not hear meanwhile says nothing about agents.
-  if (last_check_ms_ >= 0 && now - last_check_ms_ > std::max<int64_t>(agents_.timeout_ms() / 2, 1000)) {
-    silence_counted_from_ms_ = now;
-  }
-  last_check_ms_ = now;
+  // Called every 20 ms while a batch lasts (a longer gap: this process did
+  // not run, and what it did not hear meanwhile says nothing about agents).
+  const int64_t silence_counted_from = resume_clock_.CountedFrom(now);
   // Which agents still owe something, and are they alive?
   std::vector<int> owing;
   if (batch.split) {
@@ -449,7 +446,7 @@ void DistributedTrainer::CheckAgents() {
   for (int agent : owing) {
     AgentInfo info;
     if (agents_.Get(agent, info)) SampleRoundTrip(info);
-    if (!agents_.IsLive(agent, silence_counted_from_ms_) || !agents_.Get(agent, info)) {
+    if (!agents_.IsLive(agent, silence_counted_from) || !agents_.Get(agent, info)) {
       spdlog::warn("agent {} is silent; reassigning its work (batch {}, epoch {})", agent, batch.id,
                    batch.epoch + 1);
       restart = true;

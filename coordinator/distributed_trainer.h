@@ -31,6 +31,7 @@
 // forever. A split batch that restarts the same round again and again runs
 // its jobs whole instead (auto placement then stops splitting for the run).
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <map>
@@ -47,6 +48,7 @@
 #include "dynapath/trainer.h"
 #include "protocol/bus.h"
 #include "protocol/inbox.h"
+#include "protocol/liveness.h"
 #include "runtime/run_driver.h"
 
 namespace dynapath::coordinator {
@@ -173,11 +175,9 @@ class DistributedTrainer : public Trainer {
   std::map<int, int64_t> avoid_until_ms_;  // agents that stalled a batch lately
   bool split_disabled_ = false;            // kAuto: splitting kept failing in this run
   double round_trip_ms_ = -1;              // smoothed, over all agents
-  // CheckAgents' last call, and when the coordinator last resumed after not
-  // running (SIGSTOP, a debugger, starvation): agents' silence is counted
-  // from then, since heartbeats sent meanwhile are still being read.
-  int64_t last_check_ms_ = -1;
-  int64_t silence_counted_from_ms_ = 0;
+  // CheckAgents' clock of the coordinator's own pauses: agents' silence is
+  // counted from its last resume, heartbeats sent meanwhile being unread.
+  protocol::ResumeClock resume_clock_{std::max<int64_t>(agents_.timeout_ms() / 2, 1000)};
   int64_t slow_round_ms_ = 0;              // the slowest recent split round (SlowRoundMs)
   TrafficStats traffic_;
   Status status_ = Ok{};

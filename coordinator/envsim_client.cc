@@ -65,11 +65,10 @@ bool EnvSimClient::Request(int pass, int t, double startup_seconds) {
   // of the coordinator before it asked is not envsim's silence), and again
   // from any moment the coordinator itself did not run for a second (this
   // loop turns every few milliseconds).
-  int64_t counted_from = start, previous = start;
+  protocol::ResumeClock resume_clock(1000);
   while (!grid_answer_ && !changes_answer_) {
     const int64_t now = protocol::SteadyMs();
-    if (now - previous > 1000) counted_from = now;
-    previous = now;
+    const int64_t counted_from = std::max(start, resume_clock.CountedFrom(now));
     if (stop_ != nullptr && *stop_) {
       status_ = Error::Cancelled();
       return false;

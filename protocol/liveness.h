@@ -17,6 +17,26 @@ namespace dynapath::protocol {
 
 int64_t SteadyMs();
 
+// For a caller that checks every few milliseconds: when it did not run for
+// longer than `gap_ms` between two checks (paused by SIGSTOP or a debugger,
+// or starved), the silence of others it did not hear meanwhile is its own.
+// CountedFrom says from when to count their silence: the end of its last
+// such gap (0 before any).
+class ResumeClock {
+ public:
+  explicit ResumeClock(int64_t gap_ms) : gap_ms_(gap_ms) {}
+  int64_t CountedFrom(int64_t now_ms) {
+    if (last_check_ms_ >= 0 && now_ms - last_check_ms_ > gap_ms_) counted_from_ms_ = now_ms;
+    last_check_ms_ = now_ms;
+    return counted_from_ms_;
+  }
+
+ private:
+  int64_t gap_ms_;
+  int64_t last_check_ms_ = -1;
+  int64_t counted_from_ms_ = 0;
+};
+
 class CoordinatorWatch {
  public:
   enum class Verdict { kWaiting, kRunning, kFinished, kFailed, kGone, kNeverCame };

@@ -9,6 +9,16 @@
 namespace dynapath::cli {
 namespace {
 
+// What a display wrote to `out` (a tmpfile), which is then closed.
+std::string ReadAndClose(std::FILE* out) {
+  std::rewind(out);
+  std::string text;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, out) != nullptr) text += buffer;
+  std::fclose(out);
+  return text;
+}
+
 TEST(ProgressBarTest, FormatsDurations) {
   EXPECT_EQ(FormatDuration(0.04), "0.0 s");
   EXPECT_EQ(FormatDuration(4.25), "4.2 s");
@@ -64,8 +74,8 @@ TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
             "unknown");
 }
 
-// A watched training batch shows on the line (jobs, or rounds when the batch
-// runs in rounds) while it runs, and not once it finished or is unwatched.
+// A watched training batch shows on the line while it runs: jobs, or rounds
+// when the batch runs in rounds.
 TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
   std::FILE* out = std::tmpfile();
   ASSERT_NE(out, nullptr);
@@ -88,11 +98,7 @@ TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
     display.EndConfiguration(0, 1.0, true);
     display.Stop();
   }
-  std::rewind(out);
-  std::string text;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, out) != nullptr) text += buffer;
-  std::fclose(out);
+  const std::string text = ReadAndClose(out);
   EXPECT_NE(text.find("singleAgent 1/2 step 0/10, training 3/12 jobs"), std::string::npos) << text;
   EXPECT_NE(text.find("fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225"), std::string::npos)
       << text;
@@ -113,11 +119,7 @@ TEST(ProgressBarTest, PlainDisplayPrintsLinesPerApproach) {
     display.EndConfiguration(1, 1.5, true);
     display.Stop();
   }
-  std::rewind(out);
-  std::string text;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, out) != nullptr) text += buffer;
-  std::fclose(out);
+  const std::string text = ReadAndClose(out);
   EXPECT_NE(text.find("configuration 2/2 20 Easy, seed 50 | A* Static 1/2 step 0/10"),
             std::string::npos)
       << text;

@@ -383,3 +383,21 @@ TEST(CoordinatorWatchTest, OwnPauseIsNotTheCoordinatorsSilence) {
 
 }  // namespace
 }  // namespace dynapath::protocol
+
+namespace dynapath::protocol {
+namespace {
+
+// Others' silence is counted from the end of the caller's last gap between
+// checks longer than the bound (its own pause), from 0 before any.
+TEST(ResumeClockTest, CountsFromTheEndOfTheLastLongGap) {
+  ResumeClock clock(1000);
+  EXPECT_EQ(clock.CountedFrom(5000), 0);
+  EXPECT_EQ(clock.CountedFrom(5020), 0);
+  EXPECT_EQ(clock.CountedFrom(6020), 0);  // exactly the bound: not a pause
+  EXPECT_EQ(clock.CountedFrom(8000), 8000);
+  EXPECT_EQ(clock.CountedFrom(8500), 8000);
+  EXPECT_EQ(clock.CountedFrom(9600), 9600);
+}
+
+}  // namespace
+}  // namespace dynapath::protocol
