@@ -44,13 +44,15 @@ Status Truncated(const std::string& what) { return Error::Corrupt("truncated in 
 
 // zstd of `data`, its length first.
 Status PutCompressed(Writer& out, const void* data, size_t size) {
-  std::vector<uint8_t> frame(ZSTD_compressBound(size));
-  const size_t written = ZSTD_compress(frame.data(), frame.size(), data, size, kCompressionLevel);
+  // Not a vector: its zero fill of the bound would cost as much as a copy.
+  const size_t bound = ZSTD_compressBound(size);
+  const std::unique_ptr<uint8_t[]> frame(new uint8_t[bound]);
+  const size_t written = ZSTD_compress(frame.get(), bound, data, size, kCompressionLevel);
   if (ZSTD_isError(written)) {
     return Error::Internal(std::string("zstd: ") + ZSTD_getErrorName(written));
   }
   out.Put<uint64_t>(written);
-  out.PutBytes(frame.data(), written);
+  out.PutBytes(frame.get(), written);
   return Ok{};
 }
 

@@ -260,6 +260,12 @@ class CheckpointWriter {
     if (Status submitted = Submit(std::move(checkpoint)); !submitted) return submitted;
     return Flush();
   }
+  // A write is in progress or waiting: the policy of a step now would be
+  // replaced before it is written, so the step need not export it.
+  bool Busy() {
+    std::lock_guard lock(mutex_);
+    return writing_ || pending_.has_value();
+  }
   Status Flush() {
     std::unique_lock lock(mutex_);
     idle_.wait(lock, [this] { return !pending_ && !writing_; });
@@ -396,11 +402,14 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     Status checkpoint_status = Ok{};
     if (checkpoints.enabled() && IsLearningApproach(approach)) {
       hooks.checkpoint_every = plan.checkpoint.every;
-      if (plan.checkpoint.min_seconds > 0) {
-        hooks.checkpoint_due = [&] {
-          return SteadyClock()() - last_checkpoint >= plan.checkpoint.min_seconds;
-        };
-      }
+      // Exporting a policy copies every table: a step that comes while the
+      // previous checkpoint is still being written skips it (its checkpoint
+      // would be replaced unwritten), so a run with steps faster than the
+      // disk pays for one copy per write, not one per step.
+      hooks.checkpoint_due = [&] {
+        return !checkpoints.Busy() &&
+               SteadyClock()() - last_checkpoint >= plan.checkpoint.min_seconds;
+      };
       hooks.checkpoint = [&](PolicyState&& state, const ApproachRun& so_far) {
         last_checkpoint = SteadyClock()();
         if (!checkpoint_status) return;
