@@ -85,17 +85,13 @@ int ServeCommand(const std::vector<std::string>& args) {
       "  --local       train in this process on a thread pool (default)\n"
       "  --agents N    train on N agent processes this command starts, on the service's\n"
       "                network (it plays the coordinator's part)\n"
-      "  --embedded    the agents as threads of this process over memq://\n"
+      "  --embedded    the agents as threads of this process over memq:// (N from\n"
+      "                --agents, else 1); clients still use the service's network\n"
       "The policies, and so every answer, are the same in every mode.",
       kServeProgram);
   runtime::OptionGroup group(app);
   runtime::ModeOptions mode;
-  group.Flag("--local", mode.local, "train in this process on a thread pool (default)");
-  group.Option("--agents", mode.agents, "N",
-               "train on N agent processes started by this command, on the service's network");
-  group.Flag("--embedded", mode.embedded,
-             "train on agents that are threads of this process, over memq:// (N from --agents, "
-             "default 1)");
+  runtime::DeclareModeOptions(group, mode);
   runtime::ScenarioOptions scenario;
   runtime::DeclareScenarioOptions(group, scenario);
   runtime::RunOptions run_options;
