@@ -141,7 +141,10 @@ int ServeCommand(const std::vector<std::string>& args) {
     return usage_error("--approach must name one learning approach or Incremental Oracle");
   }
   if (!plan->policy.save_path.empty() || app.count("--save-at") > 0) {
-    return usage_error("--save-policy and --save-at are run's: save a policy with dynapath run");
+    return usage_error(
+        "--save-policy and --save-at are run's: a service's steps come from live updates that a "
+        "later service could not replay to catch up with a saved step; save a policy with "
+        "dynapath run");
   }
   if (!plan->checkpoint.dir.empty() || plan->checkpoint.resume) {
     return usage_error(
@@ -208,7 +211,8 @@ int ServeCommand(const std::vector<std::string>& args) {
     protocol::BusOptions training_options = bus_options;
     if (protocol::IsMemq(protocol::ResolveLcmUrl(url))) {
       if (!embedded) {
-        return usage_error("agent processes cannot join memq://: use --embedded, or give a network URL");
+        return usage_error(
+            "agent processes cannot join memq://: use --embedded, or give a network URL");
       }
       training.lcm = lcm->get();  // one memq:// per process: share it
     } else if (embedded) {
