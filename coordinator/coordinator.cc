@@ -14,24 +14,13 @@
 #include "protocol/liveness.h"
 
 namespace dynapath::coordinator {
-namespace {
-
-DistributedTrainerOptions MakeTrainerOptions(const CoordinatorOptions& options) {
-  DistributedTrainerOptions trainer;
-  trainer.agent_wait_seconds = options.agent_wait_seconds;
-  trainer.placement = options.plan.placement;
-  trainer.max_stalls =
-      std::max(1, static_cast<int>(std::ceil(options.give_up_seconds / trainer.stall_seconds)) - 1);
-  return trainer;
-}
-
-}  // namespace
-
 Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
     : bus_(bus),
       options_(std::move(options)),
       agents_(options_.agent_timeout_seconds),
-      trainer_(bus, inbox_, agents_, MakeTrainerOptions(options_)),
+      trainer_(bus, inbox_, agents_,
+               MakeTrainerOptions(options_.agent_wait_seconds, options_.give_up_seconds,
+                                  options_.plan.placement)),
       envsim_(bus, inbox_, options_.envsim_timeout_seconds, options_.give_up_seconds) {
   bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat, [this](heartbeat_t& beat) {
     // Wake the coordinator thread for a new agent:

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 
@@ -75,6 +76,16 @@ struct DistributedTrainer::Batch {
   std::vector<int> acknowledged;
   int64_t steps = 0;
 };
+
+DistributedTrainerOptions MakeTrainerOptions(double agent_wait_seconds, double give_up_seconds,
+                                             runtime::Placement placement) {
+  DistributedTrainerOptions trainer;
+  trainer.agent_wait_seconds = agent_wait_seconds;
+  trainer.placement = placement;
+  trainer.max_stalls =
+      std::max(1, static_cast<int>(std::ceil(give_up_seconds / trainer.stall_seconds)) - 1);
+  return trainer;
+}
 
 double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOptions& options) {
   double us = 0.0;

@@ -90,6 +90,12 @@ struct DistributedTrainerOptions {
   const std::atomic<bool>* stop = nullptr;
 };
 
+// The options of a coordinator's trainer: wait `agent_wait_seconds` for an
+// agent, give a batch that makes no progress up after about
+// `give_up_seconds` (max_stalls from stall_seconds).
+DistributedTrainerOptions MakeTrainerOptions(double agent_wait_seconds, double give_up_seconds,
+                                             runtime::Placement placement);
+
 // Estimated single-thread time of one federated round of `nodes`' jobs: K
 // learners x tau steps x the measured cost of a step (25 ns in regions that
 // fit the caches, 90 ns in 300x300 ones; bench/core_bench).

@@ -50,12 +50,7 @@ std::string FindBinary(const std::string& name) {
   return file;  // from PATH
 }
 
-struct Child {
-  std::string name;
-  pid_t pid = -1;
-  bool running = true;
-  int status = 0;
-};
+using Child = ChildProcess;
 
 // Starts `argv`. `keep_fds`: TextPipes the child keeps open across exec
 // (argv or its config names them as /dev/fd/N).
@@ -77,6 +72,85 @@ pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
   execvp(args[0], args.data());
   std::fprintf(stderr, "dynapath: cannot start %s: %s\n", argv[0].c_str(), std::strerror(errno));
   _exit(127);
+}
+
+// What every child of a run is started with.
+struct ChildStart {
+  const runtime::ProcessSetup& process;
+  const std::string& log_level;
+  int child_stderr;  // -1: the launcher's stderr
+};
+
+// Starts a child with its options as one config file: `options` is its
+// command-line struct, written by the same declaration its main parses
+// with. With a secret, the run's secret goes over a pipe of its own
+// (--secret-file /dev/fd/N), or --insecure when the run has none.
+// `visible`: more arguments besides --config.
+// `inherit`: descriptors (close-on-exec here) the child keeps, not closed.
+// Appends it to `children`; false (logged) when it could not be started.
+template <class Options, class Declare>
+bool StartChild(const ChildStart& run, std::vector<Child>& children, const std::string& name,
+                const std::string& binary, Options& options, Declare declare,
+                std::vector<std::string> visible, std::vector<int> inherit) {
+  std::vector<int> fds;
+  auto close_fds = [&] {
+    for (int fd : fds) close(fd);
+  };
+  options.process = runtime::ChildProcessOptions(run.process);
+  options.log.log_level = run.log_level;
+  if (run.process.secret.empty()) {
+    options.process.insecure = true;
+  } else {
+    const int secret_fd = TextPipe(run.process.secret + "\n");
+    if (secret_fd < 0) {
+      spdlog::error("cannot hand the run's secret to {}: {}", name, std::strerror(errno));
+      return false;
+    }
+    fds.push_back(secret_fd);
+    options.process.secret_file = "/dev/fd/" + std::to_string(secret_fd);
+  }
+  runtime::ConfigWriter writer;
+  runtime::OptionGroup group(writer);
+  declare(group, options);
+  if (Status status = writer.status(); !status) {
+    spdlog::error("cannot hand {} its options: {}", name, status.error().message);
+    close_fds();
+    return false;
+  }
+  const int config_fd = TextPipe(writer.Text());
+  if (config_fd < 0) {
+    spdlog::error("cannot hand {} its options: {}", name, std::strerror(errno));
+    close_fds();
+    return false;
+  }
+  fds.push_back(config_fd);
+  std::vector<std::string> argv = {binary, "--config", "/dev/fd/" + std::to_string(config_fd)};
+  // The config is complete; the run id, how the secret arrives and an
+  // agent's id are repeated as arguments so that ps and pgrep tell a run's
+  // processes apart and show that the secret came over a pipe (the tests
+  // find processes this way).
+  argv.insert(argv.end(), {"--run-id", run.process.run_id});
+  if (options.process.secret_file) {
+    argv.insert(argv.end(), {"--secret-file", *options.process.secret_file});
+  } else {
+    argv.push_back("--insecure");
+  }
+  argv.insert(argv.end(), visible.begin(), visible.end());
+  std::vector<int> kept = fds;
+  kept.insert(kept.end(), inherit.begin(), inherit.end());
+  const pid_t pid = Spawn(argv, run.child_stderr, kept);
+  close_fds();
+  if (pid < 0) return false;
+  children.push_back(Child{name, pid});
+  return true;
+}
+
+// Starts agent `id` of a run with `threads` threads.
+bool StartAgent(const ChildStart& run, std::vector<Child>& children, int id, int threads) {
+  agent::AgentCommandLine options;
+  options.threads.threads = threads;
+  return StartChild(run, children, "agent " + std::to_string(id), FindBinary("agent"), options,
+                    agent::DeclareAgentCommandLine, {"--id", std::to_string(id)}, {});
 }
 
 std::string Describe(int status) {
@@ -224,65 +298,11 @@ int LaunchProcesses(const DistributedRun& run) {
     }
   }
   std::vector<Child> children;
-  // Starts a child with its options as one config file: `options` is its
-  // command-line struct, written by the same declaration its main parses
-  // with. With `secret`, the run's secret goes over a pipe of its own
-  // (--secret-file /dev/fd/N), or --insecure when the run has none.
-  // `visible`: more arguments besides --config.
-  // `inherit`: descriptors (close-on-exec here) the child keeps, not closed.
+  const ChildStart child_start{run.process, run.log_level, run.child_stderr};
   auto start = [&](const std::string& name, const std::string& binary, auto& options, auto declare,
                    std::vector<std::string> visible = {}, std::vector<int> inherit = {}) {
-    std::vector<int> fds;
-    auto close_fds = [&] {
-      for (int fd : fds) close(fd);
-    };
-    options.process = runtime::ChildProcessOptions(run.process);
-    options.log.log_level = run.log_level;
-    if (run.process.secret.empty()) {
-      options.process.insecure = true;
-    } else {
-      const int secret_fd = TextPipe(run.process.secret + "\n");
-      if (secret_fd < 0) {
-        spdlog::error("cannot hand the run's secret to {}: {}", name, std::strerror(errno));
-        return false;
-      }
-      fds.push_back(secret_fd);
-      options.process.secret_file = "/dev/fd/" + std::to_string(secret_fd);
-    }
-    runtime::ConfigWriter writer;
-    runtime::OptionGroup group(writer);
-    declare(group, options);
-    if (Status status = writer.status(); !status) {
-      spdlog::error("cannot hand {} its options: {}", name, status.error().message);
-      close_fds();
-      return false;
-    }
-    const int config_fd = TextPipe(writer.Text());
-    if (config_fd < 0) {
-      spdlog::error("cannot hand {} its options: {}", name, std::strerror(errno));
-      close_fds();
-      return false;
-    }
-    fds.push_back(config_fd);
-    std::vector<std::string> argv = {binary, "--config", "/dev/fd/" + std::to_string(config_fd)};
-    // The config is complete; the run id, how the secret arrives and an
-    // agent's id are repeated as arguments so that ps and pgrep tell a run's
-    // processes apart and show that the secret came over a pipe (the tests
-    // find processes this way).
-    argv.insert(argv.end(), {"--run-id", run.process.run_id});
-    if (options.process.secret_file) {
-      argv.insert(argv.end(), {"--secret-file", *options.process.secret_file});
-    } else {
-      argv.push_back("--insecure");
-    }
-    argv.insert(argv.end(), visible.begin(), visible.end());
-    std::vector<int> kept = fds;
-    kept.insert(kept.end(), inherit.begin(), inherit.end());
-    const pid_t pid = Spawn(argv, run.child_stderr, kept);
-    close_fds();
-    if (pid < 0) return false;
-    children.push_back(Child{name, pid});
-    return true;
+    return StartChild(child_start, children, name, binary, options, declare, std::move(visible),
+                      std::move(inherit));
   };
   if (!run.log_file.empty()) {
     const pid_t pid =
@@ -318,10 +338,7 @@ int LaunchProcesses(const DistributedRun& run) {
     started = started && start("envsim", FindBinary("envsim"), envsim_options,
                                envsim::DeclareEnvSimCommandLine);
     for (int i = 1; i <= run.agents && started; ++i) {
-      agent::AgentCommandLine agent_options;
-      agent_options.threads.threads = run.threads_per_agent;
-      started = started && start("agent " + std::to_string(i), FindBinary("agent"), agent_options,
-                                 agent::DeclareAgentCommandLine, {"--id", std::to_string(i)});
+      started = StartAgent(child_start, children, i, run.threads_per_agent);
     }
     return started;
   };
@@ -438,15 +455,7 @@ int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
       envsim_bus,
       envsim::ScenarioInfo{scenario.scenario, scenario.labels, scenario.seed, scenario.source},
       envsim::EnvSimOptions{});
-  std::vector<std::unique_ptr<protocol::Bus>> agent_buses;
-  std::vector<std::unique_ptr<agent::Agent>> agents;
-  for (int i = 1; i <= run.agents; ++i) {
-    agent_buses.push_back(std::make_unique<protocol::Bus>(lcm, run.process.run_id, bus_options));
-    agent::AgentOptions options;
-    options.id = i;
-    options.threads = run.threads_per_agent;
-    agents.push_back(std::make_unique<agent::Agent>(*agent_buses.back(), options));
-  }
+  EmbeddedAgents agents(lcm, run.process.run_id, bus_options, run.agents, run.threads_per_agent);
   coordinator::CoordinatorOptions options;
   options.plan = plan;
   options.min_agents = run.agents;
@@ -459,15 +468,76 @@ int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
   std::atomic<bool> stop_components{false};
   std::vector<std::thread> threads;
   threads.emplace_back([&] { sim.Run(stop_components); });
-  for (auto& agent : agents) {
-    threads.emplace_back([&, a = agent.get()] { a->Run(stop_components); });
-  }
+  agents.Start();
   const int code = coordinator.Run(stop);
   // They exit on the coordinator's final heartbeat; the flag is a backstop.
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   stop_components = true;
   for (std::thread& thread : threads) thread.join();
+  agents.Stop();
   return stop ? 130 : code;
+}
+
+AgentProcesses::AgentProcesses(AgentLaunch launch) : launch_(std::move(launch)) {}
+
+AgentProcesses::~AgentProcesses() { Stop(); }
+
+bool AgentProcesses::Start() {
+  const ChildStart child_start{launch_.process, launch_.log_level, launch_.child_stderr};
+  for (int i = 1; i <= launch_.agents; ++i) {
+    if (!StartAgent(child_start, children_, i, launch_.threads_per_agent)) {
+      Stop(std::chrono::milliseconds(3000));
+      return false;
+    }
+  }
+  return true;
+}
+
+int AgentProcesses::Check() {
+  int running = 0;
+  for (Child& child : children_) {
+    if (!child.running) continue;
+    int status = 0;
+    if (waitpid(child.pid, &status, WNOHANG) == child.pid) {
+      child.running = false;
+      child.status = status;
+      spdlog::warn("{} {}; training goes on without it", child.name, Describe(status));
+      continue;
+    }
+    ++running;
+  }
+  return running;
+}
+
+void AgentProcesses::Stop(std::chrono::milliseconds grace) {
+  StopAll(children_, grace);
+  children_.clear();
+}
+
+EmbeddedAgents::EmbeddedAgents(lcm::LCM& lcm, const std::string& run_id,
+                               const protocol::BusOptions& bus, int agents, int threads_per_agent) {
+  for (int i = 1; i <= agents; ++i) {
+    buses_.push_back(std::make_unique<protocol::Bus>(lcm, run_id, bus));
+    agent::AgentOptions options;
+    options.id = i;
+    options.threads = threads_per_agent;
+    agents_.push_back(std::make_unique<agent::Agent>(*buses_.back(), options));
+  }
+}
+
+EmbeddedAgents::~EmbeddedAgents() { Stop(); }
+
+void EmbeddedAgents::Start() {
+  if (!threads_.empty()) return;
+  for (auto& agent : agents_) {
+    threads_.emplace_back([this, a = agent.get()] { a->Run(stop_); });
+  }
+}
+
+void EmbeddedAgents::Stop() {
+  stop_ = true;
+  for (std::thread& thread : threads_) thread.join();
+  threads_.clear();
 }
 
 }  // namespace dynapath::launch

@@ -4,13 +4,25 @@
 // or on the network of --lcm-url), or all of them as threads of this process
 // over memq:// (--embedded).
 
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "protocol/bus.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+
+namespace dynapath::agent {
+class Agent;
+}
 
 namespace dynapath::launch {
 
@@ -63,6 +75,71 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
 // /proc/PID/cmdline, unlike the environment it is not inherited, unlike a
 // file it leaves nothing on disk. -1 on failure (errno set).
 int TextPipe(const std::string& text);
+
+// A child process the launcher started.
+struct ChildProcess {
+  std::string name;
+  pid_t pid = -1;
+  bool running = true;
+  int status = 0;  // waitpid's, once it has exited
+};
+
+// Agent processes for a process that plays the coordinator's part itself
+// (dynapath serve --agents N: coordinator::TrainingSession), started as
+// LaunchProcesses starts a run's agents: ids 1..N, the run id, secret (over
+// a pipe) and LCM URL of `process`.
+struct AgentLaunch {
+  runtime::ProcessSetup process;
+  int agents = 1;
+  int threads_per_agent = 1;
+  std::string log_level = runtime::LogOptions{}.log_level;
+  int child_stderr = -1;  // -1: this process's stderr
+};
+
+class AgentProcesses {
+ public:
+  explicit AgentProcesses(AgentLaunch launch);
+  ~AgentProcesses();  // Stop(), if not done
+  AgentProcesses(const AgentProcesses&) = delete;
+  AgentProcesses& operator=(const AgentProcesses&) = delete;
+
+  // Starts them; false (logged) when one could not be started (those
+  // started are stopped again).
+  bool Start();
+  // Notes agents that exited (each logged once: the trainer reassigns its
+  // work) and returns how many are still running.
+  int Check();
+  // SIGTERM to those still running, SIGKILL after `grace`; all reaped.
+  void Stop(std::chrono::milliseconds grace = std::chrono::milliseconds(500));
+
+ private:
+  AgentLaunch launch_;
+  std::vector<ChildProcess> children_;
+};
+
+// N agents as threads of this process on `lcm` (memq://), as an embedded
+// run has them, for a process that plays the coordinator's part itself
+// (dynapath serve --embedded).
+class EmbeddedAgents {
+ public:
+  // Subscribes their buses on `lcm`: construct before it is dispatched.
+  EmbeddedAgents(lcm::LCM& lcm, const std::string& run_id, const protocol::BusOptions& bus,
+                 int agents, int threads_per_agent);
+  ~EmbeddedAgents();  // Stop()
+  EmbeddedAgents(const EmbeddedAgents&) = delete;
+  EmbeddedAgents& operator=(const EmbeddedAgents&) = delete;
+
+  void Start();  // one thread per agent
+  // Stops the agents (they also end on the coordinator's final heartbeat)
+  // and joins their threads.
+  void Stop();
+
+ private:
+  std::vector<std::unique_ptr<protocol::Bus>> buses_;
+  std::vector<std::unique_ptr<agent::Agent>> agents_;
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
 
 // Starts the processes, waits for the coordinator, stops every child on
 // Ctrl-C or failure. Returns the exit code. With a log file, lcm-logger must

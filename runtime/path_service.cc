@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <optional>
 
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
@@ -117,8 +118,13 @@ void PathService::Train() {
     spdlog::debug("serve: could not lower the training threads' priority");
   }
   try {
-    ThreadPool pool(std::max(1, config_.threads));
-    LocalTrainer trainer(pool, &stop_);
+    std::optional<ThreadPool> pool;
+    std::optional<LocalTrainer> local;
+    Trainer* trainer = config_.trainer;
+    if (trainer == nullptr) {
+      pool.emplace(std::max(1, config_.threads));
+      trainer = &local.emplace(*pool, &stop_);
+    }
     PlannerOptions options = config_.options;
     options.stop = &stop_;
     LiveSource source(*this, catch_up);
@@ -126,10 +132,10 @@ void PathService::Train() {
     hooks.load = config_.load;
     hooks.on_loaded = [this](const StepView& view) { OnStep(view); };
     Result<ApproachRun> run =
-        RunApproach(source, 0, config_.approach, options, &trainer, config_.labels, hooks,
+        RunApproach(source, 0, config_.approach, options, trainer, config_.labels, hooks,
                     SteadyClock(), [this](const StepView& view) { OnStep(view); });
-    if (run && !trainer.status() && !trainer.status().error().IsCancelled()) {
-      result_ = trainer.status().error();
+    if (run && !trainer->status() && !trainer->status().error().IsCancelled()) {
+      result_ = trainer->status().error();
     } else {
       result_ = std::move(run);
     }
@@ -137,6 +143,7 @@ void PathService::Train() {
     result_ = Error::Internal(e.what());
   }
   if (!result_) spdlog::error("serve: training stopped: {}", result_.error().message);
+  training_ended_ = true;
 }
 
 void PathService::OnStep(const StepView& view) {

@@ -35,6 +35,7 @@
 #include "dynapath/planner.h"
 #include "dynapath/policy_state.h"
 #include "dynapath/routes.h"
+#include "dynapath/trainer.h"
 
 namespace dynapath::runtime {
 
@@ -57,6 +58,11 @@ struct ServiceConfig {
   // saved at (the scenario's change sequence; only its first steps are used).
   const PolicyState* load = nullptr;
   ChangeSequence catch_up;
+  // Trains instead of a LocalTrainer on `threads` threads of this process
+  // (dynapath serve --agents N: the agents' trainer, made and owned by the
+  // caller, whose waits watch stopping()). Its Train runs on the training
+  // thread. Null: in process.
+  Trainer* trainer = nullptr;
 };
 
 // What the training thread hands the glue at every commit (policy
@@ -117,6 +123,12 @@ class PathService {
   Answer Ask(const std::vector<QueryStart>& starts);
   void RecordLatency(int64_t micros);
 
+  // Set once Stop() was called: the flag an outside trainer's waits watch.
+  const std::atomic<bool>& stopping() const { return stop_; }
+  // The training thread has ended before Stop() (it failed: no agent left,
+  // a broken invariant); queries are still answered from the last policy.
+  bool training_ended() const { return training_ended_.load(); }
+
   std::shared_ptr<const RouteSnapshot> Current() const;
   // Blocks until a snapshot of at least `version` is committed or
   // `seconds` pass; true when it was (tests, feeding in lock step).
@@ -137,6 +149,7 @@ class PathService {
   ServiceConfig config_;
   CommitHook on_commit_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> training_ended_{false};
 
   mutable std::mutex updates_mutex_;  // guards updates_
   std::condition_variable updates_ready_;

@@ -150,12 +150,14 @@ Result<int> ResolveThreads(const ThreadOptions& options) {
 }
 
 void DeclareModeOptions(OptionGroup& group, ModeOptions& o) {
-  group.Flag("--local", o.local, "run in this process on a thread pool (default)");
+  group.Flag("--local", o.local, "everything in this process on a thread pool (default)");
   group.Option("--agents", o.agents, "N",
-               "run distributed: envsim, coordinator and N agent processes over LCM (in a "
-               "private network namespace, or on --lcm-url's network)");
+               "train on N agent processes over LCM (run: with envsim and a coordinator process, "
+               "in a private network namespace or on --lcm-url's network; serve: on the "
+               "service's network)");
   group.Flag("--embedded", o.embedded,
-             "run envsim, coordinator and agents as threads of this process over memq://");
+             "the processes (run: envsim, coordinator and agents; serve: the agents) as threads "
+             "of this process over memq://");
 }
 
 Result<RunMode> ResolveMode(const ModeOptions& o, long long max_agents) {

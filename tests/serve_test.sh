@@ -8,7 +8,10 @@
 #    obstacle starts answered with their status; learned-else-exact answers
 #    every start that can reach a station.
 # 2. A change file fed in lock step: the service's success rate and path
-#    length per step equal `run --local`'s on the same maze and changes.
+#    length per step equal `run --local`'s on the same maze and changes;
+#    also when it trains on 2 agent processes (one of them killed on the
+#    way) and on 2 agent threads over memq:// (under a sanitizer: the
+#    processes only), which stop with it within a second.
 # 3. Bad input, all from the network: an unauthenticated sender, stale
 #    sequence numbers, updates outside the grid, a request with too many
 #    starts. Each is dropped or refused and counted; the service keeps
@@ -20,7 +23,7 @@ set -uo pipefail
 dynapath=${1:?usage: serve_test.sh DYNAPATH}
 work=$(mktemp -d)
 server_pid=
-trap '[ -n "$server_pid" ] && kill -9 "$server_pid" 2>/dev/null; rm -rf "$work"' EXIT
+trap '[ -n "$server_pid" ] && kill -9 "$server_pid" 2>/dev/null; pkill -9 -f "run-id serve-agents-$$ " 2>/dev/null; rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 pass() { echo "ok ($SECONDS s): $*"; }
@@ -174,7 +177,9 @@ grep -Eq 'refused 1 too many starts' <<<"$summary" || fail "the refused request 
 grep -q 'query latency' <<<"$summary" || fail "no latency figures printed"
 
 # The first 1 + steps rows (the lock-step part) against run's.
-python3 - "$work/run/results_detailed.csv" "$work/serve/results_detailed.csv" "$steps" <<'PY' &&
+same_steps() {  # same_steps SERVED_DIR
+python3 - "$work/run/results_detailed.csv" "$1/results_detailed.csv" "$steps" <<'PY'
+
 import csv, sys
 run = list(csv.DictReader(open(sys.argv[1])))
 served = list(csv.DictReader(open(sys.argv[2])))
@@ -186,8 +191,58 @@ for a, b in zip(run[:n], served[:n]):
             print("step", a["TimeStep"], key, a[key], "!=", b[key]); bad = True
 sys.exit(1 if bad else 0)
 PY
-  pass "success rate and path length of every step equal run --local's" ||
+}
+same_steps "$work/serve" && pass "success rate and path length of every step equal run --local's" ||
   fail "the service's steps differ from run --local's"
+
+# 2b. Trained on agents: the same steps. With processes, agent 1 is killed
+# once the initial policy is committed (its work, if any, is reassigned),
+# and stopping the service leaves no agent behind.
+agent_modes=("--agents 2" "--embedded --agents 2")
+[ -n "${DYNAPATH_SANITIZED:-}" ] && agent_modes=("--agents 2")
+for mode in "${agent_modes[@]}"; do
+  name=$(tr -dc a-z0-9 <<<"$mode")
+  id=serve-agents-$$
+  # shellcheck disable=SC2086 # $mode is two or three words
+  "$dynapath" serve --run-id "$id" --secret-file "$work/key" $mode --maze "$work/maze.txt" \
+    --changes "$work/changes.txt" --approach fedAsynQ_EqAvg --threads 2 --out "$work/$name" \
+    >"$work/$name.out" 2>"$work/$name.log" &
+  server_pid=$!
+  if ! "$dynapath" query --run-id "$id" --secret-file "$work/key" --from 0,0 --timeout 60 \
+       >/dev/null 2>&1; then
+    fail "$mode: no policy: $(tail -3 "$work/$name.log")"
+  fi
+  if [ "$mode" = "--agents 2" ]; then
+    if [ "$(pgrep -cf "dynapath-agent .*--run-id $id ")" -ne 2 ]; then
+      fail "$mode: not 2 agent processes: $(pgrep -af "run-id $id ")"
+    fi
+    pkill -9 -f "dynapath-agent .*--run-id $id .*--id 1\$"
+  fi
+  "$dynapath" feed --run-id "$id" --secret-file "$work/key" --maze "$work/maze.txt" \
+    --changes "$work/changes.txt" --source lockstep --timeout 60 >/dev/null 2>"$work/$name.feed" ||
+    fail "$mode: feed: $(tail -2 "$work/$name.feed")"
+  start_ns=$(date +%s%N)
+  kill -INT "$server_pid"
+  wait "$server_pid"
+  status=$?
+  server_pid=
+  stop_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
+  [ "$status" -eq 0 ] || fail "$mode: serve exited $status: $(tail -3 "$work/$name.log")"
+  if [ "$stop_ms" -gt 1000 ] && [ -z "${DYNAPATH_SANITIZED:-}" ]; then
+    fail "$mode: SIGINT: stopped in $stop_ms ms (over a second)"
+  fi
+  if pgrep -af "run-id $id "; then
+    fail "$mode: processes left behind"
+    pkill -9 -f "run-id $id "
+  fi
+  grep -q 'training on agents: [1-9]' "$work/$name.out" ||
+    fail "$mode: no training on agents: $(cat "$work/$name.out")"
+  if same_steps "$work/$name"; then
+    pass "serve $mode: every step equals run --local's; stopped in $stop_ms ms, no agent left ($(grep -o '[0-9]* reassignments' "$work/$name.out"))"
+  else
+    fail "serve $mode: the steps differ from run --local's"
+  fi
+done
 
 # 5. A robot fleet in closed loop on a small map arrives.
 small=(--size 16 --difficulty hard --seed 5 --steps 30)

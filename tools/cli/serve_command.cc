@@ -2,7 +2,9 @@
 // maze, trains one approach on it (or takes over a saved policy), then
 // answers path requests and takes obstacle updates until SIGINT/SIGTERM;
 // the service itself is runtime/path_service.h, its messages
-// runtime/service_bus.h.
+// runtime/service_bus.h. With --agents N it plays the coordinator's part for
+// training (coordinator/training_session.h) and trains on N agent processes
+// (or, --embedded, agent threads over memq://).
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -13,6 +15,7 @@
 #include <optional>
 #include <thread>
 
+#include "coordinator/training_session.h"
 #include "dynapath/results_csv.h"
 #include "launch/launcher.h"
 #include "protocol/channels.h"
@@ -40,21 +43,55 @@ const runtime::WordTable<AnswerMode>& AnswerWords() {
   return words;
 }
 
+// Training on agents: the coordinator's part (its own LCM and Bus, apart
+// from the service's, so a flood of queries neither fills the training
+// traffic's receive buffer nor mixes into its counts) and the agents, as
+// processes or as threads over memq://.
+struct AgentTraining {
+  std::unique_ptr<lcm::LCM> own_lcm;  // processes: a second instance on the service's URL
+  lcm::LCM* lcm = nullptr;
+  std::optional<protocol::Bus> bus;
+  std::optional<coordinator::TrainingSession> session;
+  std::optional<launch::EmbeddedAgents> embedded;
+  std::optional<protocol::Dispatcher> dispatcher;  // after the subscribers, destroyed first
+  std::optional<launch::AgentProcesses> processes;
+
+  // Ends it: the session's final heartbeat, then the agents; no process is
+  // left behind.
+  void Stop() {
+    if (session) session->Finish();
+    if (processes) processes->Stop(std::chrono::milliseconds(500));
+    if (embedded) embedded->Stop();
+  }
+  ~AgentTraining() {
+    Stop();
+    dispatcher.reset();
+  }
+};
+
 }  // namespace
 
 int ServeCommand(const std::vector<std::string>& args) {
   CLI::App app(
       "Serves paths to stations over LCM while the map changes: loads the maze, trains\n"
-      "one approach on it in this process (or takes over --load-policy's policy), then\n"
+      "one approach on it (or takes over --load-policy's policy), then\n"
       "until Ctrl-C or SIGTERM answers path_request_t on DYNAPATH/<run>/PATH_REQUEST\n"
       "from the last committed policy and takes obstacle_update_t on MAP_UPDATES and\n"
       "occupancy_grid_t on MAP_GRID: the updates that arrive while a step trains make\n"
       "the next time step, and the retraining strategy decides as in `run`. Publishes\n"
       "the policy on POLICY (dynapath view) and each step on REPORT. Without --lcm-url\n"
       "it runs in a private network of its own (join it with nsenter, see dynapath-spy\n"
-      "--pid). On stop it prints what it served. Guide: docs/howto/SERVICE.md.",
+      "--pid). On stop it prints what it served. Guide: docs/howto/SERVICE.md.\n"
+      "  --local       train in this process on a thread pool (default)\n"
+      "  --agents N    train on N agent processes this command starts, on the service's\n"
+      "                network (it plays the coordinator's part)\n"
+      "  --embedded    the agents as threads of this process over memq:// (N from\n"
+      "                --agents, else 1); clients still use the service's network\n"
+      "The policies, and so every answer, are the same in every mode.",
       kServeProgram);
   runtime::OptionGroup group(app);
+  runtime::ModeOptions mode;
+  runtime::DeclareModeOptions(group, mode);
   runtime::ScenarioOptions scenario;
   runtime::DeclareScenarioOptions(group, scenario);
   runtime::RunOptions run_options;
@@ -92,6 +129,9 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (Status status = runtime::ApplyLogLevel(log); !status) {
     return usage_error(status.error().message);
   }
+  Result<runtime::RunMode> run_mode = runtime::ResolveMode(mode, runtime::kMaxAgents);
+  if (!run_mode) return usage_error(run_mode.error().message);
+  const bool on_agents = run_mode->kind != runtime::RunMode::kLocal;
   Result<int> threads = runtime::ResolveThreads(thread_options);
   if (!threads) return usage_error(threads.error().message);
   Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
@@ -101,13 +141,18 @@ int ServeCommand(const std::vector<std::string>& args) {
     return usage_error("--approach must name one learning approach or Incremental Oracle");
   }
   if (!plan->policy.save_path.empty() || app.count("--save-at") > 0) {
-    return usage_error("--save-policy and --save-at are run's: save a policy with dynapath run");
+    return usage_error(
+        "--save-policy and --save-at are run's: a service's steps come from live updates that a "
+        "later service could not replay to catch up with a saved step; save a policy with "
+        "dynapath run");
   }
   if (!plan->checkpoint.dir.empty() || plan->checkpoint.resume) {
     return usage_error(
         "--checkpoint is run's: a service starts from a policy file (--load-policy)");
   }
-  if (app.count("--placement") > 0) return usage_error("--placement is for runs with agents");
+  if (app.count("--placement") > 0 && !on_agents) {
+    return usage_error("--placement is for training on agents: give --agents N or --embedded");
+  }
   Result<AnswerMode> answer_mode = AnswerWords().ParseOption("answer", answer);
   if (!answer_mode) return usage_error(answer_mode.error().message);
   Result<long long> starts_limit = runtime::InRange("max-starts", max_starts, 64, 1, 65536);
@@ -160,6 +205,45 @@ int ServeCommand(const std::vector<std::string>& args) {
   bus_options.max_grid_cells = static_cast<int64_t>(maze.rows()) * maze.cols();
   protocol::Bus bus(**lcm, process->run_id, bus_options);
 
+  AgentTraining training;
+  if (on_agents) {
+    const bool embedded = run_mode->kind == runtime::RunMode::kEmbedded;
+    protocol::BusOptions training_options = bus_options;
+    if (protocol::IsMemq(protocol::ResolveLcmUrl(url))) {
+      if (!embedded) {
+        return usage_error(
+            "agent processes cannot join memq://: use --embedded, or give a network URL");
+      }
+      training.lcm = lcm->get();  // one memq:// per process: share it
+    } else if (embedded) {
+      training.own_lcm = std::make_unique<lcm::LCM>("memq://");
+      if (!training.own_lcm->good()) {
+        spdlog::error("cannot open LCM memq://");
+        return kExitFailure;
+      }
+      training.lcm = training.own_lcm.get();
+      training_options.fragment_above = 0;
+    } else {
+      Result<std::unique_ptr<lcm::LCM>> own = protocol::OpenLcm(url);
+      if (!own) {
+        spdlog::error("{}", own.error().message);
+        return kExitFailure;
+      }
+      training.own_lcm = std::move(*own);
+      training.lcm = training.own_lcm.get();
+    }
+    training.bus.emplace(*training.lcm, process->run_id, training_options);
+    coordinator::TrainingSessionOptions session_options;
+    session_options.min_agents = run_mode->agents;
+    session_options.placement = plan->placement;
+    training.session.emplace(*training.bus, session_options);
+    const int threads_per_agent = std::max(1, *threads / run_mode->agents);
+    if (embedded) {
+      training.embedded.emplace(*training.lcm, process->run_id, training_options, run_mode->agents,
+                                threads_per_agent);
+    }
+  }
+
   runtime::ServiceConfig config;
   config.approach = plan->approaches[0];
   config.answer = *answer_mode;
@@ -170,6 +254,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   config.max_starts = static_cast<int>(*starts_limit);
   config.load = plan->policy.Find(config.approach);
   config.catch_up = setup->scenario.changes;
+  if (training.session) config.trainer = &*training.session;
   runtime::ServiceBus* glue = nullptr;
   runtime::PathService service(maze, config, [&glue](const runtime::Commit& commit) {
     if (glue != nullptr) glue->PublishCommit(commit);
@@ -186,11 +271,36 @@ int ServeCommand(const std::vector<std::string>& args) {
                setup->labels.size_label, setup->labels.difficulty_label, setup->source,
                ApproachName(config.approach), answer, *threads);
   protocol::Dispatcher dispatcher(**lcm);
+  if (training.session) {
+    training.session->set_stop(&service.stopping());
+    if (training.lcm != lcm->get()) training.dispatcher.emplace(*training.lcm);
+    training.session->Start();
+    if (training.embedded) {
+      training.embedded->Start();
+      spdlog::info("serve: training on {} agent threads over memq://", run_mode->agents);
+    } else {
+      launch::AgentLaunch agents;
+      agents.process = *process;
+      agents.process.bus.max_grid_cells = bus_options.max_grid_cells;
+      agents.agents = run_mode->agents;
+      agents.threads_per_agent = std::max(1, *threads / run_mode->agents);
+      agents.log_level = log.log_level;
+      training.processes.emplace(std::move(agents));
+      if (!training.processes->Start()) return kExitFailure;
+      spdlog::info("serve: training on {} agent processes", run_mode->agents);
+    }
+  }
   service.Start();
   bool announced = false;
   auto last_publish = std::chrono::steady_clock::now();
+  bool failed = false;
   while (!stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (service.training_ended()) {  // it failed (logged): no new policy will come
+      failed = true;
+      break;
+    }
+    if (training.processes) training.processes->Check();
     if (!announced && service.Current() != nullptr) {
       spdlog::info("serve: policy committed, answering on {}",
                    bus.Channel(protocol::channel::kPathRequest));
@@ -203,10 +313,20 @@ int ServeCommand(const std::vector<std::string>& args) {
     }
   }
   Result<ApproachRun> run = service.Stop();
+  training.Stop();
   const runtime::ServiceStats stats = service.stats();
   std::printf("%s", runtime::PathService::Summary(stats).c_str());
   std::printf("messages: %s\n", bus.TrafficSummary().c_str());
+  if (training.session) {
+    const coordinator::TrafficStats& t = training.session->traffic();
+    std::printf(
+        "training on agents: %lld batches, %lld federated rounds, %lld reassignments; messages: "
+        "%s\n",
+        static_cast<long long>(t.batches), static_cast<long long>(t.rounds),
+        static_cast<long long>(t.epochs), training.bus->TrafficSummary().c_str());
+  }
   std::fflush(stdout);
+  if (failed && run) run = Error("training ended before the service was stopped");
   if (!run) {
     spdlog::error("{}", run.error().message);
     return kExitFailure;

@@ -1,0 +1,92 @@
+#include "coordinator/training_session.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+
+#include "protocol/channels.h"
+
+namespace dynapath::coordinator {
+
+TrainingSession::TrainingSession(protocol::Bus& bus, TrainingSessionOptions options)
+    : bus_(bus),
+      options_(options),
+      agents_(options_.agent_timeout_seconds),
+      trainer_(bus, inbox_, agents_,
+               MakeTrainerOptions(options_.agent_wait_seconds, options_.give_up_seconds,
+                                  options_.placement)) {
+  bus_.Subscribe<heartbeat_t>(protocol::channel::kHeartbeat, [this](heartbeat_t& beat) {
+    if (agents_.OnHeartbeat(beat)) inbox_.Wake();  // a new agent: the wait may be over
+  });
+}
+
+TrainingSession::~TrainingSession() { Finish(); }
+
+void TrainingSession::Start() {
+  if (heartbeat_) return;
+  heartbeat_t base{};
+  base.role = heartbeat_t::ROLE_COORDINATOR;
+  base.batch_id = -1;
+  base.round = -1;
+  heartbeat_.emplace(bus_, base, 0.1, [this](heartbeat_t& beat) {
+    beat.state = static_cast<int8_t>(state_.load());
+  });
+}
+
+void TrainingSession::set_stop(const std::atomic<bool>* stop) {
+  stop_ = stop;
+  trainer_.set_stop(stop);
+}
+
+void TrainingSession::Finish() {
+  if (!heartbeat_) return;
+  const Status ended = status();
+  state_ = ended || ended.error().IsCancelled() ? heartbeat_t::STATE_FINISHED
+                                                : heartbeat_t::STATE_FAILED;
+  // Heartbeats may be lost; agents that hear none exit when the coordinator
+  // falls silent, and a launcher stops its agent processes anyway.
+  for (int i = 0; i < 3; ++i) {
+    heartbeat_->SendNow();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  heartbeat_.reset();
+}
+
+Status TrainingSession::WaitForAgents() {
+  const int64_t start = protocol::SteadyMs();
+  while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
+    if (stop_ != nullptr && stop_->load()) return Error::Cancelled();
+    if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
+      return Error::Unavailable("only " + std::to_string(agents_.Live().size()) + " of " +
+                                std::to_string(options_.min_agents) + " agents appeared within " +
+                                std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
+                                " s");
+    }
+    inbox_.RunFor(std::chrono::milliseconds(50));
+  }
+  std::string ids;
+  for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
+  spdlog::info("training on agents{}", ids);
+  return Ok{};
+}
+
+TrainingStats TrainingSession::Train(const std::vector<NodeId>& nodes,
+                                     const std::vector<uint64_t>& seeds,
+                                     const LearnerConfig& config, const QuadTree& tree,
+                                     const Grid& grid, RootQTable& root) {
+  if (!waited_) {
+    waited_ = true;
+    wait_status_ = WaitForAgents();
+  }
+  if (!wait_status_) return {};
+  return trainer_.Train(nodes, seeds, config, tree, grid, root);
+}
+
+Status TrainingSession::status() const {
+  if (!wait_status_) return wait_status_;
+  return trainer_.status();
+}
+
+}  // namespace dynapath::coordinator
