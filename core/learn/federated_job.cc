@@ -94,8 +94,7 @@ void FederatedRun::FinishRound() {
   steps_ += average_.steps;
 }
 
-TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop,
-                             std::atomic<int64_t>* work) {
+TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop, std::atomic<int64_t>* work) {
   FederatedRun run(job, 1);
   int64_t rounds = 0, counted = 0;
   for (int64_t round = 0; round < run.rounds(); ++round) {

@@ -67,7 +67,9 @@ TEST_P(LocalTrainerTest, EqualsSequentialLearners) {
         } else {
           // Whole federated jobs count their rounds.
           int64_t rounds = 0;
-          for (NodeId node : nodes) rounds += FederatedRounds(tree.node(node).region, config.federated);
+          for (NodeId node : nodes) {
+            rounds += FederatedRounds(tree.node(node).region, config.federated);
+          }
           EXPECT_EQ(progress.work_kind, TrainingWork::kRounds);
           EXPECT_EQ(progress.work_total, rounds);
           EXPECT_EQ(progress.work_done, rounds);
