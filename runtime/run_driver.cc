@@ -498,8 +498,9 @@ std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, 
 namespace {
 
 // Logs the training batch in hand every few seconds while it lasts longer
-// than that (a large map's step-0 training takes minutes): jobs and rounds
-// done, and the time left at the pace so far. Between steps the run's own
+// than that (a large map's step-0 training takes minutes): DescribeTraining's
+// jobs, rounds or share of the jobs' episodes done, and the time left at the
+// pace so far (inside one large job too). Between steps the run's own
 // progress lines say the rest.
 class TrainingProgressLog {
  public:
@@ -539,13 +540,7 @@ class TrainingProgressLog {
       if (fraction >= 0.01) {
         left = fmt::format("about {:.0f} s left", elapsed * (1 - fraction) / fraction);
       }
-      const int64_t rounds = progress_.rounds_total, jobs = progress_.jobs_total;
-      const std::string done =
-          rounds > 0 ? fmt::format("{} job{} in rounds, round {} of {}", jobs, jobs == 1 ? "" : "s",
-                                   static_cast<int64_t>(progress_.rounds_done), rounds)
-                     : fmt::format("{} of {} jobs done", static_cast<int64_t>(progress_.jobs_done),
-                                   jobs);
-      spdlog::info("training: {}, {:.0f} s so far; {}", done, elapsed, left);
+      spdlog::info("{}, {:.0f} s so far; {}", DescribeTraining(progress_), elapsed, left);
     }
   }
 

@@ -1,6 +1,7 @@
 #include "dynapath/federated_job.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <utility>
 
@@ -93,14 +94,24 @@ void FederatedRun::FinishRound() {
   steps_ += average_.steps;
 }
 
-TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop) {
+TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop, std::atomic<int64_t>* work) {
   FederatedRun run(job, 1);
-  int64_t rounds = 0;
+  int64_t rounds = 0, counted = 0;
   for (int64_t round = 0; round < run.rounds(); ++round) {
+    // Rounds done so far, counted where the stop flag is checked.
+    if (work != nullptr && round > counted) {
+      work->fetch_add(round - counted, std::memory_order_relaxed);
+      counted = round;
+    }
     if (StopRequested(stop)) break;
     rounds = round + 1;
     run.RunRound(0, round);
     run.FinishRound();
+  }
+  // The last round, or the rounds left when stopped: the job's whole budget
+  // is then counted.
+  if (work != nullptr && run.rounds() > counted) {
+    work->fetch_add(run.rounds() - counted, std::memory_order_relaxed);
   }
   TrainingResult result;
   result.node = job.node;

@@ -1,6 +1,7 @@
 #include "dynapath/local_trainer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <memory>
 
@@ -52,10 +53,16 @@ TrainingStats LocalTrainer::Train(const std::vector<NodeId>& nodes,
       break;  // one job per thread, below
   }
 
-  if (progress_ != nullptr) progress_->Start(static_cast<int64_t>(jobs.size()), 0);
+  std::atomic<int64_t>* work = nullptr;
+  if (progress_ != nullptr) {
+    int64_t episodes = 0;
+    for (const TrainingJob& job : jobs) episodes += SingleAgentBudget(job);
+    progress_->Start(static_cast<int64_t>(jobs.size()), 0, episodes, TrainingWork::kEpisodes);
+    work = &progress_->work_done;
+  }
   std::vector<TrainingResult> results(jobs.size());
   pool_.ParallelFor(static_cast<int>(jobs.size()), [&](int i) {
-    results[i] = TrainSingleAgent(jobs[i], stop_);
+    results[i] = TrainSingleAgent(jobs[i], stop_, work);
     if (progress_ != nullptr) progress_->jobs_done.fetch_add(1, std::memory_order_relaxed);
   });
   if (Stopped()) return {};  // some jobs may have ended early
@@ -94,10 +101,16 @@ TrainingStats LocalTrainer::TrainFederated(std::vector<TrainingJob>& jobs, RootQ
     // rounds of one before the next (TrainFedAsynQ), so a job's tables stay
     // in the thread's caches instead of every round cycling through all the
     // batch's tables.
-    if (progress_ != nullptr) progress_->Start(static_cast<int64_t>(jobs.size()), 0);
+    std::atomic<int64_t>* work = nullptr;
+    if (progress_ != nullptr) {
+      int64_t rounds = 0;
+      for (const TrainingJob& job : jobs) rounds += FederatedRounds(job.region, job.federated);
+      progress_->Start(static_cast<int64_t>(jobs.size()), 0, rounds, TrainingWork::kRounds);
+      work = &progress_->work_done;
+    }
     std::vector<TrainingResult> results(jobs.size());
     pool_.ParallelFor(static_cast<int>(jobs.size()), [&](int i) {
-      results[i] = TrainFedAsynQ(jobs[i], stop_);
+      results[i] = TrainFedAsynQ(jobs[i], stop_, work);
       jobs[i].warm_start = QTable();  // not needed any more
       if (progress_ != nullptr) progress_->jobs_done.fetch_add(1, std::memory_order_relaxed);
     });

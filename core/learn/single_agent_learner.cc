@@ -1,6 +1,7 @@
 #include "dynapath/single_agent_learner.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -38,7 +39,7 @@ auto Bits(V value) {
 // The learner on a table of value type V (float, or the report code's double).
 template <typename V>
 void Train(const TrainingJob& job, const SingleAgentRules& rules, const RegionModel& model,
-           StopToken stop, TrainingResult& result) {
+           StopToken stop, std::atomic<int64_t>* work, int64_t& counted, TrainingResult& result) {
   const SingleAgentOptions& options = job.single_agent;
 
   StartStatistics stats(model.start_cells());
@@ -86,7 +87,15 @@ void Train(const TrainingJob& job, const SingleAgentRules& rules, const RegionMo
   int64_t episodes = 0, steps = 0;
 
   for (int e = 0; e < options.max_episodes; ++e) {
-    if (e % 64 == 0 && StopRequested(stop)) break;
+    if (e % 64 == 0) {
+      // Episodes done so far, counted where the stop flag is checked (not
+      // one atomic per episode).
+      if (work != nullptr && e > 0) {
+        work->fetch_add(e - counted, std::memory_order_relaxed);
+        counted = e;
+      }
+      if (StopRequested(stop)) break;
+    }
     if (e >= options.convergence_start_episode &&
         (e - options.convergence_start_episode) % std::max(1, options.convergence_interval) == 0) {
       if (has_snapshot) {
@@ -175,19 +184,31 @@ SingleAgentRules SingleAgentRulesOf(const TrainingJob& job) {
   return job.bootstrap == Bootstrap::kAllStored ? ReportSingleAgentRules() : SingleAgentRules{};
 }
 
-TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop) {
-  return TrainSingleAgent(job, SingleAgentRulesOf(job), stop);
+TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop,
+                                std::atomic<int64_t>* work) {
+  return TrainSingleAgent(job, SingleAgentRulesOf(job), stop, work);
 }
 
 TrainingResult TrainSingleAgent(const TrainingJob& job, const SingleAgentRules& rules,
-                                StopToken stop) {
+                                StopToken stop, std::atomic<int64_t>* work) {
   TrainingResult result;
   result.node = job.node;
   result.table = StartingTable(job);  // validates the job first
   const RegionModel model(job);
+  int64_t counted = 0;
   WithValueType(result.table.precision(),
-                [&]<typename V>(V*) { Train<V>(job, rules, model, stop, result); });
+                [&]<typename V>(V*) { Train<V>(job, rules, model, stop, work, counted, result); });
+  // Ended (converged, stopped, or nothing to learn): the unused budget
+  // counts as done, so the batch's count ends at its total.
+  const int64_t budget = SingleAgentBudget(job);
+  if (work != nullptr && budget > counted) {
+    work->fetch_add(budget - counted, std::memory_order_relaxed);
+  }
   return result;
+}
+
+int64_t SingleAgentBudget(const TrainingJob& job) {
+  return std::max(0, job.single_agent.max_episodes);
 }
 
 }  // namespace dynapath

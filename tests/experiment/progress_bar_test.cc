@@ -74,7 +74,8 @@ TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
             "unknown");
 }
 
-// A watched training batch shows on the line while it runs: jobs, or rounds
+// A watched training batch shows on the line while it runs, as
+// DescribeTraining says: jobs and the share of their episodes, or rounds
 // when the batch runs in rounds.
 TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
   std::FILE* out = std::tmpfile();
@@ -85,8 +86,9 @@ TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
     display.Start({100}, {false});
     display.BeginConfiguration(0, "300 Hard, seed 52", "300 Hard s52");
     display.WatchTraining(0, &training);
-    training.Start(12, 0);
+    training.Start(12, 0, 1200, TrainingWork::kEpisodes);
     training.jobs_done = 3;
+    training.work_done = 300;
     display.Step("singleAgent", 0, 2, 0, 10);  // a new approach: a line
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
     training.Start(4, 225);
@@ -99,8 +101,11 @@ TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
     display.Stop();
   }
   const std::string text = ReadAndClose(out);
-  EXPECT_NE(text.find("singleAgent 1/2 step 0/10, training 3/12 jobs"), std::string::npos) << text;
-  EXPECT_NE(text.find("fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225"), std::string::npos)
+  EXPECT_NE(text.find("singleAgent 1/2 step 0/10, training 3/12 jobs, 25% of episodes;"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225 of 4 jobs;"),
+            std::string::npos)
       << text;
 }
 

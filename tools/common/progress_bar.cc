@@ -246,11 +246,7 @@ ProgressSnapshot ProgressDisplay::Snapshot() const {
   double in_step = 0.0;
   if (training_ != nullptr && training_index_ == current_ && training_->running) {
     in_step = std::clamp(training_->Fraction(), 0.0, 1.0);
-    const int64_t rounds = training_->rounds_total, jobs = training_->jobs_total;
-    s.training = rounds > 0 ? "training round " + std::to_string(training_->rounds_done.load()) +
-                                  "/" + std::to_string(rounds)
-                            : "training " + std::to_string(training_->jobs_done.load()) + "/" +
-                                  std::to_string(jobs) + " jobs";
+    s.training = DescribeTraining(*training_);
   }
   const double fraction =
       ConfigurationFraction(approach_index_, approach_count_, step_, total_steps_, in_step);

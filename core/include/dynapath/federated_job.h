@@ -21,6 +21,7 @@
 // (Apply). In-process trainers do the three steps in a loop; an agent does
 // the first and the last, and waits for the other agents' shards between.
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -133,6 +134,10 @@ class FederatedRun {
 // other per round. Pure function of the job. Once `stop` is requested
 // (checked every round) it returns early, with fewer episodes_or_rounds
 // than FederatedRounds: the result is then not the job's and is dropped.
-TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop = nullptr);
+// `work` (may be null) counts the rounds done, for a progress watcher; once
+// the call returns it has grown by exactly the job's FederatedRounds (the
+// rounds left when stopped count as done).
+TrainingResult TrainFedAsynQ(const TrainingJob& job, StopToken stop = nullptr,
+                             std::atomic<int64_t>* work = nullptr);
 
 }  // namespace dynapath

@@ -21,7 +21,9 @@ class LocalTrainer : public Trainer {
   // `pool` must outlive the trainer. Once `stop` is requested (checked every
   // round and every 64 episodes, also inside one large job) the trainer
   // fails with kCancelled and commits nothing (Trainer::status).
-  // `progress` (may be null) is kept up to date for a watcher thread.
+  // `progress` (may be null) is kept up to date for a watcher thread: jobs,
+  // rounds of a batch run round by round, and the episodes (rounds) inside
+  // a batch of whole jobs, counted every 64 episodes (every round).
   explicit LocalTrainer(ThreadPool& pool, StopToken stop = nullptr,
                         TrainingProgress* progress = nullptr)
       : pool_(pool), stop_(stop), progress_(progress) {}

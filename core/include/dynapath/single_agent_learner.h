@@ -4,6 +4,9 @@
 // prioritised start positions and the convergence test; under --semantics
 // report the report code's details of SPEC section 11.
 
+#include <atomic>
+#include <cstdint>
+
 #include "dynapath/region_model.h"
 #include "dynapath/stop_token.h"
 #include "dynapath/training_job.h"
@@ -43,10 +46,16 @@ SingleAgentRules SingleAgentRulesOf(const TrainingJob& job);
 // semantics select. Pure function of the job: the same job always gives the
 // same table. Thread-safe (no shared state). Once `stop` is requested
 // (checked every 64 episodes) it returns early: the result is then not the
-// job's and is dropped.
-TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop = nullptr);
+// job's and is dropped. `work` (may be null) counts the episodes done, at
+// the same interval, for a progress watcher; when the job ends (converged
+// early, stopped, or nothing to learn) its unused budget is added too, so it
+// has grown by exactly SingleAgentBudget(job) once the call returns.
+TrainingResult TrainSingleAgent(const TrainingJob& job, StopToken stop = nullptr,
+                                std::atomic<int64_t>* work = nullptr);
 // The same with the rules given (experiments and tests).
 TrainingResult TrainSingleAgent(const TrainingJob& job, const SingleAgentRules& rules,
-                                StopToken stop = nullptr);
+                                StopToken stop = nullptr, std::atomic<int64_t>* work = nullptr);
+// A single-agent job's work budget, in episodes: its max_episodes.
+int64_t SingleAgentBudget(const TrainingJob& job);
 
 }  // namespace dynapath

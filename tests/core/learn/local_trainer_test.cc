@@ -58,6 +58,21 @@ TEST_P(LocalTrainerTest, EqualsSequentialLearners) {
         EXPECT_DOUBLE_EQ(progress.Fraction(), 1.0);
         if (progress.rounds_total > 0) {
           EXPECT_EQ(progress.rounds_done, progress.rounds_total);
+          EXPECT_EQ(progress.work_total, 0);
+        } else if (kind == LearnerKind::kSingleAgent) {
+          // Whole jobs count their episodes: every job's budget.
+          EXPECT_EQ(progress.work_kind, TrainingWork::kEpisodes);
+          EXPECT_EQ(progress.work_total, static_cast<int64_t>(nodes.size()) * 300);
+          EXPECT_EQ(progress.work_done, progress.work_total);
+        } else {
+          // Whole federated jobs count their rounds.
+          int64_t rounds = 0;
+          for (NodeId node : nodes) {
+            rounds += FederatedRounds(tree.node(node).region, config.federated);
+          }
+          EXPECT_EQ(progress.work_kind, TrainingWork::kRounds);
+          EXPECT_EQ(progress.work_total, rounds);
+          EXPECT_EQ(progress.work_done, rounds);
         }
       }
     }
