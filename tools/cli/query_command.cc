@@ -54,8 +54,13 @@ void PrintReply(const path_reply_t& r, bool json) {
     for (int k = 0; k < r.path_cells[i]; ++k) {
       const size_t at = static_cast<size_t>(r.path_offset[i] + k);
       if (k > 0) path += json ? "," : " ";
-      path += (json ? "[" : "(") + std::to_string(r.path_rows[at]) + "," +
-              std::to_string(r.path_cols[at]) + (json ? "]" : ")");
+      // Appended piece by piece: GCC 12's -Wrestrict misfires on
+      // `const char* + std::string&&` (its bug 105329).
+      path += json ? "[" : "(";
+      path += std::to_string(r.path_rows[at]);
+      path += ",";
+      path += std::to_string(r.path_cols[at]);
+      path += json ? "]" : ")";
     }
     if (json) {
       std::printf(

@@ -106,7 +106,9 @@ TEST(MapScenarioTest, OnlyMoversMoveByTheReportsRule) {
   }
   // Walls and stations never move.
   for (int cell = 0; cell < grid.size(); ++cell) {
-    if (initial.at(cell) == Cell::kStation) EXPECT_EQ(grid.at(cell), Cell::kStation);
+    if (initial.at(cell) == Cell::kStation) {
+      EXPECT_EQ(grid.at(cell), Cell::kStation);
+    }
     if (initial.at(cell) == Cell::kObstacle &&
         std::find(movers->begin(), movers->end(), cell) == movers->end()) {
       EXPECT_EQ(grid.at(cell), Cell::kObstacle);

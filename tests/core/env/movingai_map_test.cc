@@ -74,7 +74,9 @@ TEST(MovingAiMapTest, EveryTruncationIsAnErrorOrAMapNeverACrash) {
   const std::string text = kWide;
   for (size_t n = 0; n <= text.size(); ++n) {
     Result<Grid> grid = ParseMovingAiMap(text.substr(0, n));
-    if (grid.ok()) EXPECT_EQ(grid->size(), 15);
+    if (grid.ok()) {
+      EXPECT_EQ(grid->size(), 15);
+    }
   }
 }
 
