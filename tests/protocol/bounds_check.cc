@@ -21,6 +21,14 @@ namespace {
 std::atomic<size_t> largest_allocation{0};
 }  // namespace
 
+// The replacements below pair malloc with free, as they must; GCC 12 at -O1
+// inlines them into the callers and then takes their new/delete for a
+// mismatch (-Wmismatched-new-delete). Only in this file.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 void* operator new(size_t size) {
   size_t seen = largest_allocation.load(std::memory_order_relaxed);
   while (size > seen && !largest_allocation.compare_exchange_weak(seen, size)) {
@@ -184,3 +192,7 @@ TEST(BoundsCheck, ArraysAreBoundedByTheProtocolsLimits) {
 
 }  // namespace
 }  // namespace dynapath::protocol
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
