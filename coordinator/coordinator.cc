@@ -86,30 +86,16 @@ int Coordinator::Run(const std::atomic<bool>& stop) {
     state = heartbeat_t::STATE_FAILED;
     exit_code = 1;
   }
-  // Let agents and envsim hear the final state (heartbeats may be lost; if
-  // all are, they still exit when the coordinator falls silent).
-  for (int i = 0; i < 3; ++i) {
-    heartbeat.SendNow();
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  // Let agents and envsim hear the final state.
+  heartbeat.SendFinal();
   return exit_code;
 }
 
 Status Coordinator::RunExperiment(const std::atomic<bool>& stop) {
-  const int64_t start = protocol::SteadyMs();
-  while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
-    if (stop) return Error::Cancelled();
-    if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
-      return Error::Unavailable("only " + std::to_string(agents_.Live().size()) + " of " +
-                                std::to_string(options_.min_agents) + " agents appeared within " +
-                                std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
-                                " s");
-    }
-    inbox_.RunFor(std::chrono::milliseconds(50));
-  }
-  std::string ids;
-  for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
-  spdlog::info("coordinator: agents{} alive", ids);
+  Result<std::string> ids =
+      WaitForAgents(agents_, inbox_, options_.min_agents, options_.agent_wait_seconds, &stop);
+  if (!ids) return ids.error();
+  spdlog::info("coordinator: agents{} alive", *ids);
 
   EnvSimClient& envsim = envsim_;
   const grid_t* maze = envsim.Connect(options_.agent_wait_seconds);

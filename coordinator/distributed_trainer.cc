@@ -87,6 +87,24 @@ DistributedTrainerOptions MakeTrainerOptions(double agent_wait_seconds, double g
   return trainer;
 }
 
+Result<std::string> WaitForAgents(const AgentRegistry& agents, protocol::Inbox& inbox,
+                                  int min_agents, double wait_seconds,
+                                  const std::atomic<bool>* stop) {
+  const int64_t start = protocol::SteadyMs();
+  while (static_cast<int>(agents.Live().size()) < min_agents) {
+    if (stop != nullptr && stop->load()) return Error::Cancelled();
+    if (static_cast<double>(protocol::SteadyMs() - start) > wait_seconds * 1000) {
+      return Error::Unavailable("only " + std::to_string(agents.Live().size()) + " of " +
+                                std::to_string(min_agents) + " agents appeared within " +
+                                std::to_string(static_cast<int>(wait_seconds)) + " s");
+    }
+    inbox.RunFor(std::chrono::milliseconds(50));
+  }
+  std::string ids;
+  for (const AgentInfo& info : agents.Live()) ids += " " + std::to_string(info.id);
+  return ids;
+}
+
 double EstimatedRoundUs(const std::vector<Region>& regions, const FedAsynQOptions& options) {
   double us = 0.0;
   for (const Region& region : regions) {

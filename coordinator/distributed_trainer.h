@@ -37,6 +37,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "coordinator/agent_registry.h"
@@ -95,6 +96,13 @@ struct DistributedTrainerOptions {
 // `give_up_seconds` (max_stalls from stall_seconds).
 DistributedTrainerOptions MakeTrainerOptions(double agent_wait_seconds, double give_up_seconds,
                                              runtime::Placement placement);
+
+// Waits, running `inbox`, until `min_agents` agents are live: the ids of the
+// live agents (" 1 2"), kCancelled once `stop` (may be null) is set, or
+// kUnavailable after `wait_seconds`.
+Result<std::string> WaitForAgents(const AgentRegistry& agents, protocol::Inbox& inbox,
+                                  int min_agents, double wait_seconds,
+                                  const std::atomic<bool>* stop);
 
 // Estimated single-thread time of one federated round of `nodes`' jobs: K
 // learners x tau steps x the measured cost of a step (25 ns in regions that

@@ -2,9 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <string>
-#include <thread>
 
 #include "protocol/channels.h"
 
@@ -45,30 +43,16 @@ void TrainingSession::Finish() {
   const Status ended = status();
   state_ = ended || ended.error().IsCancelled() ? heartbeat_t::STATE_FINISHED
                                                 : heartbeat_t::STATE_FAILED;
-  // Heartbeats may be lost; agents that hear none exit when the coordinator
-  // falls silent, and a launcher stops its agent processes anyway.
-  for (int i = 0; i < 3; ++i) {
-    heartbeat_->SendNow();
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  // A launcher stops its agent processes anyway.
+  heartbeat_->SendFinal();
   heartbeat_.reset();
 }
 
 Status TrainingSession::WaitForAgents() {
-  const int64_t start = protocol::SteadyMs();
-  while (static_cast<int>(agents_.Live().size()) < options_.min_agents) {
-    if (stop_ != nullptr && stop_->load()) return Error::Cancelled();
-    if (static_cast<double>(protocol::SteadyMs() - start) > options_.agent_wait_seconds * 1000) {
-      return Error::Unavailable("only " + std::to_string(agents_.Live().size()) + " of " +
-                                std::to_string(options_.min_agents) + " agents appeared within " +
-                                std::to_string(static_cast<int>(options_.agent_wait_seconds)) +
-                                " s");
-    }
-    inbox_.RunFor(std::chrono::milliseconds(50));
-  }
-  std::string ids;
-  for (const AgentInfo& info : agents_.Live()) ids += " " + std::to_string(info.id);
-  spdlog::info("training on agents{}", ids);
+  Result<std::string> ids = coordinator::WaitForAgents(agents_, inbox_, options_.min_agents,
+                                                       options_.agent_wait_seconds, stop_);
+  if (!ids) return ids.error();
+  spdlog::info("training on agents{}", *ids);
   return Ok{};
 }
 

@@ -92,6 +92,13 @@ void HeartbeatSender::SendNow() {
   bus_.Publish(channel::kHeartbeat, base_);
 }
 
+void HeartbeatSender::SendFinal() {
+  for (int i = 0; i < 3; ++i) {
+    SendNow();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
 void HeartbeatSender::Loop() {
   while (!stop_) {
     SendNow();

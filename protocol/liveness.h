@@ -81,6 +81,9 @@ class HeartbeatSender {
   ~HeartbeatSender();
   // Sends one heartbeat now (e.g. the final state) from the calling thread.
   void SendNow();
+  // A final state, sent three times 5 ms apart: heartbeats may be lost (if
+  // all are, the others still notice the silence).
+  void SendFinal();
 
  private:
   void Loop();
