@@ -13,14 +13,7 @@ shift || true
 maze=("$@")
 [ ${#maze[@]} -eq 0 ] && maze=(--size 100 --difficulty hard --seed 1 --steps 200)
 dynapath=$build/tools/dynapath
-if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
-  echo "run it in a private network: $dynapath netns -- $0 $build ${maze[*]}" >&2
-  exit 2
-fi
-export LCM_DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
-work=$(mktemp -d)
-server=
-trap '[ -n "$server" ] && kill -9 "$server" 2>/dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/service_bench_setup.sh"
 robots=${ROBOTS:-100}
 ticks=${TICKS:-400}
 for approach in fedAsynQ_EqAvg fedAsynQ_ImAvg singleAgent onlyTrainLeafNodes "Incremental Oracle"; do

@@ -19,14 +19,7 @@ if [ ${#maze[@]} -eq 0 ]; then
   churn=(--size 300 --difficulty hard --seed 99)
 fi
 dynapath=$build/tools/dynapath
-if [ "$(awk 'NR > 2 { print $1 }' /proc/net/dev | tr -d ':\n')" != "lo" ]; then
-  echo "run it in a private network: $dynapath netns -- $0 $build ${maze[*]}" >&2
-  exit 2
-fi
-export LCM_DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
-work=$(mktemp -d)
-server=
-trap '[ -n "$server" ] && kill -9 "$server" 2>/dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/service_bench_setup.sh"
 "$dynapath" secret "$work/key" >/dev/null
 auth=(--run-id bench --secret-file "$work/key")
 "$dynapath" serve "${auth[@]}" "${maze[@]}" --steps 20 --approach fedAsynQ_EqAvg \

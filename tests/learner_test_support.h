@@ -12,7 +12,9 @@
 #include "dynapath/grid.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/q_table.h"
+#include "dynapath/region_model.h"
 #include "dynapath/scenario.h"
+#include "dynapath/training_job.h"
 #include "tests/grid_test_support.h"
 
 namespace dynapath::test_maps {
@@ -90,6 +92,19 @@ inline bool BytesEqual(const QTable& a, const QTable& b) {
 }
 
 inline Grid MapFromText(const char* text) { return test_grids::FromText(text); }
+
+// One job of `kind` over the whole grid (node 0), from an all-zero table,
+// with the learners' default options.
+inline TrainingJob WholeGridJob(const Grid& grid, LearnerKind kind, uint64_t seed) {
+  TrainingJob job;
+  job.node = 0;
+  job.region = Region{0, grid.rows() - 1, 0, grid.cols() - 1};
+  job.codes = RegionCodes(grid, job.region);
+  job.warm_start = QTable(job.region.cells());
+  job.seed = seed;
+  job.kind = kind;
+  return job;
+}
 
 // The grids every learner must learn on: the two hand-made maps and the
 // report's easy and hard 20x20 mazes.

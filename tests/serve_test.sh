@@ -156,13 +156,20 @@ else
   fail "rate: $rate_json $(cat "$work/rate.log")"
 fi
 
-start_ns=$(date +%s%N)
-kill -INT "$server_pid"
-wait "$server_pid"
-status=$?
-server_pid=
-stop_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
-[ "$status" -eq 0 ] || fail "serve exited $status: $(tail -3 "$work/serve.log")"
+# stop_server WHAT LOG: SIGINT to the service, waited for; it must exit 0
+# (else a failure naming WHAT, with LOG's last lines). Sets stop_ms, the
+# time from the signal to its exit.
+stop_server() {
+  local start_ns status
+  start_ns=$(date +%s%N)
+  kill -INT "$server_pid"
+  wait "$server_pid"
+  status=$?
+  server_pid=
+  stop_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
+  [ "$status" -eq 0 ] || fail "$1 exited $status: $(tail -3 "$2")"
+}
+stop_server serve "$work/serve.log"
 if [ "$stop_ms" -le 1000 ] || [ -n "${DYNAPATH_SANITIZED:-}" ]; then
   pass "SIGINT: stopped in $stop_ms ms"
 else
@@ -221,13 +228,7 @@ for mode in "${agent_modes[@]}"; do
   "$dynapath" feed --run-id "$id" --secret-file "$work/key" --maze "$work/maze.txt" \
     --changes "$work/changes.txt" --source lockstep --timeout 60 >/dev/null 2>"$work/$name.feed" ||
     fail "$mode: feed: $(tail -2 "$work/$name.feed")"
-  start_ns=$(date +%s%N)
-  kill -INT "$server_pid"
-  wait "$server_pid"
-  status=$?
-  server_pid=
-  stop_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
-  [ "$status" -eq 0 ] || fail "$mode: serve exited $status: $(tail -3 "$work/$name.log")"
+  stop_server "$mode: serve" "$work/$name.log"
   if [ "$stop_ms" -gt 1000 ] && [ -z "${DYNAPATH_SANITIZED:-}" ]; then
     fail "$mode: SIGINT: stopped in $stop_ms ms (over a second)"
   fi

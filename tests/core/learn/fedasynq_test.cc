@@ -24,13 +24,7 @@ using test_maps::kMap20;
 using test_maps::MapFromText;
 
 TrainingJob WholeGridJob(const Grid& grid, Averaging averaging, uint64_t seed) {
-  TrainingJob job;
-  job.node = 0;
-  job.region = Region{0, grid.rows() - 1, 0, grid.cols() - 1};
-  job.codes = RegionCodes(grid, job.region);
-  job.warm_start = QTable(job.region.cells());
-  job.seed = seed;
-  job.kind = LearnerKind::kFedAsynQ;
+  TrainingJob job = test_maps::WholeGridJob(grid, LearnerKind::kFedAsynQ, seed);
   job.federated.averaging = averaging;
   return job;
 }

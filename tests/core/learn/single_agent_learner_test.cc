@@ -26,14 +26,7 @@ using test_maps::kMap20;
 using test_maps::MapFromText;
 
 TrainingJob WholeGridJob(const Grid& grid, uint64_t seed) {
-  TrainingJob job;
-  job.node = 0;
-  job.region = Region{0, grid.rows() - 1, 0, grid.cols() - 1};
-  job.codes = RegionCodes(grid, job.region);
-  job.warm_start = QTable(job.region.cells());
-  job.seed = seed;
-  job.kind = LearnerKind::kSingleAgent;
-  return job;
+  return test_maps::WholeGridJob(grid, LearnerKind::kSingleAgent, seed);
 }
 
 using test_maps::BytesEqual;

@@ -17,16 +17,7 @@ using test_maps::BytesEqual;
 using test_maps::kMap20;
 using test_maps::MapFromText;
 
-TrainingJob WholeGridJob(const Grid& grid, LearnerKind kind, uint64_t seed) {
-  TrainingJob job;
-  job.node = 0;
-  job.region = Region{0, grid.rows() - 1, 0, grid.cols() - 1};
-  job.codes = RegionCodes(grid, job.region);
-  job.warm_start = QTable(job.region.cells());
-  job.seed = seed;
-  job.kind = kind;
-  return job;
-}
+using test_maps::WholeGridJob;
 
 // A single-agent job counts exactly its budget (max_episodes) once it
 // returns, whether it ran all its episodes or converged early, and the
