@@ -120,7 +120,8 @@ struct PolicyHooks {
   int checkpoint_every = 0;
   std::function<void(PolicyState&&, const ApproachRun&)> checkpoint;
   // When set, a checkpoint step is skipped (nothing exported) unless this
-  // says one is due (a minimum time between checkpoints).
+  // says one is due (the previous checkpoint's write is done, and the
+  // minimum time between checkpoints has passed).
   std::function<bool()> checkpoint_due;
   // The loaded policy must continue this run (a checkpoint of it): when the
   // maze or run seed differ, fail instead of starting from it as on
