@@ -25,6 +25,12 @@ const std::vector<int32_t>& IncrementalPolicyEvaluation::Depths(const Grid& grid
   return depths_.values();
 }
 
+const std::vector<int32_t>& IncrementalPolicyEvaluation::Successors(const Grid& grid,
+                                                                    const QTable& table) {
+  Update(grid, table);
+  return successors_;
+}
+
 const PolicyScore& IncrementalPolicyEvaluation::Score(const Grid& grid, const QTable& table,
                                                       NodeId node) {
   Update(grid, table);

@@ -73,6 +73,9 @@ class IncrementalPolicyEvaluation {
 
   // Per-cell depths (PolicyEvaluator's), up to date for `grid` and `table`.
   const std::vector<int32_t>& Depths(const Grid& grid, const QTable& table);
+  // Per cell, the targets of its two best actions (TopTwoActions: 2 per
+  // cell, best first, -1 none), up to date like Depths.
+  const std::vector<int32_t>& Successors(const Grid& grid, const QTable& table);
   // The score of `node`'s region (ScoreRegion of the full evaluation).
   const PolicyScore& Score(const Grid& grid, const QTable& table, NodeId node);
 

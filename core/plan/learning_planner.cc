@@ -1,8 +1,10 @@
 #include "core/plan/learning_planner.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 
+#include "dynapath/mdp.h"
 #include "dynapath/policy_state.h"
 
 namespace dynapath {
@@ -102,9 +104,33 @@ PolicyScore LearningPlanner::Evaluate(const Grid& grid) {
   return evaluation_.Score(grid, root_->table(), tree_->root());
 }
 
+namespace {
+
+// The action that moves `cell` to its neighbour `target` (-1 for none),
+// by a table over the 3x3 neighbourhood.
+int8_t ActionTo(int cell, int32_t target, int cols) {
+  static constexpr auto kByOffset = [] {
+    std::array<int8_t, 9> by{-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    for (int a = 0; a < kNumActions; ++a) {
+      by[static_cast<size_t>((kActionRowOffset[a] + 1) * 3 + kActionColOffset[a] + 1)] =
+          static_cast<int8_t>(a);
+    }
+    return by;
+  }();
+  if (target < 0) return -1;
+  const int dr = target / cols - cell / cols, dc = target % cols - cell % cols;
+  return kByOffset[static_cast<size_t>((dr + 1) * 3 + dc + 1)];
+}
+
+}  // namespace
+
 bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
   grid_ = &grid;
   const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
+  // The evaluation keeps every cell's two best actions as their targets:
+  // reading them back is the table's TopTwoActions without its values.
+  const std::vector<int32_t>& successors = evaluation_.Successors(grid, root_->table());
+  const int cols = grid.cols();
   picture.actions.assign(static_cast<size_t>(grid.size()), -1);
   picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
   picture.second.assign(static_cast<size_t>(grid.size()), -1);
@@ -113,10 +139,8 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
     if (grid.at(cell) == Cell::kObstacle) continue;
     picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
     if (grid.at(cell) == Cell::kStation) continue;
-    int best = -1, second = -1;
-    TopTwoActions(grid, cell, root_->table(), best, second);
-    picture.actions[cell] = static_cast<int8_t>(best);
-    picture.second[cell] = static_cast<int8_t>(second);
+    picture.actions[cell] = ActionTo(cell, successors[2 * static_cast<size_t>(cell)], cols);
+    picture.second[cell] = ActionTo(cell, successors[2 * static_cast<size_t>(cell) + 1], cols);
   }
   return true;
 }

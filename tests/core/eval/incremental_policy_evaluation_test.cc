@@ -59,6 +59,17 @@ void ExpectSameAsFullEvaluation(IncrementalPolicyEvaluation& incremental, const 
   PolicyDepths full;
   evaluator.Evaluate(grid, table, full);
   ASSERT_EQ(incremental.Depths(grid, table), full.depth) << where;
+  const std::vector<int32_t>& successors = incremental.Successors(grid, table);
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    int best, second;
+    TopTwoActions(grid, cell, table, best, second);
+    const auto target = [&](int a) {
+      return a < 0 ? -1 : grid.Index(grid.RowOf(cell) + kActionRowOffset[a],
+                                     grid.ColOf(cell) + kActionColOffset[a]);
+    };
+    ASSERT_EQ(successors[2 * cell], target(best)) << where << " cell " << cell;
+    ASSERT_EQ(successors[2 * cell + 1], target(second)) << where << " cell " << cell;
+  }
   for (NodeId node = 0; node < tree.node_count(); ++node) {
     const PolicyScore expected = ScoreRegion(grid, full, tree.node(node).region);
     const PolicyScore& score = incremental.Score(grid, table, node);
@@ -188,6 +199,23 @@ TEST(IncrementalPolicyEvaluationTest, LearningPlannerMatchesFullEvaluationEveryS
                   EXPECT_EQ(score.successes, expected.successes);
                   EXPECT_EQ(score.total_length, expected.total_length);
                   EXPECT_EQ(score.starts, expected.starts);
+                  // The picture's actions (read back from the evaluation's
+                  // successors) are the table's two best.
+                  PolicyPicture picture;
+                  ASSERT_TRUE(planner.Picture(view.grid, picture));
+                  EXPECT_EQ(picture.depth, full.depth);
+                  for (int cell = 0; cell < view.grid.size(); ++cell) {
+                    const Cell code = view.grid.at(cell);
+                    int best = -1, second = -1;
+                    if (code == Cell::kFree) {
+                      TopTwoActions(view.grid, cell, planner.root().table(), best, second);
+                    }
+                    ASSERT_EQ(picture.actions[cell], best) << "cell " << cell;
+                    ASSERT_EQ(picture.second[cell], second) << "cell " << cell;
+                    ASSERT_EQ(picture.reaches[cell], code == Cell::kObstacle ? -1
+                                                     : full.depth[cell] == kNoPath ? 0
+                                                                                   : 1);
+                  }
                   ++checked;
                 });
     EXPECT_EQ(checked, 31);
