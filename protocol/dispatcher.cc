@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
+#include <fstream>
 #include <cstdlib>
 
 namespace dynapath::protocol {
@@ -22,9 +24,31 @@ int DefaultFragmentSize(const std::string& url) {
   return std::atoi(url.c_str() + ttl + 4) > 0 ? kFrameFragmentSize : 60000;
 }
 
+std::string WithReceiveBuffer(const std::string& url, int64_t kernel_max) {
+  if (url.rfind("udpm://", 0) != 0 || url.find("recv_buf_size=") != std::string::npos ||
+      kernel_max <= 0) {
+    return url;
+  }
+  const int64_t bytes = std::min(kDefaultReceiveBuffer, kernel_max);
+  return url + (url.find('?') == std::string::npos ? "?" : "&") +
+         "recv_buf_size=" + std::to_string(bytes);
+}
+
+namespace {
+
+// net.core.rmem_max, 0 when unreadable.
+int64_t KernelReceiveBufferMax() {
+  std::ifstream file("/proc/sys/net/core/rmem_max");
+  int64_t bytes = 0;
+  if (!(file >> bytes)) return 0;
+  return bytes;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   const std::string resolved = ResolveLcmUrl(url);
-  auto lcm = std::make_unique<lcm::LCM>(resolved);
+  auto lcm = std::make_unique<lcm::LCM>(WithReceiveBuffer(resolved, KernelReceiveBufferMax()));
   if (!lcm->good()) {
     return Error::Io("cannot open LCM at '" + resolved +
                      "' (bad URL, or no multicast route: see docs/howto/NETWORKING.md)");

@@ -41,6 +41,7 @@ class PathService::LiveSource : public StepSource {
     }
     service_.last_changed_.clear();
     for (const CellChange& change : step.changes) service_.last_changed_.push_back(change.cell);
+    service_.adapting_step_ = t;
     return step;
   }
   Status status() const override {
@@ -127,6 +128,9 @@ void PathService::Train() {
     }
     PlannerOptions options = config_.options;
     options.stop = &stop_;
+    options.before_retraining = [this](Planner& planner, const Grid& grid) {
+      BeforeRetraining(planner, grid);
+    };
     LiveSource source(*this, catch_up);
     PolicyHooks hooks;
     hooks.load = config_.load;
@@ -147,42 +151,59 @@ void PathService::Train() {
 }
 
 void PathService::OnStep(const StepView& view) {
-  const bool want_exact = config_.answer != AnswerMode::kLearned;
-  const Planner* exact = nullptr;
-  if (want_exact && view.planner.ExactDistances() == nullptr) {
-    // The exact distances beside a learner: Incremental Oracle repairs them
-    // from the step's changed cells only.
-    if (!exact_ready_) {
-      exact_ = MakePlanner(Approach::kIncrementalOracle, config_.options, nullptr);
-      exact_->Initialize(view.grid);
-      exact_ready_ = true;
-    } else {
-      exact_->Adapt(view.grid, last_changed_);
-    }
-    exact = exact_.get();
-  }
   // A loaded policy taken over at its saved step has no step record yet.
   const int time_step =
       view.run.steps.empty() ? CatchUpSteps(config_, maze_) : view.run.steps.back().time_step;
+  CommitSnapshot(view.planner, view.grid, time_step, &view);
+}
+
+void PathService::BeforeRetraining(Planner& planner, const Grid& grid) {
+  // Nothing is committed before the first policy (a loaded policy adapting
+  // to another maze retrains before it has one).
+  if (Current() == nullptr) return;
+  CommitSnapshot(planner, grid, adapting_step_, nullptr);
+}
+
+void PathService::CommitSnapshot(Planner& planner, const Grid& grid, int time_step,
+                                 const StepView* view) {
+  const bool want_exact = config_.answer != AnswerMode::kLearned;
+  const Planner* exact = nullptr;
+  if (want_exact && planner.ExactDistances() == nullptr) {
+    // The exact distances beside a learner: Incremental Oracle repairs them
+    // from the step's changed cells only, once per step (an interim commit
+    // has done it before the step's own).
+    if (!exact_ready_) {
+      exact_ = MakePlanner(Approach::kIncrementalOracle, config_.options, nullptr);
+      exact_->Initialize(grid);
+      exact_ready_ = true;
+    } else if (exact_step_ != time_step) {
+      exact_->Adapt(grid, last_changed_);
+    }
+    exact_step_ = time_step;
+    exact = exact_.get();
+  }
   int64_t version;
   {
     std::lock_guard lock(stats_mutex_);
     version = ++stats_.commits;
     stats_.version = version;
     stats_.time_step = time_step;
-    if (view.details.nodes_trained > 0) {
+    if (view == nullptr) {
+      ++stats_.interim_commits;
+    } else if (view->details.nodes_trained > 0) {
       ++stats_.retrainings;
-      stats_.nodes_trained += view.details.nodes_trained;
+      stats_.nodes_trained += view->details.nodes_trained;
     }
   }
   auto snapshot = std::make_shared<const RouteSnapshot>(
-      MakeRouteSnapshot(view.planner, view.grid, exact, version, time_step));
+      MakeRouteSnapshot(planner, grid, exact, version, time_step));
   {
     std::lock_guard lock(snapshot_mutex_);
     snapshot_ = snapshot;
+    if (view != nullptr) committed_step_ = time_step;
   }
   committed_.notify_all();
-  if (on_commit_) on_commit_(Commit{view, *snapshot});
+  if (view != nullptr && on_commit_) on_commit_(Commit{*view, snapshot});
 }
 
 std::optional<UpdateRefusal> PathService::Submit(const MapUpdate& update) {
@@ -210,6 +231,12 @@ bool PathService::WaitForVersion(int64_t version, double seconds) const {
   std::unique_lock lock(snapshot_mutex_);
   return committed_.wait_for(lock, std::chrono::duration<double>(seconds),
                              [&] { return snapshot_ != nullptr && snapshot_->version >= version; });
+}
+
+bool PathService::WaitForStep(int time_step, double seconds) const {
+  std::unique_lock lock(snapshot_mutex_);
+  return committed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                             [&] { return committed_step_ >= time_step; });
 }
 
 Answer PathService::Ask(const std::vector<QueryStart>& starts) {
@@ -283,7 +310,8 @@ std::string PathService::Summary(const ServiceStats& s) {
   text += "policy: version " + std::to_string(s.version) + ", time step " +
           std::to_string(s.time_step) + ", " + std::to_string(s.updates.steps) +
           " steps of updates, " + std::to_string(s.retrainings) + " retrainings (" +
-          std::to_string(s.nodes_trained) + " nodes trained)\n";
+          std::to_string(s.nodes_trained) + " nodes trained, " +
+          std::to_string(s.interim_commits) + " interim commits before them)\n";
   char latency[160];
   std::snprintf(latency, sizeof latency,
                 "query latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "

@@ -11,8 +11,11 @@
 // it builds a RouteSnapshot (dynapath/routes.h) and commits it by swapping
 // one shared_ptr under a mutex: a query copies the pointer and answers every
 // start of its request from that one snapshot, so it never waits for
-// training and never mixes two versions. Submit and Answer are safe from
-// any thread.
+// training and never mixes two versions. A step that retrains commits twice:
+// first, just before its training starts, an interim version (the step's
+// grid under the previous policy, the exact distances already repaired, so
+// learned-else-exact answers around the new obstacles at once), then the
+// retrained one. Submit and Answer are safe from any thread.
 
 #include <array>
 #include <atomic>
@@ -66,10 +69,11 @@ struct ServiceConfig {
 };
 
 // What the training thread hands the glue at every commit (policy
-// publishing, step reports).
+// publishing, step reports). The view lives for the call only; the
+// snapshot (immutable) as long as anyone holds it.
 struct Commit {
   const StepView& view;
-  const RouteSnapshot& snapshot;
+  std::shared_ptr<const RouteSnapshot> snapshot;
 };
 
 struct Answer {
@@ -88,7 +92,8 @@ struct ServiceStats {
   int64_t by_learned = 0, by_exact = 0;
   UpdateCounts updates;
   int64_t commits = 0;
-  int64_t retrainings = 0;  // steps that trained at least one node
+  int64_t interim_commits = 0;  // of them, before a step's retraining
+  int64_t retrainings = 0;      // steps that trained at least one node
   int64_t nodes_trained = 0;
   LatencyHistogram latency;  // request received to reply sent, microseconds
   int64_t version = 0;
@@ -133,6 +138,10 @@ class PathService {
   // Blocks until a snapshot of at least `version` is committed or
   // `seconds` pass; true when it was (tests, feeding in lock step).
   bool WaitForVersion(int64_t version, double seconds) const;
+  // Blocks until time step `time_step` (or a later one) is committed
+  // retrained, not only as an interim version, or `seconds` pass; true
+  // when it was (tests, feeding in lock step).
+  bool WaitForStep(int time_step, double seconds) const;
   ServiceStats stats() const;
   // The grid of the service's map (size and stations never change).
   const Grid& maze() const { return maze_; }
@@ -144,6 +153,11 @@ class PathService {
   class LiveSource;
   void Train();
   void OnStep(const StepView& view);
+  // The planner's before_retraining hook: the interim commit.
+  void BeforeRetraining(Planner& planner, const Grid& grid);
+  // Builds and swaps in the snapshot of `planner` on `grid` (`view`: the
+  // step's record, null for an interim commit).
+  void CommitSnapshot(Planner& planner, const Grid& grid, int time_step, const StepView* view);
 
   const Grid maze_;
   ServiceConfig config_;
@@ -155,16 +169,19 @@ class PathService {
   std::condition_variable updates_ready_;
   UpdateQueue updates_;
   std::vector<int> last_changed_;  // training thread: the step being adapted
+  int adapting_step_ = 0;          // training thread: its time step
 
   mutable std::mutex snapshot_mutex_;
   mutable std::condition_variable committed_;
   std::shared_ptr<const RouteSnapshot> snapshot_;  // guarded by snapshot_mutex_
+  int committed_step_ = -1;  // the last step's own (not interim) commit; likewise
 
   mutable std::mutex stats_mutex_;  // guards stats_ (but its updates)
   ServiceStats stats_;
 
   std::unique_ptr<Planner> exact_;  // Incremental Oracle beside a learner
   bool exact_ready_ = false;
+  int exact_step_ = -1;  // the time step exact_ was last repaired for
   Result<ApproachRun> result_ = ApproachRun{};
   std::thread thread_;
 };

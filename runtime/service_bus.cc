@@ -58,6 +58,16 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
   });
   bus_.Subscribe<path_request_t>(protocol::channel::kPathRequest,
                                  [this](path_request_t& request) { OnRequest(request); });
+  if (options_.publish_policy) publisher_ = std::thread([this] { PublishPolicies(); });
+}
+
+ServiceBus::~ServiceBus() {
+  {
+    std::lock_guard lock(policy_mutex_);
+    stopping_ = true;
+  }
+  policy_waiting_.notify_all();
+  if (publisher_.joinable()) publisher_.join();
 }
 
 void ServiceBus::OnRequest(const path_request_t& request) {
@@ -105,14 +115,38 @@ void ServiceBus::PublishCommit(const Commit& commit) {
     bus_.Publish(protocol::channel::kReport, report);
   }
   if (!options_.publish_policy) return;
-  PolicyPicture picture;
-  const bool pictured = view.planner.Picture(view.grid, picture);
-  policy_t policy =
-      protocol::PolicyToMessage(bus_.run_id(), approach_, 0, commit.snapshot.time_step, view.grid,
-                                pictured ? &picture : nullptr, view.details.trained_regions);
-  bus_.Publish(protocol::channel::kPolicy, policy);
-  std::lock_guard lock(policy_mutex_);
-  last_policy_ = std::move(policy);
+  {
+    std::lock_guard lock(policy_mutex_);
+    // A policy still waiting is replaced: its step's trained regions stay
+    // marked in the one that goes out.
+    std::vector<Region> trained = view.details.trained_regions;
+    if (pending_) {
+      trained.insert(trained.begin(), pending_->trained_regions.begin(),
+                     pending_->trained_regions.end());
+    }
+    pending_ = PendingPolicy{commit.snapshot, std::move(trained)};
+  }
+  policy_waiting_.notify_one();
+}
+
+void ServiceBus::PublishPolicies() {
+  std::unique_lock lock(policy_mutex_);
+  while (true) {
+    policy_waiting_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
+    if (stopping_) return;
+    const PendingPolicy next = std::move(*pending_);
+    pending_.reset();
+    lock.unlock();
+    const RouteSnapshot& snapshot = *next.snapshot;
+    PolicyPicture picture;
+    const bool pictured = PictureOf(snapshot, picture);
+    policy_t policy =
+        protocol::PolicyToMessage(bus_.run_id(), approach_, 0, snapshot.time_step, snapshot.grid,
+                                  pictured ? &picture : nullptr, next.trained_regions);
+    bus_.Publish(protocol::channel::kPolicy, policy);
+    lock.lock();
+    last_policy_ = std::move(policy);
+  }
 }
 
 void ServiceBus::RepublishPolicy() {

@@ -7,12 +7,20 @@
 // itself from the committed snapshot (a few microseconds of work: no queue
 // of ours to grow under a flood, LCM's own bounded one in front); every
 // commit is published as runs publish steps (step_report_t on REPORT,
-// policy_t on POLICY), so `dynapath view` works on a service. The Bus
+// policy_t on POLICY), so `dynapath view` works on a service. A policy
+// message is large (8 bytes a cell) and its fragments are paced, so it goes
+// out on a thread of its own, built from the commit's immutable snapshot:
+// the training thread is back for the next update at once, and when
+// commits come faster than policies go out, viewers get the latest. The Bus
 // authenticates and validates first: an unauthenticated sender is
 // dropped and counted there.
 
+#include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <optional>
+#include <thread>
+#include <vector>
 
 #include "dynapath/policy_t.hpp"
 #include "protocol/bus.h"
@@ -30,21 +38,35 @@ class ServiceBus {
  public:
   // Subscribes: construct before the bus's dispatching starts.
   ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptions options);
-  // The service's commit hook (training thread).
+  // Stops the policy publisher (a policy still waiting is not sent).
+  ~ServiceBus();
+  ServiceBus(const ServiceBus&) = delete;
+  ServiceBus& operator=(const ServiceBus&) = delete;
+  // The service's commit hook (training thread): publishes the step report
+  // and hands the policy to the publisher.
   void PublishCommit(const Commit& commit);
   // Publishes the last committed policy again, for viewers and clients
   // that joined after it (the serve loop calls it every few seconds).
   void RepublishPolicy();
 
  private:
+  struct PendingPolicy {
+    std::shared_ptr<const RouteSnapshot> snapshot;
+    std::vector<Region> trained_regions;
+  };
   void OnRequest(const path_request_t& request);
+  void PublishPolicies();  // the publisher thread
 
   protocol::Bus& bus_;
   PathService& service_;
   ServiceBusOptions options_;
   std::string approach_;
-  std::mutex policy_mutex_;
-  std::optional<policy_t> last_policy_;  // guarded by policy_mutex_
+  std::mutex policy_mutex_;  // guards the three below
+  std::condition_variable policy_waiting_;
+  std::optional<PendingPolicy> pending_;  // the latest commit's, not yet sent
+  bool stopping_ = false;
+  std::optional<policy_t> last_policy_;  // the last one sent
+  std::thread publisher_;
 };
 
 }  // namespace dynapath::runtime

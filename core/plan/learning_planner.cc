@@ -89,7 +89,10 @@ StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& cha
   grid_ = &grid;
   evaluation_.GridChanged(changed_cells);
   if (changed_leaves.empty()) return {};
-  return RunStrategy(changed_leaves);
+  announce_retraining_ = static_cast<bool>(options_.before_retraining);
+  StepDetails details = RunStrategy(changed_leaves);
+  announce_retraining_ = false;
+  return details;
 }
 
 StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leaves) {
@@ -157,6 +160,12 @@ bool LearningPlanner::AncestorTrained(NodeId node) const {
 }
 
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
+  if (announce_retraining_) {
+    // Before any value changes: the hook sees the step's grid under the
+    // previous step's policy (the evaluation already repaired for it).
+    announce_retraining_ = false;
+    options_.before_retraining(*this, *grid_);
+  }
   std::vector<uint64_t> seeds;
   seeds.reserve(nodes.size());
   for (NodeId node : nodes) {

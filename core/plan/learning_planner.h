@@ -43,6 +43,8 @@ class LearningPlanner : public Planner, private TrainingContext {
   LearnerConfig learner_;
   Trainer& trainer_;
   const Grid* grid_ = nullptr;  // the grid of the step being adapted
+  // Inside Adapt until options_.before_retraining has been called.
+  bool announce_retraining_ = false;
   std::unique_ptr<QuadTree> tree_;
   std::unique_ptr<RootQTable> root_;
   std::unique_ptr<RetrainingStrategy> strategy_;

@@ -164,6 +164,19 @@ RouteSnapshot MakeRouteSnapshot(Planner& planner, const Grid& grid, const Planne
   return s;
 }
 
+bool PictureOf(const RouteSnapshot& s, PolicyPicture& picture) {
+  if (!s.has_learned()) return false;
+  picture.actions = s.best;
+  picture.second = s.second;
+  picture.depth = s.depth;
+  picture.reaches.assign(s.depth.size(), -1);
+  for (int cell = 0; cell < s.grid.size(); ++cell) {
+    if (s.grid.at(cell) == Cell::kObstacle) continue;
+    picture.reaches[static_cast<size_t>(cell)] = s.depth[static_cast<size_t>(cell)] == kNoPath ? 0 : 1;
+  }
+  return true;
+}
+
 Route AnswerRoute(const RouteSnapshot& s, int row, int col, AnswerMode mode, size_t budget) {
   Route route;
   if (!s.grid.InBounds(row, col)) {

@@ -69,7 +69,7 @@ TEST(ServiceOnAgents, StepsAreThoseOfARunInProcess) {
     update.sequence = static_cast<int64_t>(t);
     update.changes = scenario.changes.steps[t - 1].changes;
     ASSERT_FALSE(service.Submit(update));
-    ASSERT_TRUE(service.WaitForVersion(static_cast<int64_t>(t) + 1, kWaitSeconds));
+    ASSERT_TRUE(service.WaitForStep(static_cast<int>(t), kWaitSeconds));
   }
   Result<ApproachRun> served = service.Stop();
   session.Finish();

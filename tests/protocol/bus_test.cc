@@ -344,6 +344,21 @@ TEST(BusTest, FragmentSizeFollowsTheUrlsTtl) {
   EXPECT_EQ(DefaultFragmentSize("file:///tmp/log?mode=w&ttl=1"), 60000);
 }
 
+// A udpm URL without a receive buffer asks for 2 MiB, or the kernel's
+// most when that is less (LCM warns above it); a URL's own is kept.
+TEST(BusTest, UdpmUrlsAskForAReceiveBuffer) {
+  EXPECT_EQ(WithReceiveBuffer("udpm://239.255.76.67:7667?ttl=0", int64_t{4} << 20),
+            "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=2097152");
+  EXPECT_EQ(WithReceiveBuffer("udpm://239.255.76.67:7667", 212992),
+            "udpm://239.255.76.67:7667?recv_buf_size=212992");
+  EXPECT_EQ(WithReceiveBuffer("udpm://239.255.76.67:7667?recv_buf_size=9000&ttl=1", 1 << 30),
+            "udpm://239.255.76.67:7667?recv_buf_size=9000&ttl=1");
+  EXPECT_EQ(WithReceiveBuffer("udpm://239.255.76.67:7667?ttl=0", 0),
+            "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(WithReceiveBuffer("memq://", 1 << 30), "memq://");
+  EXPECT_EQ(WithReceiveBuffer("file:///tmp/log?mode=w", 1 << 30), "file:///tmp/log?mode=w");
+}
+
 // Paused is not dead: a process that did not run for longer than half the
 // timeout (SIGSTOP, a debugger) counts the coordinator's silence again from
 // its wake-up; a coordinator silent while this process runs is still gone

@@ -80,7 +80,7 @@ TEST(PathService, StepsFromUpdatesScoreAsTheRun) {
     if (t > 0) {
       ASSERT_FALSE(
           service.Submit(UpdateOf(scenario.changes.steps[t - 1], static_cast<int64_t>(t))));
-      ASSERT_TRUE(service.WaitForVersion(static_cast<int64_t>(t) + 1, kWait));
+      ASSERT_TRUE(service.WaitForStep(static_cast<int>(t), kWait));
     }
     const Answer answer = service.Ask(AllCells(scenario.grid));
     ASSERT_EQ(answer.refused, Answer::kAccepted);
@@ -107,11 +107,18 @@ TEST(PathService, StepsFromUpdatesScoreAsTheRun) {
   Result<ApproachRun> served = service.Stop();
   ASSERT_TRUE(served.ok());
   ASSERT_EQ(served->steps.size(), run.steps.size());
+  int retraining_steps = 0;
   for (size_t t = 0; t < run.steps.size(); ++t) {
     EXPECT_EQ(served->steps[t].success_rate, run.steps[t].success_rate) << "step " << t;
     EXPECT_EQ(served->steps[t].average_path_length, run.steps[t].average_path_length);
     EXPECT_EQ(served->steps[t].nodes_trained, run.steps[t].nodes_trained);
+    retraining_steps += t > 0 && run.steps[t].nodes_trained > 0;
   }
+  // One commit per step, and an interim one before each step's retraining.
+  const ServiceStats stats = service.stats();
+  ASSERT_GT(retraining_steps, 0);  // the scenario exercises interim commits
+  EXPECT_EQ(stats.interim_commits, retraining_steps);
+  EXPECT_EQ(stats.commits, static_cast<int64_t>(run.steps.size()) + retraining_steps);
 }
 
 // Bad input is refused and counted; the service keeps answering; a burst
@@ -150,15 +157,13 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
     }
   });
   int64_t sequence = 10;
-  int64_t version = service.Current()->version;
+  int bursts = 0;
   for (const ChangeStep& step : scenario.changes.steps) {
-    {
-      for (const CellChange& change : step.changes) {
-        ASSERT_FALSE(service.Submit(UpdateOf(ChangeStep{0, {change}}, sequence++)));
-      }
+    for (const CellChange& change : step.changes) {
+      ASSERT_FALSE(service.Submit(UpdateOf(ChangeStep{0, {change}}, sequence++)));
     }
-    ASSERT_TRUE(service.WaitForVersion(version + 1, kWait));
-    version = service.Current()->version;
+    // At least one step per burst has been committed.
+    ASSERT_TRUE(service.WaitForStep(++bursts, kWait));
   }
   done = true;
   asker.join();
@@ -201,7 +206,7 @@ TEST(PathService, TakesOverALoadedPolicyAtItsStep) {
   ASSERT_TRUE(service.WaitForVersion(1, kWait));
   EXPECT_EQ(service.Current()->time_step, 2);
   ASSERT_FALSE(service.Submit(UpdateOf(scenario.changes.steps[2], 1)));
-  ASSERT_TRUE(service.WaitForVersion(2, kWait));
+  ASSERT_TRUE(service.WaitForStep(3, kWait));
   const Answer answer = service.Ask(AllCells(scenario.grid));
   EXPECT_EQ(answer.snapshot->time_step, 3);
   int starts = 0, learned = 0;

@@ -41,8 +41,10 @@ int FeedCommand(const std::vector<std::string>& args) {
       "service's. Without --rate it waits for the service to commit each step before\n"
       "sending the next, so the service's time steps are the run's; with --rate R it\n"
       "sends R steps a second whatever the service does. Prints one JSON line: steps\n"
-      "sent and, in lock step, the service's last step and the time from publishing\n"
-      "an update to the first reply from the policy it made (commit_p50_ms, ...).",
+      "sent and, in lock step, the service's last step and the times from publishing\n"
+      "an update to the first reply from a policy of its step (commit_p50_ms, ...; for\n"
+      "a step that retrains, the interim policy committed before the training) and to\n"
+      "the step's own retrained policy (trained_p50_ms, ...).",
       kFeedProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
@@ -94,7 +96,8 @@ int FeedCommand(const std::vector<std::string>& args) {
   int expected_step = first->time_step;
   const auto start = std::chrono::steady_clock::now();
   int sent = 0;
-  LatencyHistogram commit;  // lock step: update published -> its policy answering
+  LatencyHistogram commit;   // lock step: update published -> a policy of its step answering
+  LatencyHistogram trained;  // ... -> the step's own (retrained) policy committed
   for (const ChangeStep& step : setup->scenario.changes.steps) {
     obstacle_update_t update{};
     update.run_id = process->run_id;
@@ -139,16 +142,31 @@ int FeedCommand(const std::vector<std::string>& args) {
                                        std::to_string(expected_step) + " within --timeout",
                                    kExitFailure);
     }
+    // A step that retrains answers first from an interim policy (its grid,
+    // the previous policy); its own comes when the training ends, announced
+    // by its REPORT. The next update waits for that, so every figure starts
+    // from a service with nothing in hand.
+    const std::optional<std::chrono::steady_clock::time_point> reported =
+        client.ReportArrival(expected_step, timeout);
+    if (!reported) {
+      return runtime::ProcessError(kFeedProgram,
+                                   "no report of time step " + std::to_string(expected_step) +
+                                       " from the service within --timeout",
+                                   kExitFailure);
+    }
+    trained.Add(
+        std::chrono::duration_cast<std::chrono::microseconds>(*reported - published).count());
   }
   if (rate) {
     std::printf("{\"sent\":%d}\n", sent);
   } else {
+    const auto ms = [](int64_t micros) { return static_cast<double>(micros) / 1000.0; };
     std::printf(
         "{\"sent\":%d,\"service_step\":%d,\"commit_p50_ms\":%.3f,\"commit_p99_ms\":%.3f,"
-        "\"commit_max_ms\":%.3f}\n",
-        sent, expected_step, static_cast<double>(commit.Quantile(0.5)) / 1000.0,
-        static_cast<double>(commit.Quantile(0.99)) / 1000.0,
-        static_cast<double>(commit.max()) / 1000.0);
+        "\"commit_max_ms\":%.3f,\"trained_p50_ms\":%.3f,\"trained_p99_ms\":%.3f,"
+        "\"trained_max_ms\":%.3f}\n",
+        sent, expected_step, ms(commit.Quantile(0.5)), ms(commit.Quantile(0.99)), ms(commit.max()),
+        ms(trained.Quantile(0.5)), ms(trained.Quantile(0.99)), ms(trained.max()));
   }
   return 0;
 }

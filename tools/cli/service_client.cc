@@ -4,6 +4,7 @@
 #include <chrono>
 #include <thread>
 
+#include "dynapath/step_report_t.hpp"
 #include "protocol/channels.h"
 
 namespace dynapath::cli {
@@ -32,6 +33,15 @@ Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::Proces
       {
         std::lock_guard lock(self->mutex_);
         self->policy_ = std::move(policy);
+      }
+      self->changed_.notify_all();
+    });
+    c->bus_->Subscribe<step_report_t>(protocol::channel::kReport, [self](step_report_t& report) {
+      const auto now = std::chrono::steady_clock::now();
+      {
+        std::lock_guard lock(self->mutex_);
+        self->reports_.emplace(report.time_step, now);
+        if (self->reports_.size() > kKeptReports) self->reports_.erase(self->reports_.begin());
       }
       self->changed_.notify_all();
     });
@@ -85,6 +95,18 @@ std::optional<policy_t> ServiceClient::LatestPolicy(double seconds) {
   changed_.wait_for(lock, std::chrono::duration<double>(seconds),
                     [&] { return policy_.has_value(); });
   return policy_;
+}
+
+std::optional<std::chrono::steady_clock::time_point> ServiceClient::ReportArrival(
+    int time_step, double seconds) {
+  std::unique_lock lock(mutex_);
+  auto found = reports_.end();
+  changed_.wait_for(lock, std::chrono::duration<double>(seconds), [&] {
+    found = reports_.lower_bound(time_step);
+    return found != reports_.end();
+  });
+  if (found == reports_.end()) return std::nullopt;
+  return found->second;
 }
 
 void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds) {

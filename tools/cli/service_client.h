@@ -2,7 +2,9 @@
 // A client of `dynapath serve` (query, feed): the run's bus, path requests
 // matched with their replies, and the service's latest policy message.
 
+#include <chrono>
 #include <condition_variable>
+#include <map>
 #include <cstdint>
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
@@ -42,6 +44,11 @@ class ServiceClient {
                                   double seconds);
   // The latest POLICY message, waiting up to `seconds` for one.
   std::optional<policy_t> LatestPolicy(double seconds);
+  // When the service's step report (REPORT, published when a step's own
+  // policy is committed, after any interim one) of `time_step` or a later
+  // step arrived, waiting up to `seconds` for it.
+  std::optional<std::chrono::steady_clock::time_point> ReportArrival(int time_step,
+                                                                     double seconds);
 
  private:
   ServiceClient() = default;
@@ -54,6 +61,9 @@ class ServiceClient {
   std::condition_variable changed_;
   std::optional<path_reply_t> reply_;  // the latest reply to this client
   std::optional<policy_t> policy_;
+  // Step reports' arrival times by time step (the latest kKeptReports).
+  static constexpr size_t kKeptReports = 1024;
+  std::map<int, std::chrono::steady_clock::time_point> reports_;
   int64_t next_id_ = 1;
 };
 

@@ -4,6 +4,7 @@
 // Adapt; everything that counts as adaptation happens inside them.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -34,6 +35,8 @@ enum class Semantics { kOurs, kReport };
 // The learner options (the base: bootstrap, single_agent, federated) are
 // the learning approaches'; the approach sets the averaging, --semantics
 // report the bootstrap.
+class Planner;
+
 struct PlannerOptions : LearnerOptions {
   uint64_t run_seed = 0;                         // learners' seeds derive from it
   int leaf_limit = QuadTree::kDefaultLeafLimit;  // largest leaf side
@@ -47,6 +50,13 @@ struct PlannerOptions : LearnerOptions {
   // searches) end it early once set; the run is then cancelled. Not a
   // parameter of the results.
   StopToken stop = nullptr;
+  // Called by a learning planner's Adapt once per step, just before the
+  // step's first training job, with the planner and the step's grid: its
+  // Picture then shows the changed grid under the policy not yet
+  // retrained. The service commits that interim policy so that replies
+  // reflect the changes while the training runs. Not a parameter of the
+  // results: it may read the planner, not change it.
+  std::function<void(Planner& planner, const Grid& grid)> before_retraining;
 };
 
 // What an initialisation or adaptation did (extra result columns).

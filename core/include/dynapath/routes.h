@@ -54,6 +54,10 @@ struct RouteSnapshot {
 // planner's own ExactDistances.
 RouteSnapshot MakeRouteSnapshot(Planner& planner, const Grid& grid, const Planner* exact,
                                 int64_t version, int time_step);
+// The planner's Picture that `s` was made from, rebuilt from the snapshot
+// alone (so another thread can publish it while training goes on); false
+// when the snapshot has no learned policy.
+bool PictureOf(const RouteSnapshot& s, PolicyPicture& picture);
 
 struct Route {
   RouteStatus status = RouteStatus::kOutsideGrid;

@@ -130,6 +130,15 @@ TEST(Routes, TrainedPolicyAnswersAsItsEvaluationCounts) {
   }
   EXPECT_EQ(reached, score.successes);
   EXPECT_EQ(total, score.total_length);
+  // The snapshot alone gives back the planner's picture.
+  PolicyPicture from_planner, from_snapshot;
+  ASSERT_TRUE(planner->Picture(grid, from_planner));
+  ASSERT_TRUE(PictureOf(s, from_snapshot));
+  EXPECT_EQ(from_snapshot.actions, from_planner.actions);
+  EXPECT_EQ(from_snapshot.second, from_planner.second);
+  EXPECT_EQ(from_snapshot.depth, from_planner.depth);
+  EXPECT_EQ(from_snapshot.reaches, from_planner.reaches);
+  EXPECT_FALSE(PictureOf(MakeRouteSnapshot(*oracle, grid, nullptr, 1, 0), from_snapshot));
 }
 
 TEST(Routes, NamesMatchTheWire) {
