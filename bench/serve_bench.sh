@@ -19,10 +19,20 @@ if [ ${#maze[@]} -eq 0 ]; then
   churn=(--size 300 --difficulty hard --seed 99)
 fi
 dynapath=$build/tools/dynapath
+steps=${STEPS:-100}
 source "$(dirname "$0")/service_bench_setup.sh"
+# A kernel memory monitor sampling this machine (DAMON, as some virtual
+# machines run for their host) stalls processes with large resident sets
+# for milliseconds at each sample: it shows in the tails below.
+for state in /sys/kernel/mm/damon/admin/kdamonds/*/state; do
+  if [ -r "$state" ] && [ "$(cat "$state")" = on ]; then
+    sample=$(cat "${state%/state}/contexts/0/monitoring_attrs/intervals/sample_us" 2>/dev/null || echo '?')
+    echo "note: DAMON is sampling this machine's memory (every $sample us): expect stalls in the tails"
+  fi
+done
 "$dynapath" secret "$work/key" >/dev/null
 auth=(--run-id bench --secret-file "$work/key")
-"$dynapath" serve "${auth[@]}" "${maze[@]}" --steps 20 --approach fedAsynQ_EqAvg \
+"$dynapath" serve "${auth[@]}" "${maze[@]}" --steps "$steps" --approach fedAsynQ_EqAvg \
   --threads "${THREADS:-2}" --policy-every 5 >"$work/serve.out" 2>"$work/serve.log" &
 server=$!
 start=$SECONDS
@@ -31,9 +41,10 @@ echo "initial training and first commit: $((SECONDS - start)) s"
 for rate in 1000 10000; do
   echo "idle, $rate/s: $("$dynapath" query "${auth[@]}" --rate "$rate" --duration 5)"
 done
-# Lock step over the maze's own change sequence: publication to new policy.
-echo "update to new policy (lock step, 20 steps): $("$dynapath" feed "${auth[@]}" "${maze[@]}" \
-  --steps 20 --timeout 600)"
+# Lock step over the maze's own change sequence: publication to the first
+# reply from the step (interim for a retraining step) and to its REPORT.
+echo "update to new policy (lock step, $steps steps): $("$dynapath" feed "${auth[@]}" "${maze[@]}" \
+  --steps "$steps" --timeout 600)"
 # Another maze's changes at 4 steps a second: retraining all along.
 "$dynapath" feed "${auth[@]}" "${churn[@]}" --steps 20 --rate 4 --source churn \
   --timeout 600 >/dev/null &
