@@ -130,32 +130,55 @@ void ServiceBus::PublishCommit(const Commit& commit) {
 }
 
 void ServiceBus::PublishPolicies() {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](double s) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+  };
+  const Clock::duration gap = seconds(options_.policy_gap_seconds);
+  const Clock::duration republish = seconds(options_.republish_seconds);
+  Clock::time_point last_sent = Clock::now() - gap;
   std::unique_lock lock(policy_mutex_);
-  while (true) {
-    policy_waiting_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
-    if (stopping_) return;
-    const PendingPolicy next = std::move(*pending_);
+  while (!stopping_) {
+    // The next thing to do: a waiting policy once the gap has passed, else
+    // the last one again once `republish` has.
+    Clock::time_point due = Clock::time_point::max();
+    if (pending_) {
+      due = last_sent + gap;
+    } else if (last_policy_ && options_.republish_seconds > 0) {
+      due = last_sent + republish;
+    }
+    if (Clock::now() < due) {
+      if (due == Clock::time_point::max()) {
+        policy_waiting_.wait(lock);
+      } else {
+        policy_waiting_.wait_until(lock, due);
+      }
+      continue;  // woken: a new policy, stopping, or due now
+    }
+    std::optional<PendingPolicy> next = std::move(pending_);
     pending_.reset();
+    std::optional<policy_t> again;
+    if (!next) again = last_policy_;
     lock.unlock();
-    const RouteSnapshot& snapshot = *next.snapshot;
-    PolicyPicture picture;
-    const bool pictured = PictureOf(snapshot, picture);
-    policy_t policy =
-        protocol::PolicyToMessage(bus_.run_id(), approach_, 0, snapshot.time_step, snapshot.grid,
-                                  pictured ? &picture : nullptr, next.trained_regions);
-    bus_.Publish(protocol::channel::kPolicy, policy);
+    if (next) {
+      const RouteSnapshot& snapshot = *next->snapshot;
+      PolicyPicture picture;
+      const bool pictured = PictureOf(snapshot, picture);
+      again = protocol::PolicyToMessage(bus_.run_id(), approach_, 0, snapshot.time_step,
+                                        snapshot.grid, pictured ? &picture : nullptr,
+                                        next->trained_regions);
+    }
+    bus_.Publish(protocol::channel::kPolicy, *again);
+    last_sent = Clock::now();
     lock.lock();
-    last_policy_ = std::move(policy);
+    ++policies_published_;
+    if (next) last_policy_ = std::move(again);
   }
 }
 
-void ServiceBus::RepublishPolicy() {
-  std::optional<policy_t> policy;
-  {
-    std::lock_guard lock(policy_mutex_);
-    policy = last_policy_;
-  }
-  if (policy) bus_.Publish(protocol::channel::kPolicy, *policy);
+int64_t ServiceBus::policies_published() const {
+  std::lock_guard lock(policy_mutex_);
+  return policies_published_;
 }
 
 }  // namespace dynapath::runtime

@@ -9,9 +9,10 @@
 // commit is published as runs publish steps (step_report_t on REPORT,
 // policy_t on POLICY), so `dynapath view` works on a service. A policy
 // message is large (8 bytes a cell) and its fragments are paced, so it goes
-// out on a thread of its own, built from the commit's immutable snapshot:
-// the training thread is back for the next update at once, and when
-// commits come faster than policies go out, viewers get the latest. The Bus
+// out on a thread of its own, built from the commit's immutable snapshot,
+// at most once every policy_gap_seconds: the training thread is back for
+// the next update at once, the clients on the group are not flooded, and
+// viewers get the latest policy. The Bus
 // authenticates and validates first: an unauthenticated sender is
 // dropped and counted there.
 
@@ -32,6 +33,13 @@ namespace dynapath::runtime {
 struct ServiceBusOptions {
   protocol::OccupancyThresholds thresholds;
   bool publish_policy = true;
+  // The least time between two policy messages: commits in between are
+  // published as the latest of them (0: every commit). A policy message
+  // is 8 bytes a cell, and every process on the group receives it.
+  double policy_gap_seconds = 1.0;
+  // The last policy again after this long without a new one, for viewers
+  // that joined since (0: never).
+  double republish_seconds = 5.0;
 };
 
 class ServiceBus {
@@ -45,9 +53,8 @@ class ServiceBus {
   // The service's commit hook (training thread): publishes the step report
   // and hands the policy to the publisher.
   void PublishCommit(const Commit& commit);
-  // Publishes the last committed policy again, for viewers and clients
-  // that joined after it (the serve loop calls it every few seconds).
-  void RepublishPolicy();
+  // Policy messages sent (new policies and republished ones).
+  int64_t policies_published() const;
 
  private:
   struct PendingPolicy {
@@ -61,11 +68,12 @@ class ServiceBus {
   PathService& service_;
   ServiceBusOptions options_;
   std::string approach_;
-  std::mutex policy_mutex_;  // guards the three below
+  mutable std::mutex policy_mutex_;  // guards the five below
   std::condition_variable policy_waiting_;
   std::optional<PendingPolicy> pending_;  // the latest commit's, not yet sent
   bool stopping_ = false;
   std::optional<policy_t> last_policy_;  // the last one sent
+  int64_t policies_published_ = 0;
   std::thread publisher_;
 };
 

@@ -82,7 +82,7 @@ int FeedCommand(const std::vector<std::string>& args) {
   if (!setup) return runtime::ProcessError(kFeedProgram, setup.error().message);
   const Grid& grid = setup->scenario.grid;
   Result<std::unique_ptr<ServiceClient>> opened =
-      ServiceClient::Open(*process, "feed-" + std::to_string(getpid()));
+      ServiceClient::Open(*process, "feed-" + std::to_string(getpid()), ServiceClient::kReports);
   if (!opened) return runtime::ProcessError(kFeedProgram, opened.error().message, kExitFailure);
   ServiceClient& client = **opened;
   // The step the service is at: its first commit answers this probe.

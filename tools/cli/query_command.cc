@@ -100,7 +100,7 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
   // only counts replies (the policy client below is another connection).
   std::vector<Cell2> free_cells;
   {
-    Result<std::unique_ptr<ServiceClient>> probe = ServiceClient::Open(process, client + "-map");
+    Result<std::unique_ptr<ServiceClient>> probe = ServiceClient::Open(process, client + "-map", ServiceClient::kPolicy);
     if (!probe) return runtime::ProcessError(kQueryProgram, probe.error().message, kExitFailure);
     std::optional<policy_t> policy = (*probe)->LatestPolicy(timeout);
     if (!policy) {
@@ -118,7 +118,7 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
     if (free_cells.empty()) return runtime::ProcessError(kQueryProgram, "the map has no free cell", 1);
   }
   Result<std::unique_ptr<ServiceClient>> opened =
-      ServiceClient::Open(process, client, [&](const path_reply_t& reply) {
+      ServiceClient::Open(process, client, ServiceClient::kRepliesOnly, [&](const path_reply_t& reply) {
         const int64_t id = reply.request_id;
         if (id < 0 || id >= total) return;
         const int64_t sent = sent_us[static_cast<size_t>(id)].load();
@@ -223,7 +223,7 @@ int QueryCommand(const std::vector<std::string>& args) {
     if (!cell) return runtime::ProcessError(kQueryProgram, cell.error().message);
     starts.push_back(*cell);
   }
-  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(*process, client);
+  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(*process, client, ServiceClient::kRepliesOnly);
   if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
   std::optional<path_reply_t> reply = (*opened)->Ask(starts, timeout);
   if (!reply) {

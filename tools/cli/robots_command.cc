@@ -110,11 +110,12 @@ int RobotsCommand(const std::vector<std::string>& args) {
   }
 
   Result<std::unique_ptr<ServiceClient>> opened =
-      ServiceClient::Open(*process, "robots-" + std::to_string(getpid()));
+      ServiceClient::Open(*process, "robots-" + std::to_string(getpid()), ServiceClient::kReports);
   if (!opened) return runtime::ProcessError(kRobotsProgram, opened.error().message, kExitFailure);
   ServiceClient& client = **opened;
   const std::string source = "robots-" + std::to_string(getpid());
   int64_t latest_version = 0;
+  int service_step = 0;  // the newest time step heard
   int64_t queries = 0, requeries = 0, blocked = 0, unanswered = 0;
   const auto started = std::chrono::steady_clock::now();
   // Asks for the robots of `who` (at most 64 a request), and keeps the
@@ -130,6 +131,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
       std::optional<path_reply_t> reply = client.Ask(starts, timeout);
       if (!reply || reply->refused != path_reply_t::ACCEPTED) return false;
       latest_version = std::max(latest_version, reply->version);
+      service_step = std::max(service_step, reply->time_step);
       for (size_t k = first; k < last; ++k) {
         Robot& robot = fleet[who[k]];
         const size_t i = k - first;
@@ -171,16 +173,20 @@ int RobotsCommand(const std::vector<std::string>& args) {
       update.num_cells = static_cast<int32_t>(update.rows.size());
       client.bus().Publish(protocol::channel::kMapUpdates, update);
       if (!step.changes.empty()) {
-        // Wait for the policy of this step: the fleet then plans on it.
-        const int64_t before = latest_version;
-        const auto deadline = std::chrono::steady_clock::now() +
-                              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                  std::chrono::duration<double>(timeout));
-        while (latest_version <= before && std::chrono::steady_clock::now() < deadline) {
-          std::optional<path_reply_t> probe = client.Ask({{0, 0}}, 1.0);
-          if (probe) latest_version = std::max(latest_version, probe->version);
-          if (latest_version <= before) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        // Wait for this step's own policy (its REPORT: a step that retrains
+        // commits an interim policy before it): the fleet then plans on the
+        // approach's policy of the step, as run scores it.
+        ++service_step;
+        std::optional<path_reply_t> probe;
+        if (client.ReportArrival(service_step, timeout)) probe = client.Ask({{0, 0}}, timeout);
+        if (!probe) {
+          return runtime::ProcessError(kRobotsProgram,
+                                       "the service did not commit time step " +
+                                           std::to_string(service_step) + " within --timeout",
+                                       kExitFailure);
         }
+        latest_version = std::max(latest_version, probe->version);
+        service_step = std::max(service_step, probe->time_step);
       }
     }
     std::vector<size_t> needing;

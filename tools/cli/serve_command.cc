@@ -6,12 +6,14 @@
 // training (coordinator/training_session.h) and trains on N agent processes
 // (or, --embedded, agent threads over memq://).
 
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <thread>
 
@@ -69,6 +71,17 @@ struct AgentTraining {
   }
 };
 
+// Every commit builds a snapshot (megabytes on a large map) and frees an
+// older one. glibc hands such blocks back to the kernel (munmap, or
+// trimming the heap's top) and the next commit faults fresh pages in:
+// measured on the 2-core virtual machine, 30-90 ms stalls of a commit
+// that otherwise takes 1 ms (docs/PERFORMANCE.md, planning service). A
+// service's memory is its working set anyway: keep it.
+void KeepFreedMemory() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest: below it, blocks come from the heap
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+}
+
 }  // namespace
 
 int ServeCommand(const std::vector<std::string>& args) {
@@ -116,8 +129,12 @@ int ServeCommand(const std::vector<std::string>& args) {
                "occupancy grids: a value below P (0-1) is free; between: unchanged");
   double policy_every = 5;
   group.Option("--policy-every", policy_every, "SECONDS",
-               "publish the current policy again every SECONDS for late viewers (0: only "
-               "at commits)");
+               "publish the current policy again after SECONDS without a new one, for late "
+               "viewers (0: never)");
+  double policy_gap = 1;
+  group.Option("--policy-gap", policy_gap, "SECONDS",
+               "at most one policy message every SECONDS: commits in between are published as "
+               "the latest of them (0: one per commit, as run publishes steps)");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   runtime::AddConfigOption(app);
@@ -165,6 +182,9 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (!(policy_every >= 0 && policy_every <= 3600)) {
     return usage_error("--policy-every must be between 0 and 3600 seconds");
   }
+  if (!(policy_gap >= 0 && policy_gap <= 3600)) {
+    return usage_error("--policy-gap must be between 0 and 3600 seconds");
+  }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(process_options, true);
   if (!process) return usage_error(process.error().message);
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
@@ -184,6 +204,7 @@ int ServeCommand(const std::vector<std::string>& args) {
     out_lock.emplace(std::move(*lock));
   }
 
+  KeepFreedMemory();
   // Still single-threaded: a private network needs that.
   const launch::ProcessNetwork network = launch::EnterProcessNetwork(process->lcm_url);
   std::string url = process->lcm_url;
@@ -261,6 +282,8 @@ int ServeCommand(const std::vector<std::string>& args) {
   });
   runtime::ServiceBusOptions glue_options;
   glue_options.thresholds = {occupied_thresh, free_thresh};
+  glue_options.policy_gap_seconds = policy_gap;
+  glue_options.republish_seconds = policy_every;
   runtime::ServiceBus service_bus(bus, service, glue_options);
   glue = &service_bus;
 
@@ -292,7 +315,6 @@ int ServeCommand(const std::vector<std::string>& args) {
   }
   service.Start();
   bool announced = false;
-  auto last_publish = std::chrono::steady_clock::now();
   bool failed = false;
   while (!stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -306,17 +328,13 @@ int ServeCommand(const std::vector<std::string>& args) {
                    bus.Channel(protocol::channel::kPathRequest));
       announced = true;
     }
-    const auto now = std::chrono::steady_clock::now();
-    if (policy_every > 0 && now - last_publish >= std::chrono::duration<double>(policy_every)) {
-      service_bus.RepublishPolicy();
-      last_publish = now;
-    }
   }
   Result<ApproachRun> run = service.Stop();
   training.Stop();
   const runtime::ServiceStats stats = service.stats();
   std::printf("%s", runtime::PathService::Summary(stats).c_str());
-  std::printf("messages: %s\n", bus.TrafficSummary().c_str());
+  std::printf("messages: %s; %lld policy messages\n", bus.TrafficSummary().c_str(),
+              static_cast<long long>(service_bus.policies_published()));
   if (training.session) {
     const coordinator::TrafficStats& t = training.session->traffic();
     std::printf(

@@ -10,7 +10,8 @@
 namespace dynapath::cli {
 
 Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::ProcessSetup& process,
-                                                           std::string client, ReplyHook on_reply) {
+                                                           std::string client, int listen,
+                                                           ReplyHook on_reply) {
   std::unique_ptr<ServiceClient> c(new ServiceClient());
   c->client_ = std::move(client);
   c->on_reply_ = std::move(on_reply);
@@ -28,7 +29,7 @@ Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::Proces
     }
     self->changed_.notify_all();
   });
-  if (!c->on_reply_) {
+  if ((listen & kPolicy) != 0) {
     c->bus_->Subscribe<policy_t>(protocol::channel::kPolicy, [self](policy_t& policy) {
       {
         std::lock_guard lock(self->mutex_);
@@ -36,6 +37,8 @@ Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::Proces
       }
       self->changed_.notify_all();
     });
+  }
+  if ((listen & kReports) != 0) {
     c->bus_->Subscribe<step_report_t>(protocol::channel::kReport, [self](step_report_t& report) {
       const auto now = std::chrono::steady_clock::now();
       {

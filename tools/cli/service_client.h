@@ -30,8 +30,12 @@ class ServiceClient {
   // `on_reply`, when given, sees every reply to this client (the dispatch
   // thread) instead of Ask's matching.
   using ReplyHook = std::function<void(const path_reply_t&)>;
+  // What a client listens to besides its replies: the service's policy
+  // messages (large: only a client that needs the map) and its step reports.
+  enum Listen { kRepliesOnly = 0, kPolicy = 1, kReports = 2 };
   static Result<std::unique_ptr<ServiceClient>> Open(const runtime::ProcessSetup& process,
-                                                     std::string client, ReplyHook on_reply = {});
+                                                     std::string client, int listen,
+                                                     ReplyHook on_reply = {});
   ~ServiceClient();
 
   const std::string& client() const { return client_; }
@@ -42,9 +46,9 @@ class ServiceClient {
   // or `seconds` pass (nullopt; the last NOT_READY reply if one came).
   std::optional<path_reply_t> Ask(const std::vector<std::pair<int32_t, int32_t>>& starts,
                                   double seconds);
-  // The latest POLICY message, waiting up to `seconds` for one.
+  // The latest POLICY message, waiting up to `seconds` for one (kPolicy).
   std::optional<policy_t> LatestPolicy(double seconds);
-  // When the service's step report (REPORT, published when a step's own
+  // (kReports) When the service's step report (REPORT, published when a step's own
   // policy is committed, after any interim one) of `time_step` or a later
   // step arrived, waiting up to `seconds` for it.
   std::optional<std::chrono::steady_clock::time_point> ReportArrival(int time_step,
