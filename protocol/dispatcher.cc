@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <csignal>
-#include <fstream>
 #include <cstdlib>
+#include <fstream>
 
 namespace dynapath::protocol {
 

@@ -310,8 +310,8 @@ std::string PathService::Summary(const ServiceStats& s) {
   text += "policy: version " + std::to_string(s.version) + ", time step " +
           std::to_string(s.time_step) + ", " + std::to_string(s.updates.steps) +
           " steps of updates, " + std::to_string(s.retrainings) + " retrainings (" +
-          std::to_string(s.nodes_trained) + " nodes trained, " +
-          std::to_string(s.interim_commits) + " interim commits before them)\n";
+          std::to_string(s.nodes_trained) + " nodes trained, " + std::to_string(s.interim_commits) +
+          " interim commits before them)\n";
   char latency[160];
   std::snprintf(latency, sizeof latency,
                 "query latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "

@@ -172,7 +172,8 @@ bool PictureOf(const RouteSnapshot& s, PolicyPicture& picture) {
   picture.reaches.assign(s.depth.size(), -1);
   for (int cell = 0; cell < s.grid.size(); ++cell) {
     if (s.grid.at(cell) == Cell::kObstacle) continue;
-    picture.reaches[static_cast<size_t>(cell)] = s.depth[static_cast<size_t>(cell)] == kNoPath ? 0 : 1;
+    picture.reaches[static_cast<size_t>(cell)] =
+        s.depth[static_cast<size_t>(cell)] == kNoPath ? 0 : 1;
   }
   return true;
 }

@@ -100,7 +100,8 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
   // only counts replies (the policy client below is another connection).
   std::vector<Cell2> free_cells;
   {
-    Result<std::unique_ptr<ServiceClient>> probe = ServiceClient::Open(process, client + "-map", ServiceClient::kPolicy);
+    Result<std::unique_ptr<ServiceClient>> probe =
+        ServiceClient::Open(process, client + "-map", ServiceClient::kPolicy);
     if (!probe) return runtime::ProcessError(kQueryProgram, probe.error().message, kExitFailure);
     std::optional<policy_t> policy = (*probe)->LatestPolicy(timeout);
     if (!policy) {
@@ -115,10 +116,11 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
         free_cells.emplace_back(i / policy->cols, i % policy->cols);
       }
     }
-    if (free_cells.empty()) return runtime::ProcessError(kQueryProgram, "the map has no free cell", 1);
+    if (free_cells.empty())
+      return runtime::ProcessError(kQueryProgram, "the map has no free cell", 1);
   }
-  Result<std::unique_ptr<ServiceClient>> opened =
-      ServiceClient::Open(process, client, ServiceClient::kRepliesOnly, [&](const path_reply_t& reply) {
+  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(
+      process, client, ServiceClient::kRepliesOnly, [&](const path_reply_t& reply) {
         const int64_t id = reply.request_id;
         if (id < 0 || id >= total) return;
         const int64_t sent = sent_us[static_cast<size_t>(id)].load();
@@ -216,14 +218,16 @@ int QueryCommand(const std::vector<std::string>& args) {
   }
   if (duration) return runtime::ProcessError(kQueryProgram, "--duration needs --rate");
   if (from.empty()) return runtime::ProcessError(kQueryProgram, "give a start with --from ROW,COL");
-  if (from.size() > 65536) return runtime::ProcessError(kQueryProgram, "at most 65536 --from cells");
+  if (from.size() > 65536)
+    return runtime::ProcessError(kQueryProgram, "at most 65536 --from cells");
   std::vector<Cell2> starts;
   for (const std::string& text : from) {
     Result<Cell2> cell = ParseCell(text);
     if (!cell) return runtime::ProcessError(kQueryProgram, cell.error().message);
     starts.push_back(*cell);
   }
-  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(*process, client, ServiceClient::kRepliesOnly);
+  Result<std::unique_ptr<ServiceClient>> opened =
+      ServiceClient::Open(*process, client, ServiceClient::kRepliesOnly);
   if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
   std::optional<path_reply_t> reply = (*opened)->Ask(starts, timeout);
   if (!reply) {

@@ -199,8 +199,8 @@ int RobotsCommand(const std::vector<std::string>& args) {
     }
     if (!needing.empty() && !ask(needing)) {
       return runtime::ProcessError(
-          kRobotsProgram, "no answer from a service of run " + process->run_id + " within --timeout",
-          kExitFailure);
+          kRobotsProgram,
+          "no answer from a service of run " + process->run_id + " within --timeout", kExitFailure);
     }
     for (Robot& robot : fleet) {
       if (robot.arrived_at >= 0 || robot.next >= robot.plan.size()) continue;

@@ -100,8 +100,8 @@ std::optional<policy_t> ServiceClient::LatestPolicy(double seconds) {
   return policy_;
 }
 
-std::optional<std::chrono::steady_clock::time_point> ServiceClient::ReportArrival(
-    int time_step, double seconds) {
+std::optional<std::chrono::steady_clock::time_point> ServiceClient::ReportArrival(int time_step,
+                                                                                  double seconds) {
   std::unique_lock lock(mutex_);
   auto found = reports_.end();
   changed_.wait_for(lock, std::chrono::duration<double>(seconds), [&] {

@@ -4,10 +4,10 @@
 
 #include <chrono>
 #include <condition_variable>
-#include <map>
 #include <cstdint>
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -51,8 +51,7 @@ class ServiceClient {
   // (kReports) When the service's step report (REPORT, published when a step's own
   // policy is committed, after any interim one) of `time_step` or a later
   // step arrived, waiting up to `seconds` for it.
-  std::optional<std::chrono::steady_clock::time_point> ReportArrival(int time_step,
-                                                                     double seconds);
+  std::optional<std::chrono::steady_clock::time_point> ReportArrival(int time_step, double seconds);
 
  private:
   ServiceClient() = default;

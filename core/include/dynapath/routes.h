@@ -24,8 +24,8 @@ enum class RouteStatus : int8_t {
   kTooLong = 3,       // no station within rows + cols moves
   kStartObstacle = 4,
   kOutsideGrid = 5,
-  kNoRoute = 6,  // no station can be reached from the start at all
-  kOverBudget = 7,   // the path did not fit the reply's budget
+  kNoRoute = 6,     // no station can be reached from the start at all
+  kOverBudget = 7,  // the path did not fit the reply's budget
 };
 enum class AnsweredBy : int8_t { kNone = 0, kLearned = 1, kExact = 2 };
 // --answer: the policy's path only, the exact shortest path only, or the

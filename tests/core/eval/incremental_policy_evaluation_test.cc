@@ -64,8 +64,9 @@ void ExpectSameAsFullEvaluation(IncrementalPolicyEvaluation& incremental, const 
     int best, second;
     TopTwoActions(grid, cell, table, best, second);
     const auto target = [&](int a) {
-      return a < 0 ? -1 : grid.Index(grid.RowOf(cell) + kActionRowOffset[a],
-                                     grid.ColOf(cell) + kActionColOffset[a]);
+      return a < 0 ? -1
+                   : grid.Index(grid.RowOf(cell) + kActionRowOffset[a],
+                                grid.ColOf(cell) + kActionColOffset[a]);
     };
     ASSERT_EQ(successors[2 * cell], target(best)) << where << " cell " << cell;
     ASSERT_EQ(successors[2 * cell + 1], target(second)) << where << " cell " << cell;
@@ -212,7 +213,7 @@ TEST(IncrementalPolicyEvaluationTest, LearningPlannerMatchesFullEvaluationEveryS
                     }
                     ASSERT_EQ(picture.actions[cell], best) << "cell " << cell;
                     ASSERT_EQ(picture.second[cell], second) << "cell " << cell;
-                    ASSERT_EQ(picture.reaches[cell], code == Cell::kObstacle ? -1
+                    ASSERT_EQ(picture.reaches[cell], code == Cell::kObstacle       ? -1
                                                      : full.depth[cell] == kNoPath ? 0
                                                                                    : 1);
                   }

@@ -52,15 +52,14 @@ TEST(LearningPlanner, AnnouncesEachRetrainingBeforeItChangesTheTable) {
     ASSERT_TRUE(planner.Picture(grid, picture));
     EXPECT_EQ(picture.depth, full.depth) << "step " << step;
   };
-  const ApproachRun run =
-      RunApproach(scenario, Approach::kFedAsynQEqAvg, options, &trainer, {"24", "Hard"},
-                  SteadyClock(), [&](const StepView& view) {
-                    const QTable& table =
-                        dynamic_cast<LearningPlanner&>(view.planner).root().table();
-                    table_after_last_step.assign(
-                        table.row(0), table.row(0) + 8 * static_cast<size_t>(view.grid.size()));
-                    step = static_cast<int>(view.run.steps.size());
-                  });
+  const ApproachRun run = RunApproach(
+      scenario, Approach::kFedAsynQEqAvg, options, &trainer, {"24", "Hard"}, SteadyClock(),
+      [&](const StepView& view) {
+        const QTable& table = dynamic_cast<LearningPlanner&>(view.planner).root().table();
+        table_after_last_step.assign(table.row(0),
+                                     table.row(0) + 8 * static_cast<size_t>(view.grid.size()));
+        step = static_cast<int>(view.run.steps.size());
+      });
   std::vector<int> retraining_steps;
   ASSERT_EQ(run.steps.size(), reference.steps.size());
   for (size_t t = 0; t < run.steps.size(); ++t) {

@@ -89,8 +89,7 @@ TEST(Routes, LearnedFailuresSayWhy) {
   const Route exact = AnswerRoute(s, 0, 2, AnswerMode::kLearnedElseExact, 100);
   ExpectValidPath(grid, exact);
   EXPECT_EQ(exact.answered_by, AnsweredBy::kExact);
-  EXPECT_EQ(AnswerRoute(s, 0, 5, AnswerMode::kLearnedElseExact, 100).status,
-            RouteStatus::kNoRoute);
+  EXPECT_EQ(AnswerRoute(s, 0, 5, AnswerMode::kLearnedElseExact, 100).status, RouteStatus::kNoRoute);
 }
 
 // A trained policy: the starts the evaluation counts as successes are
