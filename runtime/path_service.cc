@@ -172,10 +172,9 @@ void PathService::CommitSnapshot(Planner& planner, const Grid& grid, int time_st
     // The exact distances beside a learner: Incremental Oracle repairs them
     // from the step's changed cells only, once per step (an interim commit
     // has done it before the step's own).
-    if (!exact_ready_) {
+    if (exact_ == nullptr) {
       exact_ = MakePlanner(Approach::kIncrementalOracle, config_.options, nullptr);
       exact_->Initialize(grid);
-      exact_ready_ = true;
     } else if (exact_step_ != time_step) {
       exact_->Adapt(grid, last_changed_);
     }

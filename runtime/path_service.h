@@ -180,7 +180,6 @@ class PathService {
   ServiceStats stats_;
 
   std::unique_ptr<Planner> exact_;  // Incremental Oracle beside a learner
-  bool exact_ready_ = false;
   int exact_step_ = -1;  // the time step exact_ was last repaired for
   Result<ApproachRun> result_ = ApproachRun{};
   std::thread thread_;

@@ -72,7 +72,7 @@ class ServiceBus {
   std::condition_variable policy_waiting_;
   std::optional<PendingPolicy> pending_;  // the latest commit's, not yet sent
   bool stopping_ = false;
-  std::optional<policy_t> last_policy_;  // the last one sent
+  std::shared_ptr<const policy_t> last_policy_;  // the last one sent
   int64_t policies_published_ = 0;
   std::thread publisher_;
 };
