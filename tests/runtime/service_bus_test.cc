@@ -18,13 +18,6 @@ namespace {
 
 constexpr double kBusWait = 120;  // seconds: a loaded machine, a sanitizer
 
-// Stops the service's training (whose commits go to the ServiceBus) before
-// the ServiceBus is destroyed, however the test ends.
-struct StopFirst {
-  PathService& service;
-  ~StopFirst() { (void)service.Stop(); }
-};
-
 ServiceConfig BusServiceConfig(const Scenario& scenario) {
   ServiceConfig config;
   config.approach = Approach::kFedAsynQEqAvg;
@@ -70,28 +63,42 @@ class PolicyViewer {
   std::vector<int> steps_;
 };
 
+// A service on `scenario` with its ServiceBus over memq://, and a viewer
+// of its policy messages; started. Members are destroyed in reverse order:
+// dispatching stops first, then the training, then the ServiceBus its
+// commits went to.
+struct ServedOnMemq {
+  ServedOnMemq(const Scenario& scenario, const ServiceBusOptions& options)
+      : service(scenario.grid, BusServiceConfig(scenario),
+                [this](const Commit& commit) {
+                  if (glue != nullptr) glue->PublishCommit(commit);
+                }),
+        service_bus(bus, service, options),
+        glue(&service_bus) {
+    service.Start();
+  }
+  ~ServedOnMemq() { (void)service.Stop(); }
+
+  lcm::LCM lcm{"memq://"};
+  protocol::Bus bus{lcm, "service-bus", MemqBusOptions()};
+  PolicyViewer viewer{lcm, "service-bus"};
+  PathService service;
+  ServiceBus service_bus;
+  ServiceBus* glue = nullptr;
+  protocol::Dispatcher dispatcher{lcm};
+};
+
 // Commits within the gap after a policy message go out as one message,
 // the latest policy's, once the gap has passed.
 TEST(ServiceBus, CoalescesCommitsWithinTheGapIntoTheLatestPolicy) {
   const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 4);
-  lcm::LCM lcm("memq://");
-  ASSERT_TRUE(lcm.good());
-  protocol::Bus bus(lcm, "service-bus", MemqBusOptions());
-  PolicyViewer viewer(lcm, "service-bus");
-  ServiceBus* glue = nullptr;
-  PathService service(scenario.grid, BusServiceConfig(scenario), [&glue](const Commit& commit) {
-    if (glue != nullptr) glue->PublishCommit(commit);
-  });
   ServiceBusOptions options;
   options.policy_gap_seconds = 2;  // the steps below take far less, even under a sanitizer
   options.republish_seconds = 0;
-  ServiceBus service_bus(bus, service, options);
-  glue = &service_bus;
-  const StopFirst stop_first{service};
-  protocol::Dispatcher dispatcher(lcm);
-  service.Start();
-  ASSERT_TRUE(service.WaitForStep(0, kBusWait));
-  ASSERT_TRUE(viewer.WaitFor(1));  // the first policy goes out at once
+  ServedOnMemq served(scenario, options);
+  ASSERT_TRUE(served.lcm.good());
+  ASSERT_TRUE(served.service.WaitForStep(0, kBusWait));
+  ASSERT_TRUE(served.viewer.WaitFor(1));  // the first policy goes out at once
   const auto first = std::chrono::steady_clock::now();
   int64_t sequence = 0;
   for (const ChangeStep& step : scenario.changes.steps) {
@@ -99,45 +106,33 @@ TEST(ServiceBus, CoalescesCommitsWithinTheGapIntoTheLatestPolicy) {
     update.source = "test";
     update.sequence = ++sequence;
     update.changes = step.changes;
-    ASSERT_FALSE(service.Submit(update));
-    ASSERT_TRUE(service.WaitForStep(static_cast<int>(sequence), kBusWait));
+    ASSERT_FALSE(served.service.Submit(update));
+    ASSERT_TRUE(served.service.WaitForStep(static_cast<int>(sequence), kBusWait));
   }
   const bool within_gap = std::chrono::steady_clock::now() - first < std::chrono::seconds(2);
-  ASSERT_TRUE(viewer.WaitFor(2));
+  ASSERT_TRUE(served.viewer.WaitFor(2));
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   if (within_gap) {
     // Four commits, one message: the last step's.
-    EXPECT_EQ(viewer.steps(), (std::vector<int>{0, 4}));
-    EXPECT_EQ(service_bus.policies_published(), 2);
+    EXPECT_EQ(served.viewer.steps(), (std::vector<int>{0, 4}));
+    EXPECT_EQ(served.service_bus.policies_published(), 2);
   }
-  EXPECT_EQ(viewer.steps().back(), 4);
-  EXPECT_TRUE(service.Stop().ok());
+  EXPECT_EQ(served.viewer.steps().back(), 4);
+  EXPECT_TRUE(served.service.Stop().ok());
 }
 
 // Without a new policy, the last one is published again after
-// republish_seconds, for viewers that joined since; a gap of 0 sends one
-// message per commit.
+// republish_seconds, for viewers that joined since.
 TEST(ServiceBus, RepublishesTheLastPolicyForLateViewers) {
   const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 0);
-  lcm::LCM lcm("memq://");
-  ASSERT_TRUE(lcm.good());
-  protocol::Bus bus(lcm, "service-bus", MemqBusOptions());
-  PolicyViewer viewer(lcm, "service-bus");
-  ServiceBus* glue = nullptr;
-  PathService service(scenario.grid, BusServiceConfig(scenario), [&glue](const Commit& commit) {
-    if (glue != nullptr) glue->PublishCommit(commit);
-  });
   ServiceBusOptions options;
   options.policy_gap_seconds = 0;
   options.republish_seconds = 0.05;
-  ServiceBus service_bus(bus, service, options);
-  glue = &service_bus;
-  const StopFirst stop_first{service};
-  protocol::Dispatcher dispatcher(lcm);
-  service.Start();
-  ASSERT_TRUE(viewer.WaitFor(3));
-  for (int step : viewer.steps()) EXPECT_EQ(step, 0);
-  EXPECT_TRUE(service.Stop().ok());
+  ServedOnMemq served(scenario, options);
+  ASSERT_TRUE(served.lcm.good());
+  ASSERT_TRUE(served.viewer.WaitFor(3));
+  for (int step : served.viewer.steps()) EXPECT_EQ(step, 0);
+  EXPECT_TRUE(served.service.Stop().ok());
 }
 
 }  // namespace
