@@ -10,6 +10,11 @@ __all__ = ["Maze", "OBSTACLE", "FREE", "STATION"]
 OBSTACLE, FREE, STATION = 0, 1, 2
 
 
+def _forward(name, doc):
+    """A read-only property reading the C++ maze's attribute `name`."""
+    return property(lambda self: getattr(self._core, name), doc=doc)
+
+
 class Maze:
     """A maze at time step 0 and its change sequence (moving obstacles).
 
@@ -133,30 +138,15 @@ class Maze:
         """tuple of int: ``(rows, cols)``."""
         return (self._core.rows, self._core.cols)
 
-    @property
-    def rows(self):
-        """int: number of rows."""
-        return self._core.rows
+    rows = _forward("rows", "int: number of rows.")
 
-    @property
-    def cols(self):
-        """int: number of columns."""
-        return self._core.cols
+    cols = _forward("cols", "int: number of columns.")
 
-    @property
-    def num_steps(self):
-        """int: time steps of the change sequence (T)."""
-        return self._core.num_steps
+    num_steps = _forward("num_steps", "int: time steps of the change sequence (T).")
 
-    @property
-    def seed(self):
-        """int: the seed the maze (and its stations, movers, moves) came from."""
-        return self._core.seed
+    seed = _forward("seed", "int: the seed the maze (and its stations, movers, moves) came from.")
 
-    @property
-    def source(self):
-        """str: how the maze was made, as ``dynapath maze`` prints it."""
-        return self._core.source
+    source = _forward("source", "str: how the maze was made, as ``dynapath maze`` prints it.")
 
     @property
     def fingerprint(self):

@@ -10,7 +10,25 @@ import numpy as np
 __all__ = ["Discrete", "MultiDiscrete"]
 
 
-class Discrete:
+class _IntegerSpace:
+    """What both spaces share: int64 elements drawn by a seedable generator."""
+
+    dtype = np.dtype(np.int64)
+
+    def __init__(self, shape, seed):
+        self.shape = shape
+        self.np_random = np.random.default_rng(seed)
+
+    def seed(self, seed=None):
+        """Reseed the generator of ``sample()``; returns ``[seed]``."""
+        self.np_random = np.random.default_rng(seed)
+        return [seed]
+
+    def __contains__(self, x):
+        return self.contains(x)
+
+
+class Discrete(_IntegerSpace):
     """The integers ``start, ..., start + n - 1`` (Gymnasium's ``Discrete``).
 
     Parameters
@@ -26,16 +44,9 @@ class Discrete:
     def __init__(self, n, seed=None, start=0):
         if int(n) < 1:
             raise ValueError(f"n must be >= 1, got {n}")
+        super().__init__((), seed)
         self.n = int(n)
         self.start = int(start)
-        self.shape = ()
-        self.dtype = np.dtype(np.int64)
-        self.np_random = np.random.default_rng(seed)
-
-    def seed(self, seed=None):
-        """Reseed the generator of ``sample()``; returns ``[seed]``."""
-        self.np_random = np.random.default_rng(seed)
-        return [seed]
 
     def sample(self):
         """Return one element drawn uniformly, as ``numpy.int64``."""
@@ -49,8 +60,6 @@ class Discrete:
             return self.start <= int(x) < self.start + self.n
         return False
 
-    __contains__ = contains
-
     def __eq__(self, other):
         return isinstance(other, Discrete) and (self.n, self.start) == (other.n, other.start)
 
@@ -58,7 +67,7 @@ class Discrete:
         return f"Discrete({self.n})" if self.start == 0 else f"Discrete({self.n}, start={self.start})"
 
 
-class MultiDiscrete:
+class MultiDiscrete(_IntegerSpace):
     """Integer arrays with ``0 <= x[i] < nvec[i]`` (Gymnasium's ``MultiDiscrete``).
 
     A walker's observation ``(row, col)`` lies in ``MultiDiscrete([rows, cols])``.
@@ -76,14 +85,7 @@ class MultiDiscrete:
         self.nvec = np.asarray(nvec, dtype=np.int64)
         if self.nvec.size == 0 or (self.nvec < 1).any():
             raise ValueError(f"nvec must be non-empty and >= 1, got {nvec}")
-        self.shape = self.nvec.shape
-        self.dtype = np.dtype(np.int64)
-        self.np_random = np.random.default_rng(seed)
-
-    def seed(self, seed=None):
-        """Reseed the generator of ``sample()``; returns ``[seed]``."""
-        self.np_random = np.random.default_rng(seed)
-        return [seed]
+        super().__init__(self.nvec.shape, seed)
 
     def sample(self):
         """Return one element drawn uniformly, an int64 array of ``shape``."""
@@ -97,8 +99,6 @@ class MultiDiscrete:
             and np.issubdtype(x.dtype, np.integer)
             and bool(((x >= 0) & (x < self.nvec)).all())
         )
-
-    __contains__ = contains
 
     def __eq__(self, other):
         return isinstance(other, MultiDiscrete) and np.array_equal(self.nvec, other.nvec)

@@ -541,10 +541,12 @@ ValueError
 RuntimeError
     When the episode is over and reset() was not called.
 )doc")
-      .def_property_readonly("max_steps",
-                             [](const GridEnvCore& env) { return env.world().max_steps(); })
-      .def_property_readonly("steps_per_change",
-                             [](const GridEnvCore& env) { return env.world().steps_per_change(); })
+      .def_property_readonly(
+          "max_steps", [](const GridEnvCore& env) { return env.world().max_steps(); },
+          "int: steps after which an episode is truncated.")
+      .def_property_readonly(
+          "steps_per_change", [](const GridEnvCore& env) { return env.world().steps_per_change(); },
+          "int: environment steps per time step of the maze's changes; 0, a static maze.")
       .def_property_readonly("elapsed_steps", &GridEnvCore::steps,
                              "int: steps taken since the last reset.");
 
@@ -570,12 +572,14 @@ infos : dict
     "final_observation" (num_envs, 2): the cell an ended episode finished
     on, valid where the bool mask "_final_observation" is True.
 )doc")
-      .def_property_readonly("num_envs", &VectorEnvCore::num_envs)
-      .def_property_readonly("max_steps",
-                             [](const VectorEnvCore& env) { return env.world().max_steps(); })
-      .def_property_readonly("steps_per_change", [](const VectorEnvCore& env) {
-        return env.world().steps_per_change();
-      });
+      .def_property_readonly("num_envs", &VectorEnvCore::num_envs, "int: number of walkers.")
+      .def_property_readonly(
+          "max_steps", [](const VectorEnvCore& env) { return env.world().max_steps(); },
+          "int: steps after which a walker's episode is truncated.")
+      .def_property_readonly(
+          "steps_per_change",
+          [](const VectorEnvCore& env) { return env.world().steps_per_change(); },
+          "int: steps of an episode per time step of the maze's changes; 0, a static maze.");
 
   py::class_<World, std::shared_ptr<World>>(m, "World")
       .def(py::init([](const Maze& maze, std::optional<int> steps_per_change,
@@ -620,38 +624,53 @@ baselines : numpy.ndarray of float64
     Per node, the tree strategy's stored success rate, -1 never trained;
     empty for other strategies (writable view).
 )doc")
-      .def_property_readonly("approach",
-                             [](const PolicyState& s) { return ApproachName(s.approach); })
-      .def_readonly("rows", &PolicyState::rows)
-      .def_readonly("cols", &PolicyState::cols)
-      .def_readonly("leaf_limit", &PolicyState::leaf_limit)
-      .def_readonly("node_count", &PolicyState::node_count)
-      .def_readonly("step", &PolicyState::step)
-      .def_readonly("run_seed", &PolicyState::run_seed)
+      .def_property_readonly(
+          "approach", [](const PolicyState& s) { return ApproachName(s.approach); },
+          "str: the approach's result-file name.")
+      .def_readonly("rows", &PolicyState::rows, "int: the maze's rows.")
+      .def_readonly("cols", &PolicyState::cols, "int: the maze's columns.")
+      .def_readonly("leaf_limit", &PolicyState::leaf_limit,
+                    "int: the quadtree's largest leaf side.")
+      .def_readonly("node_count", &PolicyState::node_count, "int: the quadtree's nodes.")
+      .def_readonly("step", &PolicyState::step,
+                    "int: the time step after which the policy was saved.")
+      .def_readonly("run_seed", &PolicyState::run_seed,
+                    "int: the seed the learners' job seeds derive from.")
       .def_property_readonly(
           "semantics",
-          [](const PolicyState& s) { return runtime::SemanticsWords().Name(s.semantics); })
-      .def_property_readonly("precision",
-                             [](const PolicyState& s) { return PrecisionName(s.precision); })
-      .def_property_readonly("fingerprint",
-                             [](const PolicyState& s) { return FingerprintText(s.fingerprint); })
+          [](const PolicyState& s) { return runtime::SemanticsWords().Name(s.semantics); },
+          "str: \"ours\" or \"report\".")
+      .def_property_readonly(
+          "precision", [](const PolicyState& s) { return PrecisionName(s.precision); },
+          "str: \"float\" or \"double\", the dtype of q.")
+      .def_property_readonly(
+          "fingerprint", [](const PolicyState& s) { return FingerprintText(s.fingerprint); },
+          "str: the maze fingerprint at `step`.")
       .def_property_readonly(
           "initial_fingerprint",
-          [](const PolicyState& s) { return FingerprintText(s.initial_fingerprint); })
+          [](const PolicyState& s) { return FingerprintText(s.initial_fingerprint); },
+          "str: the maze fingerprint at time step 0.")
       .def_property_readonly("q", &QView,
                              "numpy.ndarray (rows, cols, 8), float32 or float64: the root "
                              "Q-table, a writable view")
-      .def_property_readonly("training_counts",
-                             [](py::object self) {
-                               PolicyState& s = self.cast<PolicyState&>();
-                               return View(s.training_counts.data(),
-                                           {static_cast<py::ssize_t>(s.training_counts.size())},
-                                           self, true);
-                             })
-      .def_property_readonly("baselines", [](py::object self) {
-        PolicyState& s = self.cast<PolicyState&>();
-        return View(s.baselines.data(), {static_cast<py::ssize_t>(s.baselines.size())}, self, true);
-      });
+      .def_property_readonly(
+          "training_counts",
+          [](py::object self) {
+            PolicyState& s = self.cast<PolicyState&>();
+            return View(s.training_counts.data(),
+                        {static_cast<py::ssize_t>(s.training_counts.size())}, self, true);
+          },
+          "numpy.ndarray of int64 (node_count,): trainings per quadtree "
+          "node, a writable view")
+      .def_property_readonly(
+          "baselines",
+          [](py::object self) {
+            PolicyState& s = self.cast<PolicyState&>();
+            return View(s.baselines.data(), {static_cast<py::ssize_t>(s.baselines.size())}, self,
+                        true);
+          },
+          "numpy.ndarray of float64: per node the stored success rate (-1 never trained), "
+          "empty without the tree strategy; a writable view");
 
   m.def(
       "read_policy_sections",
