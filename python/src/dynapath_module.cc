@@ -323,6 +323,7 @@ class VectorEnvCore {
       o[2 * i] = w.row;
       o[2 * i + 1] = w.col;
     }
+    began_ = true;
     return py::make_tuple(obs, py::dict());
   }
 
@@ -334,6 +335,7 @@ class VectorEnvCore {
       throw std::invalid_argument("actions must be a 1-D array of num_envs = " + std::to_string(n) +
                                   " actions");
     }
+    if (!began_) throw std::runtime_error("call reset() before step()");
     const int64_t* a = actions.data();
     for (py::ssize_t i = 0; i < n; ++i) {
       if (a[i] < 0 || a[i] >= kNumActions) {
@@ -406,6 +408,7 @@ class VectorEnvCore {
 
   std::shared_ptr<const World> world_;
   std::vector<Walker> walkers_;
+  bool began_ = false;  // reset() was called
 };
 
 // Several robots on one maze, one move each, decided as if simultaneous:

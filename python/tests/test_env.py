@@ -103,6 +103,8 @@ def test_an_obstacle_moving_onto_the_walker_leaves_it_there():
 def test_vector_env_equals_grid_envs_and_auto_resets(hand):
     n = 64
     vec = dynapath.VectorGridEnv(hand, n, max_steps=5)
+    with pytest.raises(RuntimeError, match="reset"):
+        vec.step(np.zeros(n, dtype=np.int64))
     obs, _ = vec.reset(seed=100)
     assert obs.shape == (n, 2) and obs.dtype == np.int64
     singles = [dynapath.GridEnv(hand, max_steps=5) for _ in range(n)]

@@ -99,6 +99,10 @@ def test_every_map_format_loads(cli, tmp_path):
         "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
     ros = dynapath.Maze.load(tmp_path / "room.yaml", stations="20%")
     assert ros.shape == (2, 3) and ros.grid[0, 1] == dynapath.OBSTACLE
+    cli("maze", "--maze", tmp_path / "room.yaml", "--stations", "20%", "--save",
+        tmp_path / "ros.txt", "--save-changes", tmp_path / "ros.changes", "--no-grid")
+    np.testing.assert_array_equal(ros.grid, parse_grid(tmp_path / "ros.txt"))
+    assert parse_changes(tmp_path / "ros.changes")[0][5] == ros.fingerprint
 
     (tmp_path / "t.txt").write_text("..C\n.#.\n")
     text = dynapath.Maze.load(tmp_path / "t.txt", steps=4)
