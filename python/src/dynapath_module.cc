@@ -464,6 +464,13 @@ py::array QView(py::object self) {
   return View(s.table.wide_values().data(), shape, self, true);
 }
 
+// A writable view of one of a policy's per-node vectors.
+template <typename T>
+py::array FieldView(py::object self, std::vector<T> PolicyState::*field) {
+  std::vector<T>& values = self.cast<PolicyState&>().*field;
+  return View(values.data(), {static_cast<py::ssize_t>(values.size())}, self, true);
+}
+
 }  // namespace
 }  // namespace dynapath::python
 
@@ -658,20 +665,11 @@ baselines : numpy.ndarray of float64
                              "Q-table, a writable view")
       .def_property_readonly(
           "training_counts",
-          [](py::object self) {
-            PolicyState& s = self.cast<PolicyState&>();
-            return View(s.training_counts.data(),
-                        {static_cast<py::ssize_t>(s.training_counts.size())}, self, true);
-          },
+          [](py::object self) { return FieldView(self, &PolicyState::training_counts); },
           "numpy.ndarray of int64 (node_count,): trainings per quadtree "
           "node, a writable view")
       .def_property_readonly(
-          "baselines",
-          [](py::object self) {
-            PolicyState& s = self.cast<PolicyState&>();
-            return View(s.baselines.data(), {static_cast<py::ssize_t>(s.baselines.size())}, self,
-                        true);
-          },
+          "baselines", [](py::object self) { return FieldView(self, &PolicyState::baselines); },
           "numpy.ndarray of float64: per node the stored success rate (-1 never trained), "
           "empty without the tree strategy; a writable view");
 
