@@ -157,5 +157,41 @@ TEST(ParameterOptionsTest, ParamsTomlReadsBack) {
   EXPECT_EQ(again->options.single_agent.epsilon_min, 0.1);
 }
 
+// A run's params.toml holds what determines its results besides the maze:
+// with report semantics and a leaf limit, it reads back as the same plan
+// (not ours with the default leaf limit).
+TEST(ParameterOptionsTest, RunPlanTomlHoldsTheLearnerOptions) {
+  RunOptions given;
+  ASSERT_EQ(Parse({"--semantics", "report", "--leaf-limit", "10", "--approach",
+                   "singleAgent,BFS Oracle", "--learner-seed", "77"},
+                  given),
+            -1);
+  Result<RunPlan> plan = ResolveRunOptions(given);
+  ASSERT_TRUE(plan.ok());
+  const std::string toml = RunPlanToml(*plan);
+  EXPECT_NE(toml.find("\nsemantics = \"report\"\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("\nleaf-limit = 10\n"), std::string::npos) << toml;
+  EXPECT_EQ(toml.find("bootstrap"), std::string::npos) << toml;  // report's own
+  TempFile config;
+  config.Write(toml);
+  RunOptions read;
+  ASSERT_EQ(Parse({"--config", config.path()}, read), -1);
+  Result<RunPlan> again = ResolveRunOptions(read);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->options.semantics, Semantics::kReport);
+  EXPECT_EQ(again->options.leaf_limit, 10);
+  EXPECT_EQ(again->options.bootstrap, plan->options.bootstrap);
+  EXPECT_EQ(again->approaches, plan->approaches);
+  EXPECT_EQ(again->learner_seed, 77u);
+  EXPECT_EQ(RunPlanToml(*again), toml);
+
+  // Ours: the bootstrap is written too.
+  RunOptions ours;
+  ours.bootstrap = "in-region";
+  Result<RunPlan> in_region = ResolveRunOptions(ours);
+  ASSERT_TRUE(in_region.ok());
+  EXPECT_NE(RunPlanToml(*in_region).find("\nbootstrap = \"in-region\"\n"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace dynapath::runtime

@@ -22,8 +22,10 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
+#include "tools/common/toml_config.h"
 
 namespace dynapath::cli {
 namespace {
@@ -125,6 +127,11 @@ Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
     return Error::Option("resume", dir + " is not the checkpoint directory of a run (" +
                                        recorded.error().message + ")");
   }
+  // The options files' one rule, checked here so that an error names the
+  // file (the run reads it from a pipe).
+  if (Result<ConfigFile> checked = ParseConfigText(*recorded, recorded_path); !checked) {
+    return checked.error();
+  }
   bool mode_given = false;
   for (const std::string& arg : given) {
     for (const char* mode : {"--local", "--agents", "--embedded"}) {
@@ -206,6 +213,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
   std::optional<long long> repeats;
   DeclareRepeatsOption(group, repeats, "1");
   runtime::AddConfigOption(app);
+  ReadConfigAsToml(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
     return kExitUsage;

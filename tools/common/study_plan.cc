@@ -23,25 +23,6 @@ namespace {
 
 constexpr int kMaxSize = kMaxGridSide;
 
-std::string ScalarText(const ConfigValue& value) {
-  switch (value.kind) {
-    case ConfigValue::Kind::kString:
-      return value.string;
-    case ConfigValue::Kind::kInteger:
-      return std::to_string(value.integer);
-    case ConfigValue::Kind::kFloat: {
-      char text[32];  // shortest round-trip form, whatever the locale
-      const auto end = std::to_chars(text, text + sizeof text, value.number).ptr;
-      return std::string(text, end);
-    }
-    case ConfigValue::Kind::kBoolean:
-      return value.boolean ? "true" : "false";
-    case ConfigValue::Kind::kArray:
-      break;
-  }
-  return "";
-}
-
 // The report's study: the defaults of --sizes, --difficulties and
 // --approaches, shown in --help and resolved like given values.
 constexpr const char* kDefaultSizes = "20,50,100,200,300";
@@ -248,15 +229,14 @@ OptionValues GivenOptionValues(const CLI::App& app) {
 Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
   OptionValues values;
   for (const ConfigEntry& entry : file.entries) {
-    std::string key = entry.key;
-    std::replace(key.begin(), key.end(), '_', '-');
+    const std::string& key = entry.key;
     const runtime::OptionKinds& kinds = StudyOptionKinds();
     const auto spec = kinds.find(key);
     const std::string where = file.name + ":" + std::to_string(entry.line);
     if (spec == kinds.end()) {
       std::string names;
       for (const auto& [name, kind] : kinds) names += (names.empty() ? "" : ", ") + name;
-      return Error{where + ": unknown key '" + entry.key + "' (expected one of: " + names + ")"};
+      return Error{where + ": unknown key '" + entry.written + "' (expected one of: " + names + ")"};
     }
     const ConfigValue& value = entry.value;
     const std::string origin = where + ": " + key;
@@ -323,11 +303,11 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
         if (item.string.find(',') != std::string::npos) {
           return Error{origin + ": '" + item.string + "' holds a comma"};
         }
-        items.push_back(ScalarText(item));
+        items.push_back(item.Text());
       }
       text = Join(items, ",");
     } else {
-      text = ScalarText(value);
+      text = value.Text();
     }
     if (key == "maps") text = MapsRelativeToFile(text, file.name);
     values[key] = OptionValue{text, origin};
