@@ -1,8 +1,7 @@
-#include <spdlog/spdlog.h>
-#include <unistd.h>
-
 #include <fcntl.h>
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/results_table.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
@@ -29,6 +29,23 @@
 
 namespace dynapath::cli {
 namespace {
+
+// The summary table on stdout, from the result file every mode writes (so
+// --local, --embedded and --agents print the same).
+void PrintResultsTable(const std::string& csv_path) {
+  Result<std::string> csv = ReadTextFile(csv_path);
+  if (!csv) {
+    spdlog::warn("no summary table: {}", csv.error().message);
+    return;
+  }
+  std::fputs(ResultsTable(*csv).c_str(), stdout);
+}
+
+// The exit status of a finished run, its table printed when it succeeded.
+int WithResultsTable(int code, const std::string& out_dir) {
+  if (code == 0) PrintResultsTable(out_dir + "/results.csv");
+  return code;
+}
 
 // run --repeats N (N > 1, --local): `threads` repeats at once, one thread
 // each; repeat 1 in the output directory, repeat k in DIR/r<k>; then
@@ -86,8 +103,7 @@ int RunRepeats(const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup
     spdlog::error("{}", status.error().message);
     return kExitFailure;
   }
-  Result<std::string> summary = ReadTextFile(plan.out_dir + "/summary.csv");
-  if (summary) std::printf("%s", summary->c_str());
+  PrintResultsTable(plan.out_dir + "/summary.csv");
   spdlog::info("wrote {}/repeats.csv and {}/summary.csv (repeat 1 in {}, repeat k in {}/r<k>)",
                plan.out_dir, plan.out_dir, plan.out_dir, plan.out_dir);
   return 0;
@@ -369,7 +385,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
       if (!run.log_file.empty()) return usage_error("--log needs a network; not with --embedded");
       spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                    process->run_id, run.agents);
-      return launch::RunEmbedded(run, *plan, *setup);
+      return WithResultsTable(launch::RunEmbedded(run, *plan, *setup), plan->out_dir);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
     if (!process->lcm_url.empty() && !process_options.secret_file && !process_options.insecure) {
@@ -379,7 +395,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
           "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
           "and to them)");
     }
-    return launch::LaunchProcesses(run);
+    return WithResultsTable(launch::LaunchProcesses(run), plan->out_dir);
   }
 
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
@@ -402,7 +418,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
     // A checkpoint or loaded policy that does not fit the run is a usage error.
     return runs.error().code == Error::Code::kInvalidArgument ? kExitUsage : kExitFailure;
   }
-  std::printf("%s", SummaryResultsCsv(*runs).c_str());
+  PrintResultsTable(plan->out_dir + "/results.csv");
   spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);
   return 0;
 }
