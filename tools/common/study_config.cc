@@ -55,9 +55,8 @@ Result<ConfigValue> Convert(const toml::node& node, const std::string& key, cons
       return value;
     }
     case toml::node_type::table:
-      return FailAt(
-          name, value.line,
-          "'" + key + "' is a table: study options are 'key = value' lines at the top level");
+      return FailAt(name, value.line,
+                    "'" + key + "' is a table: options are 'key = value' lines at the top level");
     case toml::node_type::date:
     case toml::node_type::time:
     case toml::node_type::date_time:

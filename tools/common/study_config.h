@@ -9,7 +9,7 @@
 //   edge-case = false                # booleans
 //
 // Tables, dates and times, nested arrays and arrays that mix kinds are
-// refused with an error naming the line: no study option takes them. A key
+// refused with an error naming the line: no option takes them. A key
 // may be spelled with '-' or '_' (`epsilon-start`, `epsilon_start`), as the
 // options' names are; a key given twice under any spelling is refused,
 // naming both lines. This is the one reading rule of every options file:
