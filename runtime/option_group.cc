@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -14,13 +16,16 @@ namespace {
 // "--name" -> "name", the key of a config file.
 std::string Key(const std::string& name) { return name.substr(name.find_first_not_of('-')); }
 
-// A TOML string CLI11's config reader takes back unchanged: basic ("...")
-// or literal ('...') quotes, neither of which it unescapes. Text holding
-// both quote kinds or a line break cannot be written; Put records that.
+// A TOML string both readers of these files take back unchanged: CLI11's
+// (the processes' --config) and toml++ (`dynapath run`, which reads a
+// checkpoint's run.toml): literal quotes ('...'), which neither unescapes,
+// else basic ("...") ones for text without a backslash (toml++ would read
+// one as an escape). Other text (a line break; ' with " or \) cannot be
+// written; Put records that.
 std::optional<std::string> Quote(const std::string& text) {
   if (text.find_first_of("\n\r") != std::string::npos) return std::nullopt;
-  if (text.find('"') == std::string::npos) return "\"" + text + "\"";
   if (text.find('\'') == std::string::npos) return "'" + text + "'";
+  if (text.find_first_of("\"\\") == std::string::npos) return "\"" + text + "\"";
   return std::nullopt;
 }
 
@@ -33,8 +38,8 @@ void ConfigWriter::Put(const std::string& key, const std::string& toml_value) {
 Status ConfigWriter::status() const {
   if (!unwritable_.empty()) {
     return Error{"option --" + unwritable_ +
-                     ": a value holding both ' and \" or a line break cannot be handed to a child "
-                     "process",
+                     ": a value holding ' with \" or \\, or a line break, cannot be recorded "
+                     "or handed to a child process",
                  Error::Code::kInvalidArgument, unwritable_};
   }
   return Ok{};
@@ -50,7 +55,9 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
 }
 
 // A size, a seed or a step count typed with a leading zero means the
-// decimal number.
+// decimal number. A number too large for a long long is out of range as
+// typed (CLI11 alone would clamp it, and a check would echo the clamped
+// value, which the user never typed).
 const CLI::Validator& DecimalInteger() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {
@@ -60,12 +67,34 @@ const CLI::Validator& DecimalInteger() {
           return "needs a decimal number, got '" + text + "'";
         }
         const size_t first = text.find_first_not_of('0', digits);
+        const std::string typed = text;
         text = text.substr(0, digits) + (first == std::string::npos ? "0" : text.substr(first));
+        errno = 0;
+        (void)std::strtoll(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) return "is out of range, got '" + typed + "'";
         return {};
       },
       "");
   return validator;
 }
+
+namespace {
+
+// A real number too large for a double (1e400) is out of range as typed,
+// not "inf".
+const CLI::Validator& FiniteReal() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        errno = 0;
+        const double value = std::strtod(text.c_str(), nullptr);
+        if (errno == ERANGE && std::isinf(value)) return "is out of range, got '" + text + "'";
+        return {};
+      },
+      "");
+  return validator;
+}
+
+}  // namespace
 
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
@@ -111,7 +140,8 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
     return;
   }
   Record(name, ValueKind::kFloat);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(FiniteReal());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -130,7 +160,10 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
   // {} is the shortest text that reads back as the same double.
   if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
   Record(name, ValueKind::kFloat);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(FiniteReal());
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
@@ -205,13 +238,15 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     }
     return usage_error(what);
   } catch (const CLI::ValidationError& error) {
-    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger),
-    // worded like a conversion error; other validators' text (a Range's
+    // CLI11: "--size: needs a decimal number, got '0x10'" or "--seed: is
+    // out of range, got '99999999999999999999'" (DecimalInteger,
+    // FiniteReal), worded like a conversion error; other validators' text (a Range's
     // "Value 9 not in range 0 to 5") as CLI11 gives it.
     const std::string what = error.what();
     const size_t colon = what.find(": ");
     if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
-        what.compare(colon + 2, 22, "needs a decimal number") == 0) {
+        (what.compare(colon + 2, 22, "needs a decimal number") == 0 ||
+         what.compare(colon + 2, 15, "is out of range") == 0)) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

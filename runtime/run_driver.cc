@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "dynapath/local_trainer.h"
+#include "dynapath/text_file.h"
 #include "dynapath/thread_pool.h"
 #include "runtime/output_check.h"
 #include "runtime/policy_file.h"
@@ -319,6 +320,28 @@ class CheckpointWriter {
 
 }  // namespace
 
+std::string RunPlanToml(const RunPlan& plan) {
+  std::string approaches;
+  for (const Approach approach : plan.approaches) {
+    approaches += (approaches.empty() ? "" : ",") + ApproachName(approach);
+  }
+  const PlannerOptions& o = plan.options;
+  std::string text =
+      "# What gives this run's results besides its maze: approaches, learner options, every\n"
+      "# parameter. The maze is not here: `dynapath run --config FILE` with the run's maze\n"
+      "# options (--size, --difficulty, --seed, --steps; or --maze, --stations, --movers)\n"
+      "# reruns it to the same result files, time columns aside.\n"
+      "approach = \"" +
+      approaches + "\"\nleaf-limit = " + std::to_string(o.leaf_limit) + "\n";
+  // The report's semantics sets its own bootstrap (no word of --bootstrap).
+  if (o.semantics != Semantics::kReport) {
+    text += "bootstrap = \"" + BootstrapWords().Name(o.bootstrap) + "\"\n";
+  }
+  text += "semantics = \"" + SemanticsWords().Name(o.semantics) + "\"\n" + ParameterLines(o);
+  if (plan.learner_seed) text += "learner-seed = " + std::to_string(*plan.learner_seed) + "\n";
+  return text;
+}
+
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
                                                const StepCallback& extra,
@@ -463,7 +486,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
         ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
         run.AverageSuccessRate(), run.AveragePathLength());
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
-    if (Status status = WriteParametersToml(plan.options, plan.out_dir, plan.learner_seed);
+    if (Status status = WriteTextFileAtomically(plan.out_dir + "/params.toml", RunPlanToml(plan));
         !status) {
       return status.error();
     }

@@ -101,9 +101,15 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
+// DIR/params.toml of a run: what determines its results besides the maze,
+// as `--config` lines: the approaches, --leaf-limit, --bootstrap (with
+// semantics ours), --semantics, every parameter's value and the
+// --learner-seed when given. Its comment says what it leaves out (the maze).
+std::string RunPlanToml(const RunPlan& plan);
+
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
 // approach), logging progress, and (re)writes DIR/results.csv,
-// DIR/results_detailed.csv and DIR/params.toml (every parameter's value)
+// DIR/results_detailed.csv and DIR/params.toml (RunPlanToml)
 // atomically after every approach, so an interrupted run keeps what
 // finished. `extra` is called after every step. With plan.policy, each
 // learning approach starts from its loaded section and the saved policies

@@ -96,6 +96,8 @@ launcher=$!
 for _ in $(seq 600); do [ -e ck4/checkpoint.dpc ] && break; sleep 0.05; done
 pkill -9 -f -- "dynapath-coordinator.*--run-id $run_id"
 wait $launcher && fail "the run whose coordinator was killed exited 0 without restarts"
+grep -q "the coordinator was killed by signal 9; no restarts (--restart-coordinator 0); finish the run from its last checkpoint with: dynapath run --resume ck4" manual.log ||
+  fail "no word of the spent restarts and --resume: $(grep -i coordinator manual.log | tail -2)"
 "$dynapath" run --resume ck4 --run-id "$run_id" >/dev/null 2>&1 || fail "run --resume of --agents 2 failed"
 same manual "--agents 2, coordinator killed, run --resume"
 

@@ -58,7 +58,11 @@ grep -q "3 levels, 21 nodes, 16 leaves" "$work/facts" || fail "quadtree facts"
 "$dynapath" maze --size 20 --difficulty medium --save "$work/m.txt" --save-changes "$work/m.changes" --no-grid >/dev/null \
   || fail "maze --save"
 run() { "$dynapath" run --local --log-level off --approach "BFS Oracle,fedAsynQ_ImAvg,singleAgent" "$@"; }
-run --size 20 --difficulty medium --threads 1 --out "$work/a" >/dev/null || fail "run a"
+run --size 20 --difficulty medium --threads 1 --out "$work/a" >"$work/a.stdout" || fail "run a"
+# stdout: the summary table, results.csv's rows aligned under a rule.
+[ "$(sed -n 2p "$work/a.stdout" | tr -d ' -')" = "" ] && [ "$(wc -l <"$work/a.stdout")" -eq 5 ] &&
+  grep -q "^fedAsynQ_ImAvg  *20  *Medium  " "$work/a.stdout" ||
+  fail "run --local's summary table: $(cat "$work/a.stdout")"
 run --maze "$work/m.txt" --changes "$work/m.changes" --difficulty medium --threads 2 --out "$work/b" >/dev/null || fail "run b"
 for file in results.csv results_detailed.csv; do
   [ -s "$work/a/$file" ] || fail "missing $file"
@@ -82,7 +86,9 @@ grep -q "^fedAsynQ_EqAvg,5x9,wide-5-9," "$work/map/results.csv" || fail "map run
 "$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --steps 8 --save "$work/map.txt" \
   --save-changes "$work/map.changes" --no-grid >/dev/null || fail "maze --save of a map"
 maprun --maze "$work/map.txt" --changes "$work/map.changes" --out "$work/map2" >/dev/null || fail "saved map run"
-cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # a text maze is "Custom"
+grep -q "^fedAsynQ_EqAvg,5x9,map," "$work/map2/results.csv" ||
+  fail "a text maze is labelled by its file name: $(cat "$work/map2/results.csv")"
+cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # labels: wide-5-9, map
 cut -d, -f1,2,4,5,7- "$work/map2/results_detailed.csv" >"$work/map2.detail"
 cmp -s "$work/map.detail" "$work/map2.detail" || fail "a saved map scenario changed the results"
 grep -qv "^1 0$" <(tail -n +2 "$work/map.changes") || fail "the movers never moved"
@@ -97,6 +103,14 @@ oracles=$(awk -F, '$1 ~ /Oracle/ { k = $4; v = $7 "," $8; if ($1 == "BFS Oracle"
 [ "$(head -3 "$work/out" | tr C .)" = "$(printf '..#.\n.#..\n...#')" ] || fail "ROS map cells: $(cat "$work/out")"
 maprun --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --out "$work/ros" >/dev/null || fail "ROS map run"
 grep -q "^fedAsynQ_EqAvg,3x4,tiny-3-4," "$work/ros/results.csv" || fail "ROS map labels: $(cat "$work/ros/results.csv")"
+# The extension in any case: M5.YAML is the same ROS map, labelled M5.
+cp "$(dirname "$0")/data/maps/tiny-3-4.yaml" "$work/M5.YAML"
+cp "$(dirname "$0")/data/maps/tiny-3-4.pgm" "$work/"
+maprun --maze "$work/M5.YAML" --stations 2 --out "$work/ros_upper" >/dev/null 2>"$work/err" ||
+  fail "--maze M5.YAML: $(cat "$work/err")"
+cmp -s <(cut -d, -f1,2,4,5,7- "$work/ros/results_detailed.csv") \
+  <(cut -d, -f1,2,4,5,7- "$work/ros_upper/results_detailed.csv") || fail "--maze M5.YAML is not the ROS map"
+grep -q "^fedAsynQ_EqAvg,3x4,M5," "$work/ros_upper/results.csv" || fail "M5.YAML label: $(cat "$work/ros_upper/results.csv")"
 map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
   local needle=$1; shift
   "$dynapath" run --local --log-level off "$@" >"$work/out" 2>"$work/err"

@@ -147,6 +147,11 @@ TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
       {{"--size", "0x10"}, "option --size needs a decimal number, got '0x10'"},
       {{"--seed", "1e3"}, "option --seed needs a decimal number, got '1e3'"},
       {{"stray"}, "unexpected argument 'stray'"},
+      // Too large to read: out of range as typed, not CLI11's clamped value.
+      {{"--seed", "99999999999999999999"},
+       "option --seed is out of range, got '99999999999999999999'"},
+      {{"--size", "-099999999999999999999"},
+       "option --size is out of range, got '-099999999999999999999'"},
   };
   for (const auto& [args, expected] : cases) {
     CLI::App app;

@@ -1,8 +1,7 @@
-#include <spdlog/spdlog.h>
-#include <unistd.h>
-
 #include <fcntl.h>
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -22,11 +21,31 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/results_table.h"
+#include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
+#include "tools/common/toml_config.h"
 
 namespace dynapath::cli {
 namespace {
+
+// The summary table on stdout, from the result file every mode writes (so
+// --local, --embedded and --agents print the same).
+void PrintResultsTable(const std::string& csv_path) {
+  Result<std::string> csv = ReadTextFile(csv_path);
+  if (!csv) {
+    spdlog::warn("no summary table: {}", csv.error().message);
+    return;
+  }
+  std::fputs(ResultsTable(*csv).c_str(), stdout);
+}
+
+// The exit status of a finished run, its table printed when it succeeded.
+int WithResultsTable(int code, const std::string& out_dir) {
+  if (code == 0) PrintResultsTable(out_dir + "/results.csv");
+  return code;
+}
 
 // run --repeats N (N > 1, --local): `threads` repeats at once, one thread
 // each; repeat 1 in the output directory, repeat k in DIR/r<k>; then
@@ -84,8 +103,7 @@ int RunRepeats(const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup
     spdlog::error("{}", status.error().message);
     return kExitFailure;
   }
-  Result<std::string> summary = ReadTextFile(plan.out_dir + "/summary.csv");
-  if (summary) std::printf("%s", summary->c_str());
+  PrintResultsTable(plan.out_dir + "/summary.csv");
   spdlog::info("wrote {}/repeats.csv and {}/summary.csv (repeat 1 in {}, repeat k in {}/r<k>)",
                plan.out_dir, plan.out_dir, plan.out_dir, plan.out_dir);
   return 0;
@@ -124,6 +142,11 @@ Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
   if (!recorded) {
     return Error::Option("resume", dir + " is not the checkpoint directory of a run (" +
                                        recorded.error().message + ")");
+  }
+  // The options files' one rule, checked here so that an error names the
+  // file (the run reads it from a pipe).
+  if (Result<ConfigFile> checked = ParseConfigText(*recorded, recorded_path); !checked) {
+    return checked.error();
   }
   bool mode_given = false;
   for (const std::string& arg : given) {
@@ -206,6 +229,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
   std::optional<long long> repeats;
   DeclareRepeatsOption(group, repeats, "1");
   runtime::AddConfigOption(app);
+  ReadConfigAsToml(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
     return kExitUsage;
@@ -361,7 +385,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
       if (!run.log_file.empty()) return usage_error("--log needs a network; not with --embedded");
       spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                    process->run_id, run.agents);
-      return launch::RunEmbedded(run, *plan, *setup);
+      return WithResultsTable(launch::RunEmbedded(run, *plan, *setup), plan->out_dir);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
     if (!process->lcm_url.empty() && !process_options.secret_file && !process_options.insecure) {
@@ -371,7 +395,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
           "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
           "and to them)");
     }
-    return launch::LaunchProcesses(run);
+    return WithResultsTable(launch::LaunchProcesses(run), plan->out_dir);
   }
 
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
@@ -394,7 +418,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
     // A checkpoint or loaded policy that does not fit the run is a usage error.
     return runs.error().code == Error::Code::kInvalidArgument ? kExitUsage : kExitFailure;
   }
-  std::printf("%s", SummaryResultsCsv(*runs).c_str());
+  PrintResultsTable(plan->out_dir + "/results.csv");
   spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);
   return 0;
 }

@@ -31,6 +31,7 @@
 #include "runtime/service_bus.h"
 #include "runtime/word_table.h"
 #include "tools/cli/commands.h"
+#include "tools/common/toml_config.h"
 
 namespace dynapath::cli {
 namespace {
@@ -138,6 +139,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   runtime::AddConfigOption(app);
+  ReadConfigAsToml(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "%s: %s\n", kServeProgram, message.c_str());
     return kExitUsage;
