@@ -100,7 +100,12 @@ def parse_arguments(argv):
                "A study with a sweep (sweep_summary.csv): sweep_<parameter> per swept "
                "parameter. "
                "See docs/howto/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
-    parser.add_argument("study", metavar="DIR", help="the study directory (dynapath run --out DIR)")
+    parser.add_argument("study", metavar="DIR", nargs="?",
+                        help="the study directory (dynapath run --out DIR)")
+    parser.add_argument("--compare", metavar="CSV",
+                        help="instead of a study's figures, draw the paired differences of "
+                             "`dynapath compare --csv` (CSV) into the file --out names; "
+                             "`dynapath compare --plot FILE` does this")
     parser.add_argument("--out", metavar="DIR",
                         help="where to write the figures (default: DIR/figures)")
     parser.add_argument("--reference", metavar="DIR",
@@ -1010,6 +1015,10 @@ def plot_edge_summary(summary, reference, styles, out_dir, written, intervals=No
 
 def run(argv):
     args = parse_arguments(argv)
+    if args.compare is not None:
+        return run_compare(args)
+    if args.study is None:
+        raise PlotError("the following arguments are required: DIR (see --help)", EXIT_USAGE)
     study = Path(args.study)
     if not study.is_dir():
         raise PlotError(f"{study}: no such directory", EXIT_USAGE)
@@ -1073,6 +1082,80 @@ def run(argv):
             plot_sweeps(edge_sweep, styles, out_dir, written, prefix=EDGE_PREFIX)
     for path in written:
         print(path)
+    return 0
+
+
+COMPARE_COLUMNS = ["A", "B", "Size", "Difficulty", "Metric", "Pairs", "MeanDifference",
+                   "MeanCILow", "MeanCIHigh"]
+COMPARE_PANELS = [
+    ("AvgSuccessRate", "success rate (percentage points)", 100.0),
+    ("AvgPathLength", "path length (steps)", 1.0),
+    ("AdaptTimePerStep", "adaptation time per step (ms)", 1000.0),
+    ("InitialTime", "initial training time (ms)", 1000.0),
+]
+
+
+def run_compare(args):
+    """The figure of `dynapath compare --plot FILE`: one panel per metric,
+    one row per configuration (and all of them, stratified), the mean
+    difference A - B with its 95% bootstrap interval, a line at 0."""
+    if args.study is not None:
+        raise PlotError("--compare draws one comparison: give no study directory", EXIT_USAGE)
+    if not args.out:
+        raise PlotError("--compare needs --out FILE (.png, .svg or .pdf)", EXIT_USAGE)
+    out = Path(args.out)
+    if out.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise PlotError(f"--out {out}: the figure must end in .png, .svg or .pdf", EXIT_USAGE)
+    import_libraries()
+    warnings.simplefilter("ignore")
+    import pandas as pd
+    path = Path(args.compare)
+    try:
+        frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as error:
+        raise PlotError(f"{path}: not a readable CSV table: {error}") from None
+    missing = [column for column in COMPARE_COLUMNS if column not in frame.columns]
+    if missing or frame.empty:
+        raise PlotError(f"{path}: not the CSV of dynapath compare "
+                        f"({'missing ' + ', '.join(missing) if missing else 'no rows'})")
+    for column in ("MeanDifference", "MeanCILow", "MeanCIHigh"):
+        frame[column] = pd.to_numeric(frame[column], errors="coerce")
+    configurations = list(dict.fromkeys(zip(frame["Size"], frame["Difficulty"])))
+    labels = ["all (stratified)" if size == "all" else configuration_title(size, difficulty)
+              for size, difficulty in configurations]
+    a, b = frame["A"].iloc[0], frame["B"].iloc[0]
+    plt = pyplot()
+    figure, axes = plt.subplots(1, len(COMPARE_PANELS), sharey=True,
+                                figsize=(15.0, 2.4 + 0.38 * len(configurations)))
+    for axis, (metric, label, scale) in zip(axes, COMPARE_PANELS):
+        rows = frame[frame["Metric"] == metric]
+        for index, (size, difficulty) in enumerate(configurations):
+            row = rows[(rows["Size"] == size) & (rows["Difficulty"] == difficulty)]
+            if row.empty:
+                continue
+            mean, low, high = (scale * row[c].iloc[0]
+                               for c in ("MeanDifference", "MeanCILow", "MeanCIHigh"))
+            resolved = low > 0 or high < 0
+            colour = "#0072b2" if resolved else "#777777"
+            axis.errorbar([mean], [index], xerr=[[max(0.0, mean - low)], [max(0.0, high - mean)]],
+                          fmt="D" if size == "all" else "o", color=colour, capsize=3,
+                          markersize=6)
+        axis.axvline(0.0, color="black", linewidth=0.9)
+        axis.set_title(label)
+        axis.set_xlabel("A − B")
+        axis.grid(True, axis="x", alpha=0.3)
+    axes[0].set_yticks(range(len(configurations)))
+    axes[0].set_yticklabels(labels)
+    axes[0].invert_yaxis()
+    figure.suptitle(f"Paired differences A − B, A = {a}, B = {b}, over the repeats\n(mean and "
+                    "95% bootstrap interval; blue: the interval excludes 0)", fontsize=12)
+    figure.tight_layout()
+    try:
+        figure.savefig(out, dpi=DPI)
+    except OSError as error:
+        raise PlotError(f"{out}: cannot write the figure: {error.strerror}") from None
+    pyplot().close(figure)
+    print(out)
     return 0
 
 
