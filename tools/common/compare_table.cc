@@ -7,7 +7,6 @@
 
 #include "dynapath/text_util.h"
 
-
 namespace dynapath::cli {
 namespace {
 
@@ -54,13 +53,12 @@ Result<std::string> CompareTable(const std::string& compare_csv) {
             pairs = column("Pairs"), mean = column("MeanDifference"), low = column("MeanCILow"),
             high = column("MeanCIHigh"), median = column("Median"), iqm = column("IQM"),
             greater = column("ProbabilityAGreater"), a = column("A"), b = column("B");
-  for (const int index : {size, difficulty, metric, pairs, mean, low, high, median, iqm, greater,
-                          a, b}) {
+  for (const int index :
+       {size, difficulty, metric, pairs, mean, low, high, median, iqm, greater, a, b}) {
     if (index < 0) return Error{"not the CSV of dynapath compare (header " + lines[0] + ")"};
   }
-  std::vector<std::vector<std::string>> rows{{"Configuration", "Metric", "Pairs",
-                                              "Mean A - B [95% CI]", "Median", "IQM",
-                                              "P(A > B)"}};
+  std::vector<std::vector<std::string>> rows{
+      {"Configuration", "Metric", "Pairs", "Mean A - B [95% CI]", "Median", "IQM", "P(A > B)"}};
   std::string a_name, b_name;
   for (size_t i = 1; i < lines.size(); ++i) {
     if (lines[i].empty()) continue;
@@ -99,7 +97,8 @@ Result<std::string> CompareTable(const std::string& compare_csv) {
     text += line + "\n";
     if (r == 0) {
       std::string rule;
-      for (size_t c = 0; c < width.size(); ++c) rule += (c ? "  " : "") + std::string(width[c], '-');
+      for (size_t c = 0; c < width.size(); ++c)
+        rule += (c ? "  " : "") + std::string(width[c], '-');
       text += rule + "\n";
     }
   }
