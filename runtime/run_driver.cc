@@ -47,24 +47,12 @@ class ProgressLog {
       spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step{}",
                    ApproachName(run.approach), run.size_label, run.difficulty_label, step,
                    view.total_steps, record.success_rate, run.AdaptSecondsPerStep(),
-                   TimeLeft(step, view.total_steps, now));
+                   StepTimeLeft(step, view.total_steps, now - *first_step_time_,
+                                approaches_after_));
     }
   }
 
  private:
-  // ", ~12 s left in this approach (2 approaches after it)", or "" at the end.
-  std::string TimeLeft(int step, int total_steps, double now) const {
-    if (step >= total_steps) return "";
-    const double per_step = (now - *first_step_time_) / std::max(1, step);
-    std::string text =
-        ", ~" + FormatDuration(per_step * (total_steps - step)) + " left in this approach";
-    if (approaches_after_ > 0) {
-      text += fmt::format(" ({} approach{} after it)", approaches_after_,
-                          approaches_after_ == 1 ? "" : "es");
-    }
-    return text;
-  }
-
   static constexpr double kIntervalSeconds = 2.0;
   Clock clock_;
   int approaches_after_;
@@ -100,6 +88,20 @@ class StoppableSource : public StepSource {
 };
 
 }  // namespace
+
+std::string StepTimeLeft(int step, int total_steps, double seconds_since_step0,
+                         int approaches_after) {
+  if (step >= total_steps) return "";
+  // The steps so far set the pace (step 0, the initial training, excluded).
+  const double per_step = seconds_since_step0 / std::max(1, step);
+  std::string text =
+      ", ~" + FormatDuration(per_step * (total_steps - step)) + " left in this approach";
+  if (approaches_after > 0) {
+    text += fmt::format(" ({} approach{} after it)", approaches_after,
+                        approaches_after == 1 ? "" : "es");
+  }
+  return text;
+}
 
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
   group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
