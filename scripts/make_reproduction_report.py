@@ -1371,7 +1371,9 @@ def build_report(results_dir, output, options):
         script.append(f"--figures {plotted}/figures")
     commands.append(" \\\n  ".join([" ".join(script[:3])] + [" ".join(script[3:])]
                                    if len(script) > 3 else [" ".join(script)])
-                    + f"  # writes {output}" + (f" and {link(images, output)}/" if copies else ""))
+                    + f"  # writes {output}" + "".join(
+                        f" and {folder}/" for folder in sorted(
+                            {link(os.path.dirname(target), output) for _, target in copies})))
     values["COMMANDS"] = "\n".join(commands)
     facts = [study_facts(s) for s in [main_study] + more + ([report] if report else [])]
     values["FACTS"] = "; ".join(facts)
@@ -1389,7 +1391,7 @@ def build_report(results_dir, output, options):
     values.update(bfs_facts(means, sizes))
     # A value that could not be computed is no value ("–", "not measured").
     values = {key: value for key, value in values.items()
-              if value not in ("–", "not measured") and "–" != value.strip()}
+              if value.strip() not in ("–", "not measured")}
     if "--intro" in options:
         # The findings text (the project's: scripts/reproduction_intro.md)
         # with the numbers of these runs; every placeholder must be filled.
@@ -1407,7 +1409,7 @@ def build_report(results_dir, output, options):
     rl = count.counts(True)
     summary = (f"{failures} failing rows of the 20/50 acceptance check; published value inside "
                f"our interval for {rl[3]} of {rl[0]} learning rows, success and path"
-               if published and rl[0] else "not the report's mazes: no published values"
+               if published and rl[0] else "not set beside the report's published values"
                if not published else "no learning rows beside published values")
     return text + body, copies, summary
 
