@@ -309,30 +309,23 @@ def table(lookup, ref_rows, sizes, difficulties, count, edge=False):
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     failures = 0
-    for size in sizes:
-        for difficulty in difficulties:
-            for approach in ORDER:
-                success = lookup(approach, size, difficulty, "AvgSuccessRate")
-                if success is None:
-                    continue
-                length = lookup(approach, size, difficulty, "AvgPathLength")
-                initial = lookup(approach, size, difficulty, "InitialTime")
-                adapt = lookup(approach, size, difficulty, "AdaptTimePerStep")
-                r = ref.get((approach, size, difficulty))
-                g = lambda key: None if r is None else float(r[key])
-                check = verdict(approach, size, success, length, r)
-                failures += check == "**FAIL**"
-                in_s = success.contains(g("AvgSuccessRate"))
-                in_p = length.contains(g("AvgPathLength"))
-                label = "edge case" if edge else f"{size} {difficulty.lower()}"
-                count.add(label, approach, in_s, in_p)
-                lines.append(
-                    f"| {size} | {difficulty} | {approach} | {success.n} | {fmt_ci(success, 4)} "
-                    f"| {fmt(g('AvgSuccessRate'))} | {yes_no(in_s)} | {fmt_ci(length, 3)} "
-                    f"| {fmt(g('AvgPathLength'), 3)} | {yes_no(in_p)} "
-                    f"| {fmt(initial.mean, 3)} | {fmt(g('InitialTime'), 3)} "
-                    f"| {fmt(adapt.mean, 5)} | {fmt(g('AdaptTimePerStep'), 5)} "
-                    f"| {ratio(adapt.mean, g('AdaptTimePerStep'))} | {check} |")
+    for size, difficulty, approach, success, length, initial, adapt in configuration_stats(
+            lookup, sizes, difficulties):
+        r = ref.get((approach, size, difficulty))
+        g = lambda key: None if r is None else float(r[key])
+        check = verdict(approach, size, success, length, r)
+        failures += check == "**FAIL**"
+        in_s = success.contains(g("AvgSuccessRate"))
+        in_p = length.contains(g("AvgPathLength"))
+        label = "edge case" if edge else f"{size} {difficulty.lower()}"
+        count.add(label, approach, in_s, in_p)
+        lines.append(
+            f"| {size} | {difficulty} | {approach} | {success.n} | {fmt_ci(success, 4)} "
+            f"| {fmt(g('AvgSuccessRate'))} | {yes_no(in_s)} | {fmt_ci(length, 3)} "
+            f"| {fmt(g('AvgPathLength'), 3)} | {yes_no(in_p)} "
+            f"| {fmt(initial.mean, 3)} | {fmt(g('InitialTime'), 3)} "
+            f"| {fmt(adapt.mean, 5)} | {fmt(g('AdaptTimePerStep'), 5)} "
+            f"| {ratio(adapt.mean, g('AdaptTimePerStep'))} | {check} |")
     return lines, failures
 
 
@@ -1022,19 +1015,26 @@ def ours_table(lookup, sizes, difficulties):
     lines = ["| Size | Difficulty | Approach | Runs | Success, mean [95% CI] "
              "| Path, mean [95% CI] | Initial s (mean) | Adapt s/step (mean) |",
              "|---|---|---|---|---|---|---|---|"]
+    for size, difficulty, approach, success, length, initial, adapt in configuration_stats(
+            lookup, sizes, difficulties):
+        lines.append(f"| {size} | {difficulty} | {approach} | {success.n} "
+                     f"| {fmt_ci(success, 4)} | {fmt_ci(length, 3)} "
+                     f"| {initial.mean:.3f} | {adapt.mean:.5f} |")
+    return lines
+
+
+def configuration_stats(lookup, sizes, difficulties):
+    """(size, difficulty, approach, success, length, initial, adapt) of
+    every approach of every configuration that `lookup` has, in order."""
     for size in sizes:
         for difficulty in difficulties:
             for approach in ORDER:
                 success = lookup(approach, size, difficulty, "AvgSuccessRate")
                 if success is None:
                     continue
-                length = lookup(approach, size, difficulty, "AvgPathLength")
-                initial = lookup(approach, size, difficulty, "InitialTime")
-                adapt = lookup(approach, size, difficulty, "AdaptTimePerStep")
-                lines.append(f"| {size} | {difficulty} | {approach} | {success.n} "
-                             f"| {fmt_ci(success, 4)} | {fmt_ci(length, 3)} "
-                             f"| {initial.mean:.3f} | {adapt.mean:.5f} |")
-    return lines
+                yield (size, difficulty, approach, success,
+                       *(lookup(approach, size, difficulty, metric)
+                         for metric in ("AvgPathLength", "InitialTime", "AdaptTimePerStep")))
 
 
 def study_note(study):
@@ -1081,7 +1081,8 @@ def generic_header(main_study, studies, more, report, values, reference_rows, co
              "not absolute times).\n")
     checked = [size for size in studies.sizes() if size in ("20", "50")]
     if checked and RL:
-        text += (f"\n**Acceptance check** (sizes {', '.join(checked)}): each learning "
+        text += (f"\n**Acceptance check** (size{'s' if len(checked) > 1 else ''} "
+                 f"{', '.join(checked)}): each learning "
                  "approach's mean success rate is at least the report's minus "
                  f"{SUCCESS_TOLERANCE} and its mean path length at most the report's plus "
                  f"{LENGTH_TOLERANCE}. Failing rows: **{failures}**"
