@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,17 +19,22 @@ namespace dynapath::cli {
 
 namespace {
 
-// The path of `tool` next to this binary, or empty (after one error line).
-std::filesystem::path SiblingPath(const std::string& tool, const std::string& missing_hint) {
+// The argument strings of `tool` (its path next to this binary, then
+// `args`), or none (after one error line) when it is missing.
+std::optional<std::vector<std::string>> SiblingArguments(const std::string& tool,
+                                                         const std::vector<std::string>& args,
+                                                         const std::string& missing_hint) {
   std::error_code error;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
   const std::filesystem::path path = self.parent_path() / tool;
   if (error || !std::filesystem::exists(path)) {
     std::fprintf(stderr, "dynapath: %s was not found next to dynapath (%s)\n", tool.c_str(),
                  missing_hint.c_str());
-    return {};
+    return std::nullopt;
   }
-  return path;
+  std::vector<std::string> strings{path.string()};
+  strings.insert(strings.end(), args.begin(), args.end());
+  return strings;
 }
 
 // execv's argument vector; `strings` must outlive it.
@@ -39,39 +45,36 @@ std::vector<char*> ArgumentVector(std::vector<std::string>& strings) {
   return argv;
 }
 
+// Replaces this process with argv[0]; returns only when that fails.
+int Exec(std::vector<char*>& argv) {
+  execv(argv[0], argv.data());
+  std::fprintf(stderr, "dynapath: cannot run %s: %s\n", argv[0], std::strerror(errno));
+  return kExitFailure;
+}
+
 }  // namespace
 
 int SiblingCommand(const std::string& tool, const std::vector<std::string>& args,
                    const std::string& missing_hint) {
-  const std::filesystem::path path = SiblingPath(tool, missing_hint);
-  if (path.empty()) return kExitFailure;
-  std::vector<std::string> argv_strings{path.string()};
-  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
-  std::vector<char*> argv = ArgumentVector(argv_strings);
+  std::optional<std::vector<std::string>> strings = SiblingArguments(tool, args, missing_hint);
+  if (!strings) return kExitFailure;
+  std::vector<char*> argv = ArgumentVector(*strings);
   std::fflush(nullptr);
-  execv(argv[0], argv.data());
-  std::fprintf(stderr, "dynapath: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
-  return kExitFailure;
+  return Exec(argv);
 }
 
 int RunSibling(const std::string& tool, const std::vector<std::string>& args,
                const std::string& missing_hint) {
-  const std::filesystem::path path = SiblingPath(tool, missing_hint);
-  if (path.empty()) return kExitFailure;
-  std::vector<std::string> argv_strings{path.string()};
-  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
-  std::vector<char*> argv = ArgumentVector(argv_strings);
+  std::optional<std::vector<std::string>> strings = SiblingArguments(tool, args, missing_hint);
+  if (!strings) return kExitFailure;
+  std::vector<char*> argv = ArgumentVector(*strings);
   std::fflush(nullptr);
   const pid_t child = fork();
   if (child < 0) {
-    std::fprintf(stderr, "dynapath: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
+    std::fprintf(stderr, "dynapath: cannot run %s: %s\n", argv[0], std::strerror(errno));
     return kExitFailure;
   }
-  if (child == 0) {
-    execv(argv[0], argv.data());
-    std::fprintf(stderr, "dynapath: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
-    _exit(kExitFailure);
-  }
+  if (child == 0) _exit(Exec(argv));
   int status = 0;
   while (waitpid(child, &status, 0) < 0) {
     if (errno != EINTR) return kExitFailure;
