@@ -14,6 +14,7 @@
 
 #include "dynapath/local_trainer.h"
 #include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 #include "dynapath/thread_pool.h"
 #include "runtime/output_check.h"
 #include "runtime/policy_file.h"
@@ -21,15 +22,20 @@
 namespace dynapath::runtime {
 namespace {
 
-// Logs one line per approach every few seconds, and at its start and end.
+// Logs one line per approach every few seconds, and at its start and end;
+// each step line with an estimate of the approach's time left (its steps so
+// far, after its initial training, set the pace) and how many approaches
+// follow it.
 class ProgressLog {
  public:
-  explicit ProgressLog(Clock clock) : clock_(std::move(clock)) {}
+  ProgressLog(Clock clock, int approaches_after)
+      : clock_(std::move(clock)), approaches_after_(approaches_after) {}
 
   void operator()(const StepView& view) {
     const ApproachRun& run = view.run;
     const int step = run.steps.back().time_step;
     const double now = clock_();
+    if (step == 0 || !first_step_time_) first_step_time_ = now;  // the steps' pace from here
     const bool finished = step == view.total_steps;
     if (!finished && step != 0 && now - last_ < kIntervalSeconds) return;
     last_ = now;
@@ -39,16 +45,20 @@ class ProgressLog {
                    ApproachName(run.approach), run.size_label, run.difficulty_label,
                    run.initial_seconds, record.success_rate, record.average_path_length);
     } else {
-      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step",
+      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step{}",
                    ApproachName(run.approach), run.size_label, run.difficulty_label, step,
-                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep());
+                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep(),
+                   StepTimeLeft(step, view.total_steps, now - *first_step_time_,
+                                approaches_after_));
     }
   }
 
  private:
   static constexpr double kIntervalSeconds = 2.0;
   Clock clock_;
+  int approaches_after_;
   double last_ = 0.0;
+  std::optional<double> first_step_time_;  // when step 0 (its training) ended
 };
 
 // `source` until `stop` (may be null) is set; from then on it fails with
@@ -79,6 +89,20 @@ class StoppableSource : public StepSource {
 };
 
 }  // namespace
+
+std::string StepTimeLeft(int step, int total_steps, double seconds_since_step0,
+                         int approaches_after) {
+  if (step >= total_steps) return "";
+  // The steps so far set the pace (step 0, the initial training, excluded).
+  const double per_step = seconds_since_step0 / std::max(1, step);
+  std::string text =
+      ", ~" + FormatDuration(per_step * (total_steps - step)) + " left in this approach";
+  if (approaches_after > 0) {
+    text += fmt::format(" ({} approach{} after it)", approaches_after,
+                        approaches_after == 1 ? "" : "es");
+  }
+  return text;
+}
 
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
   group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
@@ -118,12 +142,13 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: " + BootstrapWords().List() +
                    " (docs/concepts/DECISIONS.md)");
-  group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: " + SemanticsWords().List() +
-                   " (report: the report code's bootstrap, first training, single-agent "
-                   "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
-                   (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
-                   "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
+  group.Option(
+      "--semantics", o.semantics, "WHOSE",
+      "learning semantics: " + SemanticsWords().List() +
+          " (report: the report code's bootstrap, first training, single-agent "
+          "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+          (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
+          "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
   group.Option("--learner-seed", o.learner_seed, "N",
                "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
@@ -356,11 +381,11 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
-    return Error::Option(
-        "checkpoint", fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
-                                  "seed {}, {} time steps)",
-                                  plan.checkpoint.dir, resume->run_seed, resume->total_steps,
-                                  options.run_seed, source.total_steps()));
+    return Error::Option("checkpoint",
+                         fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
+                                     "seed {}, {} time steps)",
+                                     plan.checkpoint.dir, resume->run_seed, resume->total_steps,
+                                     options.run_seed, source.total_steps()));
   }
   if (checkpoints.enabled()) {
     if (Status ready = PrepareOutputDirectory(plan.checkpoint.dir, "checkpoint"); !ready) {
@@ -396,7 +421,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   }
   for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
     const Approach approach = plan.approaches[pass];
-    ProgressLog progress(SteadyClock());
+    ProgressLog progress(SteadyClock(), static_cast<int>(plan.approaches.size() - pass - 1));
     const StepCallback on_step = [&](const StepView& view) {
       progress(view);
       if (extra) extra(view);
@@ -580,9 +605,8 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
                                           int threads, const StepCallback& extra,
                                           const std::atomic<bool>* stop,
                                           TrainingProgress* progress) {
-  for (const std::string& warning :
-       LongRunWarnings(plan, setup.scenario.grid,
-                       static_cast<int>(setup.scenario.changes.steps.size()))) {
+  for (const std::string& warning : LongRunWarnings(
+           plan, setup.scenario.grid, static_cast<int>(setup.scenario.changes.steps.size()))) {
     spdlog::warn("{}", warning);
   }
   RunPlan seeded = plan;

@@ -134,6 +134,12 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
 // at 17 s per step on a free 1024x1024 map on the 2-core reference machine.
 std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, int steps);
 
+// The end of a run's step progress line: ", ~12 s left in this approach (2
+// approaches after it)" at time step `step` of `total_steps`, the steps
+// after step 0 having taken `seconds_since_step0`; "" at the last step.
+std::string StepTimeLeft(int step, int total_steps, double seconds_since_step0,
+                         int approaches_after);
+
 // `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
 // seed set from it) with a LocalTrainer on a pool of `threads` threads.
 // An exception thrown by `extra` ends the run and comes back as a kInternal

@@ -97,6 +97,20 @@ oracles=$(awk -F, '$1 ~ /Oracle/ { k = $4; v = $7 "," $8; if ($1 == "BFS Oracle"
 [ "$oracles" = 0 ] || fail "Incremental Oracle differs from BFS Oracle on a map"
 "$dynapath" maze --maze "$map" --stations-file "$(dirname "$0")/data/maps/wide-5-9.stations" --no-grid \
   >"$work/out" || fail "--stations-file"
+# The printout tells moving obstacles (o) from walls (#), with a legend
+# line; the saved maze keeps the file format (# for both).
+"$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --save "$work/movers.txt" \
+  >"$work/out" || fail "maze with movers"
+head -5 "$work/out" | grep -q o || fail "maze printout: no moving obstacle 'o': $(head -5 "$work/out")"
+grep -q '^legend: # obstacle that never moves, o obstacle that moves during the time steps, . free, C station$' \
+  "$work/out" || fail "maze printout: no legend line: $(sed -n 6p "$work/out")"
+grep -q o "$work/movers.txt" && fail "maze --save wrote 'o' into the maze file"
+[ "$(head -5 "$work/out" | tr o '#')" = "$(cat "$work/movers.txt")" ] ||
+  fail "maze printout differs from the saved maze beyond the movers"
+"$dynapath" maze --size 10 --steps 0 >"$work/out" || fail "maze without changes"
+grep -q o <(head -10 "$work/out") && fail "maze without changes: an obstacle printed as moving"
+grep -q '^legend: # obstacle that never moves, . free, C station$' "$work/out" ||
+  fail "maze without changes: legend $(sed -n 11p "$work/out")"
 # A ROS map_server map (YAML + ascii PGM): its cells and its label.
 "$dynapath" maze --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --seed 1 >"$work/out" \
   || fail "ROS map"

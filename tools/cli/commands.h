@@ -33,6 +33,10 @@ int CompareCommand(const std::vector<std::string>& args);
 // prints one error naming `missing_hint` and returns kExitFailure.
 int SiblingCommand(const std::string& tool, const std::vector<std::string>& args,
                    const std::string& missing_hint);
+// The same as a child process: runs `tool` with `args`, waits for it and
+// returns its exit status (kExitFailure when it is missing or killed).
+int RunSibling(const std::string& tool, const std::vector<std::string>& args,
+               const std::string& missing_hint);
 
 // Exit codes: 0 success, 1 run-time failure, 2 bad usage.
 inline constexpr int kExitFailure = 1;
