@@ -7,12 +7,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 
 namespace dynapath::runtime {
 namespace {
 
 // "--name" -> "name", the key of a config file.
 std::string Key(const std::string& name) { return name.substr(name.find_first_not_of('-')); }
+
+constexpr const char* kEmptyValueText = "must not be empty";
 
 // A TOML string CLI11's config reader takes back unchanged: basic ("...")
 // or literal ('...') quotes, neither of which it unescapes. Text holding
@@ -54,6 +57,7 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
 const CLI::Validator& DecimalInteger() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {
+        if (text.empty()) return kEmptyValueText;  // as every option's (CLI11 runs this first)
         const size_t digits = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
         if (digits == text.size() ||
             text.find_first_not_of("0123456789", digits) != std::string::npos) {
@@ -67,15 +71,35 @@ const CLI::Validator& DecimalInteger() {
   return validator;
 }
 
+namespace {
+
+// An empty value ("--save-policy ''", `checkpoint = ""` in a config file)
+// is refused for every option taking one: a struct member's "" or unset
+// means "not given", so without this rule the option would be silently
+// ignored.
+const CLI::Validator& NonEmptyValue() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string { return text.empty() ? kEmptyValueText : ""; }, "");
+  return validator;
+}
+
+}  // namespace
+
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
 }
 
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
-  if (writer_ != nullptr) return writer_->PutText(Key(name), value);
+  if (writer_ != nullptr) {
+    if (!value.empty()) writer_->PutText(Key(name), value);  // "": not given
+    return;
+  }
   Record(name, ValueKind::kString);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(NonEmptyValue());
 }
 
 void OptionGroup::Option(const std::string& name, std::optional<std::string>& value,
@@ -86,7 +110,8 @@ void OptionGroup::Option(const std::string& name, std::optional<std::string>& va
     return;
   }
   Record(name, ValueKind::kString);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -98,8 +123,10 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
     return;
   }
   Record(name, ValueKind::kInteger);
-  CLI::Option* option =
-      app_->add_option(name, value, help)->type_name(value_name)->transform(DecimalInteger());
+  CLI::Option* option = app_->add_option(name, value, help)
+                            ->type_name(value_name)
+                            ->check(NonEmptyValue())
+                            ->transform(DecimalInteger());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -111,7 +138,8 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
     return;
   }
   Record(name, ValueKind::kFloat);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -122,6 +150,7 @@ void OptionGroup::Option(const std::string& name, long long& value, const std::s
   app_->add_option(name, value, help)
       ->type_name(value_name)
       ->capture_default_str()
+      ->check(NonEmptyValue())
       ->transform(DecimalInteger());
 }
 
@@ -130,7 +159,10 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
   // {} is the shortest text that reads back as the same double.
   if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
   Record(name, ValueKind::kFloat);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(NonEmptyValue());
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
@@ -150,7 +182,8 @@ void OptionGroup::List(const std::string& name, std::optional<std::string>& text
     return;
   }
   Record(name, kind);
-  CLI::Option* option = app_->add_option(name, text, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, text, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -205,13 +238,16 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     }
     return usage_error(what);
   } catch (const CLI::ValidationError& error) {
-    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger),
-    // worded like a conversion error; other validators' text (a Range's
-    // "Value 9 not in range 0 to 5") as CLI11 gives it.
+    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger)
+    // or "--out: must not be empty" (NonEmptyValue), worded like a
+    // conversion error; other validators' text (a Range's "Value 9 not in
+    // range 0 to 5") as CLI11 gives it.
     const std::string what = error.what();
     const size_t colon = what.find(": ");
-    if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
-        what.compare(colon + 2, 22, "needs a decimal number") == 0) {
+    const std::string_view detail =
+        colon == std::string::npos ? std::string_view() : std::string_view(what).substr(colon + 2);
+    if (what.rfind("--", 0) == 0 &&
+        (detail.rfind("needs a decimal number", 0) == 0 || detail == kEmptyValueText)) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

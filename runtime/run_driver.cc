@@ -117,12 +117,13 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: " + BootstrapWords().List() +
                    " (docs/concepts/DECISIONS.md)");
-  group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: " + SemanticsWords().List() +
-                   " (report: the report code's bootstrap, first training, single-agent "
-                   "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
-                   (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
-                   "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
+  group.Option(
+      "--semantics", o.semantics, "WHOSE",
+      "learning semantics: " + SemanticsWords().List() +
+          " (report: the report code's bootstrap, first training, single-agent "
+          "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+          (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
+          "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
   group.Option("--learner-seed", o.learner_seed, "N",
                "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
@@ -147,9 +148,9 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
                "write the run's state to DIR after every --checkpoint-every time steps, to "
                "finish it with `dynapath run --resume DIR` if it dies (docs/howto/CHECKPOINTS.md)");
   group.Option("--checkpoint-every", o.checkpoint_every, "K",
-               "time steps between checkpoints (1..1000000)");
+               "time steps between checkpoints (1..1000000)", "1");
   group.Option("--checkpoint-interval", o.checkpoint_interval, "SECONDS",
-               "and at least this long between checkpoints (0..86400; a study uses 2)");
+               "and at least this long between checkpoints (0..86400; a study uses 2)", "0");
   group.Flag("--resume-checkpoint", o.resume_checkpoint,
              "continue from --checkpoint's last checkpoint, or start when it has none (what "
              "`dynapath run --resume DIR` sets)");
@@ -195,10 +196,15 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (!every) return every.error();
   plan.checkpoint.dir = o.checkpoint;
   plan.checkpoint.every = static_cast<int>(*every);
-  if (!(o.checkpoint_interval >= 0 && o.checkpoint_interval <= 86400)) {
+  const double interval = o.checkpoint_interval.value_or(0);
+  if (!(interval >= 0 && interval <= 86400)) {
     return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
   }
-  plan.checkpoint.min_seconds = o.checkpoint_interval;
+  plan.checkpoint.min_seconds = interval;
+  if (o.checkpoint.empty() && (o.checkpoint_every || o.checkpoint_interval)) {
+    return Error::Option(o.checkpoint_every ? "checkpoint-every" : "checkpoint-interval",
+                         "needs --checkpoint DIR");
+  }
   if (o.resume_checkpoint) {
     if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
     Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
@@ -333,11 +339,11 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
-    return Error::Option(
-        "checkpoint", fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
-                                  "seed {}, {} time steps)",
-                                  plan.checkpoint.dir, resume->run_seed, resume->total_steps,
-                                  options.run_seed, source.total_steps()));
+    return Error::Option("checkpoint",
+                         fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
+                                     "seed {}, {} time steps)",
+                                     plan.checkpoint.dir, resume->run_seed, resume->total_steps,
+                                     options.run_seed, source.total_steps()));
   }
   if (checkpoints.enabled()) {
     if (Status ready = PrepareOutputDirectory(plan.checkpoint.dir, "checkpoint"); !ready) {
@@ -557,9 +563,8 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
                                           int threads, const StepCallback& extra,
                                           const std::atomic<bool>* stop,
                                           TrainingProgress* progress) {
-  for (const std::string& warning :
-       LongRunWarnings(plan, setup.scenario.grid,
-                       static_cast<int>(setup.scenario.changes.steps.size()))) {
+  for (const std::string& warning : LongRunWarnings(
+           plan, setup.scenario.grid, static_cast<int>(setup.scenario.changes.steps.size()))) {
     spdlog::warn("{}", warning);
   }
   RunPlan seeded = plan;

@@ -75,8 +75,8 @@ struct RunOptions {
   PolicyOptions policy;
   ParameterOptions parameters;  // the learner and strategy parameters given
   std::string checkpoint;           // DIR, "" none
-  long long checkpoint_every = 1;   // K
-  double checkpoint_interval = 0;   // SECONDS
+  std::optional<long long> checkpoint_every;  // K, 1 when unset (needs --checkpoint)
+  std::optional<double> checkpoint_interval;  // SECONDS, 0 when unset (needs --checkpoint)
   bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
 };

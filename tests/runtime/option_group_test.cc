@@ -147,6 +147,13 @@ TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
       {{"--size", "0x10"}, "option --size needs a decimal number, got '0x10'"},
       {{"--seed", "1e3"}, "option --seed needs a decimal number, got '1e3'"},
       {{"stray"}, "unexpected argument 'stray'"},
+      // An empty value would read as "not given": refused for every kind.
+      {{"--save-policy", ""}, "option --save-policy must not be empty"},
+      {{"--checkpoint", ""}, "option --checkpoint must not be empty"},
+      {{"--epsilon-start", ""}, "option --epsilon-start must not be empty"},
+      {{"--seed", ""}, "option --seed must not be empty"},
+      {{"--approach", ""}, "option --approach must not be empty"},
+      {{"--run-id", ""}, "option --run-id must not be empty"},
   };
   for (const auto& [args, expected] : cases) {
     CLI::App app;
@@ -183,6 +190,45 @@ TEST_F(OptionGroupTest, AnUnknownConfigKeyIsAnError) {
   EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
   EXPECT_EQ(testing::internal::GetCapturedStderr(),
             "test: unknown key 'colour' in the --config file\n");
+}
+
+TEST_F(OptionGroupTest, AnEmptyConfigValueIsAnError) {
+  std::ofstream(path_) << "size=12\nload-policy=\"\"\n";
+  CLI::App app;
+  OptionGroup group(app);
+  Everything options;
+  Declare(group, options);
+  AddConfigOption(app);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "test: option --load-policy must not be empty\n");
+}
+
+// "" means "not given": the writer leaves it out, so what it writes reads
+// back under the rule above.
+TEST_F(OptionGroupTest, EmptyTextIsNotWritten) {
+  Everything given;  // --checkpoint, --save-policy, --load-policy: ""
+  Everything read;
+  ASSERT_EQ(RoundTrip(given, read), -1);
+  EXPECT_EQ(read.run.checkpoint, "");
+  EXPECT_EQ(read.run.policy.save_policy, "");
+}
+
+// An option that means something only with another is refused without it.
+TEST(ResolveRunOptionsTest, CheckpointTimingNeedsCheckpoint) {
+  RunOptions run;
+  run.checkpoint_every = 5;
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().message, "option --checkpoint-every needs --checkpoint DIR");
+  run.checkpoint_every.reset();
+  run.checkpoint_interval = 2;
+  plan = ResolveRunOptions(run);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().message, "option --checkpoint-interval needs --checkpoint DIR");
+  run.checkpoint = "ck";
+  EXPECT_TRUE(ResolveRunOptions(run).ok());
 }
 
 TEST(InRangeTest, FallbackUncheckedValueChecked) {

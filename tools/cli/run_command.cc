@@ -1,8 +1,7 @@
-#include <spdlog/spdlog.h>
-#include <unistd.h>
-
 #include <fcntl.h>
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -195,9 +194,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   std::optional<std::string> resume_option;  // taken out of the arguments above
-  group.Option("--resume", resume_option, "DIR",
-               "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
-               "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  group.Option(
+      "--resume", resume_option, "DIR",
+      "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
+      "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
   std::optional<long long> restarts;
   group.Option("--restart-coordinator", restarts, "N",
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
@@ -229,6 +229,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
   if (!restart_limit) return usage_error(restart_limit.error().message);
   if (*restart_limit > 0 && !checkpointing) {
     return usage_error("--restart-coordinator restarts from checkpoints: give --checkpoint DIR");
+  }
+  if (restarts && run_mode->kind != runtime::RunMode::kAgents) {
+    return usage_error(
+        "--restart-coordinator restarts coordinator processes: use it with --agents N");
   }
   if (!distributed) {
     const std::pair<const char*, bool> network_options[] = {
@@ -325,10 +329,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
       const runtime::RunCheckpoint& from = *plan->checkpoint.resume;
       spdlog::info("resuming from {}/{}: {} of {} approaches finished{}", plan->checkpoint.dir,
                    runtime::kCheckpointFileName, from.pass, plan->approaches.size(),
-                   from.policy ? fmt::format(", {} after step {}",
-                                             ApproachName(from.runs.back().approach),
-                                             from.policy->step)
-                               : std::string());
+                   from.policy
+                       ? fmt::format(", {} after step {}", ApproachName(from.runs.back().approach),
+                                     from.policy->step)
+                       : std::string());
     } else {
       spdlog::info("{} holds no checkpoint yet: the run starts from the beginning",
                    plan->checkpoint.dir);
@@ -380,9 +384,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   // The first Ctrl-C (or SIGTERM) stops the run within about a second, also
   // inside one large training job; the approaches finished so far stay
   // written. A second one ends the process at once.
-  const std::atomic<bool>& stop =
-      protocol::StopOnSignals("\ndynapath run: stopping (Ctrl-C again: at once)\n",
-                              "\ndynapath run: stopped at once\n");
+  const std::atomic<bool>& stop = protocol::StopOnSignals(
+      "\ndynapath run: stopping (Ctrl-C again: at once)\n", "\ndynapath run: stopped at once\n");
   if (*repeat_count > 1) {
     return RunRepeats(*plan, *setup, static_cast<int>(*repeat_count), run_options.learner_seed,
                       *threads, stop);
