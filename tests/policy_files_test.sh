@@ -92,6 +92,15 @@ expect_error 2 "No such file" "${maze[@]}" --load-policy "$work/missing.pol"
 expect_error 2 "option --save-at must be a time step" "${maze[@]}" --save-policy x --save-at soon
 expect_error 2 "option --save-at step 9 is past the run's last step 8" "${maze[@]}" \
   --save-policy "$work/x.pol" --save-at 9
+# Continuing after step 3, --save-at 0 (the default) is never reached:
+# refused before the baseline runs, not after it.
+expect_error 2 "option --save-at step 0 is before step 3 of $work/p3.pol's onlyTrainLeafNodes" \
+  "${shape[@]}" --approach "BFS Oracle,$learning" --load-policy "$work/p3.pol" \
+  --save-policy "$work/early.pol"
+[ -e "$work/err/results.csv" ] && fail "a refused run wrote results"
+"$dynapath" run --local "${maze[@]}" --seed 53 --out "$work/other_saving" \
+  --load-policy "$work/p3.pol" --save-policy "$work/other53.pol" >/dev/null ||
+  fail "another maze from a policy cannot save at step 0"
 expect_error 2 "option --save-policy needs a learning approach" "${shape[@]}" --approach "BFS Oracle" \
   --save-policy "$work/x.pol"
 echo "policy files: all checks passed"

@@ -259,8 +259,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
   if (Status policy = runtime::CheckPolicyPlan(
-          plan->policy, plan->approaches, plan->options, setup->scenario.grid.rows(),
-          setup->scenario.grid.cols(), static_cast<int>(setup->scenario.changes.steps.size()));
+          plan->policy, plan->approaches, plan->options, setup->scenario.grid,
+          static_cast<int>(setup->scenario.changes.steps.size()), plan->RunSeed(setup->seed));
       !policy) {
     return usage_error(policy.error().message);
   }
