@@ -32,8 +32,8 @@ enum class Placement {
 
 // --checkpoint, --checkpoint-every and the resumed checkpoint, resolved.
 struct CheckpointPlan {
-  std::string dir;  // "" writes none
-  int every = 1;    // time steps between checkpoints
+  std::string dir;         // "" writes none
+  int every = 1;           // time steps between checkpoints
   double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
@@ -73,11 +73,11 @@ struct RunOptions {
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
-  ParameterOptions parameters;  // the learner and strategy parameters given
-  std::string checkpoint;           // DIR, "" none
+  ParameterOptions parameters;                // the learner and strategy parameters given
+  std::string checkpoint;                     // DIR, "" none
   std::optional<long long> checkpoint_every;  // K, 1 when unset (needs --checkpoint)
   std::optional<double> checkpoint_interval;  // SECONDS, 0 when unset (needs --checkpoint)
-  bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
+  bool resume_checkpoint = false;         // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
 };
 // The values the run plan's options accept, checked without naming the
