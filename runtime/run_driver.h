@@ -106,8 +106,10 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 // DIR/results_detailed.csv and DIR/params.toml (every parameter's value)
 // atomically after every approach, so an interrupted run keeps what
 // finished. `extra` is called after every step. With plan.policy, each
-// learning approach starts from its loaded section and the saved policies
-// are (re)written after every learning approach. With plan.checkpoint.dir,
+// learning approach starts from its loaded section, and the saved file
+// (runtime/policy_saver.h) is rewritten when one saves its section; a
+// failed write ends the run after that approach's rows are written. With
+// plan.checkpoint.dir,
 // a checkpoint is written after every `every` time steps of a learning
 // approach and after every approach; with plan.checkpoint.resume, the
 // finished approaches' rows are taken from it and the approach in progress

@@ -20,7 +20,8 @@ ApproachRun MakeRun(Approach approach, int rows) {
   run.load_seconds = 0.0625;
   for (int t = 0; t < rows; ++t) {
     // Values that a decimal round trip would not keep exactly.
-    run.steps.push_back(StepRecord{t, t * 3, t / 7.0, 1.0 / (t + 3), 6.0 + t / 11.0, t % 4, t % 3 - 1});
+    run.steps.push_back(
+        StepRecord{t, t * 3, t / 7.0, 1.0 / (t + 3), 6.0 + t / 11.0, t % 4, t % 3 - 1});
   }
   return run;
 }
@@ -183,9 +184,7 @@ TEST(CheckpointFile, WritesAndReadsADirectory) {
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().filename(), kCheckpointFileName) << "left behind: " << entry.path();
   }
-  {
-    std::ofstream(dir + "/" + kCheckpointFileName, std::ios::binary | std::ios::trunc) << "DYNA";
-  }
+  { std::ofstream(dir + "/" + kCheckpointFileName, std::ios::binary | std::ios::trunc) << "DYNA"; }
   Result<RunCheckpoint> cut = ReadCheckpoint(dir);
   ASSERT_FALSE(cut);
   EXPECT_NE(cut.error().message.find("checkpoint " + dir + "/checkpoint.dpc: "), std::string::npos);

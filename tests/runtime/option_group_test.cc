@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "dynapath/text_file.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
@@ -367,6 +369,33 @@ TEST(RunLocalTest, StopEndsTheRunCancelled) {
   std::remove((dir + "/results.csv").c_str());
   std::remove((dir + "/results_detailed.csv").c_str());
   rmdir(dir.c_str());
+}
+
+// A policy file that cannot be written ends the run, but the rows of the
+// approach that saved it are written first.
+TEST(RunLocalTest, AFailedPolicyWriteKeepsTheRows) {
+  char name[] = "/tmp/run_local_policy_XXXXXX";
+  ASSERT_NE(mkdtemp(name), nullptr);
+  const std::string dir = name;
+  ScenarioOptions scenario;
+  scenario.size = 10;
+  scenario.steps = 2;
+  Result<ScenarioSetup> setup = ResolveScenario(scenario);
+  ASSERT_TRUE(setup.ok()) << setup.error().message;
+  RunOptions run;
+  run.approach = "BFS Oracle,fedAsynQ_EqAvg";
+  run.out = dir;
+  run.policy.save_policy = dir + "/missing/p.pol";  // not checked here, as `run` does
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  Result<std::vector<ApproachRun>> runs = RunLocal(*plan, *setup, 1);
+  ASSERT_FALSE(runs.ok());
+  EXPECT_NE(runs.error().message.find("policy file " + dir + "/missing/p.pol"), std::string::npos)
+      << runs.error().message;
+  Result<std::string> results = ReadTextFile(dir + "/results.csv");
+  ASSERT_TRUE(results.ok());
+  EXPECT_NE(results->find("\nfedAsynQ_EqAvg,"), std::string::npos) << *results;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

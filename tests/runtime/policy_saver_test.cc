@@ -59,10 +59,9 @@ class PolicySaverTest : public testing::Test {
 };
 
 TEST_F(PolicySaverTest, KeepsTheSectionsItDoesNotRewrite) {
-  ASSERT_TRUE(WritePolicyFile(path_, {MakeState(Approach::kSingleAgent, 0),
-                                      MakeState(Approach::kFedAsynQEqAvg, 0)}));
-  Result<PolicySaver> saver =
-      PolicySaver::Open(Plan(), {Approach::kFedAsynQEqAvg}, 5, nullptr);
+  ASSERT_TRUE(WritePolicyFile(
+      path_, {MakeState(Approach::kSingleAgent, 0), MakeState(Approach::kFedAsynQEqAvg, 0)}));
+  Result<PolicySaver> saver = PolicySaver::Open(Plan(), {Approach::kFedAsynQEqAvg}, 5, nullptr);
   ASSERT_TRUE(saver) << saver.error().message;
   ASSERT_TRUE(saver->Save(MakeState(Approach::kFedAsynQEqAvg, 3)));
   Result<std::vector<PolicyState>> read = ReadPolicyFile(path_);
@@ -94,8 +93,9 @@ TEST_F(PolicySaverTest, AResumedRunTakesUpOnlyTheFileItsCheckpointRecorded) {
   EXPECT_EQ(OpenError(checkpoint), "");
 
   std::filesystem::remove(path_);
-  EXPECT_NE(OpenError(checkpoint).find("p.pol is gone: at the checkpoint it held the run's "
-                                       "singleAgent section; restore it"),
+  EXPECT_NE(OpenError(checkpoint)
+                .find("p.pol is gone: at the checkpoint it held the run's "
+                      "singleAgent section; restore it"),
             std::string::npos);
   // Another run's file: another singleAgent section, or none.
   ASSERT_TRUE(WritePolicyFile(path_, {MakeState(Approach::kSingleAgent, 2)}));
@@ -105,8 +105,8 @@ TEST_F(PolicySaverTest, AResumedRunTakesUpOnlyTheFileItsCheckpointRecorded) {
   EXPECT_NE(OpenError(checkpoint).find("no longer holds the singleAgent section"),
             std::string::npos);
   // A section of an approach the run does not save, not there at its start.
-  ASSERT_TRUE(WritePolicyFile(path_, {MakeState(Approach::kSingleAgent, 0),
-                                      MakeState(Approach::kOnlyTrainLeafNodes, 0)}));
+  ASSERT_TRUE(WritePolicyFile(
+      path_, {MakeState(Approach::kSingleAgent, 0), MakeState(Approach::kOnlyTrainLeafNodes, 0)}));
   EXPECT_NE(OpenError(checkpoint).find("holds a onlyTrainLeafNodes section the run neither saved"),
             std::string::npos);
   // The checkpointed run saved nothing (--save-policy given on resuming).
