@@ -64,6 +64,19 @@ class OptionGroupTest : public testing::Test {
     return ParseCommandLine(app, args, "test");
   }
 
+  // What parsing a config file of `text` prints; it must be refused.
+  std::string ConfigError(const std::string& text) {
+    std::ofstream(path_) << text;
+    CLI::App app;
+    OptionGroup group(app);
+    Everything options;
+    Declare(group, options);
+    AddConfigOption(app);
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
+    return testing::internal::GetCapturedStderr();
+  }
+
   std::string path_;
 };
 
@@ -182,28 +195,12 @@ TEST(ParseCommandLineTest, IntegersAreDecimalWithLeadingZeros) {
 }
 
 TEST_F(OptionGroupTest, AnUnknownConfigKeyIsAnError) {
-  std::ofstream(path_) << "size=12\ncolour=\"red\"\n";
-  CLI::App app;
-  OptionGroup group(app);
-  Everything options;
-  Declare(group, options);
-  AddConfigOption(app);
-  testing::internal::CaptureStderr();
-  EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+  EXPECT_EQ(ConfigError("size=12\ncolour=\"red\"\n"),
             "test: unknown key 'colour' in the --config file\n");
 }
 
 TEST_F(OptionGroupTest, AnEmptyConfigValueIsAnError) {
-  std::ofstream(path_) << "size=12\nload-policy=\"\"\n";
-  CLI::App app;
-  OptionGroup group(app);
-  Everything options;
-  Declare(group, options);
-  AddConfigOption(app);
-  testing::internal::CaptureStderr();
-  EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+  EXPECT_EQ(ConfigError("size=12\nload-policy=\"\"\n"),
             "test: option --load-policy must not be empty\n");
 }
 
@@ -328,21 +325,31 @@ TEST(OptionErrorTest, CheckersNameTheirOption) {
             "/nonexistent/dynapath/maze.txt: cannot open for reading: No such file or directory");
 }
 
+// A 10x10 maze of `steps` time steps.
+Result<ScenarioSetup> SmallMaze(long long steps) {
+  ScenarioOptions scenario;
+  scenario.size = 10;
+  scenario.steps = steps;
+  return ResolveScenario(scenario);
+}
+
+// A run of `approaches` writing into `dir`.
+RunOptions RunInto(const std::string& dir, const std::string& approaches) {
+  RunOptions run;
+  run.approach = approaches;
+  run.out = dir;
+  return run;
+}
+
 // A stopped local run ends with kCancelled ("interrupted") and writes no
 // result files for the approach it cut short.
 TEST(RunLocalTest, StopEndsTheRunCancelled) {
   char name[] = "/tmp/run_local_test_XXXXXX";
   ASSERT_NE(mkdtemp(name), nullptr);
   const std::string dir = name;
-  ScenarioOptions scenario;
-  scenario.size = 10;
-  scenario.steps = 6;
-  Result<ScenarioSetup> setup = ResolveScenario(scenario);
+  Result<ScenarioSetup> setup = SmallMaze(6);
   ASSERT_TRUE(setup.ok()) << setup.error().message;
-  RunOptions run;
-  run.approach = "BFS Oracle";
-  run.out = dir;
-  Result<RunPlan> plan = ResolveRunOptions(run);
+  Result<RunPlan> plan = ResolveRunOptions(RunInto(dir, "BFS Oracle"));
   ASSERT_TRUE(plan.ok()) << plan.error().message;
 
   std::atomic<bool> stop{false};
@@ -377,14 +384,9 @@ TEST(RunLocalTest, AFailedPolicyWriteKeepsTheRows) {
   char name[] = "/tmp/run_local_policy_XXXXXX";
   ASSERT_NE(mkdtemp(name), nullptr);
   const std::string dir = name;
-  ScenarioOptions scenario;
-  scenario.size = 10;
-  scenario.steps = 2;
-  Result<ScenarioSetup> setup = ResolveScenario(scenario);
+  Result<ScenarioSetup> setup = SmallMaze(2);
   ASSERT_TRUE(setup.ok()) << setup.error().message;
-  RunOptions run;
-  run.approach = "BFS Oracle,fedAsynQ_EqAvg";
-  run.out = dir;
+  RunOptions run = RunInto(dir, "BFS Oracle,fedAsynQ_EqAvg");
   run.policy.save_policy = dir + "/missing/p.pol";  // not checked here, as `run` does
   Result<RunPlan> plan = ResolveRunOptions(run);
   ASSERT_TRUE(plan.ok()) << plan.error().message;
