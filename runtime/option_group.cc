@@ -9,12 +9,15 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 
 namespace dynapath::runtime {
 namespace {
 
 // "--name" -> "name", the key of a config file.
 std::string Key(const std::string& name) { return name.substr(name.find_first_not_of('-')); }
+
+constexpr const char* kEmptyValueText = "must not be empty";
 
 // A TOML string both readers of these files take back unchanged: CLI11's
 // (the processes' --config) and toml++ (`dynapath run`, which reads a
@@ -61,6 +64,7 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
 const CLI::Validator& DecimalInteger() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {
+        if (text.empty()) return kEmptyValueText;  // as every option's (CLI11 runs this first)
         const size_t digits = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
         if (digits == text.size() ||
             text.find_first_not_of("0123456789", digits) != std::string::npos) {
@@ -94,6 +98,16 @@ const CLI::Validator& FiniteReal() {
   return validator;
 }
 
+// An empty value ("--save-policy ''", `checkpoint = ""` in a config file)
+// is refused for every option taking one: a struct member's "" or unset
+// means "not given", so without this rule the option would be silently
+// ignored.
+const CLI::Validator& NonEmptyValue() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string { return text.empty() ? kEmptyValueText : ""; }, "");
+  return validator;
+}
+
 }  // namespace
 
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
@@ -102,9 +116,15 @@ void OptionGroup::Record(const std::string& name, ValueKind kind) {
 
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
-  if (writer_ != nullptr) return writer_->PutText(Key(name), value);
+  if (writer_ != nullptr) {
+    if (!value.empty()) writer_->PutText(Key(name), value);  // "": not given
+    return;
+  }
   Record(name, ValueKind::kString);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(NonEmptyValue());
 }
 
 void OptionGroup::Option(const std::string& name, std::optional<std::string>& value,
@@ -115,7 +135,8 @@ void OptionGroup::Option(const std::string& name, std::optional<std::string>& va
     return;
   }
   Record(name, ValueKind::kString);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -127,8 +148,10 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
     return;
   }
   Record(name, ValueKind::kInteger);
-  CLI::Option* option =
-      app_->add_option(name, value, help)->type_name(value_name)->transform(DecimalInteger());
+  CLI::Option* option = app_->add_option(name, value, help)
+                            ->type_name(value_name)
+                            ->check(NonEmptyValue())
+                            ->transform(DecimalInteger());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -141,7 +164,7 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
   }
   Record(name, ValueKind::kFloat);
   CLI::Option* option =
-      app_->add_option(name, value, help)->type_name(value_name)->check(FiniteReal());
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue())->check(FiniteReal());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -152,6 +175,7 @@ void OptionGroup::Option(const std::string& name, long long& value, const std::s
   app_->add_option(name, value, help)
       ->type_name(value_name)
       ->capture_default_str()
+      ->check(NonEmptyValue())
       ->transform(DecimalInteger());
 }
 
@@ -163,7 +187,7 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
   app_->add_option(name, value, help)
       ->type_name(value_name)
       ->capture_default_str()
-      ->check(FiniteReal());
+      ->check(NonEmptyValue())->check(FiniteReal());
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
@@ -183,7 +207,8 @@ void OptionGroup::List(const std::string& name, std::optional<std::string>& text
     return;
   }
   Record(name, kind);
-  CLI::Option* option = app_->add_option(name, text, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, text, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -238,15 +263,18 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     }
     return usage_error(what);
   } catch (const CLI::ValidationError& error) {
-    // CLI11: "--size: needs a decimal number, got '0x10'" or "--seed: is
-    // out of range, got '99999999999999999999'" (DecimalInteger,
-    // FiniteReal), worded like a conversion error; other validators' text (a Range's
-    // "Value 9 not in range 0 to 5") as CLI11 gives it.
+    // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger),
+    // "--seed: is out of range, got '99999999999999999999'" (DecimalInteger,
+    // FiniteReal) or "--out: must not be empty" (NonEmptyValue), worded like
+    // a conversion error; other validators' text (a Range's "Value 9 not in
+    // range 0 to 5") as CLI11 gives it.
     const std::string what = error.what();
     const size_t colon = what.find(": ");
-    if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
-        (what.compare(colon + 2, 22, "needs a decimal number") == 0 ||
-         what.compare(colon + 2, 15, "is out of range") == 0)) {
+    const std::string_view detail =
+        colon == std::string::npos ? std::string_view() : std::string_view(what).substr(colon + 2);
+    if (what.rfind("--", 0) == 0 &&
+        (detail.rfind("needs a decimal number", 0) == 0 || detail.rfind("is out of range", 0) == 0 ||
+         detail == kEmptyValueText)) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

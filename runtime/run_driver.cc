@@ -17,7 +17,7 @@
 #include "dynapath/text_util.h"
 #include "dynapath/thread_pool.h"
 #include "runtime/output_check.h"
-#include "runtime/policy_file.h"
+#include "runtime/policy_saver.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -173,9 +173,9 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
                "write the run's state to DIR after every --checkpoint-every time steps, to "
                "finish it with `dynapath run --resume DIR` if it dies (docs/howto/CHECKPOINTS.md)");
   group.Option("--checkpoint-every", o.checkpoint_every, "K",
-               "time steps between checkpoints (1..1000000)");
+               "time steps between checkpoints (1..1000000)", "1");
   group.Option("--checkpoint-interval", o.checkpoint_interval, "SECONDS",
-               "and at least this long between checkpoints (0..86400; a study uses 2)");
+               "and at least this long between checkpoints (0..86400; a study uses 2)", "0");
   group.Flag("--resume-checkpoint", o.resume_checkpoint,
              "continue from --checkpoint's last checkpoint, or start when it has none (what "
              "`dynapath run --resume DIR` sets)");
@@ -221,10 +221,15 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (!every) return every.error();
   plan.checkpoint.dir = o.checkpoint;
   plan.checkpoint.every = static_cast<int>(*every);
-  if (!(o.checkpoint_interval >= 0 && o.checkpoint_interval <= 86400)) {
+  const double interval = o.checkpoint_interval.value_or(0);
+  if (!(interval >= 0 && interval <= 86400)) {
     return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
   }
-  plan.checkpoint.min_seconds = o.checkpoint_interval;
+  plan.checkpoint.min_seconds = interval;
+  if (o.checkpoint.empty() && (o.checkpoint_every || o.checkpoint_interval)) {
+    return Error::Option(o.checkpoint_every ? "checkpoint-every" : "checkpoint-interval",
+                         "needs --checkpoint DIR");
+  }
   if (o.resume_checkpoint) {
     if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
     Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
@@ -251,8 +256,12 @@ namespace {
 // whether every write so far succeeded.
 class CheckpointWriter {
  public:
-  CheckpointWriter(const CheckpointPlan& plan, uint64_t run_seed, int total_steps)
-      : plan_(plan), run_seed_(run_seed), total_steps_(total_steps) {
+  CheckpointWriter(const CheckpointPlan& plan, uint64_t run_seed, int total_steps,
+                   int approach_count)
+      : plan_(plan),
+        run_seed_(run_seed),
+        total_steps_(total_steps),
+        approach_count_(approach_count) {
     if (enabled()) thread_ = std::thread([this] { Loop(); });
   }
   ~CheckpointWriter() {
@@ -265,6 +274,8 @@ class CheckpointWriter {
     thread_.join();
   }
   bool enabled() const { return !plan_.dir.empty(); }
+  // What the --save-policy file holds now: in every checkpoint from here on.
+  void SetPolicyFile(std::vector<SavedSection> record) { policy_file_ = std::move(record); }
 
   // After `run`'s rows so far of the approach in progress (the finished
   // ones in `finished`), with its policy after the last row. Fails with the
@@ -303,6 +314,8 @@ class CheckpointWriter {
     RunCheckpoint checkpoint;
     checkpoint.run_seed = run_seed_;
     checkpoint.total_steps = total_steps_;
+    checkpoint.approach_count = approach_count_;
+    checkpoint.policy_file = policy_file_;
     return checkpoint;
   }
   Status Submit(RunCheckpoint&& checkpoint) {
@@ -334,6 +347,8 @@ class CheckpointWriter {
   const CheckpointPlan& plan_;
   uint64_t run_seed_;
   int total_steps_;
+  int approach_count_;
+  std::vector<SavedSection> policy_file_;  // the run's thread's alone
   std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::optional<RunCheckpoint> pending_;
@@ -375,8 +390,8 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   PlannerOptions options = plan.options;
   options.stop = stop;
   std::vector<ApproachRun> runs;
-  std::vector<PolicyState> to_save;  // the learning approaches' so far
-  CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps());
+  CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps(),
+                               static_cast<int>(plan.approaches.size()));
   double last_checkpoint = -1e300;  // SteadyClock() of the last one taken
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
@@ -407,17 +422,15 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("resuming: {} approach{} finished before (rows from the checkpoint)",
                    runs.size(), runs.size() == 1 ? "" : "es");
     }
-    // A saved policy file keeps the sections of the approaches finished.
-    if (!plan.policy.save_path.empty()) {
-      Result<std::vector<PolicyState>> saved = ReadPolicyFile(plan.policy.save_path);
-      if (saved) {
-        for (PolicyState& state : *saved) {
-          for (const ApproachRun& run : runs) {
-            if (run.approach == state.approach) to_save.push_back(std::move(state));
-          }
-        }
-      }
-    }
+  }
+  // The --save-policy file, checked against the checkpoint when resuming.
+  std::optional<PolicySaver> saver;
+  if (!plan.policy.save_path.empty()) {
+    Result<PolicySaver> opened =
+        PolicySaver::Open(plan.policy, plan.approaches, source.total_steps(), resume);
+    if (!opened) return opened.error();
+    saver.emplace(std::move(*opened));
+    checkpoints.SetPolicyFile(saver->Record());
   }
   for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
     const Approach approach = plan.approaches[pass];
@@ -439,12 +452,20 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("{}: resuming after step {} from the checkpoint", ApproachName(approach),
                    resume->policy->step);
     }
+    // The file is written when the section is saved, so the checkpoints
+    // after it record it (a resumed run continuing past --save-at saves it
+    // no more). A failed write ends the run after this approach's rows.
     bool saved = false;
-    if (!plan.policy.save_path.empty()) {
+    Status save_status = Ok{};
+    if (saver) {
       hooks.save_at = plan.policy.save_at;
       hooks.save = [&](PolicyState&& state) {
-        to_save.push_back(std::move(state));
         saved = true;
+        save_status = saver->Save(state);
+        if (!save_status) return;
+        checkpoints.SetPolicyFile(saver->Record());
+        spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach), state.step,
+                     plan.policy.save_path);
       };
     }
     Status checkpoint_status = Ok{};
@@ -494,26 +515,23 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
                    ApproachName(approach), hooks.load->step, runs.back().load_seconds);
     }
-    if (saved) {
-      if (Status written = WritePolicyFile(plan.policy.save_path, to_save); !written) {
-        return written.error().Prefixed("policy file " + plan.policy.save_path + ": ");
-      }
-      spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach),
-                   to_save.back().step, plan.policy.save_path);
-    } else if (hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
-      return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
-                                          " is not a step " + ApproachName(approach) +
-                                          " ran (a loaded policy continues after its step)");
-    }
     const ApproachRun& run = runs.back();
     spdlog::info(
         "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
         ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
         run.AverageSuccessRate(), run.AveragePathLength());
+    // The rows first: a policy file that could not be written loses none.
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
     if (Status status = WriteTextFileAtomically(plan.out_dir + "/params.toml", RunPlanToml(plan));
         !status) {
       return status.error();
+    }
+    if (!save_status) return save_status.error();
+    if (!saved && hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
+      // CheckPolicyPlan refuses this before any work; here for callers without it.
+      return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
+                                          " is not a step " + ApproachName(approach) +
+                                          " ran (a loaded policy continues after its step)");
     }
     if (checkpoints.enabled()) {
       if (Status written = checkpoints.Finished(runs); !written) return written.error();

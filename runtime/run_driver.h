@@ -32,8 +32,8 @@ enum class Placement {
 
 // --checkpoint, --checkpoint-every and the resumed checkpoint, resolved.
 struct CheckpointPlan {
-  std::string dir;  // "" writes none
-  int every = 1;    // time steps between checkpoints
+  std::string dir;         // "" writes none
+  int every = 1;           // time steps between checkpoints
   double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
@@ -73,11 +73,11 @@ struct RunOptions {
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
-  ParameterOptions parameters;  // the learner and strategy parameters given
-  std::string checkpoint;           // DIR, "" none
-  long long checkpoint_every = 1;   // K
-  double checkpoint_interval = 0;   // SECONDS
-  bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
+  ParameterOptions parameters;                // the learner and strategy parameters given
+  std::string checkpoint;                     // DIR, "" none
+  std::optional<long long> checkpoint_every;  // K, 1 when unset (needs --checkpoint)
+  std::optional<double> checkpoint_interval;  // SECONDS, 0 when unset (needs --checkpoint)
+  bool resume_checkpoint = false;         // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
 };
 // The values the run plan's options accept, checked without naming the
@@ -112,8 +112,10 @@ std::string RunPlanToml(const RunPlan& plan);
 // DIR/results_detailed.csv and DIR/params.toml (RunPlanToml)
 // atomically after every approach, so an interrupted run keeps what
 // finished. `extra` is called after every step. With plan.policy, each
-// learning approach starts from its loaded section and the saved policies
-// are (re)written after every learning approach. With plan.checkpoint.dir,
+// learning approach starts from its loaded section, and the saved file
+// (runtime/policy_saver.h) is rewritten when one saves its section; a
+// failed write ends the run after that approach's rows are written. With
+// plan.checkpoint.dir,
 // a checkpoint is written after every `every` time steps of a learning
 // approach and after every approach; with plan.checkpoint.resume, the
 // finished approaches' rows are taken from it and the approach in progress

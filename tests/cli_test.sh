@@ -29,6 +29,15 @@ expect_usage_error "--size" maze --size abc
 expect_usage_error "unknown option" run --sise 20
 expect_usage_error "'magic'" run --approach magic
 expect_usage_error "needs a value" run --out
+# An empty value is refused, never read as "not given"; an option that
+# needs another is refused without it.
+for option in --out --save-policy --load-policy --checkpoint --epsilon-start --seed --maze; do
+  expect_usage_error "option $option must not be empty" run --size 10 --steps 1 --out "$work/empty" "$option" ""
+done
+expect_usage_error "option --checkpoint-every needs --checkpoint DIR" run --size 10 --checkpoint-every 5
+expect_usage_error "option --checkpoint-interval needs --checkpoint DIR" run --size 10 --checkpoint-interval 1
+expect_usage_error "--restart-coordinator restarts coordinator processes" run --local --size 10 \
+  --checkpoint "$work/ck_local" --restart-coordinator 2
 expect_usage_error "missing.txt" run --maze "$work/missing.txt"
 printf '..x\n...\n' >"$work/bad_maze.txt"
 expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"

@@ -343,7 +343,7 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
       {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
       {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
       {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},
-      {Cli({{"sizes", ""}}), "option --sizes: the list is empty"},
+      {Cli({{"sizes", ""}}), "option --sizes: must not be empty"},
       {Cli({{"difficulties", "easy,extreme"}}),
        "option --difficulties: unknown difficulty 'extreme'"},
       {Cli({{"difficulties", "hard,HARD"}}),

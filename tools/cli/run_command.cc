@@ -17,6 +17,7 @@
 #include "protocol/dispatcher.h"
 #include "runtime/output_check.h"
 #include "runtime/output_lock.h"
+#include "runtime/policy_saver.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
@@ -218,9 +219,14 @@ int RunCommand(const std::vector<std::string>& given_args) {
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   std::optional<std::string> resume_option;  // taken out of the arguments above
-  group.Option("--resume", resume_option, "DIR",
-               "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
-               "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  group.Option(
+      "--resume", resume_option, "DIR",
+      "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
+      "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  bool force = false;
+  group.Flag("--force", force,
+             "with --checkpoint DIR: start a new run there even when DIR holds the checkpoint of "
+             "an unfinished run (which is then lost; without it such a DIR is refused)");
   std::optional<long long> restarts;
   group.Option("--restart-coordinator", restarts, "N",
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
@@ -254,6 +260,15 @@ int RunCommand(const std::vector<std::string>& given_args) {
   if (*restart_limit > 0 && !checkpointing) {
     return usage_error("--restart-coordinator restarts from checkpoints: give --checkpoint DIR");
   }
+  if (force && (!checkpointing || run_options.resume_checkpoint)) {
+    return usage_error(
+        "--force starts a new run over the checkpoint in --checkpoint DIR: give --checkpoint "
+        "DIR, and not with --resume");
+  }
+  if (restarts && run_mode->kind != runtime::RunMode::kAgents) {
+    return usage_error(
+        "--restart-coordinator restarts coordinator processes: use it with --agents N");
+  }
   if (!distributed) {
     const std::pair<const char*, bool> network_options[] = {
         {"lcm-url", !process_options.lcm_url.empty()},
@@ -279,8 +294,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
   if (Status policy = runtime::CheckPolicyPlan(
-          plan->policy, plan->approaches, plan->options, setup->scenario.grid.rows(),
-          setup->scenario.grid.cols(), static_cast<int>(setup->scenario.changes.steps.size()));
+          plan->policy, plan->approaches, plan->options, setup->scenario.grid,
+          static_cast<int>(setup->scenario.changes.steps.size()), plan->RunSeed(setup->seed));
       !policy) {
     return usage_error(policy.error().message);
   }
@@ -294,6 +309,12 @@ int RunCommand(const std::vector<std::string>& given_args) {
     if (Status status = runtime::CheckOutputFile(plan->policy.save_path, "save-policy"); !status) {
       return usage_error(status.error().message);
     }
+    // A file there is kept (its other sections) or, resuming, must be the
+    // one the checkpoint recorded: checked here too, before any process starts.
+    Result<runtime::PolicySaver> saver = runtime::PolicySaver::Open(
+        plan->policy, plan->approaches, static_cast<int>(setup->scenario.changes.steps.size()),
+        plan->checkpoint.resume.get());
+    if (!saver) return usage_error(saver.error().message);
   }
   Result<long long> repeat_count = runtime::InRange("repeats", repeats, 1, 1, kMaxRepeats);
   if (!repeat_count) return usage_error(repeat_count.error().message);
@@ -331,6 +352,16 @@ int RunCommand(const std::vector<std::string>& given_args) {
       checkpoint_lock.emplace(std::move(*locked));
     }
     if (!run_options.resume_checkpoint) {
+      if (!force) {
+        if (Status free = runtime::CheckCheckpointFree(plan->checkpoint.dir); !free) {
+          return usage_error(free.error().message);
+        }
+      }
+      // A new run: the checkpoint before it (of a finished run, or given up
+      // with --force) must not be taken up by a --resume of this one.
+      std::error_code removed;
+      std::filesystem::remove(plan->checkpoint.dir + "/" + runtime::kCheckpointFileName, removed);
+      if (removed) return usage_error("option --checkpoint: " + removed.message());
       // What `run --resume DIR` runs again: every option of the run but the
       // process and log ones (a new run id and secret are fine).
       runtime::ConfigWriter recorded;
@@ -349,10 +380,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
       const runtime::RunCheckpoint& from = *plan->checkpoint.resume;
       spdlog::info("resuming from {}/{}: {} of {} approaches finished{}", plan->checkpoint.dir,
                    runtime::kCheckpointFileName, from.pass, plan->approaches.size(),
-                   from.policy ? fmt::format(", {} after step {}",
-                                             ApproachName(from.runs.back().approach),
-                                             from.policy->step)
-                               : std::string());
+                   from.policy
+                       ? fmt::format(", {} after step {}", ApproachName(from.runs.back().approach),
+                                     from.policy->step)
+                       : std::string());
     } else {
       spdlog::info("{} holds no checkpoint yet: the run starts from the beginning",
                    plan->checkpoint.dir);
@@ -404,9 +435,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   // The first Ctrl-C (or SIGTERM) stops the run within about a second, also
   // inside one large training job; the approaches finished so far stay
   // written. A second one ends the process at once.
-  const std::atomic<bool>& stop =
-      protocol::StopOnSignals("\ndynapath run: stopping (Ctrl-C again: at once)\n",
-                              "\ndynapath run: stopped at once\n");
+  const std::atomic<bool>& stop = protocol::StopOnSignals(
+      "\ndynapath run: stopping (Ctrl-C again: at once)\n", "\ndynapath run: stopped at once\n");
   if (*repeat_count > 1) {
     return RunRepeats(*plan, *setup, static_cast<int>(*repeat_count), run_options.learner_seed,
                       *threads, stop);

@@ -193,8 +193,8 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (!setup) return usage_error(setup.error().message);
   const Grid& maze = setup->scenario.grid;
   if (Status policy = runtime::CheckPolicyPlan(
-          plan->policy, plan->approaches, plan->options, maze.rows(), maze.cols(),
-          static_cast<int>(setup->scenario.changes.steps.size()));
+          plan->policy, plan->approaches, plan->options, maze,
+          static_cast<int>(setup->scenario.changes.steps.size()), setup->seed);
       !policy) {
     return usage_error(policy.error().message);
   }

@@ -386,7 +386,8 @@ Result<std::vector<std::string>> ArgumentsOf(const std::string& name, const Opti
 // options with, exactly as it converts a command line: the defaults are
 // that struct's (the runtime groups' own), and every value is converted by
 // the same code whichever source it came from. One value at a time, so a
-// value CLI11 cannot convert (only an integer can fail) names its origin.
+// value CLI11 refuses (an empty one, or an integer it cannot convert)
+// names its origin.
 Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
   StudyCommandLine given;
   for (const auto& [name, value] : values) {
@@ -399,6 +400,9 @@ Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
     try {
       app.parse(*arguments);
     } catch (const CLI::ParseError&) {
+      // The option layer refuses an empty value of every kind
+      // (runtime/option_group.h); else only an integer can fail.
+      if (value.text.empty()) return Error{value.origin + ": must not be empty"};
       return Error{value.origin + ": needs an integer, got '" + value.text + "'"};
     }
   }
