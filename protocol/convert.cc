@@ -289,8 +289,14 @@ policy_t PolicyToMessage(const std::string& run_id, const std::string& approach,
   return policy;
 }
 
-Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
+Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols, uint64_t maze,
                                     UpdateRefusal* why) {
+  if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
+    *why = UpdateRefusal::kOtherMaze;
+    return Error("an update for the maze of fingerprint " +
+                 FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
+                 FingerprintText(maze));
+  }
   MapUpdate update;
   update.source = m.source;
   update.sequence = m.sequence;
