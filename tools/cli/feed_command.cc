@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -43,11 +44,10 @@ int FeedCommand(const std::vector<std::string>& args) {
       "the service's current step. Without --rate it waits for the service to commit\n"
       "each step before sending the next, so the service's time steps are the run's;\n"
       "with --rate R it sends R steps a second whatever the service does. Prints one\n"
-      "JSON line: steps\n"
-      "sent and, in lock step, the service's last step and the times from publishing\n"
-      "an update to the first reply from a policy of its step (commit_p50_ms, ...; for\n"
-      "a step that retrains, the interim policy committed before the training) and to\n"
-      "the step's own retrained policy (trained_p50_ms, ...).",
+      "JSON line: steps sent and, in lock step, the service's last step and the times\n"
+      "from publishing an update to the first reply from a policy of its step\n"
+      "(commit_p50_ms, ...; for a step that retrains, the interim policy committed\n"
+      "before the training) and to the step's own retrained policy (trained_p50_ms, ...).",
       kFeedProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
@@ -61,6 +61,9 @@ int FeedCommand(const std::vector<std::string>& args) {
   group.Option("--source", source_given, "NAME",
                "the updates' source name (1-64 characters; sequence numbers count per source)",
                "feed-PID");
+  std::optional<long long> max_steps;
+  group.Option("--max-steps", max_steps, "N",
+               "send at most N steps (1-10000000) after the service's current one", "all");
   double timeout = 60;
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
@@ -80,6 +83,10 @@ int FeedCommand(const std::vector<std::string>& args) {
   }
   if (!(timeout > 0 && timeout <= 3600)) {
     return runtime::ProcessError(kFeedProgram, "--timeout must be between 0 and 3600 seconds");
+  }
+  if (max_steps) {
+    Result<long long> checked = runtime::InRange("max-steps", *max_steps, 1, 1, 10000000);
+    if (!checked) return runtime::ProcessError(kFeedProgram, checked.error().message);
   }
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return runtime::ProcessError(kFeedProgram, setup.error().message);
@@ -115,7 +122,10 @@ int FeedCommand(const std::vector<std::string>& args) {
   int sent = 0;
   LatencyHistogram commit;   // lock step: update published -> a policy of its step answering
   LatencyHistogram trained;  // ... -> the step's own (retrained) policy committed
-  for (size_t t = static_cast<size_t>(expected_step); t < steps.size(); ++t) {
+  const size_t last = max_steps ? std::min(steps.size(), static_cast<size_t>(expected_step) +
+                                                             static_cast<size_t>(*max_steps))
+                                : steps.size();
+  for (size_t t = static_cast<size_t>(expected_step); t < last; ++t) {
     const ChangeStep& step = steps[t];
     obstacle_update_t update{};
     update.run_id = process->run_id;
