@@ -117,6 +117,12 @@ policy_t PolicyToMessage(const std::string& run_id, const std::string& approach,
 // is neither OBSTACLE nor FREE; the update is then refused whole.
 Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& message, int rows, int cols,
                                     uint64_t maze, UpdateRefusal* why);
+// One time step's changes of a `cols`-wide grid as the obstacle update
+// that `source` sends as its `sequence`-th, made for the maze of
+// fingerprint `maze` (the service's, from its replies); run_id and utime
+// are the caller's.
+obstacle_update_t UpdateToMessage(const ChangeStep& step, int cols, const std::string& source,
+                                  int64_t sequence, uint64_t maze);
 // Occupancy thresholds (ROS map_server's meaning and defaults): a value p
 // (0..100, percent) is an obstacle when p / 100 > occupied, free when
 // p / 100 < free, else (and -1, unknown) it changes nothing.

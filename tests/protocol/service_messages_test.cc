@@ -54,6 +54,14 @@ TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
   ASSERT_FALSE(foreign.ok());
   EXPECT_EQ(why, UpdateRefusal::kOtherMaze);
   EXPECT_NE(foreign.error().message.find(FingerprintText(77)), std::string::npos);
+  // A step's changes as an update, and back.
+  const ChangeStep step{0, {{1, Cell::kObstacle}, {11, Cell::kFree}}};
+  const obstacle_update_t sent = UpdateToMessage(step, 4, "feed", 3, 77);
+  EXPECT_EQ(Validate(sent), "");
+  EXPECT_EQ(sent.sequence, 3);
+  Result<MapUpdate> back = UpdateFromMessage(sent, 3, 4, 77, &why);
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->changes, step.changes);
 
   obstacle_update_t bad = m;
   bad.sequence = 0;

@@ -15,6 +15,7 @@
 #include "dynapath/policy_t.hpp"
 #include "dynapath/scenario.h"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "protocol/dispatcher.h"
 #include "runtime/reply_witness.h"
 
@@ -185,18 +186,8 @@ class ReplyListener {
 
 obstacle_update_t UpdateMessage(const ChangeStep& step, const Grid& grid, uint64_t maze,
                                 int64_t sequence) {
-  obstacle_update_t update{};
+  obstacle_update_t update = protocol::UpdateToMessage(step, grid.cols(), "test", sequence, maze);
   update.run_id = "service-bus";
-  update.source = "test";
-  update.sequence = sequence;
-  update.maze_fingerprint = static_cast<int64_t>(maze);
-  for (const CellChange& change : step.changes) {
-    update.rows.push_back(grid.RowOf(change.cell));
-    update.cols.push_back(grid.ColOf(change.cell));
-    update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
-                                                           : obstacle_update_t::FREE);
-  }
-  update.num_cells = static_cast<int32_t>(update.rows.size());
   return update;
 }
 

@@ -16,6 +16,7 @@
 #include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -127,19 +128,10 @@ int FeedCommand(const std::vector<std::string>& args) {
                                 : steps.size();
   for (size_t t = static_cast<size_t>(expected_step); t < last; ++t) {
     const ChangeStep& step = steps[t];
-    obstacle_update_t update{};
+    obstacle_update_t update = protocol::UpdateToMessage(
+        step, grid.cols(), source, ++sent, static_cast<uint64_t>(first->maze_fingerprint));
     update.run_id = process->run_id;
-    update.source = source;
-    update.sequence = ++sent;
     update.utime = NowMicros();
-    update.maze_fingerprint = first->maze_fingerprint;
-    for (const CellChange& change : step.changes) {
-      update.rows.push_back(grid.RowOf(change.cell));
-      update.cols.push_back(grid.ColOf(change.cell));
-      update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
-                                                             : obstacle_update_t::FREE);
-    }
-    update.num_cells = static_cast<int32_t>(update.rows.size());
     if (rate) {
       std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                 std::chrono::duration<double>((sent - 1) / *rate)));

@@ -19,6 +19,7 @@
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -179,18 +180,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
     if (tick > 0 && tick % ticks_per_step == 0 && step_index < steps.size()) {
       const ChangeStep& step = steps[step_index++];
       ApplyChanges(step, grid);
-      obstacle_update_t update{};
+      obstacle_update_t update = protocol::UpdateToMessage(
+          step, grid.cols(), source, ++sequence, static_cast<uint64_t>(met->maze_fingerprint));
       update.run_id = process->run_id;
-      update.source = source;
-      update.sequence = ++sequence;
-      update.maze_fingerprint = met->maze_fingerprint;
-      for (const CellChange& change : step.changes) {
-        update.rows.push_back(grid.RowOf(change.cell));
-        update.cols.push_back(grid.ColOf(change.cell));
-        update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
-                                                               : obstacle_update_t::FREE);
-      }
-      update.num_cells = static_cast<int32_t>(update.rows.size());
       client.bus().Publish(protocol::channel::kMapUpdates, update);
       if (!step.changes.empty()) {
         // Wait for this step's own policy (its REPORT: a step that retrains
