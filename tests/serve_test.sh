@@ -23,8 +23,8 @@
 #    drop a datagram on a loaded machine; what is answered is measured).
 # 5. A robot fleet in closed loop on a small map arrives; a fleet made for
 #    another maze is refused.
-# 6. A policy saved at step 4: a service with fewer steps refuses at once;
-#    one with the run's steps takes over at step 4 and feed goes on from 5;
+# 6. A policy saved at step S: a service with fewer steps refuses at once;
+#    one with the run's steps takes over at step S and feed goes on from S+1;
 #    feed's probes are counted as probes, not as starts.
 # 7. Ctrl-C during the initial training: exit 130, no results written.
 set -uo pipefail
@@ -124,16 +124,23 @@ if grep -q '"start":\[25,3\],"status":"outside_grid"' "$work/q1.json" &&
 else
   fail "outside starts: $(cat "$work/q1.json")"
 fi
-# A second service of this run id (another maze) refuses before any work
-# (one that starts anyway is ended after 10 s).
-timeout -s INT 10 "$dynapath" serve "${auth[@]}" --size 30 --difficulty hard --seed 4 --threads 1 \
-  >/dev/null 2>"$work/second.log"
-status=$?
-if [ "$status" -eq 2 ] && grep -q "already served on this network by the service of maze fingerprint $fingerprint" "$work/second.log"; then
-  pass "a second service of the run id refused: $(tail -1 "$work/second.log")"
-else
-  fail "second service: exit $status: $(cat "$work/second.log")"
-fi
+# refused WHAT PATTERN COMMAND...: COMMAND exits 2 with PATTERN in its
+# errors (one that runs on is ended after 10 s).
+refused() {
+  local what=$1 pattern=$2 status
+  shift 2
+  timeout -s INT 10 "$@" >/dev/null 2>"$work/refused.log"
+  status=$?
+  if [ "$status" -eq 2 ] && grep -q -- "$pattern" "$work/refused.log"; then
+    pass "$what refused: $(tail -1 "$work/refused.log")"
+  else
+    fail "$what: exit $status: $(cat "$work/refused.log")"
+  fi
+}
+# A second service of this run id (another maze) refuses before any work.
+refused "a second service of the run id" \
+  "already served on this network by the service of maze fingerprint $fingerprint" \
+  "$dynapath" serve "${auth[@]}" --size 30 --difficulty hard --seed 4 --threads 1
 
 # 2. The change file in lock step, then the results against run's.
 if "$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
@@ -156,24 +163,12 @@ fi
 # seed): refused by the service's maze fingerprint, nothing sent.
 for other in "--size 30 --difficulty hard --seed 4" "--size 20 --difficulty easy --seed 99"; do
   # shellcheck disable=SC2086 # $other is maze options
-  "$dynapath" feed "${auth[@]}" $other --steps 3 --source big --timeout 10 \
-    >/dev/null 2>"$work/other.log"
-  status=$?
-  if [ "$status" -eq 2 ] && grep -q "is served by the service of maze fingerprint $fingerprint" "$work/other.log"; then
-    pass "feed for another maze ($other) refused: $(tail -1 "$work/other.log")"
-  else
-    fail "feed for another maze ($other): exit $status: $(cat "$work/other.log")"
-  fi
+  refused "feed for another maze ($other)" "is served by the service of maze fingerprint $fingerprint" \
+    "$dynapath" feed "${auth[@]}" $other --steps 3 --source big --timeout 10
 done
-# shellcheck disable=SC2086
-"$dynapath" robots "${auth[@]}" --size 20 --difficulty easy --seed 99 --steps 3 --robots 2 \
-  --ticks 5 --timeout 10 >/dev/null 2>"$work/other.log"
-status=$?
-if [ "$status" -eq 2 ] && grep -q "not this maze" "$work/other.log"; then
-  pass "a fleet for another maze refused"
-else
-  fail "fleet for another maze: exit $status: $(cat "$work/other.log")"
-fi
+refused "a fleet for another maze" "not this maze" \
+  "$dynapath" robots "${auth[@]}" --size 20 --difficulty easy --seed 99 --steps 3 --robots 2 \
+  --ticks 5 --timeout 10
 nine=()
 for i in 1 2 3 4 5 6 7 8 9; do nine+=(--from "$i,$i"); done
 if "$dynapath" query "${auth[@]}" "${nine[@]}" --json >"$work/q9.json" 2>&1; then
@@ -302,32 +297,27 @@ kill -INT "$server_pid"
 wait "$server_pid" || fail "the fleet's service exited $?"
 server_pid=
 
-# 6. A policy saved at step 4 of the run's sequence.
+# 6. A policy saved half way through the run's sequence.
 gen=(--size 20 --difficulty hard --seed 3)
+saved=$((steps / 2))
 "$dynapath" run --local "${gen[@]}" --steps "$steps" --approach fedAsynQ_EqAvg --threads 1 \
-  --save-policy "$work/p4.policy" --save-at 4 --out "$work/p4run" >/dev/null 2>"$work/p4.log" ||
-  fail "run --save-at 4: $(tail -2 "$work/p4.log")"
-start_ns=$(date +%s%N)
-timeout -s INT 10 "$dynapath" serve --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps 2 \
-  --load-policy "$work/p4.policy" --threads 1 >/dev/null 2>"$work/p4short.log"
-status=$?
-short_ms=$(( ($(date +%s%N) - start_ns) / 1000000 ))
-if [ "$status" -eq 2 ] && grep -q "saved at time step 4" "$work/p4short.log"; then
-  pass "a policy of step 4 with --steps 2 refused at once ($short_ms ms): $(tail -1 "$work/p4short.log")"
-else
-  fail "policy of step 4, --steps 2: exit $status: $(cat "$work/p4short.log")"
-fi
+  --save-policy "$work/p4.policy" --save-at "$saved" --out "$work/p4run" >/dev/null 2>"$work/p4.log" ||
+  fail "run --save-at $saved: $(tail -2 "$work/p4.log")"
+refused "a policy of step $saved with --steps $((saved - 1))" "saved at time step $saved" \
+  "$dynapath" serve --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$((saved - 1))" \
+  --load-policy "$work/p4.policy" --threads 1
 "$dynapath" serve --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
   --load-policy "$work/p4.policy" --threads 1 >"$work/p4serve.out" 2>"$work/p4serve.log" &
 server_pid=$!
-# One step (--max-steps 1), then the rest: steps 5, then 6 to the last.
+# One step (--max-steps 1), then the rest: the one after the saved step,
+# then the others.
 if "$dynapath" feed --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
      --max-steps 1 --timeout 60 >"$work/p4one.out" 2>"$work/p4feed.log" &&
    "$dynapath" feed --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
      --timeout 60 >"$work/p4feed.out" 2>>"$work/p4feed.log" &&
-   python3 -c 'import json,sys; a=json.loads(sys.argv[1]); o=json.loads(sys.argv[2]); n=int(sys.argv[3]); sys.exit(0 if (a["sent"], a["service_step"], o["sent"], o["service_step"]) == (1, 5, n - 5, n) else 1)' \
-     "$(cat "$work/p4one.out")" "$(cat "$work/p4feed.out")" "$steps"; then
-  pass "feed went on from the loaded policy's step 4: $(cat "$work/p4one.out") $(cat "$work/p4feed.out")"
+   python3 -c 'import json,sys; a=json.loads(sys.argv[1]); o=json.loads(sys.argv[2]); n=int(sys.argv[3]); s=int(sys.argv[4]); sys.exit(0 if (a["sent"], a["service_step"], o["sent"], o["service_step"]) == (1, s + 1, n - s - 1, n) else 1)' \
+     "$(cat "$work/p4one.out")" "$(cat "$work/p4feed.out")" "$steps" "$saved"; then
+  pass "feed went on from the loaded policy's step $saved: $(cat "$work/p4one.out") $(cat "$work/p4feed.out")"
 else
   fail "feed after a loaded policy: $(cat "$work/p4one.out" "$work/p4feed.out" "$work/p4feed.log")"
 fi
