@@ -38,8 +38,9 @@ int SiblingCommand(const std::string& tool, const std::vector<std::string>& args
 int RunSibling(const std::string& tool, const std::vector<std::string>& args,
                const std::string& missing_hint);
 
-// Exit codes: 0 success, 1 run-time failure, 2 bad usage.
+// Exit codes: 0 success, 1 run-time failure, 2 bad usage, 130 interrupted.
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInterrupted = 130;  // stopped by Ctrl-C or SIGTERM before a result
 
 }  // namespace dynapath::cli
