@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -35,12 +36,12 @@ class ProgressLog {
     const StepRecord& record = run.steps.back();
     if (step == 0) {
       spdlog::info("{} {} {}: initial training {:.3f} s, success rate {:.4f}, path length {:.3f}",
-                   ApproachName(run.approach), run.size_label, run.difficulty_label,
-                   run.initial_seconds, record.success_rate, record.average_path_length);
+                   run.Label(), run.size_label, run.difficulty_label, run.initial_seconds,
+                   record.success_rate, record.average_path_length);
     } else {
       spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step",
-                   ApproachName(run.approach), run.size_label, run.difficulty_label, step,
-                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep());
+                   run.Label(), run.size_label, run.difficulty_label, step, view.total_steps,
+                   record.success_rate, run.AdaptSecondsPerStep());
     }
   }
 
@@ -117,12 +118,13 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: " + BootstrapWords().List() +
                    " (docs/concepts/DECISIONS.md)");
-  group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: " + SemanticsWords().List() +
-                   " (report: the report code's bootstrap, first training, single-agent "
-                   "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
-                   (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
-                   "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
+  group.Option(
+      "--semantics", o.semantics, "WHOSE",
+      "learning semantics: " + SemanticsWords().List() +
+          " (report: the report code's bootstrap, first training, single-agent "
+          "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+          (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
+          "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
   group.Option("--learner-seed", o.learner_seed, "N",
                "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
@@ -319,6 +321,22 @@ class CheckpointWriter {
 
 }  // namespace
 
+namespace {
+
+// After an approach: its summary line, and the result files and params.toml
+// (re)written with every run so far.
+Status FinishApproach(const std::vector<ApproachRun>& runs, const RunPlan& plan) {
+  const ApproachRun& run = runs.back();
+  spdlog::info(
+      "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
+      run.Label(), run.initial_seconds, run.AdaptSecondsPerStep(), run.AverageSuccessRate(),
+      run.AveragePathLength());
+  if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status;
+  return WriteParametersToml(plan.options, plan.out_dir, plan.learner_seed);
+}
+
+}  // namespace
+
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
                                                const StepCallback& extra,
@@ -333,11 +351,11 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
-    return Error::Option(
-        "checkpoint", fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
-                                  "seed {}, {} time steps)",
-                                  plan.checkpoint.dir, resume->run_seed, resume->total_steps,
-                                  options.run_seed, source.total_steps()));
+    return Error::Option("checkpoint",
+                         fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
+                                     "seed {}, {} time steps)",
+                                     plan.checkpoint.dir, resume->run_seed, resume->total_steps,
+                                     options.run_seed, source.total_steps()));
   }
   if (checkpoints.enabled()) {
     if (Status ready = PrepareOutputDirectory(plan.checkpoint.dir, "checkpoint"); !ready) {
@@ -371,7 +389,30 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       }
     }
   }
+  if (!plan.external.empty() && (checkpoints.enabled() || resume != nullptr)) {
+    return Error::Internal("approaches from outside core take no checkpoint");
+  }
+  // The external approaches due before built-in approach `before`.
+  auto run_external = [&](size_t before) -> Status {
+    for (const ExternalApproach& external : plan.external) {
+      if (std::min(external.before, plan.approaches.size()) != before) continue;
+      ProgressLog progress(SteadyClock());
+      const StepCallback on_step = [&](const StepView& view) {
+        progress(view);
+        if (extra) extra(view);
+      };
+      ApproachRun run =
+          RunExternalPlanner(stoppable, static_cast<int>(runs.size()), *external.planner,
+                             external.label, labels, SteadyClock(), on_step);
+      stoppable.Stopped();
+      if (Status status = stoppable.status(); !status) return status;
+      runs.push_back(std::move(run));
+      if (Status status = FinishApproach(runs, plan); !status) return status;
+    }
+    return Ok{};
+  };
   for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
+    if (Status status = run_external(pass); !status) return status.error();
     const Approach approach = plan.approaches[pass];
     ProgressLog progress(SteadyClock());
     const StepCallback on_step = [&](const StepView& view) {
@@ -457,20 +498,12 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
                                           " is not a step " + ApproachName(approach) +
                                           " ran (a loaded policy continues after its step)");
     }
-    const ApproachRun& run = runs.back();
-    spdlog::info(
-        "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
-        ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
-        run.AverageSuccessRate(), run.AveragePathLength());
-    if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
-    if (Status status = WriteParametersToml(plan.options, plan.out_dir, plan.learner_seed);
-        !status) {
-      return status.error();
-    }
+    if (Status status = FinishApproach(runs, plan); !status) return status.error();
     if (checkpoints.enabled()) {
       if (Status written = checkpoints.Finished(runs); !written) return written.error();
     }
   }
+  if (Status status = run_external(plan.approaches.size()); !status) return status.error();
   return runs;
 }
 
@@ -557,9 +590,8 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
                                           int threads, const StepCallback& extra,
                                           const std::atomic<bool>* stop,
                                           TrainingProgress* progress) {
-  for (const std::string& warning :
-       LongRunWarnings(plan, setup.scenario.grid,
-                       static_cast<int>(setup.scenario.changes.steps.size()))) {
+  for (const std::string& warning : LongRunWarnings(
+           plan, setup.scenario.grid, static_cast<int>(setup.scenario.changes.steps.size()))) {
     spdlog::warn("{}", warning);
   }
   RunPlan seeded = plan;

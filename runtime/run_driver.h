@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,16 +33,27 @@ enum class Placement {
 
 // --checkpoint, --checkpoint-every and the resumed checkpoint, resolved.
 struct CheckpointPlan {
-  std::string dir;  // "" writes none
-  int every = 1;    // time steps between checkpoints
+  std::string dir;         // "" writes none
+  int every = 1;           // time steps between checkpoints
   double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
 };
 
+// An approach from outside core (the Python module's): its planner and the
+// label of its rows, run before approaches[before] (after them all when
+// `before` is their count), over the same source and scored the same way.
+// Only for a run in one process (RunLocal): no policy file, no checkpoint.
+struct ExternalApproach {
+  std::string label;
+  std::shared_ptr<Planner> planner;
+  size_t before = 0;
+};
+
 struct RunPlan {
   std::vector<Approach> approaches;
-  PlannerOptions options;  // run_seed is set from the scenario
+  std::vector<ExternalApproach> external;  // none from the command line
+  PlannerOptions options;                  // run_seed is set from the scenario
   std::string out_dir = "results";
   Placement placement = Placement::kAuto;
   PolicyPlan policy;  // --save-policy, --save-at, --load-policy
@@ -73,11 +85,11 @@ struct RunOptions {
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
-  ParameterOptions parameters;  // the learner and strategy parameters given
-  std::string checkpoint;           // DIR, "" none
-  long long checkpoint_every = 1;   // K
-  double checkpoint_interval = 0;   // SECONDS
-  bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
+  ParameterOptions parameters;            // the learner and strategy parameters given
+  std::string checkpoint;                 // DIR, "" none
+  long long checkpoint_every = 1;         // K
+  double checkpoint_interval = 0;         // SECONDS
+  bool resume_checkpoint = false;         // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
 };
 // The values the run plan's options accept, checked without naming the
