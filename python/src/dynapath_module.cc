@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -576,12 +577,18 @@ class PythonPlanner : public Planner {
                                   ") or (" + std::to_string(grid.size()) + ",)");
     }
     const int8_t* data = static_cast<const int8_t*>(array.data());
+    // -1..7 is 0..8 shifted: one branch-free pass (vectorised), the
+    // offending cell searched only when there is one.
+    uint8_t worst = 0;
     for (int cell = 0; cell < grid.size(); ++cell) {
-      if (data[cell] < -1 || data[cell] >= kNumActions) {
-        throw std::invalid_argument("cell " + std::to_string(cell) + " has action " +
-                                    std::to_string(data[cell]) +
-                                    "; actions are 0..7 (N, NE, E, SE, S, SW, W, NW) or -1");
-      }
+      worst = std::max(worst, static_cast<uint8_t>(static_cast<uint8_t>(data[cell]) + 1));
+    }
+    if (worst > kNumActions) {
+      const int8_t* bad = std::find_if(data, data + grid.size(),
+                                       [](int8_t a) { return a < -1 || a >= kNumActions; });
+      throw std::invalid_argument("cell " + std::to_string(bad - data) + " has action " +
+                                  std::to_string(*bad) +
+                                  "; actions are 0..7 (N, NE, E, SE, S, SW, W, NW) or -1");
     }
     actions_ = std::move(array);
     actions_data_ = data;
@@ -687,6 +694,26 @@ py::array BfsDistances(py::array_t<int8_t, py::array::c_style | py::array::force
   py::array_t<int32_t> out({grid.rows(), grid.cols()});
   std::copy(distance.begin(), distance.end(), out.mutable_data());
   return out;
+}
+
+// Seconds per policy evaluation of `actions` on `grid` (what scoring a Python
+// approach's step costs in C++), the mean of `repeats`: for
+// bench/python_approach_bench.py.
+double EvaluationSeconds(const Maze& maze,
+                         py::array_t<int8_t, py::array::c_style | py::array::forcecast> actions,
+                         int repeats) {
+  const Grid& grid = maze.scenario.grid;
+  if (actions.size() != grid.size()) throw std::invalid_argument("one action per cell");
+  PolicyEvaluator evaluator;
+  PolicyDepths depths;
+  PolicyScore score;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < repeats; ++i) {
+    evaluator.Evaluate(grid, actions.data(), depths);
+    score = ScoreGrid(grid, depths);
+  }
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return score.starts < 0 ? 0.0 : elapsed.count() / std::max(1, repeats);
 }
 
 }  // namespace
@@ -903,6 +930,8 @@ baselines : numpy.ndarray of float64
       py::arg("path"), py::arg("sections"));
   m.def("run", &Run, py::arg("maze"), py::arg("args"), py::arg("builtin"), py::arg("external"));
   m.def("bfs_distances", &BfsDistances, py::arg("grid"));
+  m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),
+        py::arg("repeats"));
   m.def(
       "set_log_level",
       [](const std::string& level) {
