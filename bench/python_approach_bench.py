@@ -18,28 +18,15 @@ Run: PYTHONPATH=build/python python3 bench/python_approach_bench.py
 
 import argparse
 import os
+import pathlib
+import sys
 import time
-
-import numpy as np
 
 import dynapath
 from dynapath import _dynapath
 
-OFFSETS = np.array(dynapath.ACTION_OFFSETS)
-
-
-def bfs_actions(grid):
-    distance = dynapath.bfs_distances(grid)
-    rows, cols = grid.shape
-    actions = np.full(grid.shape, -1, dtype=np.int8)
-    padded = np.full((rows + 2, cols + 2), -1, dtype=np.int32)
-    padded[1:-1, 1:-1] = distance
-    wanted = np.where((grid == dynapath.FREE) & (distance > 0), distance - 1, -2)
-    for a in range(7, -1, -1):
-        dr, dc = OFFSETS[a]
-        actions[padded[1 + dr:1 + dr + rows, 1 + dc:1 + dc + cols] == wanted] = a
-    return actions
-
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "python" / "examples"))
+from nearest_station import nearest_actions  # noqa: E402
 
 class Fixed:
     """The same precomputed policy at every step."""
@@ -66,7 +53,7 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
     maze = dynapath.Maze.generate(size=args.size, difficulty="hard")
-    actions = bfs_actions(maze.grid)
+    actions = nearest_actions(maze.grid)
     steps = maze.num_steps + 1
     evaluation = min(_dynapath._evaluation_seconds(maze._core, actions, steps)
                      for _ in range(args.repeats))

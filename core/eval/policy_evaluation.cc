@@ -7,8 +7,7 @@ namespace dynapath {
 void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out) {
   const int n = grid.size();
   const int cols = grid.cols();
-  successors_.assign(static_cast<size_t>(n) * 2, -1);
-  in_offsets_.assign(static_cast<size_t>(n) + 1, 0);
+  ClearEdges(n);
   // Forward edges: a station ends a path, an obstacle is never a start, so
   // only free cells need successors.
   for (int cell = 0; cell < n; ++cell) {
@@ -30,8 +29,7 @@ void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepth
 void PolicyEvaluator::Evaluate(const Grid& grid, const int8_t* actions, PolicyDepths& out) {
   const int n = grid.size();
   const int cols = grid.cols();
-  successors_.assign(static_cast<size_t>(n) * 2, -1);
-  in_offsets_.assign(static_cast<size_t>(n) + 1, 0);
+  ClearEdges(n);
   // One successor per free cell: its action's target, when in the grid and
   // not an obstacle (no action, -1, or a bump ends the path).
   for (int cell = 0; cell < n; ++cell) {
@@ -47,6 +45,11 @@ void PolicyEvaluator::Evaluate(const Grid& grid, const int8_t* actions, PolicyDe
     ++in_offsets_[target + 1];
   }
   SearchFromStations(grid, out);
+}
+
+void PolicyEvaluator::ClearEdges(int cells) {
+  successors_.assign(static_cast<size_t>(cells) * 2, -1);
+  in_offsets_.assign(static_cast<size_t>(cells) + 1, 0);
 }
 
 void PolicyEvaluator::SearchFromStations(const Grid& grid, PolicyDepths& out) {

@@ -131,11 +131,10 @@ Maze Load(const std::string& path, const CountArg& stations, const CountArg& mov
   return FromSetup(Take(runtime::ResolveScenario(options)));
 }
 
-// A maze from a (rows, cols) array of cell codes and optional changes.
-Maze FromArray(py::array_t<int64_t, py::array::c_style | py::array::forcecast> codes,
-               std::optional<std::vector<std::pair<py::array_t<int64_t, py::array::forcecast>,
-                                                   py::array_t<int64_t, py::array::forcecast>>>>
-                   changes) {
+using CodesArg = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+
+// A grid from a (rows, cols) array of cell codes, checked.
+Grid GridOfCodes(const CodesArg& codes) {
   if (codes.ndim() != 2 || codes.shape(0) < 1 || codes.shape(1) < 1) {
     throw std::invalid_argument("the grid must be a non-empty 2-D array (rows, cols)");
   }
@@ -152,6 +151,15 @@ Maze FromArray(py::array_t<int64_t, py::array::c_style | py::array::forcecast> c
     }
     grid.set(cell, static_cast<Cell>(values[cell]));
   }
+  return grid;
+}
+
+// A maze from a (rows, cols) array of cell codes and optional changes.
+Maze FromArray(CodesArg codes,
+               std::optional<std::vector<std::pair<py::array_t<int64_t, py::array::forcecast>,
+                                                   py::array_t<int64_t, py::array::forcecast>>>>
+                   changes) {
+  const Grid grid = GridOfCodes(codes);
   Maze maze;
   maze.scenario.grid = grid;
   maze.source = "from an array";
@@ -677,18 +685,8 @@ std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::strin
 
 // BFS Oracle's exact distances (core's NearestStationDistances) of a
 // (rows, cols) grid of cell codes: int32, -1 where no station is reachable.
-py::array BfsDistances(py::array_t<int8_t, py::array::c_style | py::array::forcecast> codes) {
-  if (codes.ndim() != 2) throw std::invalid_argument("the grid must be a 2-D array (rows, cols)");
-  Grid grid(static_cast<int>(codes.shape(0)), static_cast<int>(codes.shape(1)));
-  const int8_t* values = codes.data();
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    if (values[cell] < 0 || values[cell] > 2) {
-      throw std::invalid_argument("cell " + std::to_string(cell) + " has code " +
-                                  std::to_string(values[cell]) +
-                                  "; codes are 0 (obstacle), 1 (free), 2 (station)");
-    }
-    grid.set(cell, static_cast<Cell>(values[cell]));
-  }
+py::array BfsDistances(CodesArg codes) {
+  const Grid grid = GridOfCodes(codes);
   std::vector<int32_t> distance, queue;
   NearestStationDistances(grid, distance, queue);
   py::array_t<int32_t> out({grid.rows(), grid.cols()});

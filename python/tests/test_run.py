@@ -1,7 +1,9 @@
 """dynapath.run against `dynapath run --local`, and approaches written in Python."""
 
 import os
+import pathlib
 import signal
+import sys
 import threading
 import time
 
@@ -12,36 +14,18 @@ import pytest
 import dynapath
 
 TIME_COLUMNS = ["InitialTime", "AdaptTimePerStep", "AdaptTime"]
-OFFSETS = np.array(dynapath.ACTION_OFFSETS)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "examples"))
+from nearest_station import NearestStation  # noqa: E402  (the approach under test)
 
 
 def without_times(frame):
     return frame.drop(columns=[c for c in TIME_COLUMNS if c in frame.columns])
 
 
-def bfs_actions(grid):
-    """Per cell an action to a neighbour one move nearer a station (-1 where none)."""
-    distance = dynapath.bfs_distances(grid)
-    rows, cols = grid.shape
-    actions = np.full(grid.shape, -1, dtype=np.int8)
-    padded = np.full((rows + 2, cols + 2), -1, dtype=np.int32)
-    padded[1:-1, 1:-1] = distance
-    wanted = np.where((grid == dynapath.FREE) & (distance > 0), distance - 1, -2)
-    for a in range(7, -1, -1):  # the lowest action that fits wins
-        dr, dc = OFFSETS[a]
-        neighbour = padded[1 + dr:1 + dr + rows, 1 + dc:1 + dc + cols]
-        actions[neighbour == wanted] = a
-    return actions
+class BfsActions(NearestStation):
+    """Exact distances' actions, recomputed on every step, labelled by the class."""
 
-
-class BfsActions:
-    """Exact distances' actions, recomputed on every step."""
-
-    def initialize(self, grid):
-        return bfs_actions(grid)
-
-    def adapt(self, grid, changed_cells):
-        return bfs_actions(grid)
+    name = None
 
 
 def test_built_in_rows_equal_the_cli(cli, tmp_path):

@@ -49,6 +49,8 @@ class PolicyEvaluator {
   void Evaluate(const Grid& grid, const int8_t* actions, PolicyDepths& out);
 
  private:
+  // No edges yet, for `cells` cells.
+  void ClearEdges(int cells);
   // The reverse breadth-first search over the successors filled in.
   void SearchFromStations(const Grid& grid, PolicyDepths& out);
 
