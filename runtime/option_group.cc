@@ -223,17 +223,13 @@ Result<long long> InRange(const std::string& name, std::optional<long long> valu
   return given;
 }
 
-int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program) {
-  auto usage_error = [&](const std::string& message) {
-    std::fprintf(stderr, "%s: %s\n", program.c_str(), message.c_str());
-    return 2;
-  };
+Status ParseArguments(CLI::App& app, std::vector<std::string> args) {
+  auto usage_error = [](const std::string& message) -> Status { return Error(message); };
   std::reverse(args.begin(), args.end());  // CLI11 takes them last first
   try {
     app.parse(args);
   } catch (const CLI::CallForHelp&) {
-    std::fputs(app.help().c_str(), stdout);
-    return 0;
+    throw;  // a ParseError too: ParseCommandLine prints the help
   } catch (const CLI::ExtrasError&) {
     const std::vector<std::string> extras = app.remaining();
     for (const std::string& extra : extras) {
@@ -288,6 +284,19 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     return usage_error(what);
   } catch (const CLI::ParseError& error) {
     return usage_error(error.what());
+  }
+  return Ok{};
+}
+
+int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program) {
+  try {
+    if (Status parsed = ParseArguments(app, std::move(args)); !parsed) {
+      std::fprintf(stderr, "%s: %s\n", program.c_str(), parsed.error().message.c_str());
+      return 2;
+    }
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    return 0;
   }
   return -1;
 }

@@ -109,6 +109,10 @@ const CLI::Validator& DecimalInteger();
 // help and returns 0; a bad option prints "PROGRAM: MESSAGE" (one line) and
 // returns 2. Returns -1 to go on. `args` excludes the program name.
 int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program);
+// The parse alone: a bad option's one-line message as the error (for a
+// caller that reports it otherwise, the Python module); --help throws
+// CLI::CallForHelp.
+Status ParseArguments(CLI::App& app, std::vector<std::string> args);
 
 // Adds --config FILE: options read from a CLI11 config file (TOML), the
 // command line overriding it. A file named /dev/fd/N (the launcher's pipe)

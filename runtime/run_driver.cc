@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -42,14 +43,14 @@ class ProgressLog {
     const StepRecord& record = run.steps.back();
     if (step == 0) {
       spdlog::info("{} {} {}: initial training {:.3f} s, success rate {:.4f}, path length {:.3f}",
-                   ApproachName(run.approach), run.size_label, run.difficulty_label,
-                   run.initial_seconds, record.success_rate, record.average_path_length);
+                   run.Label(), run.size_label, run.difficulty_label, run.initial_seconds,
+                   record.success_rate, record.average_path_length);
     } else {
-      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step{}",
-                   ApproachName(run.approach), run.size_label, run.difficulty_label, step,
-                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep(),
-                   StepTimeLeft(step, view.total_steps, now - *first_step_time_,
-                                approaches_after_));
+      spdlog::info(
+          "{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step{}", run.Label(),
+          run.size_label, run.difficulty_label, step, view.total_steps, record.success_rate,
+          run.AdaptSecondsPerStep(),
+          StepTimeLeft(step, view.total_steps, now - *first_step_time_, approaches_after_));
     }
   }
 
@@ -382,6 +383,23 @@ std::string RunPlanToml(const RunPlan& plan) {
   return text;
 }
 
+namespace {
+
+// After an approach: its summary line, and the result files and params.toml
+// (re)written with every run so far. The rows first: a policy file that
+// could not be written afterwards loses none.
+Status FinishApproach(const std::vector<ApproachRun>& runs, const RunPlan& plan) {
+  const ApproachRun& run = runs.back();
+  spdlog::info(
+      "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
+      run.Label(), run.initial_seconds, run.AdaptSecondsPerStep(), run.AverageSuccessRate(),
+      run.AveragePathLength());
+  if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status;
+  return WriteTextFileAtomically(plan.out_dir + "/params.toml", RunPlanToml(plan));
+}
+
+}  // namespace
+
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
                                                const StepCallback& extra,
@@ -432,7 +450,30 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
     saver.emplace(std::move(*opened));
     checkpoints.SetPolicyFile(saver->Record());
   }
+  if (!plan.external.empty() && (checkpoints.enabled() || resume != nullptr)) {
+    return Error::Internal("approaches from outside core take no checkpoint");
+  }
+  // The external approaches due before built-in approach `before`.
+  auto run_external = [&](size_t before) -> Status {
+    for (const ExternalApproach& external : plan.external) {
+      if (std::min(external.before, plan.approaches.size()) != before) continue;
+      ProgressLog progress(SteadyClock(), static_cast<int>(plan.approaches.size() - before));
+      const StepCallback on_step = [&](const StepView& view) {
+        progress(view);
+        if (extra) extra(view);
+      };
+      ApproachRun run =
+          RunExternalPlanner(stoppable, static_cast<int>(runs.size()), *external.planner,
+                             external.label, labels, SteadyClock(), on_step);
+      stoppable.Stopped();
+      if (Status status = stoppable.status(); !status) return status;
+      runs.push_back(std::move(run));
+      if (Status status = FinishApproach(runs, plan); !status) return status;
+    }
+    return Ok{};
+  };
   for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
+    if (Status status = run_external(pass); !status) return status.error();
     const Approach approach = plan.approaches[pass];
     ProgressLog progress(SteadyClock(), static_cast<int>(plan.approaches.size() - pass - 1));
     const StepCallback on_step = [&](const StepView& view) {
@@ -515,17 +556,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
                    ApproachName(approach), hooks.load->step, runs.back().load_seconds);
     }
-    const ApproachRun& run = runs.back();
-    spdlog::info(
-        "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
-        ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
-        run.AverageSuccessRate(), run.AveragePathLength());
-    // The rows first: a policy file that could not be written loses none.
-    if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
-    if (Status status = WriteTextFileAtomically(plan.out_dir + "/params.toml", RunPlanToml(plan));
-        !status) {
-      return status.error();
-    }
+    if (Status status = FinishApproach(runs, plan); !status) return status.error();
     if (!save_status) return save_status.error();
     if (!saved && hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
       // CheckPolicyPlan refuses this before any work; here for callers without it.
@@ -537,6 +568,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       if (Status written = checkpoints.Finished(runs); !written) return written.error();
     }
   }
+  if (Status status = run_external(plan.approaches.size()); !status) return status.error();
   return runs;
 }
 

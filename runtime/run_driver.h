@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,9 +40,20 @@ struct CheckpointPlan {
   std::shared_ptr<const RunCheckpoint> resume;
 };
 
+// An approach from outside core (the Python module's): its planner and the
+// label of its rows, run before approaches[before] (after them all when
+// `before` is their count), over the same source and scored the same way.
+// Only for a run in one process (RunLocal): no policy file, no checkpoint.
+struct ExternalApproach {
+  std::string label;
+  std::shared_ptr<Planner> planner;
+  size_t before = 0;
+};
+
 struct RunPlan {
   std::vector<Approach> approaches;
-  PlannerOptions options;  // run_seed is set from the scenario
+  std::vector<ExternalApproach> external;  // none from the command line
+  PlannerOptions options;                  // run_seed is set from the scenario
   std::string out_dir = "results";
   Placement placement = Placement::kAuto;
   PolicyPlan policy;  // --save-policy, --save-at, --load-policy

@@ -36,6 +36,10 @@ Clock SteadyClock() {
   };
 }
 
+std::string ApproachRun::Label() const {
+  return external_label.empty() ? ApproachName(approach) : external_label;
+}
+
 std::string SizeLabel(int rows, int cols) {
   return rows == cols ? std::to_string(rows) : std::to_string(rows) + "x" + std::to_string(cols);
 }
@@ -73,22 +77,21 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
   return run ? std::move(*run) : ApproachRun{};
 }
 
-Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
-                                const PlannerOptions& options, Trainer* trainer,
-                                const RunLabels& labels, const PolicyHooks& hooks,
-                                const Clock& clock, const StepCallback& on_step) {
-  ApproachRun run;
-  run.approach = approach;
-  run.size_label = labels.size_label;
-  run.difficulty_label = labels.difficulty_label;
+namespace {
+
+// One pass of `planner` over the source (RunApproach's body), filling `run`
+// whose approach and labels are set.
+Result<ApproachRun> RunPlanner(StepSource& source, int pass, Planner& planner, ApproachRun run,
+                               const PlannerOptions& options, Trainer* trainer,
+                               const PolicyHooks& hooks, const Clock& clock,
+                               const StepCallback& on_step) {
   const int total_steps = source.total_steps();
-  std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
   // A failed source or trainer ends the run (its status tells the caller).
   auto failed = [&] { return !source.status() || (trainer != nullptr && !trainer->status()); };
   uint64_t initial_fingerprint = 0;
   const int save_at = hooks.save_at == kSaveAtEnd ? total_steps : hooks.save_at;
   auto export_at = [&](int t, const Grid& grid, PolicyState& state) {
-    if (!planner->ExportPolicy(state)) return false;
+    if (!planner.ExportPolicy(state)) return false;
     state.step = t;
     state.initial_fingerprint = initial_fingerprint;
     state.fingerprint = MazeFingerprint(grid);
@@ -140,7 +143,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
                    "(another change sequence?)");
     }
     const double start = clock();
-    if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
+    if (Status imported = planner.ImportPolicy(*loaded, grid); !imported) {
       return imported.error();
     }
     run.load_seconds = clock() - start;
@@ -148,7 +151,7 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     maybe_save(saved, grid);
     if (hooks.on_loaded) {
       const StepDetails none;
-      hooks.on_loaded(StepView{run, pass, total_steps, *planner, grid, none});
+      hooks.on_loaded(StepView{run, pass, total_steps, planner, grid, none});
     }
   } else {
     StepDetails details;
@@ -156,22 +159,22 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     if (loaded != nullptr) {
       // Another maze of the same shape: the strategy decides node by node
       // from the loaded baselines, as after a step that changed every cell.
-      if (Status imported = planner->ImportPolicy(*loaded, grid); !imported) {
+      if (Status imported = planner.ImportPolicy(*loaded, grid); !imported) {
         return imported.error();
       }
       run.load_seconds = clock() - start;
       std::vector<int> every_cell(static_cast<size_t>(grid.size()));
       for (int cell = 0; cell < grid.size(); ++cell) every_cell[cell] = cell;
-      details = planner->Adapt(grid, every_cell);
+      details = planner.Adapt(grid, every_cell);
     } else {
-      details = planner->Initialize(grid);
+      details = planner.Initialize(grid);
     }
     run.initial_seconds = clock() - start;
     if (failed()) return run;
-    run.steps.push_back(Score(*planner, grid, 0, 0, 0.0, details));
+    run.steps.push_back(Score(planner, grid, 0, 0, 0.0, details));
     maybe_save(0, grid);
     maybe_checkpoint(0, grid);
-    if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
+    if (on_step) on_step(StepView{run, pass, total_steps, planner, grid, details});
   }
 
   std::vector<int> changed_cells;
@@ -181,17 +184,46 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
     ApplyChanges(step, grid);
     changed_cells.clear();
     for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
-    const bool timed = planner->Adapts();
+    const bool timed = planner.Adapts();
     const double start = clock();
-    const StepDetails details = planner->Adapt(grid, changed_cells);
+    const StepDetails details = planner.Adapt(grid, changed_cells);
     const double seconds = timed ? clock() - start : 0.0;
     if (failed()) return run;
-    run.steps.push_back(Score(*planner, grid, t, step.requested_moves, seconds, details));
+    run.steps.push_back(Score(planner, grid, t, step.requested_moves, seconds, details));
     maybe_save(t, grid);
     maybe_checkpoint(t, grid);
-    if (on_step) on_step(StepView{run, pass, total_steps, *planner, grid, details});
+    if (on_step) on_step(StepView{run, pass, total_steps, planner, grid, details});
   }
   return run;
+}
+
+}  // namespace
+
+Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
+                                const PlannerOptions& options, Trainer* trainer,
+                                const RunLabels& labels, const PolicyHooks& hooks,
+                                const Clock& clock, const StepCallback& on_step) {
+  ApproachRun run;
+  run.approach = approach;
+  run.size_label = labels.size_label;
+  run.difficulty_label = labels.difficulty_label;
+  std::unique_ptr<Planner> planner = MakePlanner(approach, options, trainer);
+  return RunPlanner(source, pass, *planner, std::move(run), options, trainer, hooks, clock,
+                    on_step);
+}
+
+ApproachRun RunExternalPlanner(StepSource& source, int pass, Planner& planner,
+                               const std::string& label, const RunLabels& labels,
+                               const Clock& clock, const StepCallback& on_step) {
+  ApproachRun run;
+  run.external_label = label;
+  run.size_label = labels.size_label;
+  run.difficulty_label = labels.difficulty_label;
+  // Without a policy to load nothing can fail but the source, whose status
+  // the caller checks.
+  Result<ApproachRun> done = RunPlanner(source, pass, planner, std::move(run), PlannerOptions{},
+                                        nullptr, PolicyHooks{}, clock, on_step);
+  return done ? std::move(*done) : ApproachRun{};
 }
 
 }  // namespace dynapath

@@ -7,8 +7,7 @@ namespace dynapath {
 void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out) {
   const int n = grid.size();
   const int cols = grid.cols();
-  successors_.assign(static_cast<size_t>(n) * 2, -1);
-  in_offsets_.assign(static_cast<size_t>(n) + 1, 0);
+  ClearEdges(n);
   // Forward edges: a station ends a path, an obstacle is never a start, so
   // only free cells need successors.
   for (int cell = 0; cell < n; ++cell) {
@@ -24,6 +23,37 @@ void PolicyEvaluator::Evaluate(const Grid& grid, const QTable& root, PolicyDepth
       ++in_offsets_[target + 1];
     }
   }
+  SearchFromStations(grid, out);
+}
+
+void PolicyEvaluator::Evaluate(const Grid& grid, const int8_t* actions, PolicyDepths& out) {
+  const int n = grid.size();
+  const int cols = grid.cols();
+  ClearEdges(n);
+  // One successor per free cell: its action's target, when in the grid and
+  // not an obstacle (no action, -1, or a bump ends the path).
+  for (int cell = 0; cell < n; ++cell) {
+    if (grid.at(cell) != Cell::kFree) continue;
+    const int a = actions[cell];
+    if (a < 0 || a >= kNumActions) continue;
+    const int row = grid.RowOf(cell) + kActionRowOffset[a];
+    const int col = grid.ColOf(cell) + kActionColOffset[a];
+    if (!grid.InBounds(row, col)) continue;
+    const int target = row * cols + col;
+    if (grid.at(target) == Cell::kObstacle) continue;
+    successors_[2 * cell] = target;
+    ++in_offsets_[target + 1];
+  }
+  SearchFromStations(grid, out);
+}
+
+void PolicyEvaluator::ClearEdges(int cells) {
+  successors_.assign(static_cast<size_t>(cells) * 2, -1);
+  in_offsets_.assign(static_cast<size_t>(cells) + 1, 0);
+}
+
+void PolicyEvaluator::SearchFromStations(const Grid& grid, PolicyDepths& out) {
+  const int n = grid.size();
   for (int cell = 0; cell < n; ++cell) in_offsets_[cell + 1] += in_offsets_[cell];
   in_edges_.resize(static_cast<size_t>(in_offsets_[n]));
   {

@@ -15,7 +15,7 @@ std::string Number(double value) {
 }
 
 std::string Prefix(const ApproachRun& run) {
-  return ApproachName(run.approach) + "," + run.size_label + "," + run.difficulty_label;
+  return run.Label() + "," + run.size_label + "," + run.difficulty_label;
 }
 
 }  // namespace

@@ -4,7 +4,8 @@ The package binds DynaPath's C++ core (through the extension
 ``dynapath._dynapath``): mazes generated exactly as ``dynapath maze`` does
 or loaded from every format the CLI reads, the MDP of the specification's
 section 2 as Gymnasium-style environments (one walker, many walkers in one
-C++ call, several robots in PettingZoo's parallel shape) and policy files.
+C++ call, several robots in PettingZoo's parallel shape), policy files and
+runs of built-in and Python approaches (``dynapath.run``).
 See docs/howto/PYTHON.md.
 
 Examples
@@ -20,6 +21,7 @@ from .env import ACTION_NAMES, ACTION_OFFSETS, GridEnv, VectorGridEnv
 from .maze import FREE, OBSTACLE, STATION, Maze
 from .parallel import ParallelGridEnv
 from .policy import Policy, PolicyFile, read_policy, write_policy
+from .run import RunResult, bfs_distances, run
 from .spaces import Discrete, MultiDiscrete
 from . import _dynapath
 
@@ -30,6 +32,7 @@ STEP_REWARD = _dynapath.STEP_REWARD
 
 __all__ = [
     "ACTION_NAMES", "ACTION_OFFSETS", "BUMP_REWARD", "Discrete", "FREE", "GridEnv", "Maze",
-    "MultiDiscrete", "OBSTACLE", "ParallelGridEnv", "Policy", "PolicyFile", "STATION",
-    "STATION_REWARD", "STEP_REWARD", "VectorGridEnv", "read_policy", "write_policy",
+    "MultiDiscrete", "OBSTACLE", "ParallelGridEnv", "Policy", "PolicyFile", "RunResult", "STATION",
+    "STATION_REWARD", "STEP_REWARD", "VectorGridEnv", "bfs_distances", "read_policy", "run",
+    "write_policy",
 ]

@@ -7,23 +7,39 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstring>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
+#include <tuple>
 #include <variant>
 #include <vector>
 
 #include "dynapath/approach.h"
+#include "dynapath/bfs_oracle.h"
 #include "dynapath/change_sequence.h"
 #include "dynapath/grid.h"
 #include "dynapath/limits.h"
 #include "dynapath/mdp.h"
+#include "dynapath/policy_evaluation.h"
 #include "dynapath/policy_state.h"
+#include "dynapath/results_csv.h"
 #include "dynapath/rng.h"
 #include "python/src/walker_world.h"
+#include "runtime/option_group.h"
 #include "runtime/policy_file.h"
+#include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 
@@ -79,10 +95,12 @@ struct Maze {
   Scenario scenario;
   std::string source;  // how it was made, as `dynapath maze` prints it
   uint64_t seed = 0;
+  RunLabels labels;  // the result files' Size and Difficulty
 };
 
 Maze FromSetup(runtime::ScenarioSetup setup) {
-  return Maze{std::move(setup.scenario), std::move(setup.source), setup.seed};
+  return Maze{std::move(setup.scenario), std::move(setup.source), setup.seed,
+              std::move(setup.labels)};
 }
 
 Maze Generate(long long size, const std::string& difficulty, std::optional<long long> seed,
@@ -113,11 +131,10 @@ Maze Load(const std::string& path, const CountArg& stations, const CountArg& mov
   return FromSetup(Take(runtime::ResolveScenario(options)));
 }
 
-// A maze from a (rows, cols) array of cell codes and optional changes.
-Maze FromArray(py::array_t<int64_t, py::array::c_style | py::array::forcecast> codes,
-               std::optional<std::vector<std::pair<py::array_t<int64_t, py::array::forcecast>,
-                                                   py::array_t<int64_t, py::array::forcecast>>>>
-                   changes) {
+using CodesArg = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+
+// A grid from a (rows, cols) array of cell codes, checked.
+Grid GridOfCodes(const CodesArg& codes) {
   if (codes.ndim() != 2 || codes.shape(0) < 1 || codes.shape(1) < 1) {
     throw std::invalid_argument("the grid must be a non-empty 2-D array (rows, cols)");
   }
@@ -134,9 +151,19 @@ Maze FromArray(py::array_t<int64_t, py::array::c_style | py::array::forcecast> c
     }
     grid.set(cell, static_cast<Cell>(values[cell]));
   }
+  return grid;
+}
+
+// A maze from a (rows, cols) array of cell codes and optional changes.
+Maze FromArray(CodesArg codes,
+               std::optional<std::vector<std::pair<py::array_t<int64_t, py::array::forcecast>,
+                                                   py::array_t<int64_t, py::array::forcecast>>>>
+                   changes) {
+  const Grid grid = GridOfCodes(codes);
   Maze maze;
   maze.scenario.grid = grid;
   maze.source = "from an array";
+  maze.labels = {SizeLabel(grid.rows(), grid.cols()), "Custom"};
   if (changes) {
     for (size_t t = 0; t < changes->size(); ++t) {
       const auto& [cells, new_codes] = (*changes)[t];
@@ -471,6 +498,222 @@ py::array FieldView(py::object self, std::vector<T> PolicyState::*field) {
   return View(values.data(), {static_cast<py::ssize_t>(values.size())}, self, true);
 }
 
+// ---------------------------------------------------------------- runs
+
+// What a run in progress shares with its Python approaches: the stop flag
+// (Ctrl-C, or an approach that raised) and the first exception raised.
+struct RunControl {
+  std::atomic<bool> stop{false};
+  std::exception_ptr error;
+};
+
+// An approach written in Python (dynapath.run's approaches): its
+// initialize(grid) and adapt(grid, changed_cells) return the policy, one
+// action per cell (0..7, -1 for none), or None to have the object's
+// `actions` attribute read; core's policy evaluation scores it as every
+// approach's, the path from a cell following its action. Calls run under
+// the GIL; Evaluate does not need it.
+class PythonPlanner : public Planner {
+ public:
+  PythonPlanner(py::object approach, int rows, int cols, RunControl& control)
+      : approach_(std::move(approach)), control_(control) {
+    // One buffer for the whole run, refreshed before every call: a Python
+    // approach that keeps it reads the current grid, never freed memory.
+    py::array_t<int8_t> buffer({rows, cols});
+    grid_data_ = buffer.mutable_data();
+    buffer.attr("setflags")(py::arg("write") = false);
+    grid_view_ = std::move(buffer);
+  }
+  ~PythonPlanner() override {
+    py::gil_scoped_acquire gil;
+    approach_ = py::object();
+    grid_view_ = py::object();
+    actions_ = py::object();
+  }
+
+  StepDetails Initialize(const Grid& grid) override {
+    Call(grid, nullptr);
+    return {};
+  }
+  StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) override {
+    Call(grid, &changed_cells);
+    return {};
+  }
+  PolicyScore Evaluate(const Grid& grid) override {
+    if (actions_data_ == nullptr) return {};  // the approach raised: the run stops
+    evaluator_.Evaluate(grid, actions_data_, depths_);
+    return ScoreGrid(grid, depths_);
+  }
+
+ private:
+  void Call(const Grid& grid, const std::vector<int>* changed_cells) {
+    py::gil_scoped_acquire gil;
+    if (control_.error) return;
+    try {
+      std::memcpy(grid_data_, grid.codes().data(), static_cast<size_t>(grid.size()));
+      py::object result;
+      if (changed_cells == nullptr) {
+        result = approach_.attr("initialize")(grid_view_);
+      } else {
+        py::array_t<int32_t> changed(static_cast<py::ssize_t>(changed_cells->size()),
+                                     changed_cells->data());
+        result = approach_.attr("adapt")(grid_view_, changed);
+      }
+      if (result.is_none()) result = approach_.attr("actions");
+      TakeActions(result, grid);
+    } catch (...) {
+      actions_ = py::object();
+      actions_data_ = nullptr;
+      control_.error = std::current_exception();
+      control_.stop = true;
+    }
+  }
+
+  // Keeps `result` itself when it is int8 and C-contiguous (no copy), else
+  // an int8 copy; either way checks its shape and values.
+  void TakeActions(py::handle result, const Grid& grid) {
+    py::array array = py::array::ensure(result);
+    if (!array) throw std::invalid_argument("an approach must return a numpy array of actions");
+    if (!array.dtype().is(py::dtype::of<int8_t>()) || !(array.flags() & py::array::c_style)) {
+      array = py::array_t<int8_t, py::array::c_style | py::array::forcecast>::ensure(array);
+    }
+    const bool grid_shaped =
+        array.ndim() == 2 && array.shape(0) == grid.rows() && array.shape(1) == grid.cols();
+    if (!grid_shaped && !(array.ndim() == 1 && array.shape(0) == grid.size())) {
+      throw std::invalid_argument("the actions must have the maze's shape (" +
+                                  std::to_string(grid.rows()) + ", " + std::to_string(grid.cols()) +
+                                  ") or (" + std::to_string(grid.size()) + ",)");
+    }
+    const int8_t* data = static_cast<const int8_t*>(array.data());
+    // -1..7 is 0..8 shifted: one branch-free pass (vectorised), the
+    // offending cell searched only when there is one.
+    uint8_t worst = 0;
+    for (int cell = 0; cell < grid.size(); ++cell) {
+      worst = std::max(worst, static_cast<uint8_t>(static_cast<uint8_t>(data[cell]) + 1));
+    }
+    if (worst > kNumActions) {
+      const int8_t* bad = std::find_if(data, data + grid.size(),
+                                       [](int8_t a) { return a < -1 || a >= kNumActions; });
+      throw std::invalid_argument("cell " + std::to_string(bad - data) + " has action " +
+                                  std::to_string(*bad) +
+                                  "; actions are 0..7 (N, NE, E, SE, S, SW, W, NW) or -1");
+    }
+    actions_ = std::move(array);
+    actions_data_ = data;
+  }
+
+  py::object approach_;
+  RunControl& control_;
+  py::object grid_view_;
+  int8_t* grid_data_ = nullptr;
+  py::object actions_;  // the array the last call returned, held while scored
+  const int8_t* actions_data_ = nullptr;
+  PolicyEvaluator evaluator_;
+  PolicyDepths depths_;
+};
+
+// dynapath.run: `args` are `dynapath run`'s options (the package builds
+// them from its keywords), `builtin` whether --approach names any, and
+// `external` the Python approaches as (the built-in names listed before
+// it, comma-separated; label; object). Runs RunLocal, as `dynapath run --local`, on a thread of
+// its own while this one waits without the GIL, checking for Ctrl-C.
+// Returns the texts of results.csv and results_detailed.csv.
+using ExternalArg = std::tuple<std::string, std::string, py::object>;
+std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::string> args,
+                                        bool builtin, std::vector<ExternalArg> external) {
+  CLI::App app;
+  runtime::RunOptions options;
+  runtime::ThreadOptions thread_options;
+  runtime::OptionGroup group(app);
+  runtime::DeclareRunOptions(group, options);
+  runtime::DeclareThreadOptions(group, thread_options);
+  Check(runtime::ParseArguments(app, std::move(args)));
+  runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
+  const int threads = Take(runtime::ResolveThreads(thread_options));
+  if (!builtin) plan.approaches.clear();
+  RunControl control;
+  for (auto& [names_before, label, approach] : external) {
+    // Its place: after the built-in approaches listed before it ("all"
+    // and repeated names counted as --approach counts them).
+    const size_t before = names_before.empty() ? 0 : Take(ParseApproachList(names_before)).size();
+    plan.external.push_back(
+        {label,
+         std::make_shared<PythonPlanner>(std::move(approach), maze.scenario.grid.rows(),
+                                         maze.scenario.grid.cols(), control),
+         before});
+  }
+  const runtime::ScenarioSetup setup{maze.scenario, maze.labels, maze.seed, maze.source};
+
+  std::optional<Result<std::vector<ApproachRun>>> runs;
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool interrupted = false;
+  {
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      Result<std::vector<ApproachRun>> result =
+          runtime::RunLocal(plan, setup, threads, {}, &control.stop);
+      std::lock_guard lock(mutex);
+      runs.emplace(std::move(result));
+      finished.notify_all();
+    });
+    std::unique_lock lock(mutex);
+    while (
+        !finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return runs.has_value(); })) {
+      if (interrupted) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire gil;
+        // A pending signal's handler raises (KeyboardInterrupt): stop the
+        // run, the exception staying set for after it.
+        if (PyErr_CheckSignals() != 0) {
+          interrupted = true;
+          control.stop = true;
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  plan.external.clear();  // the planners drop their Python objects here
+  if (interrupted) throw py::error_already_set();
+  if (control.error) std::rethrow_exception(control.error);
+  std::vector<ApproachRun> done = Take(std::move(*runs));
+  return {SummaryResultsCsv(done), DetailedResultsCsv(done)};
+}
+
+// BFS Oracle's exact distances (core's NearestStationDistances) of a
+// (rows, cols) grid of cell codes: int32, -1 where no station is reachable.
+py::array BfsDistances(CodesArg codes) {
+  const Grid grid = GridOfCodes(codes);
+  std::vector<int32_t> distance, queue;
+  NearestStationDistances(grid, distance, queue);
+  py::array_t<int32_t> out({grid.rows(), grid.cols()});
+  std::copy(distance.begin(), distance.end(), out.mutable_data());
+  return out;
+}
+
+// Seconds per policy evaluation of `actions` on `grid` (what scoring a Python
+// approach's step costs in C++), the mean of `repeats`: for
+// bench/python_approach_bench.py.
+double EvaluationSeconds(const Maze& maze,
+                         py::array_t<int8_t, py::array::c_style | py::array::forcecast> actions,
+                         int repeats) {
+  const Grid& grid = maze.scenario.grid;
+  if (actions.size() != grid.size()) throw std::invalid_argument("one action per cell");
+  PolicyEvaluator evaluator;
+  PolicyDepths depths;
+  PolicyScore score;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < repeats; ++i) {
+    evaluator.Evaluate(grid, actions.data(), depths);
+    score = ScoreGrid(grid, depths);
+  }
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return score.starts < 0 ? 0.0 : elapsed.count() / std::max(1, repeats);
+}
+
 }  // namespace
 }  // namespace dynapath::python
 
@@ -683,4 +926,21 @@ baselines : numpy.ndarray of float64
         Check(runtime::WritePolicyFile(path, sections));
       },
       py::arg("path"), py::arg("sections"));
+  m.def("run", &Run, py::arg("maze"), py::arg("args"), py::arg("builtin"), py::arg("external"));
+  m.def("bfs_distances", &BfsDistances, py::arg("grid"));
+  m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),
+        py::arg("repeats"));
+  m.def(
+      "set_log_level",
+      [](const std::string& level) {
+        const spdlog::level::level_enum parsed = spdlog::level::from_str(level);
+        if (parsed == spdlog::level::off && level != "off") {
+          throw std::invalid_argument(
+              "log_level must be trace, debug, info, warn, error or off, "
+              "got '" +
+              level + "'");
+        }
+        spdlog::set_level(parsed);
+      },
+      py::arg("level"));
 }

@@ -13,3 +13,11 @@ def test_q_learning_learns_most_of_the_maze():
                          capture_output=True, text=True, env=dict(os.environ)).stdout
     reached, starts = (int(w) for w in out.split() if w.isdigit())
     assert reached >= 0.9 * starts, out
+
+
+def test_q_learning_approach_nearly_matches_bfs_oracle():
+    out = subprocess.run([sys.executable, str(EXAMPLES / "q_learning_approach.py")], check=True,
+                         capture_output=True, text=True, env=dict(os.environ)).stdout
+    rates = {line.rsplit(None, 3)[0].strip(): float(line.split()[-3]) for line in out.splitlines()[1:]}
+    assert set(rates) == {"BFS Oracle", "numpy Q-learning"}, out
+    assert rates["numpy Q-learning"] >= 0.97 * rates["BFS Oracle"], out

@@ -55,6 +55,9 @@ struct StepRecord {
 
 struct ApproachRun {
   Approach approach = Approach::kBfsOracle;
+  // The row label of a planner from outside core (RunExternalPlanner: the
+  // Python module's approaches); "" for a built-in approach.
+  std::string external_label;
   std::string size_label;        // "50" for square mazes, "40x60" otherwise
   std::string difficulty_label;  // "Easy", "Medium", "Hard", "Custom", or a map's name
   double initial_seconds = 0.0;
@@ -66,6 +69,9 @@ struct ApproachRun {
   double AverageSuccessRate() const;
   double AveragePathLength() const;
   double AdaptSecondsPerStep() const;
+  // The result files' Approach column: ApproachName(approach) or the
+  // external label.
+  std::string Label() const;
 };
 
 struct RunLabels {
@@ -140,6 +146,13 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
                                 const RunLabels& labels, const PolicyHooks& hooks,
                                 const Clock& clock = SteadyClock(),
                                 const StepCallback& on_step = {});
+
+// RunApproach for a planner made outside core (no policy to load or save),
+// its rows labelled `label`: the same steps, timing and scoring.
+ApproachRun RunExternalPlanner(StepSource& source, int pass, Planner& planner,
+                               const std::string& label, const RunLabels& labels,
+                               const Clock& clock = SteadyClock(),
+                               const StepCallback& on_step = {});
 
 // "50" for a 50x50 maze, "40x60" for 40 rows and 60 columns.
 std::string SizeLabel(int rows, int cols);

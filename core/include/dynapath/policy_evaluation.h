@@ -42,8 +42,18 @@ class PolicyEvaluator {
  public:
   // Fills `out` for `grid` under the policy `root` (a rows*cols table).
   void Evaluate(const Grid& grid, const QTable& root, PolicyDepths& out);
+  // The same for a deterministic policy: `actions` holds one action per
+  // cell (0..7, -1 for none), the path from a cell follows it alone (an
+  // approach outside core that gives actions, not values: the Python
+  // module's). A start succeeds as above.
+  void Evaluate(const Grid& grid, const int8_t* actions, PolicyDepths& out);
 
  private:
+  // No edges yet, for `cells` cells.
+  void ClearEdges(int cells);
+  // The reverse breadth-first search over the successors filled in.
+  void SearchFromStations(const Grid& grid, PolicyDepths& out);
+
   std::vector<int32_t> successors_;  // 2 per cell, -1 = none
   std::vector<int32_t> in_offsets_;  // reverse edges, CSR
   std::vector<int32_t> in_edges_;
@@ -77,8 +87,7 @@ inline void TopTwoActions(const Grid& grid, int cell, const V* q, int& best, int
   }
 }
 // The same for row `cell` of `table`, in the table's precision.
-inline void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best,
-                          int& second) {
+inline void TopTwoActions(const Grid& grid, int cell, const QTable& table, int& best, int& second) {
   WithValueType(table.precision(), [&]<typename V>(V*) {
     TopTwoActions(grid, cell, table.Row<V>(cell), best, second);
   });

@@ -291,5 +291,50 @@ TEST(PolicyEvaluationTest, ScoreRegionCountsOnlyNonObstacleCells) {
   EXPECT_EQ(whole.successes, 5);
 }
 
+// A deterministic policy (one action per cell, the Python module's
+// approaches): the walk from every start that follows the actions, written
+// independently, succeeds iff it reaches a station in < rows + cols moves.
+TEST(PolicyEvaluationTest, ActionArrayEqualsFollowingTheActionsOnRandomInstances) {
+  std::mt19937 random(7);
+  PolicyEvaluator evaluator;
+  PolicyDepths depths;
+  const int shapes[][2] = {{1, 1}, {1, 23}, {23, 1}, {9, 14}, {20, 20}, {27, 16}};
+  int successes = 0, failures = 0;
+  for (const auto& shape : shapes) {
+    for (int repeat = 0; repeat < 20; ++repeat) {
+      const Grid grid = RandomGrid(shape[0], shape[1], 200, 15, random);
+      std::vector<int8_t> actions(static_cast<size_t>(grid.size()));
+      for (int8_t& a : actions) a = static_cast<int8_t>(static_cast<int>(random() % 9) - 1);
+      evaluator.Evaluate(grid, actions.data(), depths);
+      const int32_t limit = grid.rows() + grid.cols();
+      for (int start = 0; start < grid.size(); ++start) {
+        int32_t want = kNoPath;
+        if (grid.at(start) == Cell::kStation) want = 0;
+        if (grid.at(start) == Cell::kFree) {
+          int cell = start;
+          for (int32_t moves = 1; moves < limit; ++moves) {
+            const int a = actions[cell];
+            if (a < 0) break;
+            const int row = grid.RowOf(cell) + kActionRowOffset[a];
+            const int col = grid.ColOf(cell) + kActionColOffset[a];
+            if (!grid.InBounds(row, col) || grid.at(grid.Index(row, col)) == Cell::kObstacle) {
+              break;
+            }
+            cell = grid.Index(row, col);
+            if (grid.at(cell) == Cell::kStation) {
+              want = moves;
+              break;
+            }
+          }
+          (want == kNoPath ? failures : successes) += 1;
+        }
+        ASSERT_EQ(depths.depth[start], want) << shape[0] << "x" << shape[1] << " cell " << start;
+      }
+    }
+  }
+  EXPECT_GT(successes, 0);
+  EXPECT_GT(failures, 0);
+}
+
 }  // namespace
 }  // namespace dynapath
