@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
       "returns Q-table shards per round (or final tables), sends heartbeats.\n"
-      "Exits when the coordinator finishes, fails or is silent for 4 s.",
+      "Exits when the coordinator finishes, fails or is silent for --wait seconds.",
       "dynapath-agent");
   runtime::OptionGroup group(app);
   agent::AgentCommandLine given;

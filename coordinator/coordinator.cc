@@ -12,6 +12,7 @@
 #include "protocol/channels.h"
 #include "protocol/convert.h"
 #include "protocol/liveness.h"
+#include "runtime/test_hold.h"
 
 namespace dynapath::coordinator {
 Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
@@ -47,6 +48,9 @@ void Coordinator::PublishStep(const StepView& view, int pass) {
   report.nodes_trained = record.nodes_trained;
   report.highest_level = record.highest_level;
   bus_.Publish(protocol::channel::kReport, report);
+  if (pass == 0 && record.time_step == options_.hold_at_step) {
+    runtime::HoldForTest("coordinator", record.time_step);
+  }
   if (!options_.publish_policy) return;
 
   PolicyPicture picture;

@@ -27,6 +27,9 @@ struct CoordinatorOptions {
   // are alive fails the run (DistributedTrainerOptions::max_stalls).
   double give_up_seconds = 60.0;
   bool publish_policy = true;
+  // A test hook (runtime/test_hold.h): stop this process once the first
+  // approach's report of this time step is published; -1: never.
+  int hold_at_step = -1;
 };
 
 class Coordinator {

@@ -11,6 +11,7 @@
 #include "runtime/output_lock.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
+#include "runtime/test_hold.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
   options.min_agents = static_cast<int>(*agent_count);
   options.agent_wait_seconds = *wait_seconds;
   options.give_up_seconds = static_cast<double>(*give_up_seconds);
+  options.hold_at_step = runtime::TestHoldStep("coordinator");
   coordinator::Coordinator coordinator(bus, std::move(options));
   protocol::Dispatcher dispatcher(**lcm);
   return coordinator.Run(stop);

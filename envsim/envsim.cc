@@ -6,6 +6,7 @@
 #include "dynapath/grid_t.hpp"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
+#include "runtime/test_hold.h"
 
 namespace dynapath::envsim {
 
@@ -53,6 +54,9 @@ void EnvSim::OnRequest(const step_request_t& request) {
     changes.request_id = request.request_id;
     changes.pass = request.pass;
     bus_.Publish(protocol::channel::kEnvChanges, changes);
+    if (request.pass == 0 && request.time_step == options_.hold_at_step) {
+      runtime::HoldForTest("envsim", request.time_step);
+    }
   }
   ++answered_;
 }
@@ -79,8 +83,8 @@ EnvSimExit EnvSim::Run(const std::atomic<bool>& stop) {
       for (const step_request_t& request : waiting) OnRequest(request);
     }
     // Checked first: a pause of our own resets the coordinator's silence.
-    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
-                                               options_.coordinator_timeout_seconds);
+    const Verdict verdict =
+        coordinator_.Check(options_.startup_timeout_seconds, options_.coordinator_timeout_seconds);
     if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
       spdlog::warn("envsim: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
                    silent, options_.coordinator_timeout_seconds);

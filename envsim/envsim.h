@@ -24,6 +24,9 @@ struct EnvSimOptions {
   // As an agent's: a silent coordinator is waited for this long.
   double coordinator_timeout_seconds = 60.0;
   double startup_timeout_seconds = 60.0;
+  // A test hook (runtime/test_hold.h): stop this process once the first
+  // approach's changes of this time step are sent; -1: never.
+  int hold_at_step = -1;
 };
 
 struct ScenarioInfo {

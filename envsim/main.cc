@@ -11,6 +11,7 @@
 #include "protocol/dispatcher.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
+#include "runtime/test_hold.h"
 
 int main(int argc, char** argv) {
   using namespace dynapath;
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
   if (!wait_seconds) return fail(wait_seconds.error().message);
   options.startup_timeout_seconds = *wait_seconds;
   options.coordinator_timeout_seconds = *wait_seconds;
+  options.hold_at_step = runtime::TestHoldStep("envsim");
 
   Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
   if (!lcm) return runtime::ProcessError("dynapath-envsim", lcm.error().message, 1);

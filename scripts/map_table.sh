@@ -1,6 +1,7 @@
 #!/bin/bash
 # All approaches on a list of MovingAI maps (or folders of them), with seeded
-# stations and movers; prints the Markdown table kept in docs/howto/MAPS.md.
+# stations and movers; prints the Markdown table kept in docs/PERFORMANCE.md
+# (All approaches on maps).
 #
 # usage: scripts/map_table.sh DYNAPATH OUT_DIR [--steps T] [--stations N|P%] [--movers N|P%]
 #                             [--approach LIST] MAP_OR_DIR...

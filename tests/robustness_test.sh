@@ -9,7 +9,8 @@
 #      namespaces of their own (same host name, same pid), get distinct ids;
 #   3. two agents given the same --id: exactly one leaves with a clear error;
 #   4. `dynapath run --embedded --lcm-url URL` is refused;
-#   5. paused is not dead: envsim stopped (SIGSTOP) for 7 s mid-run, then
+#   5. paused is not dead: envsim stopped (SIGSTOP, at a known time step:
+#      DYNAPATH_TEST_HOLD) for 7 s mid-run, then
 #      continued: the coordinator says it was silent and waits, envsim does
 #      not take its own pause for the coordinator's silence, and the results
 #      equal --local's; the coordinator stopped the same way: envsim and the
@@ -160,63 +161,57 @@ fi
 
 # 5. Paused is not dead.
 source "$(dirname "$0")/result_files.sh"  # same_result_files
-# 1000 steps: about 3 s with agents, so that a pause after the initial
-# training usually lands mid-run.
-paused_steps=1000
+paused_steps=300
+hold_step=100
 paused=(--size 30 --difficulty medium --steps $paused_steps --approach fedAsynQ_EqAvg)
 "$dynapath" run --local "${paused[@]}" --out "$work/paused_local" --log-level warn >/dev/null ||
   fail "paused: --local run"
-# paused_run NAME PROCESS LINE: a run with one agent whose PROCESS
-# (dynapath-envsim or dynapath-coordinator) is stopped for 7 s once LINE is
-# logged. The run takes a few seconds unpaused, so on a loaded machine the
-# pause may come after the coordinator finished its steps: such a try proves
-# nothing and is made again (up to 3 tries). A pause was mid-run when the
-# stopped process was still running its steps (stopped, not exited, and its
-# last step not yet logged) and the run's other processes, which exit as
-# soon as the coordinator says it finished, were still there at the end of
-# the pause. Returns 1 when no try paused the process mid-run.
 # running PID: the process exists and has not exited (a zombie not yet
 # reaped by its parent still answers kill -0).
 running() {
   local state
   state=$(awk '{ print $3 }' "/proc/$1/stat" 2>/dev/null) && [ -n "$state" ] && [ "$state" != Z ]
 }
+# stopped PID: the process is stopped (SIGSTOP: state T).
+stopped() { [ "$(awk '{ print $3 }' "/proc/$1/stat" 2>/dev/null)" = T ]; }
+# paused_run NAME PROCESS: a run with one agent whose PROCESS (envsim or
+# coordinator) stops itself at time step $hold_step of its $paused_steps
+# (DYNAPATH_TEST_HOLD, runtime/test_hold.h): mid-run by construction, after
+# the others have heard it, whatever the machine's load. It is continued
+# after 7 s; the run's other processes must still be there then (they wait
+# for a silent peer up to --wait, 60 s).
 paused_run() {
-  local name=$1 process=$2 line=$3 try launcher target others pid mid
-  for try in 1 2 3; do
-    rm -rf "${work:?}/$name"
-    "$dynapath" run --agents 1 "${paused[@]}" --out "$work/$name" --log-level info \
-      >/dev/null 2>"$work/$name.log" &
-    launcher=$!
-    pids+=("$launcher")
-    wait_for_line "$work/$name.log" "$line" || { fail "$name: the run did not start"; return 1; }
-    target=$(pgrep -P "$launcher" -f "$process" | head -1)
-    others=$(pgrep -P "$launcher" -f 'dynapath-(envsim|agent|coordinator)' | grep -vx "${target:-none}")
-    mid=0
-    if [ -n "$target" ] && kill -STOP "$target" 2>/dev/null &&
-      [ "$(awk '{ print $3 }' "/proc/$target/stat" 2>/dev/null)" = T ] &&
-      ! grep -q "step $paused_steps/$paused_steps" "$work/$name.log"; then
-      sleep 7
-      mid=1
-      for pid in $others; do running "$pid" || mid=0; done
-      # Gone for a wrong reason is the caller's failure, not a late pause.
-      grep -q "gone" "$work/$name.log" && mid=1
-    fi
-    [ -n "$target" ] && kill -CONT "$target" 2>/dev/null
-    if [ $mid -eq 1 ]; then
-      wait "$launcher" || { fail "$name: the run exited $? ($(grep -E 'error|gone' "$work/$name.log" | head -3))"; return 1; }
-      return 0
-    fi
-    wait "$launcher"
-    echo "note: $name: try $try paused $process too late (the run had finished its steps); again"
+  local name=$1 process=$2 launcher target others pid
+  DYNAPATH_TEST_HOLD="$process:$hold_step" "$dynapath" run --agents 1 "${paused[@]}" \
+    --out "$work/$name" --log-level info >/dev/null 2>"$work/$name.log" &
+  launcher=$!
+  pids+=("$launcher")
+  target=
+  for _ in $(seq 3000); do  # up to 60 s
+    target=$(pgrep -P "$launcher" -f "dynapath-$process" | head -1)
+    [ -n "$target" ] && stopped "$target" && break
+    target=
+    kill -0 "$launcher" 2>/dev/null || break
+    sleep 0.02
   done
-  fail "$name: $process was never paused mid-run"
-  return 1
+  if [ -z "$target" ]; then
+    fail "$name: $process did not hold at time step $hold_step ($(tail -3 "$work/$name.log"))"
+    return 1
+  fi
+  others=$(pgrep -P "$launcher" -f 'dynapath-(envsim|agent|coordinator)' | grep -vx "$target")
+  sleep 7
+  for pid in $others; do
+    running "$pid" || fail "$name: pid $pid ($(tr '\0' ' ' <"/proc/$pid/cmdline" 2>/dev/null)) left during the pause"
+  done
+  kill -CONT "$target"
+  wait "$launcher" || { fail "$name: the run exited $? ($(grep -E 'error|gone' "$work/$name.log" | head -3))"; return 1; }
+  grep -q "holding at time step $hold_step" "$work/$name.log" || { fail "$name: no hold logged"; return 1; }
+  return 0
 }
 
 # envsim paused: the coordinator says it was silent and waits; envsim does
 # not take its own pause for the coordinator's silence.
-if paused_run paused dynapath-envsim "coordinator: maze"; then
+if paused_run paused envsim; then
   grep -q "the environment simulator has been silent for" "$work/paused.log" ||
     fail "paused: the coordinator did not say envsim was silent"
   grep -q "gone" "$work/paused.log" && fail "paused: $(grep gone "$work/paused.log" | head -1)"
@@ -227,14 +222,12 @@ if paused_run paused dynapath-envsim "coordinator: maze"; then
   fi
 fi
 
-# The coordinator paused once its initial training is done: envsim has
-# answered it and the agent has trained for it, so both have heard its
-# heartbeats (at "agents 1 alive" they may not have yet, on a loaded
-# machine: they then wait for a coordinator to appear, and say nothing of
-# silence). Envsim and the agent say it is silent and wait for it; the
-# coordinator does not take its own pause for the agent's silence; the run
-# finishes with --local's results.
-if paused_run paused_c dynapath-coordinator "initial training"; then
+# The coordinator paused at a time step: envsim has answered it and the
+# agent has trained for it, so both have heard its heartbeats. Envsim and
+# the agent say it is silent and wait for it; the coordinator does not take
+# its own pause for the agent's silence; the run finishes with --local's
+# results.
+if paused_run paused_c coordinator; then
   grep -q "the coordinator has been silent for" "$work/paused_c.log" ||
     fail "paused coordinator: neither envsim nor the agent said the coordinator was silent"
   grep -q "gone" "$work/paused_c.log" && fail "paused coordinator: $(grep gone "$work/paused_c.log" | head -1)"

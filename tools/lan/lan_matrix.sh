@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# The impairment table (docs/howto/NETWORKING.md), rerun on the simulated three-host LAN
+# The impairment table (docs/PERFORMANCE.md, The simulated LAN), rerun on the simulated three-host LAN
 # (tools/lan/lan_lib.sh): every impairment against three workloads, each run
 # compared with `dynapath run --local` and timed against the same LAN without
 # impairment, plus the lost-host cases. Prints a markdown table; with
-# --update-docs also writes it into docs/howto/NETWORKING.md and docs/PERFORMANCE.md
+# --update-docs also writes it into docs/PERFORMANCE.md
 # (between the "lan-matrix" markers).
 #
 # Usage: tools/lan/lan_matrix.sh BUILD_DIR [--update-docs] [--timeout SECONDS]
@@ -234,7 +234,7 @@ cat "$table"
 } >>"$table"
 
 if [ $update_docs = 1 ]; then
-  for doc in "$here/../../docs/howto/NETWORKING.md" "$here/../../docs/PERFORMANCE.md"; do
+  for doc in "$here/../../docs/PERFORMANCE.md"; do
     python3 - "$doc" "$table" <<'EOF'
 import sys
 doc, table = sys.argv[1], open(sys.argv[2]).read().strip()
@@ -247,5 +247,5 @@ _, tail = rest.split(end, 1)
 open(doc, "w").write(head + begin + "\n" + table + "\n" + end + tail)
 EOF
   done
-  echo "lan_matrix.sh: wrote the table into docs/howto/NETWORKING.md and docs/PERFORMANCE.md" >&2
+  echo "lan_matrix.sh: wrote the table into docs/PERFORMANCE.md" >&2
 fi
