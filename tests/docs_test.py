@@ -42,6 +42,9 @@ before a block's opening fence, one directive each:
                                          block (shell quoting for OLD/NEW);
                                          OLD must occur
   <!-- docs-test: env NAME=VALUE ... --> exported while the block runs
+  The page's shell also has __docs_wait_netns PID for markers: it waits
+  until PID (a launcher started with &) is in its private network, e.g.
+  before `dynapath view --pid $!` joins it.
   <!-- docs-test: background -->        the block's last command is a
                                          service meant to run until stopped:
                                          the test starts it in the
@@ -253,6 +256,16 @@ __docs_at=
 __docs_fail() { echo "docs-test: FAILED at $__docs_at: $1" >&2; exit 1; }
 __docs_check() { [ "$1" -eq 0 ] || __docs_fail "the command exited $1"; }
 __docs_need() { [ -e "$1" ] || __docs_fail "names $1, which does not exist"; }
+# For markers: wait (at most 10 s) until process $1 is in a network of its
+# own, as a launcher of --agents is once it has set up its private network.
+__docs_wait_netns() {
+  local i
+  for i in $(seq 100); do
+    [ "$(readlink /proc/$1/ns/net 2>/dev/null)" != "$(readlink /proc/$$/ns/net)" ] && return 0
+    sleep 0.1
+  done
+  __docs_fail "process $1 made no private network within 10 s"
+}
 __docs_start=$EPOCHREALTIME
 __docs_block() {  # the block's start, with the seconds since the page's
   local t=$(( (${EPOCHREALTIME/./} - ${__docs_start/./}) / 100000 ))
