@@ -8,7 +8,8 @@ Usage: docs_test.py SOURCE_DIR BUILD_DIR PAGE [--timeout SECONDS]
 
 PAGE is relative to SOURCE_DIR (README.md, docs/howto/MAPS.md, ...). The
 page's blocks run one after the other in one bash, in a fresh temporary
-folder holding a copy of the source tree (so a block may write anywhere,
+folder holding a copy of the source tree (the files git tracks: what a clone
+holds) (so a block may write anywhere,
 e.g. scripts/make_reproduction_report.py rewriting docs/REPRODUCTION.md,
 without touching the repository) and `build`, a symlink to BUILD_DIR: the
 docs' `build/tools/dynapath` is the build under test. The page runs inside
@@ -18,8 +19,8 @@ never reaches the host's); exit 77 (skipped) where namespaces are refused.
 What fails the page:
   * a command of a runnable block exits non-zero (each command, not only a
     block's last: `a && b` failing counts; pipelines with pipefail);
-  * a block names a repository file that does not exist (an argument whose
-    first path component is a top-level entry of the source tree, e.g.
+  * a block names a repository file that git does not track (an argument
+    whose first path component is a top-level entry of the source tree, e.g.
     tests/data/..., docs/examples/...; checked in skipped blocks too);
   * the file given to an input option (--maze, --stations-file, --changes,
     --config, --replay, --load-policy, ...) or a build/... program does not
@@ -300,7 +301,31 @@ def page_script(blocks):
     return "\n".join(out) + "\n"
 
 
-def copy_source(source, folder):
+def tracked_files(source):
+    """The files git tracks in SOURCE (what a clone has: a developer's own
+    left-overs, a study in the top folder say, stay out), or None outside git."""
+    try:
+        listing = subprocess.run(["git", "-C", source, "ls-files", "-z"], capture_output=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    files = [f for f in listing.decode().split("\0") if f and os.path.lexists(os.path.join(source, f))]
+    return files or None
+
+
+def in_repository(source, files, path):
+    if files is None:
+        return os.path.exists(os.path.join(source, path))
+    path = os.path.normpath(path)
+    return any(f == path or f.startswith(path.rstrip("/") + "/") for f in files)
+
+
+def copy_source(source, files, folder):
+    if files is not None:
+        for f in files:
+            os.makedirs(os.path.join(folder, os.path.dirname(f)), exist_ok=True)
+            shutil.copy2(os.path.join(source, f), os.path.join(folder, f), follow_symlinks=False)
+        return
+
     def ignore(directory, names):
         if os.path.abspath(directory) != os.path.abspath(source):
             return [n for n in names if n == "__pycache__"]
@@ -311,11 +336,12 @@ def copy_source(source, folder):
 def run_page(source, build, page, timeout):
     with open(os.path.join(source, page), encoding="utf-8") as f:
         blocks = parse_page(page, f.read())
+    files = tracked_files(source)
     top_level = {n for n in os.listdir(source) if not n.startswith(".") and n not in NOT_REPOSITORY}
     for block in blocks:
         for offset, command in logical_lines(block.text):
             for path in repository_paths(command, top_level):
-                if not os.path.exists(os.path.join(source, path)):
+                if not in_repository(source, files, path):
                     raise PageError(f"{block.where(offset)}: names {path}, which is not in the repository")
         if not block.skip:
             check_placeholders(block)
@@ -335,7 +361,7 @@ def run_page(source, build, page, timeout):
         return 77
     folder = tempfile.mkdtemp(prefix="dynapath-docs-")
     try:
-        copy_source(source, folder)
+        copy_source(source, files, folder)
         os.symlink(os.path.abspath(build), os.path.join(folder, "build"))
         script = os.path.join(folder, ".docs-test.sh")
         with open(script, "w", encoding="utf-8") as f:
