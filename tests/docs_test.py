@@ -429,7 +429,14 @@ def self_test():
     return 0
 
 
+def stop_on_sigterm(signum, frame):
+    # ctest's TIMEOUT sends SIGTERM: end as on a failure, so that the page's
+    # processes are stopped and its folder removed (the finally clauses).
+    raise SystemExit(1)
+
+
 def main(argv):
+    signal.signal(signal.SIGTERM, stop_on_sigterm)
     if argv[1:] == ["--self-test"]:
         return self_test()
     args, timeout = argv[1:], 300
