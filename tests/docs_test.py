@@ -43,6 +43,11 @@ before a block's opening fence, one directive each:
                                          block (shell quoting for OLD/NEW);
                                          OLD must occur
   <!-- docs-test: env NAME=VALUE ... --> exported while the block runs
+  <!-- docs-test: requires PATH ... -->  the block needs what an optional
+                                         part of the build makes (e.g.
+                                         build/python/dynapath, built when
+                                         pybind11 is installed): skipped,
+                                         saying so, when PATH is missing
   The page's shell also has __docs_wait_netns PID for markers: it waits
   until PID (a launcher started with &) is in its private network, e.g.
   before `dynapath view --pid $!` joins it.
@@ -73,7 +78,8 @@ INPUT_OPTIONS = {"--maze", "--stations-file", "--changes", "--config", "--maps",
 # Options whose value is a file or folder the command writes.
 OUTPUT_OPTIONS = {"--out", "--save", "--save-changes", "--save-policy", "--log", "--checkpoint", "--write",
                   "--screenshot", "-o"}
-PLACEHOLDER = re.compile(r"^(PID|DIR|FILE|COMMAND|ARGS|URL|PATH|HOST|NAME|N)$|\.\.\.|…|^<[^>]*>?$|^\[.*\.\.\.\]$")
+PLACEHOLDER = re.compile(r"^(PID|DIR|FILE|COMMAND|ARGS|URL|PATH|HOST|NAME|N)$|\.\.\.|…|^\[.*\.\.\.\]$")
+ANGLE_PLACEHOLDER = re.compile(r"<[A-Za-z][A-Za-z0-9 _-]*>")  # <this repository>
 # Top-level entries of a source tree that are outputs, not repository files.
 NOT_REPOSITORY = {"build", "out", "results", "study"}
 
@@ -90,6 +96,7 @@ class Block:
         self.replaces = []   # [(old, new)]
         self.env = []        # ["NAME=VALUE"]
         self.background = False
+        self.requires = []   # paths (build/... or the tree's) an optional part of the build makes
         for marker_line, directive in markers:
             self._apply_marker(marker_line, directive)
 
@@ -122,9 +129,11 @@ class Block:
             self.env += args
         elif word == "background" and not args:
             self.background = True
+        elif word == "requires" and args:
+            self.requires += args
         else:
             raise PageError(f"{where}: unknown docs-test directive '{directive}' "
-                            "(skip REASON, set --opt V, replace OLD NEW, env N=V, background)")
+                            "(skip REASON, set --opt V, replace OLD NEW, env N=V, background, requires PATH)")
 
     def runnable_text(self):
         """The block as the test runs it: markers' substitutions applied."""
@@ -173,11 +182,21 @@ def parse_page(page, text):
     return blocks
 
 
+HEREDOC = re.compile(r"<<(-?)\s*(['\"]?)([A-Za-z_][A-Za-z0-9_]*)\2")
+
+
 def logical_lines(text):
-    """(offset, command text) per command line: backslash continuations and
-    quotes spanning lines joined; blank and comment-only lines left out."""
-    result, pending, start = [], [], 0
+    """(offset, command text) per command line: backslash continuations,
+    quotes spanning lines and here-documents joined; blank and comment-only
+    lines left out."""
+    result, pending, start, heredoc = [], [], 0, None
     for offset, line in enumerate(text.split("\n")):
+        if heredoc:  # inside a here-document, up to its delimiter line
+            pending.append(line)
+            if (line.lstrip("\t") if heredoc[0] else line) == heredoc[1]:
+                result.append((start, "\n".join(pending)))
+                pending, heredoc = [], None
+            continue
         if not pending:
             start = offset
         if line.startswith("$ "):  # a console prompt
@@ -190,6 +209,10 @@ def logical_lines(text):
             shlex.split(joined, comments=True)
         except ValueError:  # an open quote
             continue
+        match = HEREDOC.search(joined.split("#")[0] if "'" not in joined else joined)
+        if match:
+            heredoc = (match.group(1) == "-", match.group(3))
+            continue
         if shlex.split(joined, comments=True):
             result.append((start, joined))
         pending = []
@@ -198,7 +221,17 @@ def logical_lines(text):
     return result
 
 
+def command_part(command):
+    """A logical line without its here-document bodies (the shell's words)."""
+    lines = command.split("\n")
+    for i, line in enumerate(lines):
+        if HEREDOC.search(line):
+            return "\n".join(lines[:i + 1])
+    return command
+
+
 def words(command):
+    command = command_part(command)
     try:
         lexer = shlex.shlex(command, posix=True, punctuation_chars=";&|()<>")
         lexer.whitespace_split = True
@@ -210,6 +243,10 @@ def words(command):
 
 def check_placeholders(block):
     for offset, command in logical_lines(block.text):
+        angle = ANGLE_PLACEHOLDER.search(command_part(command).split(" #")[0])
+        if angle:
+            raise PageError(f"{block.where(offset)}: a placeholder ('{angle.group(0)}') in a block the test runs: "
+                            "show a real command, or mark the block skip with a reason")
         for word in words(command):
             if re.match(r"^[A-Za-z_][A-Za-z0-9_]*=", word):
                 word = word.split("=", 1)[1]
@@ -346,6 +383,12 @@ def run_page(source, build, page, timeout):
         if not block.skip:
             check_placeholders(block)
             block.runnable_text()  # a stale marker fails before anything runs
+    for block in blocks:
+        for path in block.requires:
+            built = os.path.join(build, path[len("build/"):]) if path.startswith("build/") else \
+                os.path.join(source, path)
+            if not block.skip and not os.path.exists(built):
+                block.skip = f"requires {path}, which this build did not make"
     run = [b for b in blocks if not b.skip]
     print(f"docs-test: {page}: {len(run)} blocks to run, {len(blocks) - len(run)} skipped")
     for b in blocks:
@@ -407,9 +450,14 @@ def self_test():
     assert list(repository_paths("x --maze docs/examples/maps/a.map --out docs/b; mkdir -p docs/c", {"docs"})) == \
         ["docs/examples/maps/a.map"]
     assert logical_lines("bash -c '\n  a & b\n  c'\n# note\nd") == [(0, "bash -c '\n  a & b\n  c'"), (4, "d")]
+    heredoc = "PYTHONPATH=x python3 - <<'EOF'\nprint('...', \"it's\")\nEOF\nls\ncat <<-END\n\tPID\n\tEND"
+    assert logical_lines(heredoc) == [(0, "PYTHONPATH=x python3 - <<'EOF'\nprint('...', \"it's\")\nEOF"), (3, "ls"),
+                                      (4, "cat <<-END\n\tPID\n\tEND")], logical_lines(heredoc)
+    check_placeholders(parse_page("p.md", "```sh\n" + heredoc + "\n```\n")[0])
     failures = {
         "```sh\nbuild/tools/dynapath view --pid PID\n```\n": "placeholder",
         "```sh\nbuild/tools/dynapath feed ... --rate 4\n```\n": "placeholder",
+        "```sh\ngit clone <this repository> dynapath\n```\n": "placeholder",
         "<!-- docs-test: set --size 2 -->\n```sh\nls\n```\n": "has no --size",
         "<!-- docs-test: replace a b -->\n```sh\nls\n```\n": "is not in the block",
         "<!-- docs-test: skip -->\n```sh\nls\n```\n": "needs a reason",
