@@ -3,7 +3,7 @@
 ```console) of one Markdown page against a build, in order, and fails when
 one of their commands fails or a file they name does not exist.
 
-Usage: docs_test.py SOURCE_DIR BUILD_DIR PAGE [--timeout SECONDS]
+Usage: docs_test.py SOURCE_DIR BUILD_DIR PAGE [--timeout SECONDS] [--python PYTHON]
        docs_test.py --self-test
 
 PAGE is relative to SOURCE_DIR (README.md, docs/howto/MAPS.md, ...). The
@@ -15,6 +15,8 @@ without touching the repository) and `build`, a symlink to BUILD_DIR: the
 docs' `build/tools/dynapath` is the build under test. The page runs inside
 `BUILD_DIR/tools/dynapath netns --`, a private network (its LCM traffic
 never reaches the host's); exit 77 (skipped) where namespaces are refused.
+With --python, the blocks' `python3` is PYTHON (the interpreter CMake found,
+the one the Python module is built for), whatever PATH holds.
 
 What fails the page:
   * a command of a runnable block exits non-zero (each command, not only a
@@ -370,7 +372,7 @@ def copy_source(source, files, folder):
     shutil.copytree(source, folder, ignore=ignore, symlinks=True, dirs_exist_ok=True)
 
 
-def run_page(source, build, page, timeout):
+def run_page(source, build, page, timeout, python=None):
     with open(os.path.join(source, page), encoding="utf-8") as f:
         blocks = parse_page(page, f.read())
     files = tracked_files(source)
@@ -410,6 +412,11 @@ def run_page(source, build, page, timeout):
         with open(script, "w", encoding="utf-8") as f:
             f.write(page_script(blocks))
         env = {k: v for k, v in os.environ.items() if k != "LCM_DEFAULT_URL"}
+        if python:
+            tools = os.path.join(folder, ".docs-bin")
+            os.mkdir(tools)
+            os.symlink(python, os.path.join(tools, "python3"))
+            env["PATH"] = tools + os.pathsep + env.get("PATH", "")
         started = time.monotonic()
         process = subprocess.Popen([dynapath, "netns", "--", "bash", "--noprofile", "--norc", script],
                                    cwd=folder, env=env, start_new_session=True, stdin=subprocess.DEVNULL)
@@ -487,16 +494,20 @@ def main(argv):
     signal.signal(signal.SIGTERM, stop_on_sigterm)
     if argv[1:] == ["--self-test"]:
         return self_test()
-    args, timeout = argv[1:], 300
+    args, timeout, python = argv[1:], 300, None
     if "--timeout" in args:
         i = args.index("--timeout")
         timeout = float(args[i + 1])
+        del args[i:i + 2]
+    if "--python" in args:
+        i = args.index("--python")
+        python = args[i + 1]
         del args[i:i + 2]
     if len(args) != 3:
         print(__doc__.split("\n\n")[1], file=sys.stderr)
         return 2
     try:
-        return run_page(*args, timeout)
+        return run_page(*args, timeout, python)
     except PageError as error:
         print(f"docs-test: FAILED: {error}", file=sys.stderr)
         return 1
