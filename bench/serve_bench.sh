@@ -13,11 +13,7 @@ set -euo pipefail
 build=${1:-build}
 shift || true
 maze=("$@")
-churn=("$@" --seed 99)
-if [ ${#maze[@]} -eq 0 ]; then
-  maze=(--size 300 --difficulty hard --seed 1)
-  churn=(--size 300 --difficulty hard --seed 99)
-fi
+[ ${#maze[@]} -eq 0 ] && maze=(--size 300 --difficulty hard --seed 1)
 dynapath=$build/tools/dynapath
 steps=${STEPS:-100}
 source "$(dirname "$0")/service_bench_setup.sh"
@@ -45,8 +41,8 @@ done
 # reply from the step (interim for a retraining step) and to its REPORT.
 echo "update to new policy (lock step, $steps steps): $("$dynapath" feed "${auth[@]}" "${maze[@]}" \
   --steps "$steps" --timeout 600)"
-# Another maze's changes at 4 steps a second: retraining all along.
-"$dynapath" feed "${auth[@]}" "${churn[@]}" --steps 20 --rate 4 --source churn \
+# The maze's next 20 change steps at 4 steps a second: retraining along.
+"$dynapath" feed "${auth[@]}" "${maze[@]}" --steps "$((steps + 20))" --rate 4 --source churn \
   --timeout 600 >/dev/null &
 feeder=$!
 echo "during retraining, 1000/s: $("$dynapath" query "${auth[@]}" --rate 1000 --duration 5)"

@@ -37,12 +37,12 @@ seq "$clients" | xargs -P "$parallel" -I{} "$dynapath" query "${auth[@]}" --clie
   --rate 10 --duration 0.1 --timeout 30 --log-level warn >/dev/null
 echo "$clients clients, one query each, $parallel at a time: $((SECONDS - start)) s"
 memory "after $clients clients"
-# One update step from each source: the maze's first change step, sent by
-# `feed` under a name of its own (the service merges what arrives during a
-# step into the next one, so these make few steps).
+# One update step from each source: the maze's change step after the
+# service's, sent by `feed` under a name of its own (the service merges what
+# arrives during a step into the next one, so these make few steps).
 start=$SECONDS
-seq "$sources" | xargs -P "$parallel" -I{} "$dynapath" feed "${auth[@]}" "${maze[@]}" --steps 1 \
-  --rate 100 --source "bench-source-{}" --timeout 30 --log-level warn >/dev/null
+seq "$sources" | xargs -P "$parallel" -I{} "$dynapath" feed "${auth[@]}" "${maze[@]}" \
+  --steps "$((sources + 10))" --max-steps 1 --rate 100 --source "bench-source-{}" --timeout 30 --log-level warn >/dev/null
 echo "$sources update sources, one update each, $parallel at a time: $((SECONDS - start)) s"
 sleep 1
 memory "after $sources sources"

@@ -32,7 +32,9 @@ void ValidateAndConvert(const uint8_t* data, int size) {
     (void)dynapath::protocol::ChangesFromMessage(message, 64, 64);
   } else if constexpr (std::is_same_v<T, dynapath::obstacle_update_t>) {
     dynapath::UpdateRefusal why{};
-    (void)dynapath::protocol::UpdateFromMessage(message, 64, 64, &why);
+    // The message's own maze, so that its cells are read too.
+    (void)dynapath::protocol::UpdateFromMessage(
+        message, 64, 64, static_cast<uint64_t>(message.maze_fingerprint), &why);
   } else if constexpr (std::is_same_v<T, dynapath::occupancy_grid_t>) {
     // A map of the message's own size (the grid's), stations in one corner.
     dynapath::Grid map(message.rows, message.cols);

@@ -26,6 +26,7 @@
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
 #include "protocol/log_reader.h"
+#include "runtime/checkpoint_file.h"
 
 namespace dynapath::launch {
 namespace {
@@ -54,8 +55,9 @@ using Child = ChildProcess;
 
 // Starts `argv`. `keep_fds`: TextPipes the child keeps open across exec
 // (argv or its config names them as /dev/fd/N).
+// `stdout_fd` (>= 0): its stdout too.
 pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
-            const std::vector<int>& keep_fds = {}) {
+            const std::vector<int>& keep_fds = {}, int stdout_fd = -1) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid != 0) return pid;
@@ -63,6 +65,7 @@ pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(1);
   if (stderr_fd >= 0 && dup2(stderr_fd, STDERR_FILENO) < 0) _exit(126);
+  if (stdout_fd >= 0 && dup2(stdout_fd, STDOUT_FILENO) < 0) _exit(126);
   for (int fd : keep_fds) {
     if (fcntl(fd, F_SETFD, 0) != 0) _exit(126);
   }
@@ -72,6 +75,25 @@ pid_t Spawn(const std::vector<std::string>& argv, int stderr_fd,
   execvp(args[0], args.data());
   std::fprintf(stderr, "dynapath: cannot start %s: %s\n", argv[0].c_str(), std::strerror(errno));
   _exit(127);
+}
+
+// After the coordinator failed: whether its restarts are spent and how to
+// finish the run when a checkpoint exists (else nothing to resume from).
+std::string ResumeHint(int status, const DistributedRun& run, int restarts) {
+  const std::string& dir = run.run.checkpoint;
+  if (dir.empty()) return "";
+  std::string hint;
+  if (WIFSIGNALED(status)) {
+    hint = restarts == 0 && run.coordinator_restarts == 0
+               ? "; no restarts (--restart-coordinator 0)"
+               : "; its restarts are spent (--restart-coordinator " +
+                     std::to_string(run.coordinator_restarts) + ")";
+  }
+  std::error_code error;
+  if (!std::filesystem::exists(dir + "/" + runtime::kCheckpointFileName, error)) {
+    return hint + "; " + dir + " holds no checkpoint yet";
+  }
+  return hint + "; finish the run from its last checkpoint with: dynapath run --resume " + dir;
 }
 
 // What every child of a run is started with.
@@ -304,11 +326,16 @@ int LaunchProcesses(const DistributedRun& run) {
     return StartChild(child_start, children, name, binary, options, declare, std::move(visible),
                       std::move(inherit));
   };
+  std::optional<LoggerOutput> logger_output;
   if (!run.log_file.empty()) {
+    logger_output.emplace();
+    const int logger_fd = logger_output->write_fd();
     const pid_t pid =
         Spawn({"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
                "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
-              run.child_stderr);  // records the bytes as sent, tags included
+              logger_fd >= 0 ? logger_fd : run.child_stderr, {},
+              logger_fd);  // records the bytes as sent, tags included
+    logger_output->Started();
     if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
     // The log was asked for: a logger that could not start (not installed,
@@ -388,7 +415,8 @@ int LaunchProcesses(const DistributedRun& run) {
         }
         finished = true;
         if (!Succeeded(child.status)) {
-          spdlog::error("the coordinator {}", Describe(child.status));
+          spdlog::error("the coordinator {}{}", Describe(child.status),
+                        ResumeHint(child.status, run, restarts));
           exit_code = 1;
         }
       } else if (child.name == "envsim") {

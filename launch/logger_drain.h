@@ -11,9 +11,11 @@
 
 #include <sys/types.h>
 
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <string>
+#include <thread>
 
 namespace dynapath::launch {
 
@@ -25,5 +27,35 @@ std::optional<long long> QueuedUdpBytes(pid_t pid);
 // `quiet`, or until `cap` has passed. Returns false on the cap.
 bool WaitForLoggerToDrain(pid_t pid, const std::string& file, std::chrono::milliseconds quiet,
                           std::chrono::milliseconds cap);
+
+// lcm-logger's own output ("Opening log file ...", "Logger exiting" on its
+// stdout and stderr), which would otherwise land on the user's terminal
+// among the run's log lines: the logger writes into a pipe, read here on a
+// thread. Its chatter is logged at debug level; any other line (a failure
+// to open the file, say) as a warning naming lcm-logger.
+class LoggerOutput {
+ public:
+  LoggerOutput();  // no pipe (write_fd() -1) when it cannot make one
+  ~LoggerOutput();
+  LoggerOutput(const LoggerOutput&) = delete;
+  LoggerOutput& operator=(const LoggerOutput&) = delete;
+
+  // The descriptor the logger's stdout and stderr go to (close-on-exec).
+  int write_fd() const { return write_fd_; }
+  // After the logger was started: closes this process's write end, so the
+  // reader sees the end of the output once the logger exits.
+  void Started();
+
+ private:
+  void Read();
+
+  int read_fd_ = -1, write_fd_ = -1;
+  std::atomic<bool> stop_{false};
+  std::thread reader_;
+};
+
+// How a line of lcm-logger's output is logged: false for its chatter
+// (debug), true for anything else (a warning).
+bool IsLoggerComplaint(const std::string& line);
 
 }  // namespace dynapath::launch

@@ -289,8 +289,30 @@ policy_t PolicyToMessage(const std::string& run_id, const std::string& approach,
   return policy;
 }
 
-Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
+obstacle_update_t UpdateToMessage(const ChangeStep& step, int cols, const std::string& source,
+                                  int64_t sequence, uint64_t maze) {
+  obstacle_update_t m{};
+  m.source = source;
+  m.sequence = sequence;
+  m.maze_fingerprint = static_cast<int64_t>(maze);
+  for (const CellChange& change : step.changes) {
+    m.rows.push_back(change.cell / cols);
+    m.cols.push_back(change.cell % cols);
+    m.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
+                                                      : obstacle_update_t::FREE);
+  }
+  m.num_cells = static_cast<int32_t>(m.rows.size());
+  return m;
+}
+
+Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols, uint64_t maze,
                                     UpdateRefusal* why) {
+  if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
+    *why = UpdateRefusal::kOtherMaze;
+    return Error("an update for the maze of fingerprint " +
+                 FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
+                 FingerprintText(maze));
+  }
   MapUpdate update;
   update.source = m.source;
   update.sequence = m.sequence;

@@ -111,11 +111,18 @@ policy_t PolicyToMessage(const std::string& run_id, const std::string& approach,
                          int time_step, const Grid& grid, const PolicyPicture* picture,
                          const std::vector<Region>& trained_regions);
 
-// A (validated) obstacle update for a rows x cols grid. Fails, with
-// `*why` set, when a cell lies outside the grid or a state is neither
-// OBSTACLE nor FREE; the update is then refused whole.
+// A (validated) obstacle update for a rows x cols grid whose maze at step 0
+// has fingerprint `maze` (MazeFingerprint). Fails, with `*why` set, when
+// the update names another maze, a cell lies outside the grid or a state
+// is neither OBSTACLE nor FREE; the update is then refused whole.
 Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& message, int rows, int cols,
-                                    UpdateRefusal* why);
+                                    uint64_t maze, UpdateRefusal* why);
+// One time step's changes of a `cols`-wide grid as the obstacle update
+// that `source` sends as its `sequence`-th, made for the maze of
+// fingerprint `maze` (the service's, from its replies); run_id and utime
+// are the caller's.
+obstacle_update_t UpdateToMessage(const ChangeStep& step, int cols, const std::string& source,
+                                  int64_t sequence, uint64_t maze);
 // Occupancy thresholds (ROS map_server's meaning and defaults): a value p
 // (0..100, percent) is an obstacle when p / 100 > occupied, free when
 // p / 100 < free, else (and -1, unknown) it changes nothing.

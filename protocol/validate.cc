@@ -282,7 +282,8 @@ std::string Validate(const occupancy_grid_t& m) {
 
 std::string Validate(const path_request_t& m) {
   if (!PeerName(m.client)) return "client name must have 1-64 characters";
-  if (m.num_starts < 1 || m.num_starts > kMaxRequestStarts) return "bad number of starts";
+  // No starts: a probe (the service's maze, version and step).
+  if (m.num_starts < 0 || m.num_starts > kMaxRequestStarts) return "bad number of starts";
   if (!Count(m.num_starts, m.start_rows.size()) || m.start_cols.size() != m.start_rows.size()) {
     return "start count mismatch";
   }

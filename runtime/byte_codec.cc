@@ -25,6 +25,15 @@ bool ChecksumMatches(std::string_view bytes) {
   return std::memcmp(checksum, bytes.data() + covered, kChecksumBytes) == 0;
 }
 
+uint64_t Fingerprint64(std::string_view bytes) {
+  unsigned char hash[crypto_generichash_BYTES_MIN];
+  crypto_generichash(hash, sizeof(hash), reinterpret_cast<const unsigned char*>(bytes.data()),
+                     bytes.size(), nullptr, 0);
+  uint64_t value = 0;
+  std::memcpy(&value, hash, sizeof(value));
+  return value;
+}
+
 Result<std::string> ReadBoundedFile(const std::string& path, uint64_t max_bytes,
                                     const std::string& what) {
   const std::string name = what + " " + path + ": ";

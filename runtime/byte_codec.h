@@ -74,6 +74,10 @@ void AppendChecksum(ByteWriter& out);
 // True when the last kChecksumBytes of `bytes` are the BLAKE2b of the rest.
 bool ChecksumMatches(std::string_view bytes);
 
+// A 64-bit fingerprint of `bytes` (the first 8 bytes of their BLAKE2b):
+// which content a file held, as a checkpoint records it.
+uint64_t Fingerprint64(std::string_view bytes);
+
 // The contents of the regular file `path` of at most `max_bytes` bytes;
 // errors start with "WHAT PATH: " ("policy file p.pol: not a regular file").
 Result<std::string> ReadBoundedFile(const std::string& path, uint64_t max_bytes,

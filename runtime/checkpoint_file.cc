@@ -20,6 +20,7 @@ constexpr char kCheckpointMagic[8] = {'D', 'Y', 'N', 'A', 'C', 'K', 'P', '\n'};
 constexpr uint64_t kMaxRows = kMaxSteps + 1;
 constexpr size_t kMaxLabelBytes = 256;
 constexpr size_t kRowBytes = 4 + 4 + 8 + 8 + 8 + 4 + 4;
+constexpr size_t kMaxSavedSections = 4;  // a policy file's most
 constexpr uint64_t kMaxCheckpointBytes = kMaxPolicyFileBytes + (uint64_t{1} << 30);
 
 Error TruncatedIn(const std::string& what) { return Error::Corrupt("truncated in " + what); }
@@ -83,8 +84,11 @@ Result<ApproachRun> GetRun(ByteReader& in) {
 
 Result<std::vector<uint8_t>> EncodeCheckpoint(const RunCheckpoint& checkpoint) {
   const size_t in_progress = static_cast<size_t>(checkpoint.pass) < checkpoint.runs.size() ? 1 : 0;
-  if (checkpoint.pass < 0 || checkpoint.runs.size() != static_cast<size_t>(checkpoint.pass) + in_progress ||
-      (checkpoint.policy && in_progress == 0)) {
+  if (checkpoint.pass < 0 ||
+      checkpoint.runs.size() != static_cast<size_t>(checkpoint.pass) + in_progress ||
+      (checkpoint.policy && in_progress == 0) ||
+      checkpoint.approach_count < static_cast<int>(checkpoint.runs.size()) ||
+      checkpoint.policy_file.size() > kMaxSavedSections) {
     return Error::Internal("a checkpoint's runs do not match its pass");
   }
   std::vector<uint8_t> policy;
@@ -100,7 +104,13 @@ Result<std::vector<uint8_t>> EncodeCheckpoint(const RunCheckpoint& checkpoint) {
   out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.total_steps));
   out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.pass));
   out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.runs.size()));
+  out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.approach_count));
   for (const ApproachRun& run : checkpoint.runs) PutRun(out, run);
+  out.Put<uint32_t>(static_cast<uint32_t>(checkpoint.policy_file.size()));
+  for (const SavedSection& section : checkpoint.policy_file) {
+    out.PutText(ApproachName(section.approach));
+    out.Put<uint64_t>(section.fingerprint);
+  }
   out.Put<uint64_t>(policy.size());
   out.PutBytes(policy.data(), policy.size());
   AppendChecksum(out);
@@ -110,7 +120,8 @@ Result<std::vector<uint8_t>> EncodeCheckpoint(const RunCheckpoint& checkpoint) {
 Result<RunCheckpoint> DecodeCheckpoint(std::string_view bytes, bool verify_checksum) {
   ByteReader in(bytes);
   std::string_view magic;
-  if (!in.GetView(sizeof(kCheckpointMagic), magic) || magic != std::string_view(kCheckpointMagic, sizeof(kCheckpointMagic))) {
+  if (!in.GetView(sizeof(kCheckpointMagic), magic) ||
+      magic != std::string_view(kCheckpointMagic, sizeof(kCheckpointMagic))) {
     return Error::Corrupt("not a DynaPath checkpoint (no DYNACKP magic)");
   }
   uint32_t version = 0, pass = 0, count = 0;
@@ -123,25 +134,49 @@ Result<RunCheckpoint> DecodeCheckpoint(std::string_view bytes, bool verify_check
   if (verify_checksum && !ChecksumMatches(bytes)) {
     return Error::Corrupt("checksum mismatch (the file is damaged or cut short)");
   }
-  ByteReader body(bytes.substr(0, bytes.size() - kChecksumBytes).substr(sizeof(kCheckpointMagic) + 4));
+  ByteReader body(
+      bytes.substr(0, bytes.size() - kChecksumBytes).substr(sizeof(kCheckpointMagic) + 4));
   constexpr uint32_t kMaxRuns = 64;  // a run has at most one pass per approach
-  uint32_t total_steps = 0;
+  uint32_t total_steps = 0, approach_count = 0;
   RunCheckpoint checkpoint;
   if (!body.Get(checkpoint.run_seed) || !body.Get(total_steps) || !body.Get(pass) ||
-      !body.Get(count)) {
+      !body.Get(count) || !body.Get(approach_count)) {
     return TruncatedIn("the header");
   }
   if (total_steps > kMaxSteps) return Error::Corrupt("more time steps than any run has");
   checkpoint.total_steps = static_cast<int>(total_steps);
-  if (count > kMaxRuns || pass > count || count > pass + 1) {
+  if (count > kMaxRuns || pass > count || count > pass + 1 || approach_count < count ||
+      approach_count > kMaxRuns) {
     return Error::Corrupt(std::to_string(count) + " approaches with " + std::to_string(pass) +
-                          " finished is not a checkpoint");
+                          " finished of " + std::to_string(approach_count) +
+                          " is not a checkpoint");
   }
   checkpoint.pass = static_cast<int>(pass);
+  checkpoint.approach_count = static_cast<int>(approach_count);
   for (uint32_t i = 0; i < count; ++i) {
     Result<ApproachRun> run = GetRun(body);
     if (!run) return run.error();
     checkpoint.runs.push_back(std::move(*run));
+  }
+  uint32_t saved = 0;
+  if (!body.Get(saved)) return TruncatedIn("the policy file's sections");
+  if (saved > kMaxSavedSections) {
+    return Error::Corrupt(std::to_string(saved) + " policy file sections, a file has at most " +
+                          std::to_string(kMaxSavedSections));
+  }
+  for (uint32_t i = 0; i < saved; ++i) {
+    std::string name;
+    SavedSection section;
+    if (!body.GetText(kMaxLabelBytes, name) || !body.Get(section.fingerprint)) {
+      return TruncatedIn("the policy file's sections");
+    }
+    const std::optional<Approach> approach = ParseApproach(name);
+    if (!approach || !IsLearningApproach(*approach)) {
+      return Error::Corrupt("the policy file's sections name '" + name.substr(0, 40) +
+                            "', not a learning approach");
+    }
+    section.approach = *approach;
+    checkpoint.policy_file.push_back(section);
   }
   uint64_t policy_bytes = 0;
   std::string_view policy;
@@ -184,6 +219,28 @@ Result<RunCheckpoint> ReadCheckpoint(const std::string& dir) {
   Result<RunCheckpoint> checkpoint = DecodeCheckpoint(*bytes);
   if (!checkpoint) return Error::Corrupt("checkpoint " + path + ": " + checkpoint.error().message);
   return checkpoint;
+}
+
+Status CheckCheckpointFree(const std::string& dir) {
+  Result<RunCheckpoint> found = ReadCheckpoint(dir);
+  if (!found && found.error().IsNotFound()) return Ok{};
+  const std::string path = dir + "/" + kCheckpointFileName;
+  if (!found) {
+    return Error::Option("checkpoint", path + " cannot be read (" + found.error().message +
+                                           "): give --force to start a new run there (it is "
+                                           "replaced)");
+  }
+  if (found->pass >= found->approach_count) return Ok{};  // a finished run's
+  std::string where = std::to_string(found->pass) + " of " + std::to_string(found->approach_count) +
+                      " approaches finished";
+  if (found->policy) {
+    where += ", " + ApproachName(found->runs.back().approach) + " after step " +
+             std::to_string(found->policy->step);
+  }
+  return Error::Option("checkpoint", dir + " holds the checkpoint of an unfinished run (" + where +
+                                         "): finish it with `dynapath run --resume " + dir +
+                                         "`, or give --force to start a new run there (that "
+                                         "checkpoint is then lost)");
 }
 
 }  // namespace dynapath::runtime

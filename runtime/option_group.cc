@@ -5,8 +5,11 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 
 namespace dynapath::runtime {
 namespace {
@@ -14,13 +17,18 @@ namespace {
 // "--name" -> "name", the key of a config file.
 std::string Key(const std::string& name) { return name.substr(name.find_first_not_of('-')); }
 
-// A TOML string CLI11's config reader takes back unchanged: basic ("...")
-// or literal ('...') quotes, neither of which it unescapes. Text holding
-// both quote kinds or a line break cannot be written; Put records that.
+constexpr const char* kEmptyValueText = "must not be empty";
+
+// A TOML string both readers of these files take back unchanged: CLI11's
+// (the processes' --config) and toml++ (`dynapath run`, which reads a
+// checkpoint's run.toml): literal quotes ('...'), which neither unescapes,
+// else basic ("...") ones for text without a backslash (toml++ would read
+// one as an escape). Other text (a line break; ' with " or \) cannot be
+// written; Put records that.
 std::optional<std::string> Quote(const std::string& text) {
   if (text.find_first_of("\n\r") != std::string::npos) return std::nullopt;
-  if (text.find('"') == std::string::npos) return "\"" + text + "\"";
   if (text.find('\'') == std::string::npos) return "'" + text + "'";
+  if (text.find_first_of("\"\\") == std::string::npos) return "\"" + text + "\"";
   return std::nullopt;
 }
 
@@ -33,8 +41,8 @@ void ConfigWriter::Put(const std::string& key, const std::string& toml_value) {
 Status ConfigWriter::status() const {
   if (!unwritable_.empty()) {
     return Error{"option --" + unwritable_ +
-                     ": a value holding both ' and \" or a line break cannot be handed to a child "
-                     "process",
+                     ": a value holding ' with \" or \\, or a line break, cannot be recorded "
+                     "or handed to a child process",
                  Error::Code::kInvalidArgument, unwritable_};
   }
   return Ok{};
@@ -50,22 +58,57 @@ void ConfigWriter::PutText(const std::string& key, const std::string& text) {
 }
 
 // A size, a seed or a step count typed with a leading zero means the
-// decimal number.
+// decimal number. A number too large for a long long is out of range as
+// typed (CLI11 alone would clamp it, and a check would echo the clamped
+// value, which the user never typed).
 const CLI::Validator& DecimalInteger() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {
+        if (text.empty()) return kEmptyValueText;  // as every option's (CLI11 runs this first)
         const size_t digits = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
         if (digits == text.size() ||
             text.find_first_not_of("0123456789", digits) != std::string::npos) {
           return "needs a decimal number, got '" + text + "'";
         }
         const size_t first = text.find_first_not_of('0', digits);
+        const std::string typed = text;
         text = text.substr(0, digits) + (first == std::string::npos ? "0" : text.substr(first));
+        errno = 0;
+        (void)std::strtoll(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) return "is out of range, got '" + typed + "'";
         return {};
       },
       "");
   return validator;
 }
+
+namespace {
+
+// A real number too large for a double (1e400) is out of range as typed,
+// not "inf".
+const CLI::Validator& FiniteReal() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        errno = 0;
+        const double value = std::strtod(text.c_str(), nullptr);
+        if (errno == ERANGE && std::isinf(value)) return "is out of range, got '" + text + "'";
+        return {};
+      },
+      "");
+  return validator;
+}
+
+// An empty value ("--save-policy ''", `checkpoint = ""` in a config file)
+// is refused for every option taking one: a struct member's "" or unset
+// means "not given", so without this rule the option would be silently
+// ignored.
+const CLI::Validator& NonEmptyValue() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string { return text.empty() ? kEmptyValueText : ""; }, "");
+  return validator;
+}
+
+}  // namespace
 
 void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
@@ -73,9 +116,15 @@ void OptionGroup::Record(const std::string& name, ValueKind kind) {
 
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
-  if (writer_ != nullptr) return writer_->PutText(Key(name), value);
+  if (writer_ != nullptr) {
+    if (!value.empty()) writer_->PutText(Key(name), value);  // "": not given
+    return;
+  }
   Record(name, ValueKind::kString);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(NonEmptyValue());
 }
 
 void OptionGroup::Option(const std::string& name, std::optional<std::string>& value,
@@ -86,7 +135,8 @@ void OptionGroup::Option(const std::string& name, std::optional<std::string>& va
     return;
   }
   Record(name, ValueKind::kString);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -98,8 +148,10 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
     return;
   }
   Record(name, ValueKind::kInteger);
-  CLI::Option* option =
-      app_->add_option(name, value, help)->type_name(value_name)->transform(DecimalInteger());
+  CLI::Option* option = app_->add_option(name, value, help)
+                            ->type_name(value_name)
+                            ->check(NonEmptyValue())
+                            ->transform(DecimalInteger());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -111,7 +163,8 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
     return;
   }
   Record(name, ValueKind::kFloat);
-  CLI::Option* option = app_->add_option(name, value, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue())->check(FiniteReal());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -122,6 +175,7 @@ void OptionGroup::Option(const std::string& name, long long& value, const std::s
   app_->add_option(name, value, help)
       ->type_name(value_name)
       ->capture_default_str()
+      ->check(NonEmptyValue())
       ->transform(DecimalInteger());
 }
 
@@ -130,7 +184,10 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
   // {} is the shortest text that reads back as the same double.
   if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
   Record(name, ValueKind::kFloat);
-  app_->add_option(name, value, help)->type_name(value_name)->capture_default_str();
+  app_->add_option(name, value, help)
+      ->type_name(value_name)
+      ->capture_default_str()
+      ->check(NonEmptyValue())->check(FiniteReal());
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
@@ -150,7 +207,8 @@ void OptionGroup::List(const std::string& name, std::optional<std::string>& text
     return;
   }
   Record(name, kind);
-  CLI::Option* option = app_->add_option(name, text, help)->type_name(value_name);
+  CLI::Option* option =
+      app_->add_option(name, text, help)->type_name(value_name)->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -206,12 +264,17 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
     return usage_error(what);
   } catch (const CLI::ValidationError& error) {
     // CLI11: "--size: needs a decimal number, got '0x10'" (DecimalInteger),
-    // worded like a conversion error; other validators' text (a Range's
-    // "Value 9 not in range 0 to 5") as CLI11 gives it.
+    // "--seed: is out of range, got '99999999999999999999'" (DecimalInteger,
+    // FiniteReal) or "--out: must not be empty" (NonEmptyValue), worded like
+    // a conversion error; other validators' text (a Range's "Value 9 not in
+    // range 0 to 5") as CLI11 gives it.
     const std::string what = error.what();
     const size_t colon = what.find(": ");
-    if (what.rfind("--", 0) == 0 && colon != std::string::npos &&
-        what.compare(colon + 2, 22, "needs a decimal number") == 0) {
+    const std::string_view detail =
+        colon == std::string::npos ? std::string_view() : std::string_view(what).substr(colon + 2);
+    if (what.rfind("--", 0) == 0 &&
+        (detail.rfind("needs a decimal number", 0) == 0 || detail.rfind("is out of range", 0) == 0 ||
+         detail == kEmptyValueText)) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

@@ -12,6 +12,11 @@
 // The default of an option is its struct member's initial value, shown in
 // --help from there; options whose default depends on others are
 // std::optional, with the rule in `default_text`.
+// An option given is never ignored: every option taking a value refuses an
+// empty one ("option --NAME must not be empty", also from a config file),
+// as "" and unset mean "not given" to the code reading the struct (and a
+// ConfigWriter writes no "" string); an option that only means something
+// with another is refused without it where the group is resolved.
 
 #include <map>
 #include <optional>

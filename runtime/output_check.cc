@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -21,11 +22,19 @@ int Stat(const std::string& path, struct stat& info) {
   return stat(path.c_str(), &info) == 0 ? 0 : errno;
 }
 
+// Whether files can be made in `dir`, as the atomic writers do (a
+// temporary file, then a rename). access() answers yes to root everywhere
+// and knows nothing of file systems that take no new files (/proc, /sys):
+// one is made and removed.
 Status Writable(const std::string& dir, const std::string& what, const std::string& option) {
-  if (access(dir.c_str(), W_OK | X_OK) != 0) {
+  std::string probe = (fs::path(dir) / ".dynapath-probe.XXXXXX").string();
+  const int fd = mkstemp(probe.data());
+  if (fd < 0) {
     const int error = errno;
     return Bad(option, what + " is not writable: " + std::strerror(error));
   }
+  close(fd);
+  unlink(probe.c_str());
   return Ok{};
 }
 

@@ -12,13 +12,14 @@
 namespace dynapath::runtime {
 
 // An output directory (--out): created with its parents when missing; it
-// must then be a directory we may write into.
+// must then be a directory a file can be made in.
 Status PrepareOutputDirectory(const std::string& dir, const std::string& option);
 // Files a command will (re)write in `dir`: none of them may be a directory.
 Status CheckOutputFiles(const std::string& dir, const std::vector<std::string>& names,
                         const std::string& option);
-// An output file (--log, --save): not a directory, in an existing folder we
-// may write into, and writable itself if it exists.
+// An output file (--log, --save-policy): not a directory, in an existing
+// folder a file can be made in (one is made and removed: /proc takes none,
+// even from root), and writable itself if it exists.
 Status CheckOutputFile(const std::string& path, const std::string& option);
 
 }  // namespace dynapath::runtime

@@ -1,9 +1,5 @@
 #include "runtime/parameter_options.h"
 
-#include <filesystem>
-
-#include "dynapath/text_file.h"
-
 namespace dynapath::runtime {
 namespace {
 
@@ -44,25 +40,23 @@ Status ApplyParameterOptions(const ParameterOptions& given, PlannerOptions& plan
   return Ok{};
 }
 
-std::string ParametersToml(const PlannerOptions& planner, std::optional<uint64_t> learner_seed) {
-  std::string text =
-      "# Learner and strategy parameters (dynapath params); `dynapath run --config FILE` "
-      "reads them.\n";
+std::string ParameterLines(const PlannerOptions& planner) {
+  std::string text;
   const std::vector<Parameter>& parameters = Parameters();
   for (size_t i = 0; i < parameters.size(); ++i) {
     text += parameters[i].name + " = " + ParameterText(parameters[i], ParameterValue(planner, i)) +
             "\n";
   }
-  if (learner_seed) text += "learner-seed = " + std::to_string(*learner_seed) + "\n";
   return text;
 }
 
-Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory,
-                           std::optional<uint64_t> learner_seed) {
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error) return Error::Io(directory + ": cannot create directory: " + error.message());
-  return WriteTextFileAtomically(directory + "/params.toml", ParametersToml(planner, learner_seed));
+std::string ParametersToml(const PlannerOptions& planner, std::optional<uint64_t> learner_seed) {
+  std::string text =
+      "# Learner and strategy parameters (dynapath params); `dynapath run --config FILE` "
+      "reads them.\n" +
+      ParameterLines(planner);
+  if (learner_seed) text += "learner-seed = " + std::to_string(*learner_seed) + "\n";
+  return text;
 }
 
 }  // namespace dynapath::runtime

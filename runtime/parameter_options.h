@@ -35,12 +35,12 @@ void DeclareParameterOptions(OptionGroup& group, ParameterOptions& options);
 Status ApplyParameterOptions(const ParameterOptions& given, PlannerOptions& planner);
 
 // Every parameter with its value in `planner`, as `name = value` lines that
-// `--config` reads back (params.toml).
-// With `learner_seed`, a last line `learner-seed = N` (--learner-seed).
+// `--config` reads back.
+std::string ParameterLines(const PlannerOptions& planner);
+// The same after a comment line (`dynapath params --format toml`); with
+// `learner_seed`, a last line `learner-seed = N` (--learner-seed). A run's
+// params.toml holds more (runtime::RunPlanToml).
 std::string ParametersToml(const PlannerOptions& planner,
-                           std::optional<uint64_t> learner_seed = std::nullopt);
-// Writes DIR/params.toml (atomically).
-Status WriteParametersToml(const PlannerOptions& planner, const std::string& directory,
                            std::optional<uint64_t> learner_seed = std::nullopt);
 
 }  // namespace dynapath::runtime

@@ -76,8 +76,27 @@ Grid GridAfter(Grid grid, const ChangeSequence& changes, int steps) {
 
 }  // namespace
 
+Status PathService::CheckLoad(const Grid& maze, const ServiceConfig& config) {
+  const int catch_up = CatchUpSteps(config, maze);
+  if (catch_up == 0) return Ok{};
+  const int have = static_cast<int>(config.catch_up.steps.size());
+  if (catch_up > have) {
+    return Error("the policy was saved at time step " + std::to_string(catch_up) +
+                 " of its run; the service needs that run's change sequence (--changes, or "
+                 "--steps " +
+                 std::to_string(catch_up) + " or more) to catch up with it, and has " +
+                 std::to_string(have) + " steps");
+  }
+  if (MazeFingerprint(GridAfter(maze, config.catch_up, catch_up)) != config.load->fingerprint) {
+    return Error("the maze at step " + std::to_string(catch_up) +
+                 " differs from the one the policy was saved on (another change sequence?)");
+  }
+  return Ok{};
+}
+
 PathService::PathService(Grid maze, ServiceConfig config, CommitHook on_commit)
     : maze_(std::move(maze)),
+      maze_fingerprint_(MazeFingerprint(maze_)),
       config_(std::move(config)),
       on_commit_(std::move(on_commit)),
       updates_(GridAfter(maze_, config_.catch_up, CatchUpSteps(config_, maze_))) {}
@@ -101,11 +120,10 @@ Result<ApproachRun> PathService::Stop() {
 
 void PathService::Train() {
   const int catch_up = CatchUpSteps(config_, maze_);
-  if (catch_up > static_cast<int>(config_.catch_up.steps.size())) {
-    result_ = Error("the policy was saved at time step " + std::to_string(catch_up) +
-                    " of its run; the service needs that run's change sequence (--changes) to "
-                    "catch up with it, and has " +
-                    std::to_string(config_.catch_up.steps.size()) + " steps");
+  if (Status loadable = CheckLoad(maze_, config_); !loadable) {
+    result_ = loadable.error();
+    spdlog::error("serve: {}", result_.error().message);
+    training_ended_ = true;
     return;
   }
   // Training at a lower priority than the dispatch thread that answers
@@ -256,6 +274,7 @@ Answer PathService::Ask(const std::vector<QueryStart>& starts) {
   }
   std::lock_guard lock(stats_mutex_);
   ++stats_.requests;
+  if (starts.empty()) ++stats_.probes;
   if (answer.refused == Answer::kNotReady) ++stats_.refused_not_ready;
   if (answer.refused == Answer::kTooManyStarts) ++stats_.refused_too_many_starts;
   for (const Route& route : answer.routes) {
@@ -287,6 +306,7 @@ ServiceStats PathService::stats() const {
 
 std::string PathService::Summary(const ServiceStats& s) {
   std::string text = "served: " + std::to_string(s.requests) + " queries (" +
+                     std::to_string(s.probes) + " of them probes without starts; " +
                      std::to_string(s.starts) + " starts: ";
   for (size_t i = 0; i < s.by_status.size(); ++i) {
     if (i > 0) text += ", ";

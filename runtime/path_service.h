@@ -85,6 +85,7 @@ struct Answer {
 
 struct ServiceStats {
   int64_t requests = 0;
+  int64_t probes = 0;  // of them, without starts: a client asking for the version and step
   int64_t starts = 0;
   int64_t refused_too_many_starts = 0;
   int64_t refused_not_ready = 0;
@@ -110,6 +111,11 @@ class PathService {
   // training thread after each commit.
   PathService(Grid maze, ServiceConfig config, CommitHook on_commit = {});
   ~PathService();  // stops and joins
+  // Ok when `config` can serve `maze`: a loaded policy saved on this maze
+  // needs the steps of its run's change sequence up to its saved step, and
+  // they must lead to the maze it was saved on. Checked before any work
+  // (Start fails the same way later).
+  static Status CheckLoad(const Grid& maze, const ServiceConfig& config);
   PathService(const PathService&) = delete;
   PathService& operator=(const PathService&) = delete;
 
@@ -145,6 +151,9 @@ class PathService {
   ServiceStats stats() const;
   // The grid of the service's map (size and stations never change).
   const Grid& maze() const { return maze_; }
+  // MazeFingerprint of maze(): what every reply names and every obstacle
+  // update must name.
+  uint64_t maze_fingerprint() const { return maze_fingerprint_; }
   const ServiceConfig& config() const { return config_; }
   // Multi-line summary of stats() for the end of a service.
   static std::string Summary(const ServiceStats& stats);
@@ -160,6 +169,7 @@ class PathService {
   void CommitSnapshot(Planner& planner, const Grid& grid, int time_step, const StepView* view);
 
   const Grid maze_;
+  const uint64_t maze_fingerprint_;
   ServiceConfig config_;
   CommitHook on_commit_;
   std::atomic<bool> stop_{false};
@@ -180,7 +190,7 @@ class PathService {
   ServiceStats stats_;
 
   std::unique_ptr<Planner> exact_;  // Incremental Oracle beside a learner
-  int exact_step_ = -1;  // the time step exact_ was last repaired for
+  int exact_step_ = -1;             // the time step exact_ was last repaired for
   Result<ApproachRun> result_ = ApproachRun{};
   std::thread thread_;
 };

@@ -171,9 +171,8 @@ bool ToInt(double value, double& out) {
   return std::isfinite(value);
 }
 
-Result<PolicyState> DecodeSection(std::string_view bytes) {
-  Reader in(bytes);
-  PolicyState s;
+// The learning approach a section is for: its first kNameBytes.
+Result<Approach> SectionApproach(Reader& in) {
   std::string_view name;
   if (!in.GetView(kNameBytes, name)) return Truncated("the section header").error();
   const std::string approach(name.substr(0, name.find('\0')));
@@ -181,7 +180,15 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   if (!parsed || !IsLearningApproach(*parsed)) {
     return Error::Corrupt("unknown learning approach '" + approach.substr(0, 40) + "'");
   }
-  s.approach = *parsed;
+  return *parsed;
+}
+
+Result<PolicyState> DecodeSection(std::string_view bytes) {
+  Reader in(bytes);
+  PolicyState s;
+  Result<Approach> approach = SectionApproach(in);
+  if (!approach) return approach.error();
+  s.approach = *approach;
   uint32_t rows = 0, cols = 0, leaf_limit = 0, node_count = 0, step = 0;
   uint8_t semantics = 0, precision = 0, bootstrap = 0, has_baselines = 0;
   uint32_t single_count = 0, federated_count = 0;
@@ -206,7 +213,8 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
       node_count > 2 * cells || step > static_cast<uint32_t>(INT32_MAX)) {
     return Error::Corrupt("leaf limit, node count or step out of range");
   }
-  const std::optional<Bootstrap> scope = protocol::BootstrapFromWire(static_cast<int8_t>(bootstrap));
+  const std::optional<Bootstrap> scope =
+      protocol::BootstrapFromWire(static_cast<int8_t>(bootstrap));
   if (semantics > 1 || precision > 1 || !scope || has_baselines > 1) {
     return Error::Corrupt("unknown semantics, precision, bootstrap or baseline flag");
   }
@@ -228,10 +236,8 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   if (!ToInt(value, s.learner.group.member)) {                           \
     return Error::Corrupt("learner option " #member " is out of range"); \
   }
-#define DYNAPATH_GET_SINGLE(member, ...) \
-  DYNAPATH_GET_OPTION(single_agent, member)
-#define DYNAPATH_GET_FEDERATED(member, ...) \
-  DYNAPATH_GET_OPTION(federated, member)
+#define DYNAPATH_GET_SINGLE(member, ...) DYNAPATH_GET_OPTION(single_agent, member)
+#define DYNAPATH_GET_FEDERATED(member, ...) DYNAPATH_GET_OPTION(federated, member)
   DYNAPATH_SINGLE_AGENT_OPTIONS(DYNAPATH_GET_SINGLE)
   if (!in.Get(federated_count) || federated_count != kFederatedOptionCount) {
     return Error::Corrupt("expected " + std::to_string(kFederatedOptionCount) +
@@ -267,32 +273,10 @@ Result<PolicyState> DecodeSection(std::string_view bytes) {
   return s;
 }
 
-}  // namespace
-
-Result<std::vector<uint8_t>> EncodePolicyFile(const std::vector<PolicyState>& states) {
-  if (states.empty() || states.size() > kMaxSections) {
-    return Error::Internal("a policy file holds 1 to 4 sections");
-  }
-  std::vector<std::vector<uint8_t>> sections;
-  for (const PolicyState& state : states) {
-    Writer section;
-    if (Status encoded = EncodeSection(state, section); !encoded) return encoded.error();
-    sections.push_back(std::move(section.bytes()));
-  }
-  Writer out;
-  out.PutBytes(kMagic, sizeof(kMagic));
-  out.Put<uint32_t>(kPolicyFormatVersion);
-  out.Put<uint32_t>(static_cast<uint32_t>(sections.size()));
-  uint64_t body = 0;
-  for (const auto& section : sections) body += sizeof(uint64_t) + section.size();
-  out.Put<uint64_t>(body);
-  for (const auto& section : sections) out.Put<uint64_t>(section.size());
-  for (const auto& section : sections) out.PutBytes(section.data(), section.size());
-  AppendChecksum(out);
-  return std::move(out.bytes());
-}
-
-Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes, bool verify_checksum) {
+// The sections of a policy file's `bytes` (header, checksum and lengths
+// checked), each with the approach it is for (one section per approach).
+Result<std::vector<std::pair<Approach, std::string_view>>> SplitPolicyFile(std::string_view bytes,
+                                                                           bool verify_checksum) {
   Reader in(bytes);
   std::string_view magic;
   uint32_t version = 0, count = 0;
@@ -329,17 +313,74 @@ Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes, bool v
   if (total + count * sizeof(uint64_t) != body) {
     return Error::Corrupt("the section lengths do not add up to the body");
   }
-  std::vector<PolicyState> states;
+  std::vector<std::pair<Approach, std::string_view>> sections;
   std::set<Approach> seen;
   for (size_t i = 0; i < lengths.size(); ++i) {
     std::string_view section;
     in.GetView(static_cast<size_t>(lengths[i]), section);
-    Result<PolicyState> state = DecodeSection(section);
+    Reader header(section);
+    Result<Approach> approach = SectionApproach(header);
+    if (!approach) {
+      return Error::Corrupt("section " + std::to_string(i + 1) + ": " + approach.error().message);
+    }
+    if (!seen.insert(*approach).second) {
+      return Error::Corrupt("two sections for " + ApproachName(*approach));
+    }
+    sections.emplace_back(*approach, section);
+  }
+  return sections;
+}
+
+}  // namespace
+
+uint64_t PolicySection::Fingerprint() const {
+  return Fingerprint64(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+Result<PolicySection> EncodePolicySection(const PolicyState& state) {
+  Writer section;
+  if (Status encoded = EncodeSection(state, section); !encoded) return encoded.error();
+  return PolicySection{state.approach, std::move(section.bytes())};
+}
+
+Result<std::vector<uint8_t>> AssemblePolicyFile(const std::vector<PolicySection>& sections) {
+  if (sections.empty() || sections.size() > kMaxSections) {
+    return Error::Internal("a policy file holds 1 to 4 sections");
+  }
+  Writer out;
+  out.PutBytes(kMagic, sizeof(kMagic));
+  out.Put<uint32_t>(kPolicyFormatVersion);
+  out.Put<uint32_t>(static_cast<uint32_t>(sections.size()));
+  uint64_t body = 0;
+  for (const PolicySection& section : sections) body += sizeof(uint64_t) + section.bytes.size();
+  out.Put<uint64_t>(body);
+  for (const PolicySection& section : sections) out.Put<uint64_t>(section.bytes.size());
+  for (const PolicySection& section : sections) {
+    out.PutBytes(section.bytes.data(), section.bytes.size());
+  }
+  AppendChecksum(out);
+  return std::move(out.bytes());
+}
+
+Result<std::vector<uint8_t>> EncodePolicyFile(const std::vector<PolicyState>& states) {
+  std::vector<PolicySection> sections;
+  for (const PolicyState& state : states) {
+    Result<PolicySection> section = EncodePolicySection(state);
+    if (!section) return section.error();
+    sections.push_back(std::move(*section));
+  }
+  return AssemblePolicyFile(sections);
+}
+
+Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes, bool verify_checksum) {
+  Result<std::vector<std::pair<Approach, std::string_view>>> sections =
+      SplitPolicyFile(bytes, verify_checksum);
+  if (!sections) return sections.error();
+  std::vector<PolicyState> states;
+  for (size_t i = 0; i < sections->size(); ++i) {
+    Result<PolicyState> state = DecodeSection((*sections)[i].second);
     if (!state) {
       return Error::Corrupt("section " + std::to_string(i + 1) + ": " + state.error().message);
-    }
-    if (!seen.insert(state->approach).second) {
-      return Error::Corrupt("two sections for " + ApproachName(state->approach));
     }
     states.push_back(std::move(*state));
   }
@@ -350,6 +391,25 @@ Status WritePolicyFile(const std::string& path, const std::vector<PolicyState>& 
   Result<std::vector<uint8_t>> bytes = EncodePolicyFile(states);
   if (!bytes) return bytes.error();
   return WriteFileAtomically(path, *bytes);
+}
+
+Status WritePolicySections(const std::string& path, const std::vector<PolicySection>& sections) {
+  Result<std::vector<uint8_t>> bytes = AssemblePolicyFile(sections);
+  if (!bytes) return bytes.error();
+  return WriteFileAtomically(path, *bytes);
+}
+
+Result<std::vector<PolicySection>> ReadPolicySections(const std::string& path) {
+  Result<std::string> bytes = ReadBoundedFile(path, kMaxPolicyFileBytes, "policy file");
+  if (!bytes) return bytes.error();
+  Result<std::vector<std::pair<Approach, std::string_view>>> split = SplitPolicyFile(*bytes, true);
+  if (!split) return Error::Corrupt("policy file " + path + ": " + split.error().message);
+  std::vector<PolicySection> sections;
+  for (const auto& [approach, section] : *split) {
+    sections.push_back(
+        PolicySection{approach, std::vector<uint8_t>(section.begin(), section.end())});
+  }
+  return sections;
 }
 
 Result<std::vector<PolicyState>> ReadPolicyFile(const std::string& path) {

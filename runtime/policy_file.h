@@ -36,8 +36,27 @@ Result<std::vector<uint8_t>> EncodePolicyFile(const std::vector<PolicyState>& st
 Result<std::vector<PolicyState>> DecodePolicyFile(std::string_view bytes,
                                                   bool verify_checksum = true);
 
+// One section as the file holds it: what a run keeps of a file it saves
+// into (the sections it does not rewrite) without decoding their tables.
+struct PolicySection {
+  Approach approach = Approach::kSingleAgent;
+  std::vector<uint8_t> bytes;
+  // Fingerprint64 of the bytes: which section this is, for a checkpoint.
+  uint64_t Fingerprint() const;
+};
+Result<PolicySection> EncodePolicySection(const PolicyState& state);
+// The file's bytes for `sections` (1 to 4, at most one per approach: the
+// caller's to keep, as with EncodePolicyFile).
+Result<std::vector<uint8_t>> AssemblePolicyFile(const std::vector<PolicySection>& sections);
+// The sections of the policy file at `path`, its checksum and layout
+// checked and each section's approach read, its tables not decoded; every
+// error names `path` (kNotFound when there is no file).
+Result<std::vector<PolicySection>> ReadPolicySections(const std::string& path);
+
 // EncodePolicyFile written atomically to `path`.
 Status WritePolicyFile(const std::string& path, const std::vector<PolicyState>& states);
+// AssemblePolicyFile written atomically to `path`.
+Status WritePolicySections(const std::string& path, const std::vector<PolicySection>& sections);
 // DecodePolicyFile of `path`'s contents; every error names `path`.
 Result<std::vector<PolicyState>> ReadPolicyFile(const std::string& path);
 

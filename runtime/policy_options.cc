@@ -5,6 +5,7 @@
 #include <charconv>
 #include <chrono>
 
+#include "dynapath/change_sequence.h"
 #include "runtime/policy_file.h"
 
 namespace dynapath::runtime {
@@ -79,17 +80,32 @@ Result<PolicyPlan> ResolvePolicyOptions(const PolicyOptions& o,
 }
 
 Status CheckPolicyPlan(const PolicyPlan& plan, const std::vector<Approach>& approaches,
-                       const PlannerOptions& options, int rows, int cols, int total_steps) {
-  if (!plan.save_path.empty() && plan.save_at != kSaveAtEnd && plan.save_at > total_steps) {
+                       const PlannerOptions& options, const Grid& initial, int total_steps,
+                       uint64_t run_seed) {
+  const bool saving = !plan.save_path.empty();
+  if (saving && plan.save_at != kSaveAtEnd && plan.save_at > total_steps) {
     return Error::Option("save-at", "step " + std::to_string(plan.save_at) +
                                         " is past the run's last step " +
                                         std::to_string(total_steps));
   }
+  const uint64_t initial_fingerprint = MazeFingerprint(initial);
   for (Approach approach : approaches) {
     const PolicyState* state = plan.Find(approach);
     if (state == nullptr) continue;
-    if (Status fits = CheckPolicyFits(*state, approach, options, rows, cols); !fits) {
+    if (Status fits = CheckPolicyFits(*state, approach, options, initial.rows(), initial.cols());
+        !fits) {
       return Error::Option("load-policy", plan.load_path + ": " + fits.error().message);
+    }
+    // On its own maze the section continues after its step (RunApproach):
+    // the steps before it, where an earlier --save-at is, are not run.
+    const bool continues =
+        state->initial_fingerprint == initial_fingerprint && state->run_seed == run_seed;
+    if (saving && continues && plan.save_at != kSaveAtEnd && plan.save_at < state->step) {
+      return Error::Option("save-at", "step " + std::to_string(plan.save_at) + " is before step " +
+                                          std::to_string(state->step) + " of " + plan.load_path +
+                                          "'s " + ApproachName(approach) +
+                                          ", after which the run continues: save at " +
+                                          std::to_string(state->step) + " or later, or at end");
     }
   }
   return Ok{};

@@ -47,9 +47,13 @@ Result<PolicyPlan> ResolvePolicyOptions(const PolicyOptions& options,
                                         const std::vector<Approach>& approaches);
 
 // Ok when the loaded policy can start every learning approach of the run
-// on a `rows` x `cols` maze with `options`, and --save-at is a step of a
-// run of `total_steps` steps; otherwise an error naming the file.
+// on the maze `initial` (step 0) with `options` and learner seed
+// `run_seed`, and --save-at is a step each learning approach will run in a
+// run of `total_steps` steps (a section loaded on the maze it was saved on
+// continues after its step: an earlier --save-at is never reached);
+// otherwise an error naming the option.
 Status CheckPolicyPlan(const PolicyPlan& plan, const std::vector<Approach>& approaches,
-                       const PlannerOptions& options, int rows, int cols, int total_steps);
+                       const PlannerOptions& options, const Grid& initial, int total_steps,
+                       uint64_t run_seed);
 
 }  // namespace dynapath::runtime

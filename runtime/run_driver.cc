@@ -13,22 +13,29 @@
 #include <thread>
 
 #include "dynapath/local_trainer.h"
+#include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 #include "dynapath/thread_pool.h"
 #include "runtime/output_check.h"
-#include "runtime/policy_file.h"
+#include "runtime/policy_saver.h"
 
 namespace dynapath::runtime {
 namespace {
 
-// Logs one line per approach every few seconds, and at its start and end.
+// Logs one line per approach every few seconds, and at its start and end;
+// each step line with an estimate of the approach's time left (its steps so
+// far, after its initial training, set the pace) and how many approaches
+// follow it.
 class ProgressLog {
  public:
-  explicit ProgressLog(Clock clock) : clock_(std::move(clock)) {}
+  ProgressLog(Clock clock, int approaches_after)
+      : clock_(std::move(clock)), approaches_after_(approaches_after) {}
 
   void operator()(const StepView& view) {
     const ApproachRun& run = view.run;
     const int step = run.steps.back().time_step;
     const double now = clock_();
+    if (step == 0 || !first_step_time_) first_step_time_ = now;  // the steps' pace from here
     const bool finished = step == view.total_steps;
     if (!finished && step != 0 && now - last_ < kIntervalSeconds) return;
     last_ = now;
@@ -38,16 +45,20 @@ class ProgressLog {
                    ApproachName(run.approach), run.size_label, run.difficulty_label,
                    run.initial_seconds, record.success_rate, record.average_path_length);
     } else {
-      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step",
+      spdlog::info("{} {} {}: step {}/{}, success rate {:.4f}, adaptation {:.4f} s/step{}",
                    ApproachName(run.approach), run.size_label, run.difficulty_label, step,
-                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep());
+                   view.total_steps, record.success_rate, run.AdaptSecondsPerStep(),
+                   StepTimeLeft(step, view.total_steps, now - *first_step_time_,
+                                approaches_after_));
     }
   }
 
  private:
   static constexpr double kIntervalSeconds = 2.0;
   Clock clock_;
+  int approaches_after_;
   double last_ = 0.0;
+  std::optional<double> first_step_time_;  // when step 0 (its training) ended
 };
 
 // `source` until `stop` (may be null) is set; from then on it fails with
@@ -78,6 +89,20 @@ class StoppableSource : public StepSource {
 };
 
 }  // namespace
+
+std::string StepTimeLeft(int step, int total_steps, double seconds_since_step0,
+                         int approaches_after) {
+  if (step >= total_steps) return "";
+  // The steps so far set the pace (step 0, the initial training, excluded).
+  const double per_step = seconds_since_step0 / std::max(1, step);
+  std::string text =
+      ", ~" + FormatDuration(per_step * (total_steps - step)) + " left in this approach";
+  if (approaches_after > 0) {
+    text += fmt::format(" ({} approach{} after it)", approaches_after,
+                        approaches_after == 1 ? "" : "es");
+  }
+  return text;
+}
 
 void DeclareLeafLimitOption(OptionGroup& group, long long& leaf_limit) {
   group.Option("--leaf-limit", leaf_limit, "N", "largest quadtree leaf side");
@@ -117,12 +142,13 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--bootstrap", o.bootstrap, "SCOPE",
                "actions the Q-update's max ranges over: " + BootstrapWords().List() +
                    " (docs/concepts/DECISIONS.md)");
-  group.Option("--semantics", o.semantics, "WHOSE",
-               "learning semantics: " + SemanticsWords().List() +
-                   " (report: the report code's bootstrap, first training, single-agent "
-                   "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
-                   (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
-                   "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
+  group.Option(
+      "--semantics", o.semantics, "WHOSE",
+      "learning semantics: " + SemanticsWords().List() +
+          " (report: the report code's bootstrap, first training, single-agent "
+          "details and double Q-tables, and its parameter values (REPORT of `dynapath params`): " +
+          (ReportPresetText().empty() ? std::string("the defaults") : ReportPresetText()) +
+          "; a parameter given overrides them; docs/concepts/DECISIONS.md)");
   DeclareParameterOptions(group, o.parameters);
   group.Option("--learner-seed", o.learner_seed, "N",
                "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
@@ -147,9 +173,9 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
                "write the run's state to DIR after every --checkpoint-every time steps, to "
                "finish it with `dynapath run --resume DIR` if it dies (docs/howto/CHECKPOINTS.md)");
   group.Option("--checkpoint-every", o.checkpoint_every, "K",
-               "time steps between checkpoints (1..1000000)");
+               "time steps between checkpoints (1..1000000)", "1");
   group.Option("--checkpoint-interval", o.checkpoint_interval, "SECONDS",
-               "and at least this long between checkpoints (0..86400; a study uses 2)");
+               "and at least this long between checkpoints (0..86400; a study uses 2)", "0");
   group.Flag("--resume-checkpoint", o.resume_checkpoint,
              "continue from --checkpoint's last checkpoint, or start when it has none (what "
              "`dynapath run --resume DIR` sets)");
@@ -195,10 +221,15 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   if (!every) return every.error();
   plan.checkpoint.dir = o.checkpoint;
   plan.checkpoint.every = static_cast<int>(*every);
-  if (!(o.checkpoint_interval >= 0 && o.checkpoint_interval <= 86400)) {
+  const double interval = o.checkpoint_interval.value_or(0);
+  if (!(interval >= 0 && interval <= 86400)) {
     return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
   }
-  plan.checkpoint.min_seconds = o.checkpoint_interval;
+  plan.checkpoint.min_seconds = interval;
+  if (o.checkpoint.empty() && (o.checkpoint_every || o.checkpoint_interval)) {
+    return Error::Option(o.checkpoint_every ? "checkpoint-every" : "checkpoint-interval",
+                         "needs --checkpoint DIR");
+  }
   if (o.resume_checkpoint) {
     if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
     Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
@@ -225,8 +256,12 @@ namespace {
 // whether every write so far succeeded.
 class CheckpointWriter {
  public:
-  CheckpointWriter(const CheckpointPlan& plan, uint64_t run_seed, int total_steps)
-      : plan_(plan), run_seed_(run_seed), total_steps_(total_steps) {
+  CheckpointWriter(const CheckpointPlan& plan, uint64_t run_seed, int total_steps,
+                   int approach_count)
+      : plan_(plan),
+        run_seed_(run_seed),
+        total_steps_(total_steps),
+        approach_count_(approach_count) {
     if (enabled()) thread_ = std::thread([this] { Loop(); });
   }
   ~CheckpointWriter() {
@@ -239,6 +274,8 @@ class CheckpointWriter {
     thread_.join();
   }
   bool enabled() const { return !plan_.dir.empty(); }
+  // What the --save-policy file holds now: in every checkpoint from here on.
+  void SetPolicyFile(std::vector<SavedSection> record) { policy_file_ = std::move(record); }
 
   // After `run`'s rows so far of the approach in progress (the finished
   // ones in `finished`), with its policy after the last row. Fails with the
@@ -277,6 +314,8 @@ class CheckpointWriter {
     RunCheckpoint checkpoint;
     checkpoint.run_seed = run_seed_;
     checkpoint.total_steps = total_steps_;
+    checkpoint.approach_count = approach_count_;
+    checkpoint.policy_file = policy_file_;
     return checkpoint;
   }
   Status Submit(RunCheckpoint&& checkpoint) {
@@ -308,6 +347,8 @@ class CheckpointWriter {
   const CheckpointPlan& plan_;
   uint64_t run_seed_;
   int total_steps_;
+  int approach_count_;
+  std::vector<SavedSection> policy_file_;  // the run's thread's alone
   std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::optional<RunCheckpoint> pending_;
@@ -319,6 +360,28 @@ class CheckpointWriter {
 
 }  // namespace
 
+std::string RunPlanToml(const RunPlan& plan) {
+  std::string approaches;
+  for (const Approach approach : plan.approaches) {
+    approaches += (approaches.empty() ? "" : ",") + ApproachName(approach);
+  }
+  const PlannerOptions& o = plan.options;
+  std::string text =
+      "# What gives this run's results besides its maze: approaches, learner options, every\n"
+      "# parameter. The maze is not here: `dynapath run --config FILE` with the run's maze\n"
+      "# options (--size, --difficulty, --seed, --steps; or --maze, --stations, --movers)\n"
+      "# reruns it to the same result files, time columns aside.\n"
+      "approach = \"" +
+      approaches + "\"\nleaf-limit = " + std::to_string(o.leaf_limit) + "\n";
+  // The report's semantics sets its own bootstrap (no word of --bootstrap).
+  if (o.semantics != Semantics::kReport) {
+    text += "bootstrap = \"" + BootstrapWords().Name(o.bootstrap) + "\"\n";
+  }
+  text += "semantics = \"" + SemanticsWords().Name(o.semantics) + "\"\n" + ParameterLines(o);
+  if (plan.learner_seed) text += "learner-seed = " + std::to_string(*plan.learner_seed) + "\n";
+  return text;
+}
+
 Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trainer,
                                                const RunPlan& plan, const RunLabels& labels,
                                                const StepCallback& extra,
@@ -327,17 +390,17 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   PlannerOptions options = plan.options;
   options.stop = stop;
   std::vector<ApproachRun> runs;
-  std::vector<PolicyState> to_save;  // the learning approaches' so far
-  CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps());
+  CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps(),
+                               static_cast<int>(plan.approaches.size()));
   double last_checkpoint = -1e300;  // SteadyClock() of the last one taken
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
-    return Error::Option(
-        "checkpoint", fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
-                                  "seed {}, {} time steps)",
-                                  plan.checkpoint.dir, resume->run_seed, resume->total_steps,
-                                  options.run_seed, source.total_steps()));
+    return Error::Option("checkpoint",
+                         fmt::format("{} is of another run (maze seed {}, {} time steps; this run: "
+                                     "seed {}, {} time steps)",
+                                     plan.checkpoint.dir, resume->run_seed, resume->total_steps,
+                                     options.run_seed, source.total_steps()));
   }
   if (checkpoints.enabled()) {
     if (Status ready = PrepareOutputDirectory(plan.checkpoint.dir, "checkpoint"); !ready) {
@@ -359,21 +422,19 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("resuming: {} approach{} finished before (rows from the checkpoint)",
                    runs.size(), runs.size() == 1 ? "" : "es");
     }
-    // A saved policy file keeps the sections of the approaches finished.
-    if (!plan.policy.save_path.empty()) {
-      Result<std::vector<PolicyState>> saved = ReadPolicyFile(plan.policy.save_path);
-      if (saved) {
-        for (PolicyState& state : *saved) {
-          for (const ApproachRun& run : runs) {
-            if (run.approach == state.approach) to_save.push_back(std::move(state));
-          }
-        }
-      }
-    }
+  }
+  // The --save-policy file, checked against the checkpoint when resuming.
+  std::optional<PolicySaver> saver;
+  if (!plan.policy.save_path.empty()) {
+    Result<PolicySaver> opened =
+        PolicySaver::Open(plan.policy, plan.approaches, source.total_steps(), resume);
+    if (!opened) return opened.error();
+    saver.emplace(std::move(*opened));
+    checkpoints.SetPolicyFile(saver->Record());
   }
   for (size_t pass = runs.size(); pass < plan.approaches.size(); ++pass) {
     const Approach approach = plan.approaches[pass];
-    ProgressLog progress(SteadyClock());
+    ProgressLog progress(SteadyClock(), static_cast<int>(plan.approaches.size() - pass - 1));
     const StepCallback on_step = [&](const StepView& view) {
       progress(view);
       if (extra) extra(view);
@@ -391,12 +452,20 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("{}: resuming after step {} from the checkpoint", ApproachName(approach),
                    resume->policy->step);
     }
+    // The file is written when the section is saved, so the checkpoints
+    // after it record it (a resumed run continuing past --save-at saves it
+    // no more). A failed write ends the run after this approach's rows.
     bool saved = false;
-    if (!plan.policy.save_path.empty()) {
+    Status save_status = Ok{};
+    if (saver) {
       hooks.save_at = plan.policy.save_at;
       hooks.save = [&](PolicyState&& state) {
-        to_save.push_back(std::move(state));
         saved = true;
+        save_status = saver->Save(state);
+        if (!save_status) return;
+        checkpoints.SetPolicyFile(saver->Record());
+        spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach), state.step,
+                     plan.policy.save_path);
       };
     }
     Status checkpoint_status = Ok{};
@@ -446,26 +515,23 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       spdlog::info("{}: took over its loaded policy (saved after step {}) in {:.3f} s",
                    ApproachName(approach), hooks.load->step, runs.back().load_seconds);
     }
-    if (saved) {
-      if (Status written = WritePolicyFile(plan.policy.save_path, to_save); !written) {
-        return written.error().Prefixed("policy file " + plan.policy.save_path + ": ");
-      }
-      spdlog::info("{}: saved its policy after step {} to {}", ApproachName(approach),
-                   to_save.back().step, plan.policy.save_path);
-    } else if (hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
-      return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
-                                          " is not a step " + ApproachName(approach) +
-                                          " ran (a loaded policy continues after its step)");
-    }
     const ApproachRun& run = runs.back();
     spdlog::info(
         "{}: initial {:.3f} s, adaptation {:.4f} s/step, success rate {:.4f}, path length {:.3f}",
         ApproachName(approach), run.initial_seconds, run.AdaptSecondsPerStep(),
         run.AverageSuccessRate(), run.AveragePathLength());
+    // The rows first: a policy file that could not be written loses none.
     if (Status status = WriteResultFiles(runs, plan.out_dir); !status) return status.error();
-    if (Status status = WriteParametersToml(plan.options, plan.out_dir, plan.learner_seed);
+    if (Status status = WriteTextFileAtomically(plan.out_dir + "/params.toml", RunPlanToml(plan));
         !status) {
       return status.error();
+    }
+    if (!save_status) return save_status.error();
+    if (!saved && hooks.save && IsLearningApproach(approach) && resumed == nullptr) {
+      // CheckPolicyPlan refuses this before any work; here for callers without it.
+      return Error::Option("save-at", "step " + std::to_string(plan.policy.save_at) +
+                                          " is not a step " + ApproachName(approach) +
+                                          " ran (a loaded policy continues after its step)");
     }
     if (checkpoints.enabled()) {
       if (Status written = checkpoints.Finished(runs); !written) return written.error();
@@ -557,9 +623,8 @@ Result<std::vector<ApproachRun>> RunLocal(const RunPlan& plan, const ScenarioSet
                                           int threads, const StepCallback& extra,
                                           const std::atomic<bool>* stop,
                                           TrainingProgress* progress) {
-  for (const std::string& warning :
-       LongRunWarnings(plan, setup.scenario.grid,
-                       static_cast<int>(setup.scenario.changes.steps.size()))) {
+  for (const std::string& warning : LongRunWarnings(
+           plan, setup.scenario.grid, static_cast<int>(setup.scenario.changes.steps.size()))) {
     spdlog::warn("{}", warning);
   }
   RunPlan seeded = plan;

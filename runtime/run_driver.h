@@ -32,8 +32,8 @@ enum class Placement {
 
 // --checkpoint, --checkpoint-every and the resumed checkpoint, resolved.
 struct CheckpointPlan {
-  std::string dir;  // "" writes none
-  int every = 1;    // time steps between checkpoints
+  std::string dir;         // "" writes none
+  int every = 1;           // time steps between checkpoints
   double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
@@ -73,11 +73,11 @@ struct RunOptions {
   std::string semantics = SemanticsWords().Name(PlannerOptions{}.semantics);
   std::string placement = PlacementWords().Name(RunPlan{}.placement);
   PolicyOptions policy;
-  ParameterOptions parameters;  // the learner and strategy parameters given
-  std::string checkpoint;           // DIR, "" none
-  long long checkpoint_every = 1;   // K
-  double checkpoint_interval = 0;   // SECONDS
-  bool resume_checkpoint = false;   // continue from DIR's checkpoint (run --resume sets it)
+  ParameterOptions parameters;                // the learner and strategy parameters given
+  std::string checkpoint;                     // DIR, "" none
+  std::optional<long long> checkpoint_every;  // K, 1 when unset (needs --checkpoint)
+  std::optional<double> checkpoint_interval;  // SECONDS, 0 when unset (needs --checkpoint)
+  bool resume_checkpoint = false;         // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
 };
 // The values the run plan's options accept, checked without naming the
@@ -101,13 +101,21 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
 
+// DIR/params.toml of a run: what determines its results besides the maze,
+// as `--config` lines: the approaches, --leaf-limit, --bootstrap (with
+// semantics ours), --semantics, every parameter's value and the
+// --learner-seed when given. Its comment says what it leaves out (the maze).
+std::string RunPlanToml(const RunPlan& plan);
+
 // Runs `plan.approaches` in order over `source` (pass i for the i-th
 // approach), logging progress, and (re)writes DIR/results.csv,
-// DIR/results_detailed.csv and DIR/params.toml (every parameter's value)
+// DIR/results_detailed.csv and DIR/params.toml (RunPlanToml)
 // atomically after every approach, so an interrupted run keeps what
 // finished. `extra` is called after every step. With plan.policy, each
-// learning approach starts from its loaded section and the saved policies
-// are (re)written after every learning approach. With plan.checkpoint.dir,
+// learning approach starts from its loaded section, and the saved file
+// (runtime/policy_saver.h) is rewritten when one saves its section; a
+// failed write ends the run after that approach's rows are written. With
+// plan.checkpoint.dir,
 // a checkpoint is written after every `every` time steps of a learning
 // approach and after every approach; with plan.checkpoint.resume, the
 // finished approaches' rows are taken from it and the approach in progress
@@ -127,6 +135,12 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
 // per-start searches cost about (free cells) x (cells) per step, calibrated
 // at 17 s per step on a free 1024x1024 map on the 2-core reference machine.
 std::vector<std::string> LongRunWarnings(const RunPlan& plan, const Grid& grid, int steps);
+
+// The end of a run's step progress line: ", ~12 s left in this approach (2
+// approaches after it)" at time step `step` of `total_steps`, the steps
+// after step 0 having taken `seconds_since_step0`; "" at the last step.
+std::string StepTimeLeft(int step, int total_steps, double seconds_since_step0,
+                         int approaches_after);
 
 // `dynapath run --local`: RunApproaches over `setup`'s scenario (the run
 // seed set from it) with a LocalTrainer on a pool of `threads` threads.

@@ -36,9 +36,10 @@ const WordTable<Difficulty>& DifficultyWords() {
 // name without ".map", with characters that would break a CSV field replaced.
 std::string MapLabel(const std::string& path) {
   std::string name = path.substr(path.find_last_of('/') + 1);
-  for (const std::string suffix : {".map", ".yaml", ".yml"}) {
+  const std::string lower = ToLower(name);
+  for (const std::string suffix : {".map", ".yaml", ".yml", ".txt"}) {
     if (name.size() > suffix.size() &&
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        lower.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
       name.resize(name.size() - suffix.size());
       break;
     }
@@ -251,11 +252,9 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     setup.scenario.grid = std::move(*grid);
     Status placed = PlaceOnMap(o, movingai, setup.scenario.grid, random, movers);
     if (!placed) return placed.error();
-    // A map is told apart in result files by its name (maps of one size
-    // differ); a text maze keeps "Custom".
-    setup.labels.difficulty_label = o.difficulty ? DifficultyName(*difficulty)
-                                    : movingai   ? MapLabel(*o.maze)
-                                                 : "Custom";
+    // A loaded maze (a map or a text maze) is told apart in result files by
+    // its file name: mazes of one size differ.
+    setup.labels.difficulty_label = o.difficulty ? DifficultyName(*difficulty) : MapLabel(*o.maze);
     setup.source = "maze file " + *o.maze;
   } else {
     const std::pair<const char*, bool> map_options[] = {

@@ -31,7 +31,8 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
       protocol::channel::kMapUpdates,
       [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
         UpdateRefusal why{};
-        Result<MapUpdate> update = protocol::UpdateFromMessage(message, rows, cols, &why);
+        Result<MapUpdate> update =
+            protocol::UpdateFromMessage(message, rows, cols, service_.maze_fingerprint(), &why);
         if (!update) return service_.Refuse(why);
         (void)service_.Submit(*update);
       });
@@ -71,6 +72,7 @@ ServiceBus::~ServiceBus() {
 }
 
 void ServiceBus::OnRequest(const path_request_t& request) {
+  if (!options_.own_probe_client.empty() && request.client == options_.own_probe_client) return;
   const int64_t received = NowMicros();
   std::vector<QueryStart> starts;
   // A request above the service's limit is refused unread: no work in
@@ -89,6 +91,7 @@ void ServiceBus::OnRequest(const path_request_t& request) {
                                                 static_cast<int8_t>(answer.refused), approach_,
                                                 answer.snapshot.get(), starts, answer.routes);
   reply.run_id = bus_.run_id();
+  reply.maze_fingerprint = static_cast<int64_t>(service_.maze_fingerprint());
   bus_.Publish(protocol::channel::kPathReply, reply);
   service_.RecordLatency(NowMicros() - received);
 }

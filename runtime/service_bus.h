@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct ServiceBusOptions {
   // The last policy again after this long without a new one, for viewers
   // that joined since (0: never).
   double republish_seconds = 5.0;
+  // Requests of this client are not answered: the service's own probe for
+  // another service of its run (dynapath serve asks before it starts).
+  std::string own_probe_client;
 };
 
 class ServiceBus {

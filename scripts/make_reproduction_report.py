@@ -1,17 +1,32 @@
 #!/usr/bin/env python3
-"""Writes docs/REPRODUCTION.md: our results beside the report's, row by row.
+"""Writes a report of a study: its results beside the report's published
+ones (when the study ran the report's mazes), row by row.
 
-Usage: scripts/make_reproduction_report.py STUDY_DIR [OUTPUT]
+Usage: scripts/make_reproduction_report.py STUDY_DIR OUTPUT.md
+           [--images DIR] [--intro FILE]
            [--more-sizes STUDY_DIR2] [--report-semantics REPORT_STUDY_DIR]
            [--like-for-like CSV] [--spread SPREAD_DIR] [--dynapath PATH]
            [--figures FIGURES_DIR]
 
-STUDY_DIR is a study of `dynapath experiment` (results.csv, edge_results.csv,
-manifest.json; with `--repeats N` also summary.csv, repeats.csv and their
-edge_ files) whose figures `dynapath plot STUDY_DIR --overlay-reference`
-drew into STUDY_DIR/figures (or FIGURES_DIR: those of a study merged from
-STUDY_DIR and STUDY_DIR2, so that they show every size); the figures the
-report shows are copied to docs/images/reproduction/. With repeats every row gives our mean over the
+It writes OUTPUT.md and copies the figures it shows into DIR (default: the
+folder `images` beside OUTPUT.md, `reproduction/` and `maps/` in it), and
+nothing else. Everything it says comes from the studies it is given: a
+section whose inputs are missing is left out, and with no --intro the
+header states the study's own facts (commands, commit, machine, repeats).
+The project's own docs/REPRODUCTION.md is one invocation, with the
+project's findings text (--intro scripts/reproduction_intro.md, whose
+{{PLACEHOLDERS}} must all be filled from the inputs, or nothing is written);
+docs/howto/PLOTTING.md gives the exact command.
+
+STUDY_DIR is a study of `dynapath experiment` (results.csv,
+results_detailed.csv, manifest.json; with `--repeats N` also summary.csv,
+repeats.csv and their edge_ files); its figures are those `dynapath plot
+STUDY_DIR --overlay-reference` drew into STUDY_DIR/figures (or FIGURES_DIR:
+those of a study merged from STUDY_DIR and STUDY_DIR2, so that they show
+every size). The approaches, their order and which of them learn (those that
+train quadtree nodes, NodesTrained > 0) are read from the study. Only a study
+of the report's mazes (default seeds and steps, `manifest.json`) is set beside
+the report's published values. With repeats every row gives our mean over the
 repeats and its 95% bootstrap interval (summary.csv) and says whether the
 report's published value lies inside it; without, the single run's values.
 STUDY_DIR2 is a study of other sizes (200 and 300, typically with fewer
@@ -20,14 +35,16 @@ precedence). REPORT_STUDY_DIR is a study of hard 50x50 (seed 52) and the
 edge case run with `--semantics report` (with repeats: the spread of
 `singleAgent` against the report code's ten runs under both semantics).
 The paired differences fedAsynQ_EqAvg - fedAsynQ_ImAvg are those of
-`dynapath compare` (PATH, default build/tools/dynapath), run on the studies
-with repeats. CSV is the output of `bench/like_for_like.sh --csv`.
+`dynapath compare --csv` (PATH, default build/tools/dynapath), run on the
+studies with repeats. CSV is the output of `bench/like_for_like.sh --csv`.
 SPREAD_DIR holds the outputs of `bench/semantics_spread ... report`
 (VARIANT = double: `--semantics report`, whose tables are doubles as the
 report code's) and of `bench/semantics_spread ... report-float` (VARIANT =
 float: the same rules on float tables), named VARIANT_APPROACH_SEED.txt, for
 seeds 52 and 102. The report's figures, published and run on this machine,
 are read from docs/reference/. Standard library only (no pandas needed).
+
+Exit status: 0 written; 1 bad or missing input (nothing written); 2 bad usage.
 """
 import csv
 import json
@@ -39,35 +56,46 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REFERENCE = os.path.join(HERE, "..", "docs", "reference")
-IMAGES = os.path.join(HERE, "..", "docs", "images", "reproduction")
-# Figures of `dynapath plot` shown in the report, with their captions.
-FIGURES = [
+# Figures of `dynapath plot` shown in the report, with their captions; the
+# per-configuration ones are chosen from the study (choose_figures).
+BY_SIZE_FIGURES = [
     ("success_rate_by_size.png", "Success rate by maze size (dashed, hollow: the report)"),
     ("path_length_by_size.png", "Average path length by maze size"),
     ("initial_time_by_size.png", "Initial training time by maze size (log scale)"),
     ("adapt_time_by_size.png", "Adaptation time per time step by maze size (log scale)"),
-    ("adapt_box_100_Hard.png", "Adaptation time per step, hard 100x100 (box plots over the steps)"),
-    ("cumulative_adapt_300_Hard.png", "Cumulative adaptation time over the time steps, hard 300x300"),
-    ("success_over_time_300_Hard.png", "Success rate over the time steps, hard 300x300"),
-    ("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"),
 ]
-APPROACH_LIST = os.path.join(HERE, "..", "core", "include", "dynapath", "approach_list.h")
+# Box plots come from the largest size up to this one: beyond it the
+# learners' boxes are dominated by the retraining bursts of a few steps.
+BOX_SIZE_LIMIT = 100
+
+# The study's approaches in its order and those that learn, set by
+# use_approaches() from the study itself.
+ORDER = []
+RL = []
 
 
-def read_approach_list(path=APPROACH_LIST):
-    """(name, learns) of every approach, in the order of the registry's list
-    (core/include/dynapath/approach_list.h: one `X(kId, "name", factory, learner, ...)` line
-    each; learner kNoLearner means the approach does not learn)."""
-    with open(path) as f:
-        lines = re.findall(r'^\s*X\(\s*k\w+,\s*"([^"]+)",\s*\w+,\s*(\w+),', f.read(), re.M)
-    if not lines:
-        raise SystemExit(f"no approaches found in {path}")
-    return [(name, learner != "kNoLearner") for name, learner in lines]
+class InputError(Exception):
+    """Bad or missing input: one line on stderr, exit 1, nothing written."""
 
 
-APPROACHES = read_approach_list()
-ORDER = [name for name, _ in APPROACHES]
-RL = [name for name, learns in APPROACHES if learns]  # the learning approaches
+def use_approaches(studies):
+    """ORDER and RL from the studies: the manifest's approach list (else the
+    order of results.csv), and the approaches that train quadtree nodes
+    (NodesTrained > 0 in a detailed result file) as the learning ones."""
+    order, learning = [], set()
+    for study in studies:
+        listed = study.manifest.get("options", {}).get("study", {}).get("approaches") or []
+        for name in listed + [r["Approach"] for r in study.results + study.edge_results]:
+            if name not in order:
+                order.append(name)
+        for name in ("results_detailed.csv", "edge_results_detailed.csv"):
+            for r in study._read(name):
+                if float(r.get("NodesTrained") or 0) > 0:
+                    learning.add(r["Approach"])
+    ORDER[:] = order
+    RL[:] = [name for name in order if name in learning]
+
+
 DIFFICULTIES = ["Easy", "Medium", "Hard"]
 # The acceptance check for sizes 20 and 50: success >= report - 0.005 and
 # path length <= report + 0.3.
@@ -281,30 +309,23 @@ def table(lookup, ref_rows, sizes, difficulties, count, edge=False):
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     failures = 0
-    for size in sizes:
-        for difficulty in difficulties:
-            for approach in ORDER:
-                success = lookup(approach, size, difficulty, "AvgSuccessRate")
-                if success is None:
-                    continue
-                length = lookup(approach, size, difficulty, "AvgPathLength")
-                initial = lookup(approach, size, difficulty, "InitialTime")
-                adapt = lookup(approach, size, difficulty, "AdaptTimePerStep")
-                r = ref.get((approach, size, difficulty))
-                g = lambda key: None if r is None else float(r[key])
-                check = verdict(approach, size, success, length, r)
-                failures += check == "**FAIL**"
-                in_s = success.contains(g("AvgSuccessRate"))
-                in_p = length.contains(g("AvgPathLength"))
-                label = "edge case" if edge else f"{size} {difficulty.lower()}"
-                count.add(label, approach, in_s, in_p)
-                lines.append(
-                    f"| {size} | {difficulty} | {approach} | {success.n} | {fmt_ci(success, 4)} "
-                    f"| {fmt(g('AvgSuccessRate'))} | {yes_no(in_s)} | {fmt_ci(length, 3)} "
-                    f"| {fmt(g('AvgPathLength'), 3)} | {yes_no(in_p)} "
-                    f"| {fmt(initial.mean, 3)} | {fmt(g('InitialTime'), 3)} "
-                    f"| {fmt(adapt.mean, 5)} | {fmt(g('AdaptTimePerStep'), 5)} "
-                    f"| {ratio(adapt.mean, g('AdaptTimePerStep'))} | {check} |")
+    for size, difficulty, approach, success, length, initial, adapt in configuration_stats(
+            lookup, sizes, difficulties):
+        r = ref.get((approach, size, difficulty))
+        g = lambda key: None if r is None else float(r[key])
+        check = verdict(approach, size, success, length, r)
+        failures += check == "**FAIL**"
+        in_s = success.contains(g("AvgSuccessRate"))
+        in_p = length.contains(g("AvgPathLength"))
+        label = "edge case" if edge else f"{size} {difficulty.lower()}"
+        count.add(label, approach, in_s, in_p)
+        lines.append(
+            f"| {size} | {difficulty} | {approach} | {success.n} | {fmt_ci(success, 4)} "
+            f"| {fmt(g('AvgSuccessRate'))} | {yes_no(in_s)} | {fmt_ci(length, 3)} "
+            f"| {fmt(g('AvgPathLength'), 3)} | {yes_no(in_p)} "
+            f"| {fmt(initial.mean, 3)} | {fmt(g('InitialTime'), 3)} "
+            f"| {fmt(adapt.mean, 5)} | {fmt(g('AdaptTimePerStep'), 5)} "
+            f"| {ratio(adapt.mean, g('AdaptTimePerStep'))} | {check} |")
     return lines, failures
 
 
@@ -563,20 +584,53 @@ def like_for_like_range(rows, key):
     return "–" if not values else f"{min(values):.0f} to {max(values):.0f}"
 
 
-def copy_figures(source):
-    """Copies FIGURES from the folder of `dynapath plot`'s figures to
-    docs/images/reproduction; returns markdown."""
+def choose_figures(studies):
+    """(file, caption) of the figures to show: the by-size ones and, for the
+    hardest difficulty of the study, the box plots of the largest size up to
+    BOX_SIZE_LIMIT and the cumulative adaptation and success over time of
+    the largest size."""
+    figures = list(BY_SIZE_FIGURES)
+    sizes = [int(size) for size in studies.sizes()]
+    difficulties = {r["Difficulty"] for study in studies.studies for r in study.results}
+    hardest = [d for d in DIFFICULTIES if d in difficulties][-1:]
+    if sizes and hardest:
+        difficulty = hardest[0]
+        boxed = max([size for size in sizes if size <= BOX_SIZE_LIMIT] or sizes)
+        largest = max(sizes)
+        word = difficulty.lower()
+        figures += [
+            (f"adapt_box_{boxed}_{difficulty}.png",
+             f"Adaptation time per step, {word} {boxed}x{boxed} (box plots over the steps)"),
+            (f"cumulative_adapt_{largest}_{difficulty}.png",
+             f"Cumulative adaptation time over the time steps, {word} {largest}x{largest}"),
+            (f"success_over_time_{largest}_{difficulty}.png",
+             f"Success rate over the time steps, {word} {largest}x{largest}"),
+        ]
+    if any(study.edge_results for study in studies.studies):
+        figures.append(("edge_summary_50_Hard.png", "Edge case (hard 50x50, seed 102)"))
+    return figures
+
+
+def copy_figures(source, figures, images, output, copies):
+    """Markdown for those of `figures` found in `source` (the folder of
+    `dynapath plot`'s figures); appends (source, target) to `copies`, made
+    into `images` once the report is written."""
     lines = []
-    os.makedirs(IMAGES, exist_ok=True)
-    for name, caption in FIGURES:
+    for name, caption in figures:
         path = os.path.join(source, name)
         if not os.path.exists(path):
-            print(f"note: {path} missing (run dynapath plot --overlay-reference)",
+            print(f"note: {path} missing (run dynapath plot --overlay-reference); not shown",
                   file=sys.stderr)
             continue
-        shutil.copyfile(path, os.path.join(IMAGES, name))
-        lines.append(f"**{caption}**\n\n![{caption}](images/reproduction/{name})\n")
+        target = os.path.join(images, name)
+        copies.append((path, target))
+        lines.append(f"**{caption}**\n\n![{caption}]({link(target, output)})\n")
     return lines
+
+
+def link(target, output):
+    """`target`'s path relative to the folder of `output`, for markdown."""
+    return os.path.relpath(target, os.path.dirname(os.path.abspath(output))).replace(os.sep, "/")
 
 
 def is_maze_row(row):
@@ -584,12 +638,11 @@ def is_maze_row(row):
     return row["Size"].isdigit() and row["Difficulty"] in DIFFICULTIES
 
 
-def maps_section(rows, results_dir, output):
+def maps_section(rows, results_dir, output, images, copies):
     """Markdown for the MovingAI maps of a study (`experiment --maps`): per map its
-    approaches' figures, and its success-over-time figure copied next to the output."""
+    approaches' figures, and its success-over-time figure (copied into `images`)."""
     if not rows:
         return ""
-    images = os.path.join(os.path.dirname(os.path.abspath(output)), "images", "maps")
     text = ("\n## Maps\n\nThe study's MovingAI maps (`dynapath experiment --maps`): no published "
             "figures exist for them, so ours alone, per map in study order. Success rate and path "
             "length averaged over the time steps; times in seconds (initial) and milliseconds per "
@@ -612,9 +665,9 @@ def maps_section(rows, results_dir, output):
         figure = f"success_over_time_{size}_{label}.png"
         source = os.path.join(results_dir, "figures", figure)
         if os.path.exists(source):
-            os.makedirs(images, exist_ok=True)
-            shutil.copyfile(source, os.path.join(images, figure))
-            text += f"\n![success over time on {label}](images/maps/{figure})\n"
+            target = os.path.join(images, "maps", figure)
+            copies.append((source, target))
+            text += f"\n![success over time on {label}]({link(target, output)})\n"
     return text
 
 
@@ -625,7 +678,7 @@ PAIR = ("fedAsynQ_EqAvg", "fedAsynQ_ImAvg")
 def compare(dynapath, study, a, b, edge=False):
     """`dynapath compare STUDY A B [--edge]`: {(size, difficulty, metric): row}, or
     None when it cannot run (no binary, no repeats)."""
-    command = [dynapath, "compare", study.dir, a, b] + (["--edge"] if edge else [])
+    command = [dynapath, "compare", study.dir, a, b, "--csv"] + (["--edge"] if edge else [])
     try:
         done = subprocess.run(command, capture_output=True, text=True, check=True)
     except (OSError, subprocess.CalledProcessError) as error:
@@ -793,9 +846,13 @@ def experiment_command(study, note):
         words.append("--no-edge-case")
     if s.get("semantics") == "report":
         words.append("--semantics report")
-    for key in ("seed", "steps"):
+    if s.get("maps"):
+        words.append("--maps " + ",".join(s["maps"]))
+    for key in ("seed", "steps", "learner_seed"):
         if s.get(key) is not None:
-            words.append(f"--{key} {s[key]}")
+            words.append(f"--{key.replace('_', '-')} {s[key]}")
+    if s.get("maze_seeds"):
+        words.append("--maze-seeds " + ",".join(str(x) for x in s["maze_seeds"]))
     if (s.get("repeats") or 1) > 1:
         words.append(f"--repeats {s['repeats']}")
     if e.get("parallel") and e["parallel"] > 1:
@@ -850,11 +907,13 @@ def few_repeats_note(studies):
     text = ""
     if few:
         counts = sorted({studies.by_size[size].repeat_count() for size in few})
-        text += (f" Sizes {', '.join(few)} ran {' or '.join(map(str, counts))} repeats only (time): "
+        text += (f" Size{'s' if len(few) > 1 else ''} {', '.join(few)} ran "
+                 f"{' or '.join(map(str, counts))} repeats only (time): "
                  "a bootstrap interval of so few values lies within their range and understates "
                  "the uncertainty.")
     if single:
-        text += (f" Sizes {', '.join(single)} are **single runs** (no repeats, no interval: "
+        text += (f" Size{'s' if len(single) > 1 else ''} {', '.join(single)} "
+                 f"{'are **single runs**' if len(single) > 1 else 'is a **single run**'} (no repeats, no interval: "
                  "`Runs` 1).")
     return text
 
@@ -877,56 +936,244 @@ def mean_pair(study, approach, edge=False, size="50", difficulty="Hard", ci=True
     return f"{s.mean:.4f} / {p.mean:.3f}"
 
 
-def main():
+USAGE = ("usage: scripts/make_reproduction_report.py STUDY_DIR OUTPUT.md [--images DIR] "
+         "[--intro FILE] [--more-sizes DIR] [--report-semantics DIR] [--like-for-like CSV] "
+         "[--spread DIR] [--dynapath PATH] [--figures DIR] (see --help)")
+VALUE_OPTIONS = ("--report-semantics", "--like-for-like", "--spread", "--more-sizes",
+                 "--dynapath", "--figures", "--images", "--intro")
+
+
+def parse_arguments(argv):
+    """(study, output, options); exits 2 on bad usage."""
+    def usage(message):
+        print(f"make_reproduction_report.py: {message}\n{USAGE}", file=sys.stderr)
+        sys.exit(2)
+
     args, options = [], {"--more-sizes": []}
-    argv = sys.argv[1:]
+    argv = list(argv)
     while argv:
         arg = argv.pop(0)
-        if arg in ("--report-semantics", "--like-for-like", "--spread", "--more-sizes",
-                   "--dynapath", "--figures"):
+        if arg in ("-h", "--help"):
+            print(__doc__)
+            sys.exit(0)
+        if arg in VALUE_OPTIONS:
             if not argv:
-                sys.exit(f"{arg} needs a value\n\n{__doc__}")
+                usage(f"{arg} needs a value")
             if arg == "--more-sizes":
                 options[arg].append(argv.pop(0))
             else:
                 options[arg] = argv.pop(0)
         elif arg.startswith("--"):
-            sys.exit(f"unknown option {arg}\n\n{__doc__}")
+            usage(f"unknown option {arg}")
         else:
             args.append(arg)
-    if not args or len(args) > 2:
-        sys.exit(__doc__)
-    results_dir = args[0]
-    output = args[1] if len(args) > 1 else os.path.join(HERE, "..", "docs", "REPRODUCTION.md")
+    if len(args) != 2:
+        usage("give the study and the output file (it writes only where it is told: "
+              "there is no default output)" if len(args) < 2 else "too many arguments")
+    if not os.path.isdir(args[0]):
+        usage(f"{args[0]}: no such study directory")
+    if os.path.isdir(args[1]):
+        usage(f"{args[1]}: a directory; give the markdown file to write")
+    for key in ("--intro", "--like-for-like"):
+        if key in options and not os.path.isfile(options[key]):
+            usage(f"{key} {options[key]}: no such file")
+    for key in ("--report-semantics", "--spread", "--figures"):
+        if key in options and not os.path.isdir(options[key]):
+            usage(f"{key} {options[key]}: no such directory")
+    for directory in options["--more-sizes"]:
+        if not os.path.isdir(directory):
+            usage(f"--more-sizes {directory}: no such directory")
+    return args[0], args[1], options
+
+
+def report_mazes(study):
+    """Whether the study ran the report's mazes and change sequences (its
+    default seeds and steps), the only ones its published values are for."""
+    s = study.manifest.get("options", {}).get("study")
+    if not s:
+        return False
+    return s.get("seed") is None and s.get("steps") is None and not s.get("maze_seeds")
+
+
+def run_conditions(study):
+    """How the study's runs shared the machine, from its manifest."""
+    e = study.manifest.get("options", {}).get("execution", {})
+    machine = study.manifest.get("machine", {})
+    parallel = e.get("parallel") or 1
+    at_once = "one at a time" if parallel == 1 else f"{parallel} at a time"
+    where = machine.get("cpu_model")
+    cores = machine.get("cores")
+    text = f"ours ran {at_once}"
+    if where:
+        text += f" on {where}" + (f" ({cores} cores)" if cores else "")
+    return text
+
+
+def ours_table(lookup, sizes, difficulties):
+    """Every approach of every configuration, ours alone (a study whose
+    mazes the report did not publish)."""
+    lines = ["| Size | Difficulty | Approach | Runs | Success, mean [95% CI] "
+             "| Path, mean [95% CI] | Initial s (mean) | Adapt s/step (mean) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for size, difficulty, approach, success, length, initial, adapt in configuration_stats(
+            lookup, sizes, difficulties):
+        lines.append(f"| {size} | {difficulty} | {approach} | {success.n} "
+                     f"| {fmt_ci(success, 4)} | {fmt_ci(length, 3)} "
+                     f"| {initial.mean:.3f} | {adapt.mean:.5f} |")
+    return lines
+
+
+def configuration_stats(lookup, sizes, difficulties):
+    """(size, difficulty, approach, success, length, initial, adapt) of
+    every approach of every configuration that `lookup` has, in order."""
+    for size in sizes:
+        for difficulty in difficulties:
+            for approach in ORDER:
+                success = lookup(approach, size, difficulty, "AvgSuccessRate")
+                if success is None:
+                    continue
+                yield (size, difficulty, approach, success,
+                       *(lookup(approach, size, difficulty, metric)
+                         for metric in ("AvgPathLength", "InitialTime", "AdaptTimePerStep")))
+
+
+def study_note(study):
+    """What a study holds, for the comment after its command."""
+    sizes = study.sizes()
+    parts = [f"size{'s' if len(sizes) > 1 else ''} {', '.join(sizes)}"] if sizes else []
+    if study.edge_results:
+        parts.append("the edge case")
+    maps = study.manifest.get("options", {}).get("study", {}).get("maps")
+    if maps:
+        parts.append(f"{len(maps)} map{'s' if len(maps) > 1 else ''}")
+    text = " and ".join(parts) or "no configuration"
+    if study.repeat_count() > 1:
+        text += f", {study.repeat_count()} repeats"
+    return text
+
+
+def generic_header(main_study, studies, more, report, values, reference_rows, count, failures,
+                   edge_failures):
+    """The header of a report without --intro: the study's own facts, and
+    what comparing it with the report's published rows found."""
+    names = ", ".join(f"`{s.name}`" for s in [main_study] + more + ([report] if report else []))
+    text = (f"# Results of {names}\n\nMade by `scripts/make_reproduction_report.py` from "
+            f"{'the study' if not more and not report else 'the studies'} run with\n\n"
+            f"```sh\n{values['COMMANDS']}\n```\n\n({values['FACTS']}). "
+            f"Sizes (repeats): {values['SIZES']}.")
+    if any(s.repeat_count() > 1 for s in studies.studies):
+        text += (" Repeat k of a configuration runs the same maze and changes with learner "
+                 "seed = maze seed + (k − 1) x 1000003; each row of ours is the mean over the "
+                 "repeats with its 95% stratified-bootstrap interval (`summary.csv`).")
+    text += "\n"
+    if not reference_rows:
+        if report_mazes(main_study):
+            text += ("\nThe report published no row for the study's configurations, so its "
+                     "rows are not set beside the report's.\n")
+        else:
+            text += ("\nThe study's mazes are not the report's (other seeds, steps or maze "
+                     "seeds, or no `manifest.json` to tell), so its rows are not set beside the "
+                     "report's published values.\n")
+        return text
+    text += ("\nThe study ran the report's mazes and change sequences (default seeds and "
+             "steps), so its rows are set beside the report's published values "
+             "(`docs/reference/`, measured on an 8-thread i7-1165G7: compare time *ratios*, "
+             "not absolute times).\n")
+    checked = [size for size in studies.sizes() if size in ("20", "50")]
+    if checked and RL:
+        text += (f"\n**Acceptance check** (size{'s' if len(checked) > 1 else ''} "
+                 f"{', '.join(checked)}): each learning "
+                 "approach's mean success rate is at least the report's minus "
+                 f"{SUCCESS_TOLERANCE} and its mean path length at most the report's plus "
+                 f"{LENGTH_TOLERANCE}. Failing rows: **{failures}**"
+                 + (f" (edge case, not part of the check: {edge_failures})"
+                    if main_study.edge_results else "") + ".\n")
+    rl = count.counts(True)
+    base = count.counts(False)
+    if rl[0] or base[0]:
+        parts = []
+        if rl[0]:
+            parts.append(f"for the learning approaches in {values['INSIDE_RL']} rows")
+        if base[0]:
+            parts.append(f"for the approaches that do not learn (a point interval) in "
+                         f"{values['INSIDE_BASE']}")
+        text += ("\n**Published values inside our intervals**: the report's published success "
+                 "rate and path length both lie inside our 95% intervals " + "; ".join(parts)
+                 + ".\n")
+    return text
+
+
+def main():
+    results_dir, output, options = parse_arguments(sys.argv[1:])
+    try:
+        text, copies, summary = build_report(results_dir, output, options)
+    except InputError as error:
+        print(f"make_reproduction_report.py: {error} (nothing written)", file=sys.stderr)
+        return 1
+    except (OSError, ValueError, KeyError, csv.Error) as error:
+        print(f"make_reproduction_report.py: cannot read the study: {error} (nothing written)",
+              file=sys.stderr)
+        return 1
+    with open(output, "w") as f:
+        f.write(text)
+    for source, target in copies:
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        shutil.copyfile(source, target)
+    print(f"wrote {output}" + (f" and {len(copies)} figure{'s' if len(copies) > 1 else ''}"
+                               if copies else "") + f" ({summary})")
+    return 0
+
+
+def build_report(results_dir, output, options):
+    """(markdown, figures to copy, a one-line summary)."""
+    if not os.path.exists(os.path.join(results_dir, "results.csv")):
+        raise InputError(f"{results_dir}: no results.csv (expected a dynapath experiment study)")
+    images = options.get("--images", os.path.join(os.path.dirname(os.path.abspath(output)),
+                                                  "images"))
+    copies = []
     rows = read(os.path.join(results_dir, "results.csv"))
     map_rows = [r for r in rows if not is_maze_row(r)]
     main_study = Study(results_dir)
+    more = [Study(d) for d in options["--more-sizes"]]
+    report = Study(options["--report-semantics"]) if "--report-semantics" in options else None
+    use_approaches([main_study] + more + ([report] if report else []))
     if not main_study.results:  # a study of maps only: nothing to set beside the report
         text = ("# Study of MovingAI maps\n\nMade by `scripts/make_reproduction_report.py` from the "
                 f"study in `{results_dir}` (`dynapath experiment --maps`).\n")
-        with open(output, "w") as f:
-            f.write(text + maps_section(map_rows, results_dir, output))
-        print(f"wrote {output} ({len(map_rows)} rows of maps)")
-        return
-    more = [Study(d) for d in options["--more-sizes"]]
+        text += maps_section(map_rows, results_dir, output, images, copies)
+        return text, copies, f"{len(map_rows)} rows of maps"
     studies = Studies([main_study] + more)
-    report = Study(options["--report-semantics"]) if "--report-semantics" in options else None
     dynapath = options.get("--dynapath", DYNAPATH)
-    ref = read(os.path.join(REFERENCE, "paper_results.csv"))
-    edge_ref = read(os.path.join(REFERENCE, "paper_edge_results.csv"))
+    # Set beside the report's published rows only when the study ran its
+    # mazes and the report published some of the study's configurations.
+    ref = edge_ref = []
+    if report_mazes(main_study):
+        ref = read(os.path.join(REFERENCE, "paper_results.csv"))
+        edge_ref = read(os.path.join(REFERENCE, "paper_edge_results.csv"))
+        ours = {(r["Approach"], r["Size"], r["Difficulty"])
+                for study in studies.studies for r in study.results}
+        if not ours & set(index(ref)):
+            ref = edge_ref = []
+    published = bool(ref)
     here = read(os.path.join(REFERENCE, "reference_code_run_here.csv"))
     sizes = studies.sizes()
     means = studies.mean_rows()
     count = InsideCount()
-    main_lines, failures = table(studies.stat, ref, sizes, DIFFICULTIES, count)
-    edge_lines, edge_failures = [], 0
     has_edge = bool(main_study.edge_results)
-    if has_edge:
-        edge_lines, edge_failures = table(
-            lambda a, s, d, m: main_study.stat(a, s, d, m, True), edge_ref, ["50"], ["Hard"],
-            count, edge=True)
+    failures = edge_failures = 0
+    edge_lines = []
+    if published:
+        main_lines, failures = table(studies.stat, ref, sizes, DIFFICULTIES, count)
+        if has_edge:
+            edge_lines, edge_failures = table(
+                lambda a, s, d, m: main_study.stat(a, s, d, m, True), edge_ref, ["50"], ["Hard"],
+                count, edge=True)
+    else:
+        main_lines = ours_table(studies.stat, sizes, DIFFICULTIES)
+        if has_edge:
+            edge_lines = ours_table(lambda a, s, d, m: main_study.stat(a, s, d, m, True), ["50"],
+                                    ["Hard"])
     like = read(options["--like-for-like"]) if "--like-for-like" in options else []
-
     # Sections after the findings, and the facts the findings quote.
     values = {}
     body = ""
@@ -989,7 +1236,8 @@ def main():
     # fedAsynQ_EqAvg against fedAsynQ_ImAvg: paired differences over the repeats.
     blocks = []
     claim = {}
-    if main_study.has_repeats:
+    pair_present = all(name in ORDER for name in PAIR)
+    if main_study.has_repeats and pair_present:
         rows_main = compare(dynapath, main_study, *PAIR)
         for size in main_study.sizes():
             for difficulty in DIFFICULTIES:
@@ -1008,11 +1256,12 @@ def main():
             rows_edge = compare(dynapath, main_study, *PAIR, edge=True)
             blocks.append(("edge case", "ours", rows_edge, ("50", "Hard")))
             claim["edge"] = rows_edge
-    if report is not None and report.has_repeats:
+    if report is not None and report.has_repeats and pair_present:
         blocks.append(("50 hard", "`report`", compare(dynapath, report, *PAIR), ("50", "Hard")))
         if report.edge_summary:
             blocks.append(("edge case", "`report`", compare(dynapath, report, *PAIR, edge=True),
                            ("50", "Hard")))
+    blocks = [block for block in blocks if block[2] is not None]
     if blocks:
         body += ("\n## fedAsynQ_EqAvg against fedAsynQ_ImAvg\n\n"
                  "The report concludes that `fedAsynQ_EqAvg` did slightly better than "
@@ -1023,46 +1272,59 @@ def main():
                  "`--edge` for the edge case): repeat k of one against repeat k of the other, "
                  "same maze, changes and learner seed; the mean difference and its 95% "
                  "bootstrap interval (over all configurations stratified by configuration). "
-                 "Negative: EqAvg lower. `*`: the interval excludes 0. The times measure runs "
-                 "that shared two cores (two at once, beside other work).\n\n")
+                 "Negative: EqAvg lower. `*`: the interval excludes 0. For the times: "
+                 f"{run_conditions(main_study)}.\n\n")
         body += "\n".join(difference_table(blocks)) + "\n"
 
-    body += ("\n## All configurations (against the report's published rows)\n\n"
-             "Our mean over the repeats (`Runs`) with its 95% stratified-bootstrap interval "
-             "(`summary.csv`), the report's published value, and whether that value lies inside "
-             "our interval. The interval covers our learner streams on the report's maze; the "
-             "approaches that do not learn are deterministic, so theirs is a point, and any "
-             "difference in the published figure's 4th or 5th digit puts it outside. Times are "
-             "means; ours ran two at a time on a shared 2-core machine, the report's on an "
-             "8-thread laptop." + few_repeats_note(studies) + "\n\n" + "\n".join(main_lines) + "\n")
+    if published:
+        body += ("\n## All configurations (against the report's published rows)\n\n"
+                 "Our mean over the repeats (`Runs`) with its 95% stratified-bootstrap interval "
+                 "(`summary.csv`), the report's published value (– where it published none), and "
+                 "whether that value lies inside our interval. The interval covers our learner "
+                 "streams on the report's maze; the approaches that do not learn are "
+                 "deterministic, so theirs is a point, and any difference in the published "
+                 "figure's 4th or 5th digit puts it outside. Times are means; "
+                 f"{run_conditions(main_study)}, the report's on an 8-thread laptop."
+                 + few_repeats_note(studies) + "\n\n" + "\n".join(main_lines) + "\n")
+    else:
+        body += ("\n## All configurations\n\nOur mean over the repeats (`Runs`), with its 95% "
+                 "stratified-bootstrap interval when there are repeats. Times are means; "
+                 f"{run_conditions(main_study)}." + few_repeats_note(studies) + "\n\n"
+                 + "\n".join(main_lines) + "\n")
     if edge_lines:
         body += "\n## Edge case (hard 50x50, seed 102)\n\n" + "\n".join(edge_lines) + "\n"
-    body += "\n## RL adaptation time against the BFS Oracle\n\n"
-    body += ("The report compares its RL approaches with A* Oracle only. A single multi-source BFS "
-             "gives the same optimal answer; this is the comparison the report does not make. "
-             "Means over the repeats.\n\n")
-    body += "\n".join(rl_vs_bfs(means, sizes)) + "\n"
-    body += "\n## Oracle over the change sequence\n\n" + "\n".join(oracle_table(means, ref, sizes)) + "\n"
+    bfs_lines = rl_vs_bfs(means, sizes)
+    if len(bfs_lines) > 2:
+        body += "\n## RL adaptation time against the BFS Oracle\n\n"
+        body += ("The report compares its RL approaches with A* Oracle only. A single "
+                 "multi-source BFS gives the same optimal answer; this is the comparison the "
+                 "report does not make. Means over the repeats.\n\n")
+        body += "\n".join(bfs_lines) + "\n"
+    oracle_lines = oracle_table(means, ref, sizes)
+    if len(oracle_lines) > 2:
+        body += "\n## Oracle over the change sequence\n\n" + "\n".join(oracle_lines) + "\n"
     figures_dir = options.get("--figures", os.path.join(results_dir, "figures"))
-    figures = copy_figures(figures_dir)
+    figures = copy_figures(figures_dir, choose_figures(studies),
+                           os.path.join(images, "reproduction"), output, copies)
     if figures:
         body += ("\n## Figures\n\nDrawn by `dynapath plot` from the study; solid lines and filled "
                  "markers are ours (with repeats: means over the repeats with their 95% intervals "
-                 "as error bars), dashed lines and hollow markers the report's published values. "
+                 "as error bars)" + (", dashed lines and hollow markers the report's published "
+                                     "values" if published else "") + ". "
                  "All figures of the study (per configuration too) are in the study's "
                  "`figures/`." + (" The by-size figures' titles give the fewest repeats of any "
                                   "size; the sizes' own counts are those of the table."
                                   if len({s.repeat_count() for s in studies.studies}) > 1
                                   else "") + "\n\n")
         body += "\n".join(figures)
-    body += maps_section(map_rows, results_dir, output)
+    body += maps_section(map_rows, results_dir, output, images, copies)
 
     # The header and findings (scripts/reproduction_intro.md) with the numbers of these runs.
-    commands = [experiment_command(main_study, "the report's study + BFS Oracle + edge case")]
+    commands = [experiment_command(main_study, study_note(main_study))]
     for study in more:
-        commands.append(experiment_command(study, "the larger sizes"))
+        commands.append(experiment_command(study, study_note(study)))
     if report is not None:
-        commands.append(experiment_command(report, "hard 50x50 + edge case, report semantics"))
+        commands.append(experiment_command(report, study_note(report) + ", report semantics"))
     plotted = main_study.name
     if "--figures" in options and more:
         # The figures of a study merged from the main one and those of more sizes.
@@ -1073,13 +1335,14 @@ def main():
             f"# {' and '.join(s.name for s in [main_study] + more)} in one, for the figures\n"
             f"  {{ cat {main_study.name}/$f; {others} }} | grep -v ',all,all,' > {plotted}/$f; "
             f"done; cp {main_study.name}/edge_* {plotted}/")
-    commands.append(f"build/tools/dynapath plot {plotted} --overlay-reference"
-                    f"{'':<20} # {plotted}/figures")
+    if figures:
+        commands.append(f"build/tools/dynapath plot {plotted}"
+                        f"{' --overlay-reference' if published else ''}{'':<20} # {plotted}/figures")
     if blocks:
         names = " ".join(s.name for s in [main_study] + more + ([report] if report else [])
                          if s.has_repeats)
         commands.append(f"for s in {names}; do for e in '' --edge; do  # run by this script\n"
-                        f"  build/tools/dynapath compare $s fedAsynQ_EqAvg fedAsynQ_ImAvg $e; "
+                        f"  build/tools/dynapath compare $s fedAsynQ_EqAvg fedAsynQ_ImAvg --csv $e; "
                         f"done; done")
     if like:
         commands.append(f"bench/like_for_like.sh --runs {like[0]['Runs']} --csv "
@@ -1093,7 +1356,11 @@ def main():
             "spread/float_${a}_$seed.txt\n"
             "done; done                                                   # our spread over 15 "
             "learner seed streams")
-    script = [f"scripts/make_reproduction_report.py {main_study.name}"]
+    script = [f"scripts/make_reproduction_report.py {main_study.name} {output}"]
+    if "--images" in options:
+        script.append(f"--images {options['--images']}")
+    if "--intro" in options:
+        script.append(f"--intro {options['--intro']}")
     script += [f"--more-sizes {s.name}" for s in more]
     if report is not None:
         script.append(f"--report-semantics {report.name}")
@@ -1105,7 +1372,9 @@ def main():
         script.append(f"--figures {plotted}/figures")
     commands.append(" \\\n  ".join([" ".join(script[:3])] + [" ".join(script[3:])]
                                    if len(script) > 3 else [" ".join(script)])
-                    + "  # writes this file and docs/images/reproduction/")
+                    + f"  # writes {output}" + "".join(
+                        f" and {folder}/" for folder in sorted(
+                            {link(os.path.dirname(target), output) for _, target in copies})))
     values["COMMANDS"] = "\n".join(commands)
     facts = [study_facts(s) for s in [main_study] + more + ([report] if report else [])]
     values["FACTS"] = "; ".join(facts)
@@ -1121,21 +1390,30 @@ def main():
     values.update(findings(studies, main_study, report, count, closeness, verdicts, claim,
                            has_edge))
     values.update(bfs_facts(means, sizes))
-    text = open(os.path.join(HERE, "reproduction_intro.md")).read()
-    for key, value in values.items():
-        text = text.replace("{{" + key + "}}", value)
-    missing = re.findall(r"\{\{[A-Z_0-9]+\}\}", text)
-    if missing:
-        print(f"note: no value for {', '.join(sorted(set(missing)))} (inputs missing)",
-              file=sys.stderr)
-        for key in missing:
-            text = text.replace(key, "(not measured)")
-    with open(output, "w") as f:
-        f.write(text + body)
+    # A value that could not be computed is no value ("–", "not measured").
+    values = {key: value for key, value in values.items()
+              if value.strip() not in ("–", "not measured")}
+    if "--intro" in options:
+        # The findings text (the project's: scripts/reproduction_intro.md)
+        # with the numbers of these runs; every placeholder must be filled.
+        with open(options["--intro"]) as f:
+            text = f.read()
+        for key, value in values.items():
+            text = text.replace("{{" + key + "}}", value)
+        missing = sorted(set(re.findall(r"\{\{([A-Z_0-9]+)\}\}", text)))
+        if missing:
+            raise InputError(f"--intro {options['--intro']}: no value for {', '.join(missing)} "
+                             "from these inputs (the studies or options they need are missing)")
+    else:
+        text = generic_header(main_study, studies, more, report, values, ref, count, failures,
+                              edge_failures)
     rl = count.counts(True)
-    print(f"wrote {output} ({failures} failing rows of the 20/50 acceptance check; published "
-          f"value inside our interval for {rl[3]} of {rl[0]} learning rows, success and path)")
+    summary = (f"{failures} failing rows of the 20/50 acceptance check; published value inside "
+               f"our interval for {rl[3]} of {rl[0]} learning rows, success and path"
+               if published and rl[0] else "not set beside the report's published values"
+               if not published else "no learning rows beside published values")
+    return text + body, copies, summary
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -96,6 +96,8 @@ launcher=$!
 for _ in $(seq 600); do [ -e ck4/checkpoint.dpc ] && break; sleep 0.05; done
 pkill -9 -f -- "dynapath-coordinator.*--run-id $run_id"
 wait $launcher && fail "the run whose coordinator was killed exited 0 without restarts"
+grep -q "the coordinator was killed by signal 9; no restarts (--restart-coordinator 0); finish the run from its last checkpoint with: dynapath run --resume ck4" manual.log ||
+  fail "no word of the spent restarts and --resume: $(grep -i coordinator manual.log | tail -2)"
 "$dynapath" run --resume ck4 --run-id "$run_id" >/dev/null 2>&1 || fail "run --resume of --agents 2 failed"
 same manual "--agents 2, coordinator killed, run --resume"
 
@@ -140,6 +142,58 @@ expect_error 2 "is not the checkpoint directory of a run" run --resume "$work/no
 expect_error 2 "needs --checkpoint DIR" run --resume-checkpoint --size 20
 expect_error 2 "--restart-coordinator restarts from checkpoints" run --agents 2 --restart-coordinator 2
 expect_error 2 "option --checkpoint-every must be between" run --checkpoint x --checkpoint-every 0
+
+# A run long enough to be killed in: 400 steps of two learners.
+long_steps=400
+[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && long_steps=60
+two_learners=(run --local --size 50 --difficulty hard --approach singleAgent,fedAsynQ_EqAvg
+  --log-level warn)
+long_run=("${two_learners[@]}" --steps $long_steps)
+# kill_when PID FILE: SIGKILL PID as soon as FILE appears.
+kill_when() {
+  for _ in $(seq 1500); do [ -e "$2" ] && break; sleep 0.02; done
+  kill -9 "$1" 2>/dev/null
+  wait "$1" 2>/dev/null
+}
+
+# A new run refuses the folder of an unfinished run's checkpoint (which it
+# would overwrite, so that it could not be resumed) unless --force.
+"$dynapath" "${long_run[@]}" --out unfinished --checkpoint ck6 >/dev/null 2>&1 &
+kill_when $! ck6/checkpoint.dpc
+cp ck6/checkpoint.dpc ck6.dpc && cp ck6/run.toml ck6.toml
+expect_error 2 "option --checkpoint ck6 holds the checkpoint of an unfinished run (0 of 2 approaches finished, singleAgent after step" \
+  "${run[@]}" --local --out other6 --checkpoint ck6
+grep -qF 'finish it with `dynapath run --resume ck6`, or give --force' err.txt ||
+  fail "the refusal does not say how to resume: $(cat err.txt)"
+cmp -s ck6/checkpoint.dpc ck6.dpc && cmp -s ck6/run.toml ck6.toml ||
+  fail "a refused run changed the unfinished run's checkpoint"
+[ -e other6/results.csv ] && fail "a refused run wrote results"
+"$dynapath" "${run[@]}" --local --out forced --checkpoint ck6 --force >/dev/null 2>&1 ||
+  fail "--force over an unfinished run's checkpoint failed"
+same forced "--force over an unfinished run's checkpoint"
+"$dynapath" "${run[@]}" --local --out again6 --checkpoint ck6 >/dev/null 2>&1 ||
+  fail "a finished run's checkpoint folder was refused"
+expect_error 2 "--force starts a new run over the checkpoint" run --size 10 --force
+
+# A resumed run checks the --save-policy file against what its checkpoint
+# recorded: deleted or replaced by another run's, it is refused (never
+# finished missing a section or mixed); as it was, it is finished.
+"$dynapath" "${long_run[@]}" --out pol_whole --save-policy whole.pol >/dev/null 2>&1 ||
+  fail "the uninterrupted saving run failed"
+"$dynapath" "${two_learners[@]}" --seed 53 --steps 2 --out pol_other --save-policy other.pol \
+  >/dev/null 2>&1 || fail "the other maze's saving run failed"
+"$dynapath" "${long_run[@]}" --out pol --save-policy x.pol --checkpoint ck8 >/dev/null 2>&1 &
+kill_when $! pol/results.csv  # its first approach finished
+mv x.pol mine.pol
+expect_error 2 "option --save-policy x.pol is gone: at the checkpoint it held the run's singleAgent section" \
+  run --resume ck8
+cp other.pol x.pol
+expect_error 2 "option --save-policy x.pol's singleAgent section is not the one it held at the checkpoint" \
+  run --resume ck8
+cp mine.pol x.pol
+"$dynapath" run --resume ck8 >/dev/null 2>&1 || fail "run --resume with its policy file failed"
+cmp -s x.pol whole.pol || fail "the resumed run's policy file differs from the uninterrupted run's"
+pass "a resumed run's policy file checked against its checkpoint"
 
 [ $failures -eq 0 ] && echo "all checkpoint checks passed ($SECONDS s)"
 [ $failures -eq 0 ]

@@ -29,6 +29,15 @@ expect_usage_error "--size" maze --size abc
 expect_usage_error "unknown option" run --sise 20
 expect_usage_error "'magic'" run --approach magic
 expect_usage_error "needs a value" run --out
+# An empty value is refused, never read as "not given"; an option that
+# needs another is refused without it.
+for option in --out --save-policy --load-policy --checkpoint --epsilon-start --seed --maze; do
+  expect_usage_error "option $option must not be empty" run --size 10 --steps 1 --out "$work/empty" "$option" ""
+done
+expect_usage_error "option --checkpoint-every needs --checkpoint DIR" run --size 10 --checkpoint-every 5
+expect_usage_error "option --checkpoint-interval needs --checkpoint DIR" run --size 10 --checkpoint-interval 1
+expect_usage_error "--restart-coordinator restarts coordinator processes" run --local --size 10 \
+  --checkpoint "$work/ck_local" --restart-coordinator 2
 expect_usage_error "missing.txt" run --maze "$work/missing.txt"
 printf '..x\n...\n' >"$work/bad_maze.txt"
 expect_usage_error "unexpected character" run --maze "$work/bad_maze.txt"
@@ -58,7 +67,11 @@ grep -q "3 levels, 21 nodes, 16 leaves" "$work/facts" || fail "quadtree facts"
 "$dynapath" maze --size 20 --difficulty medium --save "$work/m.txt" --save-changes "$work/m.changes" --no-grid >/dev/null \
   || fail "maze --save"
 run() { "$dynapath" run --local --log-level off --approach "BFS Oracle,fedAsynQ_ImAvg,singleAgent" "$@"; }
-run --size 20 --difficulty medium --threads 1 --out "$work/a" >/dev/null || fail "run a"
+run --size 20 --difficulty medium --threads 1 --out "$work/a" >"$work/a.stdout" || fail "run a"
+# stdout: the summary table, results.csv's rows aligned under a rule.
+[ "$(sed -n 2p "$work/a.stdout" | tr -d ' -')" = "" ] && [ "$(wc -l <"$work/a.stdout")" -eq 5 ] &&
+  grep -q "^fedAsynQ_ImAvg  *20  *Medium  " "$work/a.stdout" ||
+  fail "run --local's summary table: $(cat "$work/a.stdout")"
 run --maze "$work/m.txt" --changes "$work/m.changes" --difficulty medium --threads 2 --out "$work/b" >/dev/null || fail "run b"
 for file in results.csv results_detailed.csv; do
   [ -s "$work/a/$file" ] || fail "missing $file"
@@ -82,7 +95,9 @@ grep -q "^fedAsynQ_EqAvg,5x9,wide-5-9," "$work/map/results.csv" || fail "map run
 "$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --steps 8 --save "$work/map.txt" \
   --save-changes "$work/map.changes" --no-grid >/dev/null || fail "maze --save of a map"
 maprun --maze "$work/map.txt" --changes "$work/map.changes" --out "$work/map2" >/dev/null || fail "saved map run"
-cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # a text maze is "Custom"
+grep -q "^fedAsynQ_EqAvg,5x9,map," "$work/map2/results.csv" ||
+  fail "a text maze is labelled by its file name: $(cat "$work/map2/results.csv")"
+cut -d, -f1,2,4,5,7- "$work/map/results_detailed.csv" >"$work/map.detail"  # labels: wide-5-9, map
 cut -d, -f1,2,4,5,7- "$work/map2/results_detailed.csv" >"$work/map2.detail"
 cmp -s "$work/map.detail" "$work/map2.detail" || fail "a saved map scenario changed the results"
 grep -qv "^1 0$" <(tail -n +2 "$work/map.changes") || fail "the movers never moved"
@@ -91,12 +106,34 @@ oracles=$(awk -F, '$1 ~ /Oracle/ { k = $4; v = $7 "," $8; if ($1 == "BFS Oracle"
 [ "$oracles" = 0 ] || fail "Incremental Oracle differs from BFS Oracle on a map"
 "$dynapath" maze --maze "$map" --stations-file "$(dirname "$0")/data/maps/wide-5-9.stations" --no-grid \
   >"$work/out" || fail "--stations-file"
+# The printout tells moving obstacles (o) from walls (#), with a legend
+# line; the saved maze keeps the file format (# for both).
+"$dynapath" maze --maze "$map" --stations 2 --movers 20% --seed 5 --save "$work/movers.txt" \
+  >"$work/out" || fail "maze with movers"
+head -5 "$work/out" | grep -q o || fail "maze printout: no moving obstacle 'o': $(head -5 "$work/out")"
+grep -q '^legend: # obstacle that never moves, o obstacle that moves during the time steps, . free, C station$' \
+  "$work/out" || fail "maze printout: no legend line: $(sed -n 6p "$work/out")"
+grep -q o "$work/movers.txt" && fail "maze --save wrote 'o' into the maze file"
+[ "$(head -5 "$work/out" | tr o '#')" = "$(cat "$work/movers.txt")" ] ||
+  fail "maze printout differs from the saved maze beyond the movers"
+"$dynapath" maze --size 10 --steps 0 >"$work/out" || fail "maze without changes"
+grep -q o <(head -10 "$work/out") && fail "maze without changes: an obstacle printed as moving"
+grep -q '^legend: # obstacle that never moves, . free, C station$' "$work/out" ||
+  fail "maze without changes: legend $(sed -n 11p "$work/out")"
 # A ROS map_server map (YAML + ascii PGM): its cells and its label.
 "$dynapath" maze --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --seed 1 >"$work/out" \
   || fail "ROS map"
 [ "$(head -3 "$work/out" | tr C .)" = "$(printf '..#.\n.#..\n...#')" ] || fail "ROS map cells: $(cat "$work/out")"
 maprun --maze "$(dirname "$0")/data/maps/tiny-3-4.yaml" --stations 2 --out "$work/ros" >/dev/null || fail "ROS map run"
 grep -q "^fedAsynQ_EqAvg,3x4,tiny-3-4," "$work/ros/results.csv" || fail "ROS map labels: $(cat "$work/ros/results.csv")"
+# The extension in any case: M5.YAML is the same ROS map, labelled M5.
+cp "$(dirname "$0")/data/maps/tiny-3-4.yaml" "$work/M5.YAML"
+cp "$(dirname "$0")/data/maps/tiny-3-4.pgm" "$work/"
+maprun --maze "$work/M5.YAML" --stations 2 --out "$work/ros_upper" >/dev/null 2>"$work/err" ||
+  fail "--maze M5.YAML: $(cat "$work/err")"
+cmp -s <(cut -d, -f1,2,4,5,7- "$work/ros/results_detailed.csv") \
+  <(cut -d, -f1,2,4,5,7- "$work/ros_upper/results_detailed.csv") || fail "--maze M5.YAML is not the ROS map"
+grep -q "^fedAsynQ_EqAvg,3x4,M5," "$work/ros_upper/results.csv" || fail "M5.YAML label: $(cat "$work/ros_upper/results.csv")"
 map_error() {  # map_error NEEDLE ARGS...: exit 2 with one line naming NEEDLE
   local needle=$1; shift
   "$dynapath" run --local --log-level off "$@" >"$work/out" 2>"$work/err"

@@ -196,7 +196,16 @@ wait $envsim $agent 2>/dev/null
 # 6. Log and replay.
 replay=(--approach "fedAsynQ_EqAvg,BFS Oracle")
 "$dynapath" run --agents 1 --size 20 --difficulty hard --steps 15 "${replay[@]}" --log "$work/run.lcm" \
-  --out "$work/logged" --log-level warn >/dev/null 2>&1 || fail "logged run"
+  --out "$work/logged" --log-level warn >"$work/logged.stdout" 2>"$work/logged.stderr" || fail "logged run"
+# lcm-logger's own lines stay off the terminal; stdout is the summary table,
+# as --local prints it.
+grep -E "Logger exiting|Opening log file" "$work/logged.stderr" "$work/logged.stdout" &&
+  fail "lcm-logger's output reached the terminal"
+"$dynapath" run --local --size 20 --difficulty hard --steps 15 "${replay[@]}" --out "$work/logged_local" \
+  --log-level warn >"$work/local.stdout" || fail "local run"
+[ "$(cut -c1-32 "$work/logged.stdout")" = "$(cut -c1-32 "$work/local.stdout")" ] &&
+  [ "$(wc -l <"$work/logged.stdout")" -eq 4 ] ||
+  fail "--agents 1 printed not --local's summary table: $(cat "$work/logged.stdout")"
 "$dynapath" run --local --replay "$work/run.lcm" "${replay[@]}" --out "$work/replayed" --log-level warn \
   >/dev/null || fail "--replay run"
 same_results "$work/logged" "$work/replayed" "--replay of a --log"

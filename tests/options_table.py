@@ -31,6 +31,8 @@ HOMONYMS = {
     "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
     "--rate": (2, "query's requests per second; feed's time steps per second"),
     "--timeout": (2, "view's wait for a run; query and feed's wait for the service"),
+    "--force": (2, "experiment's: delete the study in DIR and start over; run's: start a new run "
+                   "in a --checkpoint DIR holding an unfinished run's checkpoint"),
 }
 
 # The commands: how to run each one's --help, relative to the build directory.

@@ -138,6 +138,12 @@ expect_usage_error "option --log: $work/missing/run.lcm: its folder $work/missin
   "$dynapath" run --agents 2 --size 20 --steps 2 --out L --log "$work/missing/run.lcm"
 mkdir -p T/study.log
 expect_usage_error "T/study.log is a directory" "$dynapath" "${study[@]}" --approaches "BFS Oracle" --out T
+# A folder that takes no files (also from root, whom access() lets write):
+# refused before the baseline runs, not after the training.
+expect_usage_error "option --save-policy: /proc/p.pol: its folder /proc is not writable" \
+  "$dynapath" run --local --size 20 --steps 2 --approach "A* Oracle,fedAsynQ_EqAvg" --out P \
+  --save-policy /proc/p.pol
+[ -e P/results.csv ] && fail "a refused run wrote P/results.csv"
 expect_usage_error "option --save-changes: $work is a directory" "$dynapath" maze --size 20 --save-changes "$work"
 pass "output paths checked first"
 

@@ -68,8 +68,46 @@ for other in config readback embedded; do
 done
 grep -qx "epsilon-start = 0.3" "$work/option/params.toml" || fail "params.toml: $(cat "$work/option/params.toml")"
 grep -qx "epsilon-start = 1.0" "$work/default/params.toml" || fail "default params.toml"
-cmp -s <(grep -v '^#' "$work/default/params.toml") <(grep -v '^#' "$work/defaults.toml") ||
+# params.toml: the approaches and learner options, then params --format toml's lines.
+run_lines='^(approach|leaf-limit|bootstrap|semantics) = '
+cmp -s <(grep -v '^#' "$work/default/params.toml" | grep -Ev "$run_lines") \
+  <(grep -v '^#' "$work/defaults.toml") ||
   fail "a default run's params.toml is not params --format toml"
+grep -qx 'approach = "singleAgent,fedAsynQ_EqAvg"' "$work/default/params.toml" &&
+  grep -qx 'semantics = "ours"' "$work/default/params.toml" &&
+  grep -qx 'leaf-limit = 20' "$work/default/params.toml" ||
+  fail "params.toml lacks the approaches or learner options: $(cat "$work/default/params.toml")"
+
+# One reading rule for every options file: '-' or '_' in a run config, a
+# study file and a checkpoint's run.toml; one option given twice under two
+# spellings refused, naming both lines.
+printf 'epsilon_start = 0.3\n' >"$work/underscore.toml"
+"${run[@]}" --config "$work/underscore.toml" --out "$work/underscore" >/dev/null 2>"$work/err" ||
+  fail "--config with epsilon_start: $(cat "$work/err")"
+same_result_files "$work/option" "$work/underscore" results.csv results_detailed.csv ||
+  fail "epsilon_start in a --config file is not --epsilon-start"
+printf 'epsilon-start = 0.5\nepsilon_start = 0.6\n' >"$work/twice.toml"
+expect_usage_error "twice.toml:2: 'epsilon_start' gives 'epsilon-start' of line 1 again" \
+  run --size 10 --config "$work/twice.toml" --out "$work/bad"
+printf 'sizes = [10]\nedge-case = false\nedge_case = true\n' >"$work/twice_study.toml"
+expect_usage_error "twice_study.toml:3: 'edge_case' gives 'edge-case' of line 2 again" \
+  experiment --config "$work/twice_study.toml" --out "$work/bad_study"
+mkdir -p "$work/ck"
+printf "size=20\nsteps=4\napproach='singleAgent,fedAsynQ_EqAvg'\nout='%s'\nepsilon_start=0.3\n" \
+  "$work/resumed" >"$work/ck/run.toml"
+"$dynapath" run --resume "$work/ck" --log-level warn >/dev/null 2>"$work/err" ||
+  fail "run --resume of a run.toml with epsilon_start: $(cat "$work/err")"
+same_result_files "$work/option" "$work/resumed" results.csv results_detailed.csv ||
+  fail "epsilon_start in run.toml is not --epsilon-start"
+printf 'epsilon-start=0.3\n' >>"$work/ck/run.toml"
+expect_usage_error "ck/run.toml:6: 'epsilon-start' gives 'epsilon_start' of line 5 again" \
+  run --resume "$work/ck"
+
+# A number too large for any option: out of range, as typed.
+expect_usage_error "option --max-episodes is out of range, got '99999999999999999999'" \
+  run --size 10 --max-episodes 99999999999999999999 --out "$work/bad"
+expect_usage_error "option --epsilon-start is out of range, got '1e400'" \
+  run --size 10 --epsilon-start 1e400 --out "$work/bad"
 
 # Report semantics with one parameter of its own.
 "${run[@]}" --semantics report --replay-batch 8 --out "$work/report" >/dev/null || fail "report run"
@@ -88,6 +126,25 @@ grep -qx "min-success-rate = 0.95" "$work/study/runs/10_easy_50/params.toml" ||
 "$dynapath" experiment --config "$work/study.toml" --local --epsilon-min 0.3 --out "$work/study" \
   >/dev/null 2>"$work/err"
 [ $? -eq 2 ] && grep -q "epsilon-min" "$work/err" || fail "resume with another parameter: $(cat "$work/err")"
+
+# Every configuration of a study with report semantics, a leaf limit and
+# repeats (learner seeds) reruns from its params.toml and its maze options
+# to the same result files.
+"$dynapath" experiment --sizes 8 --difficulties easy,hard --no-edge-case --steps 3 --repeats 2 \
+  --approaches singleAgent,fedAsynQ_EqAvg,"BFS Oracle" --semantics report --leaf-limit 4 --local \
+  --parallel 1 --out "$work/rerun_study" >/dev/null 2>&1 || fail "the rerun study"
+reruns=0
+for dir in "$work"/rerun_study/runs/*/; do
+  name=$(basename "$dir")
+  IFS=_ read -r size difficulty seed _ <<<"$name"
+  "$dynapath" run --local --size "$size" --difficulty "$difficulty" --seed "$seed" --steps 3 \
+    --config "$dir/params.toml" --out "$work/rerun/$name" --log-level warn >/dev/null ||
+    fail "rerun of $name"
+  same_result_files "$dir" "$work/rerun/$name" results.csv results_detailed.csv ||
+    fail "$name rerun from its params.toml differs: $(cat "$dir/params.toml" | head -8)"
+  reruns=$((reruns + 1))
+done
+[ $reruns -eq 4 ] || fail "the rerun study has $reruns configurations, not 4"
 
 [ $failures -eq 0 ] && echo "params_test: all passed"
 exit $((failures > 0))

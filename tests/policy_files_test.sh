@@ -68,7 +68,24 @@ cmp -s "$work/p3.pol" "$work/p3e.pol" || fail "--embedded saved another policy f
 [ "$(wc -l <"$work/other/results_detailed.csv")" -eq $((1 + 4 * 9)) ] ||
   fail "another maze: not every step"
 
+# Saving into a file keeps its sections the run does not rewrite: loading
+# and saving one approach of a two-section file leaves both.
+pair=(--approach singleAgent,fedAsynQ_EqAvg)
+"$dynapath" run --local "${shape[@]}" "${pair[@]}" --out "$work/pair" --save-policy "$work/two.pol" \
+  >/dev/null
+"$dynapath" run --local "${shape[@]}" --approach fedAsynQ_EqAvg --out "$work/pair_again" \
+  --load-policy "$work/two.pol" --save-policy "$work/two.pol" >/dev/null ||
+  fail "loading and saving one section of a file failed"
+"$dynapath" run --local "${shape[@]}" "${pair[@]}" --out "$work/pair_loaded" \
+  --load-policy "$work/two.pol" >/dev/null 2>"$work/pair.err" ||
+  fail "a section not rewritten was lost: $(cat "$work/pair.err")"
+# What is there and no policy file is not overwritten.
+echo "notes" >"$work/notes.txt"
+expect_error 2 "option --save-policy $work/notes.txt is there and is not a policy file" \
+  "${maze[@]}" --save-policy "$work/notes.txt"
+
 # Refusals: exit 2, one line naming the file and what is wrong.
+
 expect_error 2 "the policy is for a 30x30 maze, this maze is 20x20" \
   --size 20 --difficulty hard --approach singleAgent --load-policy "$work/p3.pol"
 expect_error 2 "$work/p3.pol: the policy was saved with --leaf-limit 8, this run has 20" \
@@ -92,6 +109,15 @@ expect_error 2 "No such file" "${maze[@]}" --load-policy "$work/missing.pol"
 expect_error 2 "option --save-at must be a time step" "${maze[@]}" --save-policy x --save-at soon
 expect_error 2 "option --save-at step 9 is past the run's last step 8" "${maze[@]}" \
   --save-policy "$work/x.pol" --save-at 9
+# Continuing after step 3, --save-at 0 (the default) is never reached:
+# refused before the baseline runs, not after it.
+expect_error 2 "option --save-at step 0 is before step 3 of $work/p3.pol's onlyTrainLeafNodes" \
+  "${shape[@]}" --approach "BFS Oracle,$learning" --load-policy "$work/p3.pol" \
+  --save-policy "$work/early.pol"
+[ -e "$work/err/results.csv" ] && fail "a refused run wrote results"
+"$dynapath" run --local "${maze[@]}" --seed 53 --out "$work/other_saving" \
+  --load-policy "$work/p3.pol" --save-policy "$work/other53.pol" >/dev/null ||
+  fail "another maze from a policy cannot save at step 0"
 expect_error 2 "option --save-policy needs a learning approach" "${shape[@]}" --approach "BFS Oracle" \
   --save-policy "$work/x.pol"
 echo "policy files: all checks passed"

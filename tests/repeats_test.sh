@@ -13,7 +13,7 @@
 #     (tests/summary_reference.py, bootstrap included), two at once,
 #     resume, --maze-seeds.
 #  4. run --repeats 3 = the study's repeats.
-#  5. dynapath compare: rows, --out, errors.
+#  5. dynapath compare: rows, --out, --csv, --table, --plot, errors.
 #  6. A sweep study (epsilon-start = [0.25, 1.0]): points, params.toml, sweep files, resume.
 #  7. dynapath plot: by-size intervals, the performance profile, a bad summary.csv, a sweep.
 set -uo pipefail
@@ -121,7 +121,10 @@ grep -v '^[0-9],52,[0-9]*,[^,]*,12,' three/repeats.csv >three16.csv
 diff -q <(strip_times rr/repeats.csv) <(strip_times three16.csv) >/dev/null \
   || fail "run --repeats: repeats.csv is not the study's 16 Hard rows"
 python3 "$source_dir/tests/summary_reference.py" rr/repeats.csv rr/summary.csv || fail "run --repeats: summary.csv"
-cmp -s rr.out rr/summary.csv || fail "run --repeats prints summary.csv"
+# stdout: summary.csv as the summary table (aligned columns under a rule).
+diff <(sed 2d rr.out | tr -s ' ' | sed 's/ *$//') <(tr ',' ' ' <rr/summary.csv | tr -s ' ' | sed 's/ *$//') \
+  >/dev/null && [ "$(sed -n 2p rr.out | tr -d ' -')" = "" ] || fail "run --repeats prints summary.csv"
+
 pass "run --repeats"
 
 # 5. dynapath compare.
@@ -129,6 +132,21 @@ pass "run --repeats"
 cmp -s cmp.out cmp.csv || fail "compare --out differs from its output"
 [ "$(wc -l <cmp.out)" -eq $((1 + 4 * 2 + 4)) ] || fail "compare rows: $(wc -l <cmp.out)"
 grep -q '^singleAgent,BFS Oracle,all,all,AvgSuccessRate,6,' cmp.out || fail "compare: no row over all configurations"
+"$dynapath" compare three singleAgent "BFS Oracle" --csv >cmp-csv.out 2>cmp.err || fail "compare --csv: $(cat cmp.err)"
+cmp -s cmp.out cmp-csv.out || fail "compare --csv differs from its output into a file"
+# --table: what a terminal shows, one aligned line per configuration and metric.
+"$dynapath" compare three singleAgent "BFS Oracle" --table >cmp-table.out 2>cmp.err || fail "compare --table: $(cat cmp.err)"
+grep -q '^Configuration  *Metric  *Pairs  *Mean A - B \[95% CI\]' cmp-table.out || fail "compare --table: no header: $(head -3 cmp-table.out)"
+[ "$(grep -c '^all (stratified)  ' cmp-table.out)" -eq 4 ] || fail "compare --table: not 4 rows over all configurations"
+[ "$(wc -l <cmp-table.out)" -eq $((3 + 4 * 2 + 4)) ] || fail "compare --table rows: $(wc -l <cmp-table.out)"
+grep -q '^singleAgent,BFS Oracle,\|^A,B,Size' cmp-table.out && fail "compare --table printed CSV: $(head -2 cmp-table.out)"
+if [ "${DYNAPATH_SANITIZED:-0}" != 1 ]; then
+  "$dynapath" compare three singleAgent "BFS Oracle" --csv --plot cmp.svg >/dev/null 2>cmp.err || fail "compare --plot: $(cat cmp.err)"
+  grep -q '<svg' cmp.svg 2>/dev/null || fail "compare --plot cmp.svg wrote no SVG"
+  ls -a | grep -q 'dynapath-compare' && fail "compare --plot left its temporary file"
+fi
+expect_usage_error "must end in .png, .svg or .pdf" compare three singleAgent "BFS Oracle" --plot cmp.gif
+expect_usage_error "--csv and --table" compare three singleAgent "BFS Oracle" --csv --table
 expect_usage_error "repeats.csv does not exist" compare one singleAgent "BFS Oracle"
 expect_usage_error "unknown approach 'magic'" compare three singleAgent magic
 expect_usage_error "has no repeats here" compare three singleAgent "A* Static"

@@ -12,13 +12,21 @@
 #    also when it trains on 2 agent processes (one of them killed on the
 #    way) and on 2 agent threads over memq:// (under a sanitizer: the
 #    processes only), which stop with it within a second.
+#    A second service of the same run id refuses to start, naming the
+#    first's maze fingerprint.
 # 3. Bad input, all from the network: an unauthenticated sender, stale
-#    sequence numbers, updates outside the grid, a request with too many
-#    starts. Each is dropped or refused and counted; the service keeps
-#    answering; SIGINT ends it within a second with the counts printed.
+#    sequence numbers, a request with too many starts. Each is dropped or
+#    refused and counted; a feed made for another maze is refused by its
+#    service's fingerprint; the service keeps answering; SIGINT ends it
+#    within a second with the counts printed.
 # 4. A query flood at a fixed rate is answered (95% at least: udpm may
 #    drop a datagram on a loaded machine; what is answered is measured).
-# 5. A robot fleet in closed loop on a small map arrives.
+# 5. A robot fleet in closed loop on a small map arrives; a fleet made for
+#    another maze is refused.
+# 6. A policy saved at step S: a service with fewer steps refuses at once;
+#    one with the run's steps takes over at step S and feed goes on from S+1;
+#    feed's probes are counted as probes, not as starts.
+# 7. Ctrl-C during the initial training: exit 130, no results written.
 set -uo pipefail
 dynapath=${1:?usage: serve_test.sh DYNAPATH}
 work=$(mktemp -d)
@@ -41,6 +49,10 @@ maze=(--size 20 --difficulty hard --seed 3 --steps "$steps")
 "$dynapath" secret "$work/other.key" || fail "dynapath secret"
 "$dynapath" maze "${maze[@]}" --save "$work/maze.txt" --save-changes "$work/changes.txt" \
   >/dev/null 2>&1 || fail "dynapath maze --save"
+# The same maze's sequence, twice as long (its first steps are changes.txt's).
+"$dynapath" maze --size 20 --difficulty hard --seed 3 --steps $((2 * steps)) --save-changes "$work/long.txt" \
+  >/dev/null 2>&1 || fail "dynapath maze --save-changes (long)"
+fingerprint=$(head -1 "$work/changes.txt" | awk '{ print $6 }')
 "$dynapath" run --local --maze "$work/maze.txt" --changes "$work/changes.txt" --approach fedAsynQ_EqAvg --threads 1 --out "$work/run" \
   >/dev/null 2>"$work/run.log" || fail "run --local: $(tail -2 "$work/run.log")"
 
@@ -112,6 +124,23 @@ if grep -q '"start":\[25,3\],"status":"outside_grid"' "$work/q1.json" &&
 else
   fail "outside starts: $(cat "$work/q1.json")"
 fi
+# refused WHAT PATTERN COMMAND...: COMMAND exits 2 with PATTERN in its
+# errors (one that runs on is ended after 10 s).
+refused() {
+  local what=$1 pattern=$2 status
+  shift 2
+  timeout -s INT 10 "$@" >/dev/null 2>"$work/refused.log"
+  status=$?
+  if [ "$status" -eq 2 ] && grep -q -- "$pattern" "$work/refused.log"; then
+    pass "$what refused: $(tail -1 "$work/refused.log")"
+  else
+    fail "$what: exit $status: $(cat "$work/refused.log")"
+  fi
+}
+# A second service of this run id (another maze) refuses before any work.
+refused "a second service of the run id" \
+  "already served on this network by the service of maze fingerprint $fingerprint" \
+  "$dynapath" serve "${auth[@]}" --size 30 --difficulty hard --seed 4 --threads 1
 
 # 2. The change file in lock step, then the results against run's.
 if "$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
@@ -127,12 +156,19 @@ if "$dynapath" feed --run-id serve-$$ --secret-file "$work/other.key" --maze "$w
      --changes "$work/changes.txt" --timeout 1 >/dev/null 2>&1; then
   fail "a feed with another secret was answered"
 fi
-# The lock-step source's numbers again: stale.
-"$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/changes.txt" \
+# The lock-step source's numbers again (for the steps after the service's): stale.
+"$dynapath" feed "${auth[@]}" --maze "$work/maze.txt" --changes "$work/long.txt" \
   --source lockstep --rate 1000 --timeout 10 >/dev/null 2>&1 || fail "stale feed did not run"
-# A 30x30 maze's changes: cells outside the 20x20 grid.
-"$dynapath" feed "${auth[@]}" --size 30 --difficulty hard --seed 4 --steps 3 --rate 1000 \
-  --source big --timeout 10 >/dev/null 2>&1 || fail "outside feed did not run"
+# Feed and fleet made for other mazes (a 30x30 one, a 20x20 one of another
+# seed): refused by the service's maze fingerprint, nothing sent.
+for other in "--size 30 --difficulty hard --seed 4" "--size 20 --difficulty easy --seed 99"; do
+  # shellcheck disable=SC2086 # $other is maze options
+  refused "feed for another maze ($other)" "is served by the service of maze fingerprint $fingerprint" \
+    "$dynapath" feed "${auth[@]}" $other --steps 3 --source big --timeout 10
+done
+refused "a fleet for another maze" "not this maze" \
+  "$dynapath" robots "${auth[@]}" --size 20 --difficulty easy --seed 99 --steps 3 --robots 2 \
+  --ticks 5 --timeout 10
 nine=()
 for i in 1 2 3 4 5 6 7 8 9; do nine+=(--from "$i,$i"); done
 if "$dynapath" query "${auth[@]}" "${nine[@]}" --json >"$work/q9.json" 2>&1; then
@@ -179,7 +215,7 @@ summary=$(cat "$work/serve.out")
 echo "$summary"
 grep -Eq 'dropped [0-9]+ \([1-9][0-9]* unauthenticated' <<<"$summary" || fail "no unauthenticated drop counted"
 grep -Eq '[1-9][0-9]* stale' <<<"$summary" || fail "no stale update counted"
-grep -Eq '[1-9][0-9]* outside_grid' <<<"$summary" || fail "no update outside the grid counted"
+grep -Eq ' 0 other_maze' <<<"$summary" || fail "a refused client's updates reached the service"
 grep -Eq 'refused 1 too many starts' <<<"$summary" || fail "the refused request was not counted"
 grep -q 'query latency' <<<"$summary" || fail "no latency figures printed"
 
@@ -260,6 +296,56 @@ fi
 kill -INT "$server_pid"
 wait "$server_pid" || fail "the fleet's service exited $?"
 server_pid=
+
+# 6. A policy saved half way through the run's sequence.
+gen=(--size 20 --difficulty hard --seed 3)
+saved=$((steps / 2))
+"$dynapath" run --local "${gen[@]}" --steps "$steps" --approach fedAsynQ_EqAvg --threads 1 \
+  --save-policy "$work/p4.policy" --save-at "$saved" --out "$work/p4run" >/dev/null 2>"$work/p4.log" ||
+  fail "run --save-at $saved: $(tail -2 "$work/p4.log")"
+refused "a policy of step $saved with --steps $((saved - 1))" "saved at time step $saved" \
+  "$dynapath" serve --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$((saved - 1))" \
+  --load-policy "$work/p4.policy" --threads 1
+"$dynapath" serve --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
+  --load-policy "$work/p4.policy" --threads 1 >"$work/p4serve.out" 2>"$work/p4serve.log" &
+server_pid=$!
+# One step (--max-steps 1), then the rest: the one after the saved step,
+# then the others.
+if "$dynapath" feed --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
+     --max-steps 1 --timeout 60 >"$work/p4one.out" 2>"$work/p4feed.log" &&
+   "$dynapath" feed --run-id p4-$$ --secret-file "$work/key" "${gen[@]}" --steps "$steps" \
+     --timeout 60 >"$work/p4feed.out" 2>>"$work/p4feed.log" &&
+   python3 -c 'import json,sys; a=json.loads(sys.argv[1]); o=json.loads(sys.argv[2]); n=int(sys.argv[3]); s=int(sys.argv[4]); sys.exit(0 if (a["sent"], a["service_step"], o["sent"], o["service_step"]) == (1, s + 1, n - s - 1, n) else 1)' \
+     "$(cat "$work/p4one.out")" "$(cat "$work/p4feed.out")" "$steps" "$saved"; then
+  pass "feed went on from the loaded policy's step $saved: $(cat "$work/p4one.out") $(cat "$work/p4feed.out")"
+else
+  fail "feed after a loaded policy: $(cat "$work/p4one.out" "$work/p4feed.out" "$work/p4feed.log")"
+fi
+stop_server "loaded service" "$work/p4serve.log"
+# Only feed asked this service: its probes are counted as probes, not as
+# starts (of any status: start_obstacle, say).
+if grep -Eq '\([1-9][0-9]* of them probes without starts; 0 starts:' "$work/p4serve.out"; then
+  pass "feed's probes counted as probes, no start: $(grep '^served' "$work/p4serve.out")"
+else
+  fail "feed's probes: $(grep '^served' "$work/p4serve.out")"
+fi
+
+# 7. Interrupted during its initial training: no result row, exit 130.
+"$dynapath" serve --run-id slow-$$ --secret-file "$work/key" --size 150 --difficulty hard \
+  --threads 1 --out "$work/interrupted" >/dev/null 2>"$work/interrupted.log" &
+server_pid=$!
+sleep 1
+kill -INT "$server_pid"
+wait "$server_pid"
+status=$?
+server_pid=
+if grep -q "policy committed" "$work/interrupted.log"; then
+  echo "skipped: the 150x150 initial training ended within a second"
+elif [ "$status" -eq 130 ] && [ ! -e "$work/interrupted/results.csv" ]; then
+  pass "interrupted in its initial training: exit 130, no results"
+else
+  fail "interrupted service: exit $status, $(ls "$work/interrupted" 2>&1): $(tail -2 "$work/interrupted.log")"
+fi
 
 echo "$failures failures"
 [ "$failures" -eq 0 ]

@@ -16,6 +16,8 @@ const char* UpdateRefusalName(UpdateRefusal why) {
       return "station_to_obstacle";
     case UpdateRefusal::kGridShape:
       return "grid_shape";
+    case UpdateRefusal::kOtherMaze:
+      return "other_maze";
   }
   return "unknown";
 }

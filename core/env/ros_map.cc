@@ -7,6 +7,7 @@
 
 #include "dynapath/limits.h"
 #include "dynapath/text_file.h"
+#include "dynapath/text_util.h"
 
 namespace dynapath {
 namespace {
@@ -273,9 +274,11 @@ Result<Grid> RosMapGrid(const RosMapInfo& info, std::string_view pgm) {
 }
 
 bool IsRosMapPath(const std::string& path) {
+  // Any case: M5.YAML is a ROS map too (not a text maze to misread).
+  const std::string lower = ToLower(path);
   const auto ends = [&](const char* suffix) {
     const std::string s(suffix);
-    return path.size() > s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
+    return lower.size() > s.size() && lower.compare(lower.size() - s.size(), s.size(), s) == 0;
   };
   return ends(".yaml") || ends(".yml");
 }

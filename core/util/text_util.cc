@@ -1,6 +1,9 @@
 #include "dynapath/text_util.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 
 namespace dynapath {
 
@@ -28,6 +31,22 @@ std::vector<std::string> Split(std::string_view text, char separator) {
     start = end + 1;
   }
   return pieces;
+}
+
+std::string FormatDuration(double seconds) {
+  const long long total = std::llround(std::max(0.0, seconds));
+  char buffer[32];
+  if (seconds < 9.95) {
+    std::snprintf(buffer, sizeof buffer, "%.1f s", std::max(0.0, seconds));
+  } else if (total < 60) {
+    std::snprintf(buffer, sizeof buffer, "%lld s", total);
+  } else if (total < 3600) {
+    std::snprintf(buffer, sizeof buffer, "%lld:%02lld", total / 60, total % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%lld:%02lld:%02lld", total / 3600, total / 60 % 60,
+                  total % 60);
+  }
+  return buffer;
 }
 
 }  // namespace dynapath

@@ -284,5 +284,30 @@ else
 fi
 expect_usage_error "needs maps" --stations 3 --out "$work/nomaps"
 
+# 9. A map with its own stations file (MAP:STATIONS in --maps; in a study
+# file relative to its folder), beside a map with --stations: each as
+# `dynapath run --local --maze` with that map's stations.
+mkdir -p "$work/own/m"
+cp "$maps_dir/wide-5-9.map" "$maps_dir/wide-5-9.stations" "$maps_dir/maze-25-61-1.map" "$work/own/m/"
+printf 'maps = ["m/wide-5-9.map:m/wide-5-9.stations", "m/maze-25-61-1.map"]\nstations = "3"\nmovers = "4"\nsteps = 4\n' \
+  >"$work/own/study.toml"
+"$dynapath" experiment --config "$work/own/study.toml" --local --approaches "BFS Oracle,fedAsynQ_EqAvg" \
+  --out "$work/own/study" --log-level warn >/dev/null 2>"$work/own.err" ||
+  { fail "study with a map's stations file exited non-zero"; tail -3 "$work/own.err"; }
+grep -q 'wide-5-9.map:.*wide-5-9.stations' "$work/own/study/manifest.json" ||
+  fail "the manifest does not record the map's stations file"
+"$dynapath" run --local --maze "$maps_dir/wide-5-9.map" --stations-file "$maps_dir/wide-5-9.stations" \
+  --movers 4 --steps 4 --approach "BFS Oracle,fedAsynQ_EqAvg" --out "$work/own/wide" --log-level warn \
+  >/dev/null || fail "run --local --stations-file"
+"$dynapath" run --local --maze "$maps_dir/maze-25-61-1.map" --stations 3 --movers 4 --steps 4 \
+  --approach "BFS Oracle,fedAsynQ_EqAvg" --out "$work/own/maze" --log-level warn >/dev/null ||
+  fail "run --local --stations 3"
+same_result_files "$work/own/study/runs/map_wide-5-9_50" "$work/own/wide" results.csv results_detailed.csv &&
+  same_result_files "$work/own/study/runs/map_maze-25-61-1_50" "$work/own/maze" results.csv \
+    results_detailed.csv && pass "a map's own stations file in a study" ||
+  fail "a map's stations file: the study's runs differ from dynapath run --local"
+expect_usage_error "a stations file is one map's, not a folder's" --maps "$maps_dir:x.stations" \
+  --out "$work/own/bad"
+
 echo "experiment_test took $SECONDS s"
 if [ $failures -eq 0 ]; then echo "experiment_test: all checks passed"; else echo "experiment_test: $failures failures"; exit 1; fi

@@ -28,16 +28,79 @@ TEST(ProgressBarTest, FormatsDurations) {
   EXPECT_EQ(FormatDuration(-5), "0.0 s");
 }
 
-TEST(ProgressBarTest, EstimatesFromFinishedConfigurationsScaledByWork) {
+// A configuration `fraction` done by approaches and steps, in approach
+// `approach` (0-based) of `count`, `approach_elapsed` s into it.
+ConfigurationProgress At(double work, double elapsed, int approach, int count,
+                         double approach_elapsed, double approach_fraction) {
+  ConfigurationProgress c;
+  c.work = work;
+  c.elapsed = elapsed;
+  c.approach = approach;
+  c.approach_count = count;
+  c.approach_elapsed = approach_elapsed;
+  c.approach_fraction = approach_fraction;
+  c.fraction = approach < 0 ? 0.0 : (approach + approach_fraction) / count;
+  return c;
+}
+
+TEST(ProgressBarTest, EstimatesFromEarlierSessionsScaledByWork) {
   TimeEstimator estimator;
-  EXPECT_FALSE(estimator.Remaining(100, 0.5, 0.0, 1000).has_value());  // nothing to go on
-  // Before any finished: the fraction of the current one.
-  EXPECT_NEAR(*estimator.Remaining(100, 10, 0.5, 200), 10 + 40, 1e-9);
+  EXPECT_FALSE(estimator.Remaining(At(100, 0.5, -1, 0, 0, 0), 1000).has_value());
   estimator.AddFinished(100, 10);  // 0.1 s per unit of work
-  EXPECT_NEAR(*estimator.Remaining(200, 5, 0.0, 300), 15 + 30, 1e-9);
-  // Past its estimate: the fraction of the current one, else nothing for it.
-  EXPECT_NEAR(*estimator.Remaining(100, 20, 0.8, 0), 5, 1e-9);
-  EXPECT_NEAR(*estimator.Remaining(100, 20, 0.0, 100), 10, 1e-9);
+  const std::optional<TimeLeft> left = estimator.Remaining(At(200, 5, 0, 2, 5, 0.1), 300);
+  ASSERT_TRUE(left.has_value());
+  EXPECT_NEAR(left->seconds, 15 + 30, 1e-9);
+  EXPECT_FALSE(left->at_least);
+}
+
+// Each approach costs what it cost before (per unit of work), so the
+// estimate counts the approaches still to come at their own cost: a fast
+// first approach does not make the slow ones look fast.
+TEST(ProgressBarTest, EstimatesEachApproachAtItsOwnCost) {
+  TimeEstimator estimator;
+  // A first configuration (work 100): approaches of 1 s, 60 s and 4 s.
+  estimator.AddApproachFinished(0, 100, 1);
+  // Only the first has run: the rest is unknown, the estimate a lower bound.
+  std::optional<TimeLeft> left = estimator.Remaining(At(100, 20, 1, 3, 19, 0.0), 0);
+  EXPECT_FALSE(left.has_value()) << "nothing known of the approach in hand";
+  left = estimator.Remaining(At(100, 20, 1, 3, 19, 0.0), 100);
+  ASSERT_TRUE(left.has_value());
+  EXPECT_TRUE(left->at_least);
+  EXPECT_NEAR(left->seconds, 1, 1e-9);  // the next configuration's first approach
+  estimator.AddApproachFinished(1, 100, 60);
+  estimator.AddApproachFinished(2, 100, 4);
+  // The second configuration, as long again: at every point of it the
+  // estimate is the truth (65 s in all, then 65 s for the third).
+  const double costs[] = {1, 60, 4};
+  double elapsed = 0;
+  for (int approach = 0; approach < 3; ++approach) {
+    for (int step = 0; step <= 10; ++step) {
+      const double in_approach = costs[approach] * step / 10;
+      left = estimator.Remaining(
+          At(100, elapsed + in_approach, approach, 3, in_approach, step / 10.0), 100);
+      ASSERT_TRUE(left.has_value());
+      EXPECT_FALSE(left->at_least);
+      EXPECT_NEAR(left->seconds, 65 - elapsed - in_approach + 65, 1e-6)
+          << "approach " << approach << " step " << step;
+    }
+    elapsed += costs[approach];
+  }
+  // Slower than before: past its cost, its own steps.
+  left = estimator.Remaining(At(100, 80, 1, 3, 79, 0.5), 0);
+  EXPECT_NEAR(left->seconds, 79 + 4, 1e-6);
+}
+
+// A larger configuration's rate stands for an approach (a superlinear
+// A* Oracle), not the mean with the smaller ones.
+TEST(ProgressBarTest, TheLargestConfigurationGivesTheRate) {
+  TimeEstimator estimator;
+  estimator.AddApproachFinished(0, 100, 1);
+  estimator.AddApproachFinished(0, 1000, 30);
+  estimator.AddApproachFinished(0, 100, 1);  // smaller: ignored
+  estimator.AddApproachFinished(0, 1000, 50);
+  const std::optional<TimeLeft> left = estimator.Remaining(At(2000, 0, -1, 0, 0, 0), 0);
+  ASSERT_TRUE(left.has_value());
+  EXPECT_NEAR(left->seconds, 80, 1e-9);  // 40 s per 1000
 }
 
 TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
@@ -64,6 +127,13 @@ TEST(ProgressBarTest, LinesShowWhereTheStudyIs) {
   EXPECT_EQ(PlainLine(s),
             "[12:03] configuration 3/13 50 Hard, seed 52 | fedAsynQ_EqAvg 6/7 step 45/100; ~40:00 "
             "left");
+  s.remaining_at_least = true;
+  EXPECT_EQ(
+      PlainLine(s),
+      "[12:03] configuration 3/13 50 Hard, seed 52 | fedAsynQ_EqAvg 6/7 step 45/100; at least "
+      "40:00 left");
+  EXPECT_EQ(BarLine(s, 80), "3/13 50 Hard s52 fedAsynQ_EqAvg 6/7 t45/100 12:03 >40:00 left");
+  s.remaining_at_least = false;
   s.approach_index = 0;
   s.remaining.reset();
   EXPECT_EQ(PlainLine(s),

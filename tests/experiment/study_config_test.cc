@@ -52,6 +52,25 @@ TEST(StudyConfigTest, ParsesTheSubset) {
   EXPECT_EQ(e[9].line, 13);
 }
 
+// Either spelling names one option; one option given twice under two
+// spellings is refused with both lines, not the last one silently winning.
+TEST(StudyConfigTest, KeysTakeEitherSpellingOnce) {
+  Result<ConfigFile> file = ParseConfigText("epsilon_start = 0.5\nedge-case = false\n", "f");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_EQ(file->entries[0].key, "epsilon-start");
+  EXPECT_EQ(file->entries[0].written, "epsilon_start");
+  EXPECT_EQ(file->entries[1].key, "edge-case");
+  file = ParseConfigText("epsilon-start = 0.5\n# between\nepsilon_start = 0.6\n", "s.toml");
+  ASSERT_FALSE(file);
+  EXPECT_EQ(file.error().message,
+            "s.toml:3: 'epsilon_start' gives 'epsilon-start' of line 1 again (one option, '-' or "
+            "'_'): keep one");
+  file = ParseConfigText("edge_case = true\nedge-case = false\n", "s.toml");
+  ASSERT_FALSE(file);
+  EXPECT_EQ(file.error().message.rfind("s.toml:2: 'edge-case' gives 'edge_case' of line 1", 0), 0u)
+      << file.error().message;
+}
+
 TEST(StudyConfigTest, EmptyFileAndEmptyArray) {
   Result<ConfigFile> file = ParseConfigText("# nothing\n\n", "f");
   ASSERT_TRUE(file);

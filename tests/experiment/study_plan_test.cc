@@ -264,6 +264,51 @@ TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
 // A study file's relative map paths are relative to its folder;
 // the command line's to the working directory (the tests run in the build
 // tree, which has no maps/ folder).
+// MAP.map:FILE: that map's stations from a file, checked before the study,
+// handed to its run as --stations-file and kept in the identity.
+TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
+  const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
+  const std::string wide = maps + "/wide-5-9.map", stations = maps + "/wide-5-9.stations";
+  Result<StudyOptions> options = ResolveStudyOptions(
+      Cli({{"maps", wide + ":" + stations + "," + maps + "/maze-25-61-1.map"}}), 2);
+  ASSERT_TRUE(options) << options.error().message;
+  ASSERT_EQ(options->maps.size(), 2u);
+  EXPECT_EQ(options->maps[0].path, wide);
+  EXPECT_EQ(options->maps[0].stations_file, stations);
+  EXPECT_EQ(options->maps[1].stations_file, "");
+  const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
+  ASSERT_EQ(plan.size(), 2u);
+  EXPECT_EQ(plan[0].Name(), "map_wide-5-9_50");
+  runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  EXPECT_EQ(scenario.stations_file, stations);
+  EXPECT_FALSE(scenario.stations);
+  scenario = ScenarioOptionsOf(plan[1]);
+  EXPECT_EQ(scenario.stations, "0.5%");
+  EXPECT_FALSE(scenario.stations_file);
+  EXPECT_EQ(StudyIdentityJson(*options)["maps"][0], wide + ":" + stations);
+
+  // In a study file both paths are relative to its folder.
+  const std::string data = DYNAPATH_TEST_DATA_DIR;
+  Result<ConfigFile> file =
+      ParseConfigText("maps = ['maps/wide-5-9.map:maps/wide-5-9.stations']\n", data + "/s.toml");
+  ASSERT_TRUE(file);
+  Result<OptionValues> values = ConfigOptionValues(*file);
+  ASSERT_TRUE(values) << values.error().message;
+  EXPECT_EQ(values->at("maps").text,
+            data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations");
+
+  // A missing stations file or one for a folder: one error before the study.
+  options = ResolveStudyOptions(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
+  ASSERT_FALSE(options);
+  EXPECT_NE(options.error().message.find("none.stations"), std::string::npos)
+      << options.error().message;
+  options = ResolveStudyOptions(Cli({{"maps", maps + ":" + stations}}), 2);
+  ASSERT_FALSE(options);
+  EXPECT_NE(options.error().message.find("a stations file is one map's, not a folder's"),
+            std::string::npos)
+      << options.error().message;
+}
+
 TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   const std::string data = DYNAPATH_TEST_DATA_DIR;
   Result<ConfigFile> file = ParseConfigText(
@@ -298,7 +343,7 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
       {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
       {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
       {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},
-      {Cli({{"sizes", ""}}), "option --sizes: the list is empty"},
+      {Cli({{"sizes", ""}}), "option --sizes: must not be empty"},
       {Cli({{"difficulties", "easy,extreme"}}),
        "option --difficulties: unknown difficulty 'extreme'"},
       {Cli({{"difficulties", "hard,HARD"}}),

@@ -159,6 +159,17 @@ TEST(RepeatFilesTest, SummaryHoldsTheStatisticsOfEachConfigurationAndApproach) {
   EXPECT_EQ(all[5], "0.7");  // (2.5 + 1) / 5
 }
 
+// A repeats.csv saved with CRLF line ends (a Windows editor) is the same
+// table, not one with the wrong header.
+TEST(RepeatFilesTest, CrlfLineEndsReadAsLf) {
+  const std::string lf = RepeatsCsv(kRows);
+  std::string crlf;
+  for (const char ch : lf) crlf += ch == '\n' ? std::string("\r\n") : std::string(1, ch);
+  Result<std::string> from_crlf = SummaryCsv(crlf);
+  ASSERT_TRUE(from_crlf.ok()) << from_crlf.error().message;
+  EXPECT_EQ(*from_crlf, *SummaryCsv(lf));
+}
+
 TEST(RepeatFilesTest, MalformedRepeatsAreOneErrorNamingTheLine) {
   EXPECT_FALSE(SummaryCsv("Repeat,Seed\n1,2\n").ok());
   Result<std::string> bad = SummaryCsv(RepeatsCsv({"1,52,52,X,20,Hard,1,0.5,one,4"}));

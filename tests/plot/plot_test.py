@@ -67,6 +67,8 @@ def check_figures(result, out_dir, expected, what):
         if not path.is_file():
             fail(f"{what}: {name} was not written")
             continue
+        if not name.endswith(".png"):
+            continue
         size = png_size(path)
         if size is None:
             fail(f"{what}: {name} is not a complete PNG")
@@ -127,6 +129,15 @@ def figures_mode(dynapath, fixtures, work):
     check_figures(plot(dynapath, rect, "--out", out), out,
                   expected_figures(["20", "40x60"], ["Easy", "Hard"], []), "rectangular sizes")
 
+    # --format png,svg: every figure in both formats.
+    vector = work / "vector-figures"
+    result = plot(dynapath, study, "--out", vector, "--format", "png,svg")
+    svg = {name[:-4] + ".svg" for name in expected}
+    check_figures(result, vector, expected | svg, "--format png,svg")
+    for name in sorted(svg):
+        if (vector / name).is_file() and b"<svg" not in (vector / name).read_bytes()[:2000]:
+            fail(f"--format png,svg: {name} is not an SVG image")
+
     # Only the edge case.
     edge = study_copy(fixtures, work, "edge-only", drop=("results.csv", "results_detailed.csv"))
     names = expected_figures([], [], [(50, "Hard")])
@@ -138,7 +149,7 @@ def figures_mode(dynapath, fixtures, work):
         (2, "required"),
         (2, "no such directory", work / "missing"),
         (2, "--bogus", study, "--bogus"),
-        (2, "--format", study, "--format", "svg"),
+        (2, "--format", study, "--format", "gif"),
     ]
     empty = work / "empty"
     empty.mkdir()

@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
   update.run_id = "r1";
   update.source = "lidar";
   update.sequence = 1;
+  update.maze_fingerprint = static_cast<int64_t>(MazeFingerprint(grid));
   update.num_cells = 2;
   update.rows = {3, 4};
   update.cols = {5, 6};
@@ -108,6 +109,7 @@ int main(int argc, char** argv) {
     path_reply_t reply = protocol::ReplyToMessage("robot-7", 42, path_reply_t::ACCEPTED,
                                                   "fedAsynQ_EqAvg", &snapshot, starts, routes);
     reply.run_id = "r1";
+    reply.maze_fingerprint = static_cast<int64_t>(MazeFingerprint(grid));
     ok = ok && Write(dir + "/decode_fuzz/path_reply_valid", Encoded(reply));
   }
 

@@ -22,6 +22,7 @@ obstacle_update_t Update() {
   m.run_id = "r";
   m.source = "lidar";
   m.sequence = 1;
+  m.maze_fingerprint = 77;
   m.num_cells = 2;
   m.rows = {0, 2};
   m.cols = {1, 3};
@@ -33,7 +34,7 @@ TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
   obstacle_update_t m = Update();
   EXPECT_EQ(Validate(m), "");
   UpdateRefusal why{};
-  Result<MapUpdate> update = UpdateFromMessage(m, 3, 4, &why);
+  Result<MapUpdate> update = UpdateFromMessage(m, 3, 4, 77, &why);
   ASSERT_TRUE(update.ok());
   ASSERT_EQ(update->changes.size(), 2u);
   EXPECT_EQ(update->changes[0], (CellChange{1, Cell::kObstacle}));
@@ -42,12 +43,25 @@ TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
 
   obstacle_update_t outside = m;
   outside.cols[1] = 4;
-  EXPECT_FALSE(UpdateFromMessage(outside, 3, 4, &why).ok());
+  EXPECT_FALSE(UpdateFromMessage(outside, 3, 4, 77, &why).ok());
   EXPECT_EQ(why, UpdateRefusal::kOutsideGrid);
   obstacle_update_t unknown = m;
   unknown.states[0] = 2;
-  EXPECT_FALSE(UpdateFromMessage(unknown, 3, 4, &why).ok());
+  EXPECT_FALSE(UpdateFromMessage(unknown, 3, 4, 77, &why).ok());
   EXPECT_EQ(why, UpdateRefusal::kUnknownState);
+  // Made for another maze: refused whole, whatever its cells.
+  Result<MapUpdate> foreign = UpdateFromMessage(m, 3, 4, 78, &why);
+  ASSERT_FALSE(foreign.ok());
+  EXPECT_EQ(why, UpdateRefusal::kOtherMaze);
+  EXPECT_NE(foreign.error().message.find(FingerprintText(77)), std::string::npos);
+  // A step's changes as an update, and back.
+  const ChangeStep step{0, {{1, Cell::kObstacle}, {11, Cell::kFree}}};
+  const obstacle_update_t sent = UpdateToMessage(step, 4, "feed", 3, 77);
+  EXPECT_EQ(Validate(sent), "");
+  EXPECT_EQ(sent.sequence, 3);
+  Result<MapUpdate> back = UpdateFromMessage(sent, 3, 4, 77, &why);
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->changes, step.changes);
 
   obstacle_update_t bad = m;
   bad.sequence = 0;
@@ -102,9 +116,11 @@ TEST(ServiceMessages, RequestsAndReplies) {
   request.start_rows = {0};
   request.start_cols = {0};
   EXPECT_EQ(Validate(request), "");
-  request.num_starts = 0;
+  request.num_starts = 0;  // a probe
   request.start_rows.clear();
   request.start_cols.clear();
+  EXPECT_EQ(Validate(request), "");
+  request.num_starts = -1;
   EXPECT_NE(Validate(request), "");
 
   const Grid grid = *GridFromText("C..\n.#.\n...\n");

@@ -20,7 +20,8 @@ ApproachRun MakeRun(Approach approach, int rows) {
   run.load_seconds = 0.0625;
   for (int t = 0; t < rows; ++t) {
     // Values that a decimal round trip would not keep exactly.
-    run.steps.push_back(StepRecord{t, t * 3, t / 7.0, 1.0 / (t + 3), 6.0 + t / 11.0, t % 4, t % 3 - 1});
+    run.steps.push_back(
+        StepRecord{t, t * 3, t / 7.0, 1.0 / (t + 3), 6.0 + t / 11.0, t % 4, t % 3 - 1});
   }
   return run;
 }
@@ -47,6 +48,9 @@ RunCheckpoint InProgress() {
   c.runs = {MakeRun(Approach::kBfsOracle, 9), MakeRun(Approach::kSingleAgent, 9),
             MakeRun(Approach::kFedAsynQEqAvg, 5)};
   c.policy = MakePolicy(Approach::kFedAsynQEqAvg, 4);
+  c.approach_count = 4;
+  c.policy_file = {{Approach::kSingleAgent, 0x0123456789abcdefULL},
+                   {Approach::kOnlyTrainLeafNodes, 7}};
   return c;
 }
 
@@ -83,6 +87,8 @@ TEST(CheckpointFile, RoundTripsAnApproachInProgressExactly) {
   Result<RunCheckpoint> back = DecodeCheckpoint(View(*bytes));
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ(back->pass, 2);
+  EXPECT_EQ(back->approach_count, 4);
+  EXPECT_EQ(back->policy_file, c.policy_file);
   ExpectSameRuns(c.runs, back->runs);
   ASSERT_TRUE(back->policy.has_value());
   EXPECT_EQ(back->policy->step, 4);
@@ -93,6 +99,7 @@ TEST(CheckpointFile, RoundTripsAnApproachInProgressExactly) {
 TEST(CheckpointFile, RoundTripsFinishedApproachesWithoutAPolicy) {
   RunCheckpoint c;
   c.pass = 1;
+  c.approach_count = 1;
   c.runs = {MakeRun(Approach::kAStarStatic, 3)};
   Result<std::vector<uint8_t>> bytes = EncodeCheckpoint(c);
   ASSERT_TRUE(bytes);
@@ -106,6 +113,9 @@ TEST(CheckpointFile, RoundTripsFinishedApproachesWithoutAPolicy) {
 TEST(CheckpointFile, RefusesInconsistentCheckpointsToEncode) {
   RunCheckpoint c = InProgress();
   c.pass = 0;  // three runs, none finished
+  EXPECT_FALSE(EncodeCheckpoint(c));
+  c = InProgress();
+  c.approach_count = 2;  // fewer than its runs
   EXPECT_FALSE(EncodeCheckpoint(c));
   RunCheckpoint policy_without_run;
   policy_without_run.pass = 0;
@@ -174,12 +184,36 @@ TEST(CheckpointFile, WritesAndReadsADirectory) {
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().filename(), kCheckpointFileName) << "left behind: " << entry.path();
   }
-  {
-    std::ofstream(dir + "/" + kCheckpointFileName, std::ios::binary | std::ios::trunc) << "DYNA";
-  }
+  { std::ofstream(dir + "/" + kCheckpointFileName, std::ios::binary | std::ios::trunc) << "DYNA"; }
   Result<RunCheckpoint> cut = ReadCheckpoint(dir);
   ASSERT_FALSE(cut);
   EXPECT_NE(cut.error().message.find("checkpoint " + dir + "/checkpoint.dpc: "), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// A new run may take a folder with no checkpoint or a finished run's; an
+// unfinished one's is refused, saying what is there and how to resume it.
+TEST(CheckpointFile, ANewRunLeavesAnUnfinishedRunsCheckpointAlone) {
+  const std::string dir = test_paths::UniqueTempPath("checkpoint_free");
+  std::filesystem::create_directories(dir);
+  EXPECT_TRUE(CheckCheckpointFree(dir));
+  ASSERT_TRUE(WriteCheckpoint(dir, InProgress()));
+  Status taken = CheckCheckpointFree(dir);
+  ASSERT_FALSE(taken);
+  EXPECT_EQ(taken.error().message,
+            "option --checkpoint " + dir +
+                " holds the checkpoint of an unfinished run (2 of 4 approaches finished, "
+                "fedAsynQ_EqAvg after step 4): finish it with `dynapath run --resume " +
+                dir + "`, or give --force to start a new run there (that checkpoint is then lost)");
+  RunCheckpoint finished;
+  finished.pass = finished.approach_count = 1;
+  finished.runs = {MakeRun(Approach::kAStarStatic, 3)};
+  ASSERT_TRUE(WriteCheckpoint(dir, finished));
+  EXPECT_TRUE(CheckCheckpointFree(dir));
+  std::ofstream(dir + "/" + kCheckpointFileName, std::ios::binary | std::ios::trunc) << "DYNA";
+  Status damaged = CheckCheckpointFree(dir);
+  ASSERT_FALSE(damaged);
+  EXPECT_NE(damaged.error().message.find("cannot be read"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 

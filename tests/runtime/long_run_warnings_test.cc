@@ -42,5 +42,14 @@ TEST(LongRunWarningsTest, NoWarningForSmallMapsOrFastApproaches) {
   EXPECT_TRUE(LongRunWarnings(PlanOf({Approach::kAStarOracle}), report, 100).empty());
 }
 
+// run's step lines say how long the approach in hand has left, at the pace
+// of its steps after the initial training, and how many approaches follow.
+TEST(StepTimeLeftTest, ThePaceOfTheStepsSoFar) {
+  EXPECT_EQ(StepTimeLeft(50, 200, 2.5, 0), ", ~7.5 s left in this approach");
+  EXPECT_EQ(StepTimeLeft(10, 100, 20, 1), ", ~3:00 left in this approach (1 approach after it)");
+  EXPECT_EQ(StepTimeLeft(1, 3, 0.5, 3), ", ~1.0 s left in this approach (3 approaches after it)");
+  EXPECT_EQ(StepTimeLeft(100, 100, 9, 2), "") << "the last step: nothing left";
+}
+
 }  // namespace
 }  // namespace dynapath::runtime

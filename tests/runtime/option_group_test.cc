@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "dynapath/text_file.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
@@ -60,6 +62,19 @@ class OptionGroupTest : public testing::Test {
     AddConfigOption(app);
     args.insert(args.begin(), {"--config", path_});
     return ParseCommandLine(app, args, "test");
+  }
+
+  // What parsing a config file of `text` prints; it must be refused.
+  std::string ConfigError(const std::string& text) {
+    std::ofstream(path_) << text;
+    CLI::App app;
+    OptionGroup group(app);
+    Everything options;
+    Declare(group, options);
+    AddConfigOption(app);
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
+    return testing::internal::GetCapturedStderr();
   }
 
   std::string path_;
@@ -147,6 +162,18 @@ TEST(ParseCommandLineTest, BadInputIsOneErrorAndExitTwo) {
       {{"--size", "0x10"}, "option --size needs a decimal number, got '0x10'"},
       {{"--seed", "1e3"}, "option --seed needs a decimal number, got '1e3'"},
       {{"stray"}, "unexpected argument 'stray'"},
+      // Too large to read: out of range as typed, not CLI11's clamped value.
+      {{"--seed", "99999999999999999999"},
+       "option --seed is out of range, got '99999999999999999999'"},
+      {{"--size", "-099999999999999999999"},
+       "option --size is out of range, got '-099999999999999999999'"},
+      // An empty value would read as "not given": refused for every kind.
+      {{"--save-policy", ""}, "option --save-policy must not be empty"},
+      {{"--checkpoint", ""}, "option --checkpoint must not be empty"},
+      {{"--epsilon-start", ""}, "option --epsilon-start must not be empty"},
+      {{"--seed", ""}, "option --seed must not be empty"},
+      {{"--approach", ""}, "option --approach must not be empty"},
+      {{"--run-id", ""}, "option --run-id must not be empty"},
   };
   for (const auto& [args, expected] : cases) {
     CLI::App app;
@@ -173,16 +200,39 @@ TEST(ParseCommandLineTest, IntegersAreDecimalWithLeadingZeros) {
 }
 
 TEST_F(OptionGroupTest, AnUnknownConfigKeyIsAnError) {
-  std::ofstream(path_) << "size=12\ncolour=\"red\"\n";
-  CLI::App app;
-  OptionGroup group(app);
-  Everything options;
-  Declare(group, options);
-  AddConfigOption(app);
-  testing::internal::CaptureStderr();
-  EXPECT_EQ(ParseCommandLine(app, {"--config", path_}, "test"), 2);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+  EXPECT_EQ(ConfigError("size=12\ncolour=\"red\"\n"),
             "test: unknown key 'colour' in the --config file\n");
+}
+
+TEST_F(OptionGroupTest, AnEmptyConfigValueIsAnError) {
+  EXPECT_EQ(ConfigError("size=12\nload-policy=\"\"\n"),
+            "test: option --load-policy must not be empty\n");
+}
+
+// "" means "not given": the writer leaves it out, so what it writes reads
+// back under the rule above.
+TEST_F(OptionGroupTest, EmptyTextIsNotWritten) {
+  Everything given;  // --checkpoint, --save-policy, --load-policy: ""
+  Everything read;
+  ASSERT_EQ(RoundTrip(given, read), -1);
+  EXPECT_EQ(read.run.checkpoint, "");
+  EXPECT_EQ(read.run.policy.save_policy, "");
+}
+
+// An option that means something only with another is refused without it.
+TEST(ResolveRunOptionsTest, CheckpointTimingNeedsCheckpoint) {
+  RunOptions run;
+  run.checkpoint_every = 5;
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().message, "option --checkpoint-every needs --checkpoint DIR");
+  run.checkpoint_every.reset();
+  run.checkpoint_interval = 2;
+  plan = ResolveRunOptions(run);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().message, "option --checkpoint-interval needs --checkpoint DIR");
+  run.checkpoint = "ck";
+  EXPECT_TRUE(ResolveRunOptions(run).ok());
 }
 
 TEST(InRangeTest, FallbackUncheckedValueChecked) {
@@ -280,21 +330,31 @@ TEST(OptionErrorTest, CheckersNameTheirOption) {
             "/nonexistent/dynapath/maze.txt: cannot open for reading: No such file or directory");
 }
 
+// A 10x10 maze of `steps` time steps.
+Result<ScenarioSetup> SmallMaze(long long steps) {
+  ScenarioOptions scenario;
+  scenario.size = 10;
+  scenario.steps = steps;
+  return ResolveScenario(scenario);
+}
+
+// A run of `approaches` writing into `dir`.
+RunOptions RunInto(const std::string& dir, const std::string& approaches) {
+  RunOptions run;
+  run.approach = approaches;
+  run.out = dir;
+  return run;
+}
+
 // A stopped local run ends with kCancelled ("interrupted") and writes no
 // result files for the approach it cut short.
 TEST(RunLocalTest, StopEndsTheRunCancelled) {
   char name[] = "/tmp/run_local_test_XXXXXX";
   ASSERT_NE(mkdtemp(name), nullptr);
   const std::string dir = name;
-  ScenarioOptions scenario;
-  scenario.size = 10;
-  scenario.steps = 6;
-  Result<ScenarioSetup> setup = ResolveScenario(scenario);
+  Result<ScenarioSetup> setup = SmallMaze(6);
   ASSERT_TRUE(setup.ok()) << setup.error().message;
-  RunOptions run;
-  run.approach = "BFS Oracle";
-  run.out = dir;
-  Result<RunPlan> plan = ResolveRunOptions(run);
+  Result<RunPlan> plan = ResolveRunOptions(RunInto(dir, "BFS Oracle"));
   ASSERT_TRUE(plan.ok()) << plan.error().message;
 
   std::atomic<bool> stop{false};
@@ -321,6 +381,28 @@ TEST(RunLocalTest, StopEndsTheRunCancelled) {
   std::remove((dir + "/results.csv").c_str());
   std::remove((dir + "/results_detailed.csv").c_str());
   rmdir(dir.c_str());
+}
+
+// A policy file that cannot be written ends the run, but the rows of the
+// approach that saved it are written first.
+TEST(RunLocalTest, AFailedPolicyWriteKeepsTheRows) {
+  char name[] = "/tmp/run_local_policy_XXXXXX";
+  ASSERT_NE(mkdtemp(name), nullptr);
+  const std::string dir = name;
+  Result<ScenarioSetup> setup = SmallMaze(2);
+  ASSERT_TRUE(setup.ok()) << setup.error().message;
+  RunOptions run = RunInto(dir, "BFS Oracle,fedAsynQ_EqAvg");
+  run.policy.save_policy = dir + "/missing/p.pol";  // not checked here, as `run` does
+  Result<RunPlan> plan = ResolveRunOptions(run);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  Result<std::vector<ApproachRun>> runs = RunLocal(*plan, *setup, 1);
+  ASSERT_FALSE(runs.ok());
+  EXPECT_NE(runs.error().message.find("policy file " + dir + "/missing/p.pol"), std::string::npos)
+      << runs.error().message;
+  Result<std::string> results = ReadTextFile(dir + "/results.csv");
+  ASSERT_TRUE(results.ok());
+  EXPECT_NE(results->find("\nfedAsynQ_EqAvg,"), std::string::npos) << *results;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

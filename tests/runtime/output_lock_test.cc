@@ -106,6 +106,18 @@ TEST_F(OutputLockTest, OutputPathsAreCheckedWithTheReason) {
                                         " does not exist");
   EXPECT_TRUE(CheckOutputFile((dir_ / "run.lcm").string(), "log").ok());
   EXPECT_TRUE(CheckOutputFile(file, "log").ok());
+  // A folder that takes no new files, whatever access() says (to root).
+  status = CheckOutputFile("/proc/p.pol", "save-policy");
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.error().message.rfind(
+                "option --save-policy: /proc/p.pol: its folder /proc is not writable: ", 0),
+            0u)
+      << status.error().message;
+  EXPECT_FALSE(PrepareOutputDirectory("/proc/self", "out").ok());
+  // The probe leaves nothing behind.
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().rfind(".dynapath-probe", 0), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -131,30 +131,62 @@ TEST(ParameterOptionsTest, ChildConfigCarriesTheParametersGiven) {
   EXPECT_EQ(ParametersToml(a->options), ParametersToml(b->options));
 }
 
+// The run plan of `args` (a command line or `--config FILE`), or an error.
+Result<RunPlan> PlanOf(std::vector<std::string> args) {
+  RunOptions options;
+  if (Parse(std::move(args), options) != -1) return Error{"bad command line"};
+  return ResolveRunOptions(options);
+}
+
+// The run plan `toml` gives as a --config file.
+Result<RunPlan> PlanOfConfig(const std::string& toml) {
+  TempFile config;
+  config.Write(toml);
+  return PlanOf({"--config", config.path()});
+}
+
 // params.toml holds every parameter and reads back as the same values.
 TEST(ParameterOptionsTest, ParamsTomlReadsBack) {
-  RunOptions given;
-  ASSERT_EQ(Parse({"--convergence-threshold", "0.000123", "--sync-period", "77", "--escalate-below",
-                   "0.5", "--epsilon-min", "0.1"},
-                  given),
-            -1);
-  Result<RunPlan> plan = ResolveRunOptions(given);
+  Result<RunPlan> plan = PlanOf({"--convergence-threshold", "0.000123", "--sync-period", "77",
+                                 "--escalate-below", "0.5", "--epsilon-min", "0.1"});
   ASSERT_TRUE(plan.ok());
   const std::string toml = ParametersToml(plan->options);
   for (const Parameter& p : Parameters()) {
     EXPECT_NE(toml.find("\n" + p.name + " = "), std::string::npos) << p.name;
   }
-  TempFile config;
-  config.Write(toml);
-  RunOptions read;
-  ASSERT_EQ(Parse({"--config", config.path()}, read), -1);
-  Result<RunPlan> again = ResolveRunOptions(read);
+  Result<RunPlan> again = PlanOfConfig(toml);
   ASSERT_TRUE(again.ok());
   for (size_t i = 0; i < Parameters().size(); ++i) {
     EXPECT_EQ(ParameterValue(again->options, i), ParameterValue(plan->options, i))
         << Parameters()[i].name;
   }
   EXPECT_EQ(again->options.single_agent.epsilon_min, 0.1);
+}
+
+// A run's params.toml holds what determines its results besides the maze:
+// with report semantics and a leaf limit, it reads back as the same plan
+// (not ours with the default leaf limit).
+TEST(ParameterOptionsTest, RunPlanTomlHoldsTheLearnerOptions) {
+  Result<RunPlan> plan = PlanOf({"--semantics", "report", "--leaf-limit", "10", "--approach",
+                                 "singleAgent,BFS Oracle", "--learner-seed", "77"});
+  ASSERT_TRUE(plan.ok());
+  const std::string toml = RunPlanToml(*plan);
+  EXPECT_NE(toml.find("\nsemantics = \"report\"\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("\nleaf-limit = 10\n"), std::string::npos) << toml;
+  EXPECT_EQ(toml.find("bootstrap"), std::string::npos) << toml;  // report's own
+  Result<RunPlan> again = PlanOfConfig(toml);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->options.semantics, Semantics::kReport);
+  EXPECT_EQ(again->options.leaf_limit, 10);
+  EXPECT_EQ(again->options.bootstrap, plan->options.bootstrap);
+  EXPECT_EQ(again->approaches, plan->approaches);
+  EXPECT_EQ(again->learner_seed, 77u);
+  EXPECT_EQ(RunPlanToml(*again), toml);
+
+  // Ours: the bootstrap is written too.
+  Result<RunPlan> in_region = PlanOf({"--bootstrap", "in-region"});
+  ASSERT_TRUE(in_region.ok());
+  EXPECT_NE(RunPlanToml(*in_region).find("\nbootstrap = \"in-region\"\n"), std::string::npos);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <thread>
 
@@ -220,6 +221,49 @@ TEST(PathService, TakesOverALoadedPolicyAtItsStep) {
   ASSERT_TRUE(served.ok());
   ASSERT_EQ(served->steps.size(), 1u);  // step 3 only: the saved step is not scored again
   EXPECT_EQ(served->steps[0].success_rate, run->steps[3].success_rate);
+
+  // The same policy with fewer steps than its saved step, or with another
+  // change sequence: refused before any work, with the reason; and Start
+  // ends at once instead of answering not_ready for ever.
+  ServiceConfig short_config = config;
+  short_config.catch_up.steps.resize(1);
+  const Status too_short = PathService::CheckLoad(scenario.grid, short_config);
+  ASSERT_FALSE(too_short.ok());
+  EXPECT_NE(too_short.error().message.find("saved at time step 2"), std::string::npos);
+  EXPECT_NE(too_short.error().message.find("has 1 steps"), std::string::npos);
+  ServiceConfig other_changes = config;
+  other_changes.catch_up = GenerateScenario(20, 20, Difficulty::kHard, seed + 1, 4).changes;
+  EXPECT_FALSE(PathService::CheckLoad(scenario.grid, other_changes).ok());
+  EXPECT_TRUE(PathService::CheckLoad(scenario.grid, config).ok());
+  PathService refused(scenario.grid, short_config);
+  refused.Start();
+  for (int i = 0; i < 1000 && !refused.training_ended(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(refused.training_ended());
+  EXPECT_FALSE(refused.Stop().ok());
+}
+
+// A request without starts is a probe: answered with the version and step,
+// counted as a probe, not as a start of any status.
+TEST(PathService, ProbesAreCountedApartFromStarts) {
+  const unsigned seed = 5;
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, seed, 0);
+  PathService service(scenario.grid, Config(scenario, seed, 8));
+  service.Start();
+  ASSERT_TRUE(service.WaitForVersion(1, kWait));
+  const Answer probe = service.Ask({});
+  EXPECT_EQ(probe.refused, Answer::kAccepted);
+  ASSERT_NE(probe.snapshot, nullptr);
+  EXPECT_EQ(probe.snapshot->version, 1);
+  EXPECT_TRUE(probe.routes.empty());
+  const ServiceStats stats = service.stats();
+  EXPECT_EQ(stats.requests, 1);
+  EXPECT_EQ(stats.probes, 1);
+  EXPECT_EQ(stats.starts, 0);
+  for (int64_t n : stats.by_status) EXPECT_EQ(n, 0);
+  EXPECT_NE(PathService::Summary(stats).find("1 of them probes without starts"), std::string::npos);
+  EXPECT_TRUE(service.Stop().ok());
 }
 
 }  // namespace

@@ -5,13 +5,19 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/path_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/scenario.h"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "protocol/dispatcher.h"
+#include "runtime/reply_witness.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -133,6 +139,139 @@ TEST(ServiceBus, RepublishesTheLastPolicyForLateViewers) {
   ASSERT_TRUE(served.viewer.WaitFor(3));
   for (int step : served.viewer.steps()) EXPECT_EQ(step, 0);
   EXPECT_TRUE(served.service.Stop().ok());
+}
+
+// The replies to one client, witnessed as a client does.
+class ReplyListener {
+ public:
+  ReplyListener(lcm::LCM& lcm, const std::string& run) : bus_(lcm, run, MemqBusOptions()) {
+    bus_.Subscribe<path_reply_t>(protocol::channel::kPathReply, [this](path_reply_t& reply) {
+      {
+        std::lock_guard lock(mutex_);
+        witness_.Saw(reply);
+        replies_.push_back(reply);
+      }
+      changed_.notify_all();
+    });
+  }
+  void Ask(int64_t id) {
+    path_request_t request{};
+    request.run_id = bus_.run_id();
+    request.client = "asker";
+    request.request_id = id;
+    bus_.Publish(protocol::channel::kPathRequest, request);
+  }
+  bool WaitFor(size_t count) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::duration<double>(kBusWait),
+                             [&] { return replies_.size() >= count; });
+  }
+  std::vector<path_reply_t> replies() {
+    std::lock_guard lock(mutex_);
+    return replies_;
+  }
+  std::optional<std::string> conflict() {
+    std::lock_guard lock(mutex_);
+    return witness_.conflict();
+  }
+  protocol::Bus& bus() { return bus_; }
+
+ private:
+  protocol::Bus bus_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<path_reply_t> replies_;
+  ReplyWitness witness_;
+};
+
+obstacle_update_t UpdateMessage(const ChangeStep& step, const Grid& grid, uint64_t maze,
+                                int64_t sequence) {
+  obstacle_update_t update = protocol::UpdateToMessage(step, grid.cols(), "test", sequence, maze);
+  update.run_id = "service-bus";
+  return update;
+}
+
+// A service on its own Bus of a shared memq:// (as a process of its own
+// on a network would be); subscribed on construction, started by Start.
+struct BusService {
+  BusService(lcm::LCM& lcm, const Scenario& scenario)
+      : bus(lcm, "service-bus", MemqBusOptions()),
+        service(scenario.grid, BusServiceConfig(scenario)),
+        service_bus(bus, service, Quiet()) {}
+  static ServiceBusOptions Quiet() {
+    ServiceBusOptions options;
+    options.publish_policy = false;
+    return options;
+  }
+  protocol::Bus bus;
+  PathService service;
+  ServiceBus service_bus;
+};
+
+// Every reply names the service's maze; an update made for another maze
+// (its fingerprint) is dropped and counted, one for this maze is taken.
+TEST(ServiceBus, RepliesNameTheMazeAndForeignUpdatesAreDropped) {
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 2);
+  const Scenario other = GenerateScenario(16, 16, Difficulty::kHard, 99, 2);
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  ReplyListener client(lcm, "service-bus");
+  BusService served(lcm, scenario);
+  protocol::Dispatcher dispatcher(lcm);
+  served.service.Start();
+  ASSERT_TRUE(served.service.WaitForStep(0, kBusWait));
+  client.Ask(1);
+  ASSERT_TRUE(client.WaitFor(1));
+  EXPECT_EQ(static_cast<uint64_t>(client.replies()[0].maze_fingerprint),
+            MazeFingerprint(scenario.grid));
+
+  const uint64_t foreign = MazeFingerprint(other.grid);
+  ASSERT_NE(foreign, MazeFingerprint(scenario.grid));
+  client.bus().Publish(protocol::channel::kMapUpdates,
+                       UpdateMessage(other.changes.steps[0], other.grid, foreign, 1));
+  client.bus().Publish(
+      protocol::channel::kMapUpdates,
+      UpdateMessage(scenario.changes.steps[0], scenario.grid, MazeFingerprint(scenario.grid), 2));
+  ASSERT_TRUE(served.service.WaitForStep(1, kBusWait));
+  const ServiceStats stats = served.service.stats();
+  EXPECT_EQ(stats.updates.refused[static_cast<size_t>(UpdateRefusal::kOtherMaze)], 1);
+  EXPECT_EQ(stats.updates.accepted, 1);
+  EXPECT_EQ(stats.updates.cells_changed,
+            static_cast<int64_t>(scenario.changes.steps[0].changes.size()));
+  EXPECT_NE(PathService::Summary(stats).find("1 other_maze"), std::string::npos);
+  EXPECT_TRUE(served.service.Stop().ok());
+}
+
+// Two services of one run id (other mazes) on one network both answer a
+// request: the client's witness names both mazes instead of taking the
+// first reply.
+TEST(ServiceBus, TwoServicesOfOneRunAreWitnessedByTheirClient) {
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 0);
+  const Scenario other = GenerateScenario(20, 20, Difficulty::kHard, 4, 0);
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  ReplyListener client(lcm, "service-bus");
+  BusService first(lcm, scenario), second(lcm, other);
+  protocol::Dispatcher dispatcher(lcm);
+  first.service.Start();
+  second.service.Start();
+  ASSERT_TRUE(first.service.WaitForStep(0, kBusWait));
+  ASSERT_TRUE(second.service.WaitForStep(0, kBusWait));
+  client.Ask(1);
+  ASSERT_TRUE(client.WaitFor(2));
+  const std::optional<std::string> conflict = client.conflict();
+  ASSERT_TRUE(conflict.has_value());
+  EXPECT_NE(conflict->find(FingerprintText(MazeFingerprint(scenario.grid))), std::string::npos);
+  EXPECT_NE(conflict->find(FingerprintText(MazeFingerprint(other.grid))), std::string::npos);
+
+  // One service: the same reply twice is no conflict.
+  ReplyWitness witness;
+  const path_reply_t reply = client.replies()[0];
+  EXPECT_TRUE(witness.Saw(reply));
+  EXPECT_TRUE(witness.Saw(reply));
+  EXPECT_FALSE(witness.conflict().has_value());
+  EXPECT_TRUE(first.service.Stop().ok());
+  EXPECT_TRUE(second.service.Stop().ok());
 }
 
 }  // namespace

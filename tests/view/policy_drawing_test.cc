@@ -255,9 +255,13 @@ TEST(PolicyDrawing, OnlyPaletteColours) {
   AddRegion(policy, 3, 4, 5, 2);
   ASSERT_EQ(protocol::Validate(policy), "");
   const std::vector<Rgb>& palette = DrawingPalette();
+  std::vector<uint8_t> moving(static_cast<size_t>(policy.num_cells), 0);
+  moving[0] = 1;
   for (int cell : {1, 4, 6, 16, 33}) {
     DrawOptions options;
     options.cell_px = cell;
+    options.legend = cell != 4;
+    options.moving = &moving;
     const RgbImage image = DrawPolicy(policy, options);
     std::set<int> used;
     for (int y = 0; y < image.height(); ++y) {
@@ -269,6 +273,73 @@ TEST(PolicyDrawing, OnlyPaletteColours) {
     }
     EXPECT_GE(used.size(), 5u);
   }
+}
+
+// Cells where an obstacle is at one step and not at another: the run's
+// moving obstacles; walls (obstacles at every step) are not among them.
+TEST(PolicyDrawing, MovingCellsAreWhereObstaclesChange) {
+  policy_t step0 = SmallPolicy();  // an obstacle at (0, 3)
+  step0.cells[3 * 5 + 0] = 0;      // and a wall at (3, 0)
+  policy_t step1 = step0;
+  step1.cells[0 * 5 + 3] = 1;  // the obstacle moves to (1, 3)
+  step1.cells[1 * 5 + 3] = 0;
+  MovingCells moving;
+  EXPECT_TRUE(moving.cells().empty());
+  moving.Add(step0);
+  EXPECT_FALSE(moving.any());
+  moving.Add(step1);
+  EXPECT_TRUE(moving.any());
+  std::vector<uint8_t> expected(20, 0);
+  expected[0 * 5 + 3] = expected[1 * 5 + 3] = 1;
+  EXPECT_EQ(moving.cells(), expected);
+
+  DrawOptions options;
+  options.cell_px = 16;
+  options.moving = &moving.cells();
+  const PolicyLayout layout = LayoutFor(step1, options);
+  const RgbImage image = DrawPolicy(step1, options);
+  EXPECT_EQ(Near(image, layout, 1, 3, 0, 0), colour::kMover);
+  EXPECT_EQ(Near(image, layout, 3, 0, 0, 0), colour::kObstacle) << "a wall stays dark";
+  EXPECT_NE(Near(image, layout, 0, 3, 0, 0), colour::kMover) << "free now";
+}
+
+// The legend below the grid: a swatch of every colour in use with its name,
+// wrapped to the picture's width, of one size for every frame of a run.
+TEST(PolicyDrawing, LegendNamesTheColours) {
+  const policy_t policy = MakePolicy(20, 20, "fedAsynQ_EqAvg", 3);
+  std::vector<uint8_t> moving(400, 0);
+  moving[5] = 1;
+  DrawOptions options;
+  options.legend = true;
+  const PolicyLayout plain = LayoutFor(policy, DrawOptions{});
+  const PolicyLayout with = LayoutFor(policy, options);
+  EXPECT_EQ(with.legend_y, plain.height);
+  EXPECT_GT(with.height, plain.height);
+  std::vector<std::string> names;
+  for (const auto& entry : with.legend) names.push_back(entry.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"free", "obstacle", "station", "start that fails",
+                                             "action", "retrained region"}));
+  options.moving = &moving;
+  const PolicyLayout movers = LayoutFor(policy, options);
+  ASSERT_GE(movers.legend.size(), 3u);
+  EXPECT_EQ(movers.legend[2].name, "moving obstacle");
+  EXPECT_EQ(movers.legend[2].colour, colour::kMover);
+  const RgbImage image = DrawPolicy(policy, options);
+  EXPECT_EQ(image.height(), movers.height);
+  for (const auto& entry : movers.legend) {
+    EXPECT_LT(entry.x + 9 + 3 + TextWidth(entry.name, 1), image.width()) << entry.name;
+    // The swatch's inside holds its colour.
+    EXPECT_EQ(image.At(entry.x + 4, movers.legend_y + 3 + entry.row * (kLineHeight + 2) + 4),
+              entry.colour)
+        << entry.name;
+  }
+  // Another step, other numbers: the same size.
+  policy_t later = MakePolicy(20, 20, "fedAsynQ_EqAvg", 4567);
+  std::fill(later.reaches.begin(), later.reaches.end(), 0);
+  EXPECT_EQ(DrawPolicy(later, options).height(), image.height());
+  // A narrow picture wraps the legend onto more rows.
+  const PolicyLayout narrow = LayoutFor(MakePolicy(4, 4), options);
+  EXPECT_GT(narrow.legend.back().row, movers.legend.back().row);
 }
 
 TEST(SafeName, Approaches) {

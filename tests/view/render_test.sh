@@ -30,35 +30,37 @@ for approach in fedAsynQ_EqAvg A_Oracle; do
   [ "$frames" -eq $((steps + 1)) ] && pass "$approach: $frames PNG frames" ||
     fail "$approach: $frames PNG frames, expected $((steps + 1))"
   sizes=$(for f in "$dir"/step_*.png; do "$info" "$f" || echo invalid; done | sort -u)
-  # 20x20 cells of 16 px, plus the two-line header.
-  [ "$sizes" = "png 320 372" ] && pass "$approach: every frame a valid 320x372 PNG" ||
+  # 20x20 cells of 16 px, plus the two-line header and the legend's two rows
+  # (its obstacles move: a "moving obstacle" entry).
+  [ "$sizes" = "png 320 404" ] && pass "$approach: every frame a valid 320x404 PNG" ||
     fail "$approach: frame sizes '$sizes'"
   gif=$("$info" "$dir/policy.gif")
-  [ "$gif" = "gif 320 372 $((steps + 1))" ] && pass "$approach: GIF of $((steps + 1)) frames" ||
+  [ "$gif" = "gif 320 404 $((steps + 1))" ] && pass "$approach: GIF of $((steps + 1)) frames" ||
     fail "$approach: GIF '$gif'"
 done
 
-# 3. Options: one approach, smaller cells, no GIF.
-"$render" "$work/run.lcm" --out "$work/small" --approach "A* Oracle" --cell 8 --no-gif \
+# 3. Options: one approach, smaller cells, no GIF, no legend.
+"$render" "$work/run.lcm" --out "$work/small" --approach "A* Oracle" --cell 8 --no-gif --no-legend \
   --log-level warn || fail "render --approach --cell --no-gif"
 [ "$(ls "$work/small")" = "A_Oracle" ] && pass "--approach renders that approach only" ||
   fail "--approach: $(ls "$work/small")"
 [ "$("$info" "$work/small/A_Oracle/step_0000.png")" = "png 160 186" ] &&
-  pass "--cell 8 gives 160x186 frames" || fail "--cell 8: $("$info" "$work/small/A_Oracle/step_0000.png")"
+  pass "--cell 8 --no-legend gives 160x186 frames" || fail "--cell 8: $("$info" "$work/small/A_Oracle/step_0000.png")"
 [ ! -e "$work/small/A_Oracle/policy.gif" ] && pass "--no-gif writes no GIF" || fail "--no-gif wrote a GIF"
 
 # 3b. A non-square MovingAI map (5 rows, 9 columns): frames 9 cells wide and
-# 5 high (16 px each) under a one-line header of 26 px, as its own GIF.
+# 5 high (16 px each) under a one-line header of 26 px and above the legend
+# (six rows of 13 px and 6 px of margin: 84 px), as its own GIF.
 map="$(dirname "$0")/../data/maps/wide-5-9.map"
 "$dynapath" netns -- "$dynapath" run --agents 1 --maze "$map" --stations 2 --movers 20% --seed 5 \
   --approach "fedAsynQ_EqAvg" --steps 3 --log "$work/map.lcm" --out "$work/map_out" \
   --log-level warn >/dev/null 2>"$work/map_run.log" || { cat "$work/map_run.log"; fail "logged map run"; }
 "$render" "$work/map.lcm" --out "$work/map_frames" --log-level warn || fail "render of a map run"
 map_sizes=$(for f in "$work/map_frames/fedAsynQ_EqAvg"/step_*.png; do "$info" "$f" || echo invalid; done | sort | uniq -c | tr -s ' ')
-[ "$map_sizes" = " 4 png 144 106" ] && pass "map run: 4 frames of 144x106 (9x5 cells)" ||
+[ "$map_sizes" = " 4 png 144 190" ] && pass "map run: 4 frames of 144x190 (9x5 cells)" ||
   fail "map run frames: '$map_sizes'"
-[ "$("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")" = "gif 144 106 4" ] &&
-  pass "map run: GIF of 4 frames, 144x106" || fail "map run GIF: $("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")"
+[ "$("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")" = "gif 144 190 4" ] &&
+  pass "map run: GIF of 4 frames, 144x190" || fail "map run GIF: $("$info" "$work/map_frames/fedAsynQ_EqAvg/policy.gif")"
 
 # 4. Bad input: one line on stderr, exit 2 for usage, 1 for bad files.
 expect() {  # CODE WHAT CMD...

@@ -33,9 +33,14 @@ int CompareCommand(const std::vector<std::string>& args);
 // prints one error naming `missing_hint` and returns kExitFailure.
 int SiblingCommand(const std::string& tool, const std::vector<std::string>& args,
                    const std::string& missing_hint);
+// The same as a child process: runs `tool` with `args`, waits for it and
+// returns its exit status (kExitFailure when it is missing or killed).
+int RunSibling(const std::string& tool, const std::vector<std::string>& args,
+               const std::string& missing_hint);
 
-// Exit codes: 0 success, 1 run-time failure, 2 bad usage.
+// Exit codes: 0 success, 1 run-time failure, 2 bad usage, 130 interrupted.
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInterrupted = 130;  // stopped by Ctrl-C or SIGTERM before a result
 
 }  // namespace dynapath::cli

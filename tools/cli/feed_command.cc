@@ -3,9 +3,11 @@
 // lock step with the service's commits (the default: the service then
 // makes exactly the run's time steps) or at a fixed rate.
 
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -14,6 +16,7 @@
 #include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -38,13 +41,14 @@ int FeedCommand(const std::vector<std::string>& args) {
       "(obstacle_update_t on DYNAPATH/<run>/MAP_UPDATES, one per time step): the\n"
       "sequence of --changes FILE (as `dynapath maze --save-changes` writes it), or the\n"
       "one generated for the maze options as `run` would. The maze options must be the\n"
-      "service's. Without --rate it waits for the service to commit each step before\n"
-      "sending the next, so the service's time steps are the run's; with --rate R it\n"
-      "sends R steps a second whatever the service does. Prints one JSON line: steps\n"
-      "sent and, in lock step, the service's last step and the times from publishing\n"
-      "an update to the first reply from a policy of its step (commit_p50_ms, ...; for\n"
-      "a step that retrains, the interim policy committed before the training) and to\n"
-      "the step's own retrained policy (trained_p50_ms, ...).",
+      "service's (its maze fingerprint is checked first); the steps sent are those after\n"
+      "the service's current step. Without --rate it waits for the service to commit\n"
+      "each step before sending the next, so the service's time steps are the run's;\n"
+      "with --rate R it sends R steps a second whatever the service does. Prints one\n"
+      "JSON line: steps sent and, in lock step, the service's last step and the times\n"
+      "from publishing an update to the first reply from a policy of its step\n"
+      "(commit_p50_ms, ...; for a step that retrains, the interim policy committed\n"
+      "before the training) and to the step's own retrained policy (trained_p50_ms, ...).",
       kFeedProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
@@ -58,6 +62,9 @@ int FeedCommand(const std::vector<std::string>& args) {
   group.Option("--source", source_given, "NAME",
                "the updates' source name (1-64 characters; sequence numbers count per source)",
                "feed-PID");
+  std::optional<long long> max_steps;
+  group.Option("--max-steps", max_steps, "N",
+               "send at most N steps (1-10000000) after the service's current one", "all");
   double timeout = 60;
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
@@ -78,6 +85,10 @@ int FeedCommand(const std::vector<std::string>& args) {
   if (!(timeout > 0 && timeout <= 3600)) {
     return runtime::ProcessError(kFeedProgram, "--timeout must be between 0 and 3600 seconds");
   }
+  if (max_steps) {
+    Result<long long> checked = runtime::InRange("max-steps", *max_steps, 1, 1, 10000000);
+    if (!checked) return runtime::ProcessError(kFeedProgram, checked.error().message);
+  }
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return runtime::ProcessError(kFeedProgram, setup.error().message);
   const Grid& grid = setup->scenario.grid;
@@ -85,32 +96,42 @@ int FeedCommand(const std::vector<std::string>& args) {
       ServiceClient::Open(*process, "feed-" + std::to_string(getpid()), ServiceClient::kReports);
   if (!opened) return runtime::ProcessError(kFeedProgram, opened.error().message, kExitFailure);
   ServiceClient& client = **opened;
-  // The step the service is at: its first commit answers this probe.
-  const std::vector<std::pair<int32_t, int32_t>> probe = {{0, 0}};
-  std::optional<path_reply_t> first = client.Ask(probe, timeout);
-  if (!first || first->refused == path_reply_t::NOT_READY) {
-    return runtime::ProcessError(
-        kFeedProgram, "no policy from a service of run " + process->run_id + " within --timeout",
-        kExitFailure);
+  // The service's maze and step: its first commit answers this probe (a
+  // request without starts, counted as a probe, not as a start).
+  const std::vector<std::pair<int32_t, int32_t>> probe;
+  Result<path_reply_t> first = client.Meet(grid, timeout);
+  if (!first) {
+    return runtime::ProcessError(kFeedProgram, first.error().message,
+                                 first.error().IsInvalidArgument() ? kExitUsage : kExitFailure);
   }
+  // The service is at step T of this sequence (a loaded policy caught up
+  // with it, or an earlier feed): it goes on from step T + 1.
   int expected_step = first->time_step;
+  const std::vector<ChangeStep>& steps = setup->scenario.changes.steps;
+  if (expected_step > static_cast<int>(steps.size())) {
+    return runtime::ProcessError(
+        kFeedProgram,
+        "the service is at time step " + std::to_string(expected_step) +
+            " and the change sequence has " + std::to_string(steps.size()) +
+            " steps: nothing of it is left to send (give --steps or a change file that goes on)");
+  }
+  if (expected_step > 0) {
+    spdlog::info("feed: the service is at time step {}: sending from step {}", expected_step,
+                 expected_step + 1);
+  }
   const auto start = std::chrono::steady_clock::now();
   int sent = 0;
   LatencyHistogram commit;   // lock step: update published -> a policy of its step answering
   LatencyHistogram trained;  // ... -> the step's own (retrained) policy committed
-  for (const ChangeStep& step : setup->scenario.changes.steps) {
-    obstacle_update_t update{};
+  const size_t last = max_steps ? std::min(steps.size(), static_cast<size_t>(expected_step) +
+                                                             static_cast<size_t>(*max_steps))
+                                : steps.size();
+  for (size_t t = static_cast<size_t>(expected_step); t < last; ++t) {
+    const ChangeStep& step = steps[t];
+    obstacle_update_t update = protocol::UpdateToMessage(
+        step, grid.cols(), source, ++sent, static_cast<uint64_t>(first->maze_fingerprint));
     update.run_id = process->run_id;
-    update.source = source;
-    update.sequence = ++sent;
     update.utime = NowMicros();
-    for (const CellChange& change : step.changes) {
-      update.rows.push_back(grid.RowOf(change.cell));
-      update.cols.push_back(grid.ColOf(change.cell));
-      update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
-                                                             : obstacle_update_t::FREE);
-    }
-    update.num_cells = static_cast<int32_t>(update.rows.size());
     if (rate) {
       std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                 std::chrono::duration<double>((sent - 1) / *rate)));
@@ -156,6 +177,9 @@ int FeedCommand(const std::vector<std::string>& args) {
     }
     trained.Add(
         std::chrono::duration_cast<std::chrono::microseconds>(*reported - published).count());
+  }
+  if (std::optional<std::string> two = client.SecondService()) {
+    return runtime::ProcessError(kFeedProgram, *two, kExitFailure);
   }
   if (rate) {
     std::printf("{\"sent\":%d}\n", sent);

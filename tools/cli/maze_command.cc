@@ -13,10 +13,44 @@
 #include "tools/cli/commands.h"
 
 namespace dynapath::cli {
+namespace {
+
+// The grid as `--save` writes it, but with every obstacle that moves during
+// the run's time steps (its cell changes in the change sequence) printed
+// `o`, walls staying `#`; then a legend line. The saved file keeps `#` for
+// both: its format is that of every maze file.
+std::string GridPrintout(const Grid& grid, const ChangeSequence& changes) {
+  std::vector<uint8_t> moving(static_cast<size_t>(grid.rows()) * grid.cols(), 0);
+  for (const ChangeStep& step : changes.steps) {
+    for (const CellChange& change : step.changes) {
+      if (change.cell >= 0 && static_cast<size_t>(change.cell) < moving.size()) {
+        moving[static_cast<size_t>(change.cell)] = 1;
+      }
+    }
+  }
+  std::string text = GridToText(grid);
+  size_t cell = 0;
+  bool any = false;
+  for (char& ch : text) {
+    if (ch == '\n') continue;
+    if (ch == '#' && moving[cell]) {
+      ch = 'o';
+      any = true;
+    }
+    ++cell;
+  }
+  text += std::string("legend: # obstacle that never moves") +
+          (any ? ", o obstacle that moves during the time steps" : "") + ", . free, C station\n";
+  return text;
+}
+
+}  // namespace
 
 int MazeCommand(const std::vector<std::string>& args) {
   CLI::App app(
-      "Generates (or loads) a maze and prints it with its facts: cells of each kind,\n"
+      "Generates (or loads) a maze and prints it (# obstacle, o an obstacle that moves\n"
+      "during the time steps, . free, C station; --save writes # for both) with its\n"
+      "facts: cells of each kind,\n"
       "quadtree leaves and levels, and the optimal success rate and average path\n"
       "length at time step 0.",
       "dynapath maze");
@@ -69,7 +103,7 @@ int MazeCommand(const std::vector<std::string>& args) {
       return kExitFailure;
     }
   }
-  if (!no_grid) std::fputs(GridToText(grid).c_str(), stdout);
+  if (!no_grid) std::fputs(GridPrintout(grid, setup->scenario.changes).c_str(), stdout);
 
   const QuadTree tree(grid.rows(), grid.cols(), static_cast<int>(*leaf_limit));
   int leaves_without_station = 0;

@@ -19,6 +19,7 @@
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -49,7 +50,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
       "obstacles move by the maze's next change step, which this command publishes to\n"
       "the service as an update and waits for its commit; a robot asks again when its\n"
       "next cell became an obstacle (a blocked move) or its plan comes from an older\n"
-      "policy. Robots do not block each other. The maze options must be the service's.\n"
+      "policy. Robots do not block each other. The maze options must be the service's\n"
+      "(its maze fingerprint is checked first); the obstacles start from the service's\n"
+      "current step of the maze's change sequence.\n"
       "Prints one JSON line: robots, arrived, arrival_rate, ticks_over_optimal (ticks\n"
       "of the arrived robots over their exact optimum at tick 0), blocked_moves,\n"
       "queries, requeries, queries_per_s.",
@@ -91,6 +94,27 @@ int RobotsCommand(const std::vector<std::string>& args) {
   Grid grid = setup->scenario.grid;
   const std::vector<ChangeStep>& steps = setup->scenario.changes.steps;
 
+  Result<std::unique_ptr<ServiceClient>> opened =
+      ServiceClient::Open(*process, "robots-" + std::to_string(getpid()), ServiceClient::kReports);
+  if (!opened) return runtime::ProcessError(kRobotsProgram, opened.error().message, kExitFailure);
+  ServiceClient& client = **opened;
+  Result<path_reply_t> met = client.Meet(grid, timeout);
+  if (!met) {
+    return runtime::ProcessError(kRobotsProgram, met.error().message,
+                                 met.error().IsInvalidArgument() ? kExitUsage : kExitFailure);
+  }
+  // The service is at step T of the maze's change sequence (a loaded
+  // policy caught up with it, or an earlier fleet): the obstacles go on
+  // from there.
+  const int service_start = met->time_step;
+  if (service_start > static_cast<int>(steps.size())) {
+    return runtime::ProcessError(
+        kRobotsProgram, "the service is at time step " + std::to_string(service_start) +
+                            " and the maze's change sequence has " + std::to_string(steps.size()) +
+                            " steps (give --steps)");
+  }
+  for (int t = 0; t < service_start; ++t) ApplyChanges(steps[static_cast<size_t>(t)], grid);
+
   // Starts: free cells that can reach a station at tick 0.
   std::vector<int32_t> distance, queue;
   NearestStationDistances(grid, distance, queue);
@@ -109,13 +133,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
     robot.optimum = distance[robot.cell];
   }
 
-  Result<std::unique_ptr<ServiceClient>> opened =
-      ServiceClient::Open(*process, "robots-" + std::to_string(getpid()), ServiceClient::kReports);
-  if (!opened) return runtime::ProcessError(kRobotsProgram, opened.error().message, kExitFailure);
-  ServiceClient& client = **opened;
   const std::string source = "robots-" + std::to_string(getpid());
-  int64_t latest_version = 0;
-  int service_step = 0;  // the newest time step heard
+  int64_t latest_version = met->version;
+  int service_step = service_start;  // the newest time step heard
   int64_t queries = 0, requeries = 0, blocked = 0, unanswered = 0;
   const auto started = std::chrono::steady_clock::now();
   // Asks for the robots of `who` (at most 64 a request), and keeps the
@@ -154,23 +174,15 @@ int RobotsCommand(const std::vector<std::string>& args) {
     return true;
   };
 
-  size_t step_index = 0;
+  size_t step_index = static_cast<size_t>(service_start);
   int64_t sequence = 0;
   for (long long tick = 0; tick < ticks; ++tick) {
     if (tick > 0 && tick % ticks_per_step == 0 && step_index < steps.size()) {
       const ChangeStep& step = steps[step_index++];
       ApplyChanges(step, grid);
-      obstacle_update_t update{};
+      obstacle_update_t update = protocol::UpdateToMessage(
+          step, grid.cols(), source, ++sequence, static_cast<uint64_t>(met->maze_fingerprint));
       update.run_id = process->run_id;
-      update.source = source;
-      update.sequence = ++sequence;
-      for (const CellChange& change : step.changes) {
-        update.rows.push_back(grid.RowOf(change.cell));
-        update.cols.push_back(grid.ColOf(change.cell));
-        update.states.push_back(change.code == Cell::kObstacle ? obstacle_update_t::OBSTACLE
-                                                               : obstacle_update_t::FREE);
-      }
-      update.num_cells = static_cast<int32_t>(update.rows.size());
       client.bus().Publish(protocol::channel::kMapUpdates, update);
       if (!step.changes.empty()) {
         // Wait for this step's own policy (its REPORT: a step that retrains
@@ -178,7 +190,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
         // approach's policy of the step, as run scores it.
         ++service_step;
         std::optional<path_reply_t> probe;
-        if (client.ReportArrival(service_step, timeout)) probe = client.Ask({{0, 0}}, timeout);
+        if (client.ReportArrival(service_step, timeout)) probe = client.Ask({}, timeout);
         if (!probe) {
           return runtime::ProcessError(kRobotsProgram,
                                        "the service did not commit time step " +
@@ -217,6 +229,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (std::optional<std::string> two = client.SecondService()) {
+    return runtime::ProcessError(kRobotsProgram, *two, kExitFailure);
+  }
   int64_t arrived = 0, ticks_sum = 0, optimum_sum = 0;
   for (const Robot& robot : fleet) {
     if (robot.arrived_at < 0) continue;

@@ -1,8 +1,7 @@
-#include <spdlog/spdlog.h>
-#include <unistd.h>
-
 #include <fcntl.h>
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -18,15 +17,36 @@
 #include "protocol/dispatcher.h"
 #include "runtime/output_check.h"
 #include "runtime/output_lock.h"
+#include "runtime/policy_saver.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/common/results_table.h"
+#include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
+#include "tools/common/toml_config.h"
 
 namespace dynapath::cli {
 namespace {
+
+// The summary table on stdout, from the result file every mode writes (so
+// --local, --embedded and --agents print the same).
+void PrintResultsTable(const std::string& csv_path) {
+  Result<std::string> csv = ReadTextFile(csv_path);
+  if (!csv) {
+    spdlog::warn("no summary table: {}", csv.error().message);
+    return;
+  }
+  std::fputs(ResultsTable(*csv).c_str(), stdout);
+}
+
+// The exit status of a finished run, its table printed when it succeeded.
+int WithResultsTable(int code, const std::string& out_dir) {
+  if (code == 0) PrintResultsTable(out_dir + "/results.csv");
+  return code;
+}
 
 // run --repeats N (N > 1, --local): `threads` repeats at once, one thread
 // each; repeat 1 in the output directory, repeat k in DIR/r<k>; then
@@ -84,8 +104,7 @@ int RunRepeats(const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup
     spdlog::error("{}", status.error().message);
     return kExitFailure;
   }
-  Result<std::string> summary = ReadTextFile(plan.out_dir + "/summary.csv");
-  if (summary) std::printf("%s", summary->c_str());
+  PrintResultsTable(plan.out_dir + "/summary.csv");
   spdlog::info("wrote {}/repeats.csv and {}/summary.csv (repeat 1 in {}, repeat k in {}/r<k>)",
                plan.out_dir, plan.out_dir, plan.out_dir, plan.out_dir);
   return 0;
@@ -124,6 +143,11 @@ Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
   if (!recorded) {
     return Error::Option("resume", dir + " is not the checkpoint directory of a run (" +
                                        recorded.error().message + ")");
+  }
+  // The options files' one rule, checked here so that an error names the
+  // file (the run reads it from a pipe).
+  if (Result<ConfigFile> checked = ParseConfigText(*recorded, recorded_path); !checked) {
+    return checked.error();
   }
   bool mode_given = false;
   for (const std::string& arg : given) {
@@ -195,9 +219,14 @@ int RunCommand(const std::vector<std::string>& given_args) {
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   std::optional<std::string> resume_option;  // taken out of the arguments above
-  group.Option("--resume", resume_option, "DIR",
-               "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
-               "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  group.Option(
+      "--resume", resume_option, "DIR",
+      "finish the run whose --checkpoint DIR this is, from its last checkpoint, with "
+      "its recorded options (a mode given here replaces its mode; docs/howto/CHECKPOINTS.md)");
+  bool force = false;
+  group.Flag("--force", force,
+             "with --checkpoint DIR: start a new run there even when DIR holds the checkpoint of "
+             "an unfinished run (which is then lost; without it such a DIR is refused)");
   std::optional<long long> restarts;
   group.Option("--restart-coordinator", restarts, "N",
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
@@ -206,6 +235,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
   std::optional<long long> repeats;
   DeclareRepeatsOption(group, repeats, "1");
   runtime::AddConfigOption(app);
+  ReadConfigAsToml(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "dynapath run: %s\n", message.c_str());
     return kExitUsage;
@@ -229,6 +259,15 @@ int RunCommand(const std::vector<std::string>& given_args) {
   if (!restart_limit) return usage_error(restart_limit.error().message);
   if (*restart_limit > 0 && !checkpointing) {
     return usage_error("--restart-coordinator restarts from checkpoints: give --checkpoint DIR");
+  }
+  if (force && (!checkpointing || run_options.resume_checkpoint)) {
+    return usage_error(
+        "--force starts a new run over the checkpoint in --checkpoint DIR: give --checkpoint "
+        "DIR, and not with --resume");
+  }
+  if (restarts && run_mode->kind != runtime::RunMode::kAgents) {
+    return usage_error(
+        "--restart-coordinator restarts coordinator processes: use it with --agents N");
   }
   if (!distributed) {
     const std::pair<const char*, bool> network_options[] = {
@@ -255,8 +294,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
   if (Status policy = runtime::CheckPolicyPlan(
-          plan->policy, plan->approaches, plan->options, setup->scenario.grid.rows(),
-          setup->scenario.grid.cols(), static_cast<int>(setup->scenario.changes.steps.size()));
+          plan->policy, plan->approaches, plan->options, setup->scenario.grid,
+          static_cast<int>(setup->scenario.changes.steps.size()), plan->RunSeed(setup->seed));
       !policy) {
     return usage_error(policy.error().message);
   }
@@ -270,6 +309,12 @@ int RunCommand(const std::vector<std::string>& given_args) {
     if (Status status = runtime::CheckOutputFile(plan->policy.save_path, "save-policy"); !status) {
       return usage_error(status.error().message);
     }
+    // A file there is kept (its other sections) or, resuming, must be the
+    // one the checkpoint recorded: checked here too, before any process starts.
+    Result<runtime::PolicySaver> saver = runtime::PolicySaver::Open(
+        plan->policy, plan->approaches, static_cast<int>(setup->scenario.changes.steps.size()),
+        plan->checkpoint.resume.get());
+    if (!saver) return usage_error(saver.error().message);
   }
   Result<long long> repeat_count = runtime::InRange("repeats", repeats, 1, 1, kMaxRepeats);
   if (!repeat_count) return usage_error(repeat_count.error().message);
@@ -307,6 +352,16 @@ int RunCommand(const std::vector<std::string>& given_args) {
       checkpoint_lock.emplace(std::move(*locked));
     }
     if (!run_options.resume_checkpoint) {
+      if (!force) {
+        if (Status free = runtime::CheckCheckpointFree(plan->checkpoint.dir); !free) {
+          return usage_error(free.error().message);
+        }
+      }
+      // A new run: the checkpoint before it (of a finished run, or given up
+      // with --force) must not be taken up by a --resume of this one.
+      std::error_code removed;
+      std::filesystem::remove(plan->checkpoint.dir + "/" + runtime::kCheckpointFileName, removed);
+      if (removed) return usage_error("option --checkpoint: " + removed.message());
       // What `run --resume DIR` runs again: every option of the run but the
       // process and log ones (a new run id and secret are fine).
       runtime::ConfigWriter recorded;
@@ -325,10 +380,10 @@ int RunCommand(const std::vector<std::string>& given_args) {
       const runtime::RunCheckpoint& from = *plan->checkpoint.resume;
       spdlog::info("resuming from {}/{}: {} of {} approaches finished{}", plan->checkpoint.dir,
                    runtime::kCheckpointFileName, from.pass, plan->approaches.size(),
-                   from.policy ? fmt::format(", {} after step {}",
-                                             ApproachName(from.runs.back().approach),
-                                             from.policy->step)
-                               : std::string());
+                   from.policy
+                       ? fmt::format(", {} after step {}", ApproachName(from.runs.back().approach),
+                                     from.policy->step)
+                       : std::string());
     } else {
       spdlog::info("{} holds no checkpoint yet: the run starts from the beginning",
                    plan->checkpoint.dir);
@@ -361,7 +416,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
       if (!run.log_file.empty()) return usage_error("--log needs a network; not with --embedded");
       spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                    process->run_id, run.agents);
-      return launch::RunEmbedded(run, *plan, *setup);
+      return WithResultsTable(launch::RunEmbedded(run, *plan, *setup), plan->out_dir);
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", process->run_id, run.agents);
     if (!process->lcm_url.empty() && !process_options.secret_file && !process_options.insecure) {
@@ -371,7 +426,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
           "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
           "and to them)");
     }
-    return launch::LaunchProcesses(run);
+    return WithResultsTable(launch::LaunchProcesses(run), plan->out_dir);
   }
 
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads",
@@ -380,9 +435,8 @@ int RunCommand(const std::vector<std::string>& given_args) {
   // The first Ctrl-C (or SIGTERM) stops the run within about a second, also
   // inside one large training job; the approaches finished so far stay
   // written. A second one ends the process at once.
-  const std::atomic<bool>& stop =
-      protocol::StopOnSignals("\ndynapath run: stopping (Ctrl-C again: at once)\n",
-                              "\ndynapath run: stopped at once\n");
+  const std::atomic<bool>& stop = protocol::StopOnSignals(
+      "\ndynapath run: stopping (Ctrl-C again: at once)\n", "\ndynapath run: stopped at once\n");
   if (*repeat_count > 1) {
     return RunRepeats(*plan, *setup, static_cast<int>(*repeat_count), run_options.learner_seed,
                       *threads, stop);
@@ -394,7 +448,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
     // A checkpoint or loaded policy that does not fit the run is a usage error.
     return runs.error().code == Error::Code::kInvalidArgument ? kExitUsage : kExitFailure;
   }
-  std::printf("%s", SummaryResultsCsv(*runs).c_str());
+  PrintResultsTable(plan->out_dir + "/results.csv");
   spdlog::info("wrote {}/results.csv and {}/results_detailed.csv", plan->out_dir, plan->out_dir);
   return 0;
 }

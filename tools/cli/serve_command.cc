@@ -31,11 +31,16 @@
 #include "runtime/service_bus.h"
 #include "runtime/word_table.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/service_client.h"
+#include "tools/common/toml_config.h"
 
 namespace dynapath::cli {
 namespace {
 
 constexpr const char* kServeProgram = "dynapath serve";
+// How long a starting service listens for another one of its run id: a
+// service answers a probe within milliseconds, even while training.
+constexpr double kOtherServiceSeconds = 0.5;
 
 const runtime::WordTable<AnswerMode>& AnswerWords() {
   static const runtime::WordTable<AnswerMode> words(
@@ -138,6 +143,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   runtime::AddConfigOption(app);
+  ReadConfigAsToml(app);
   auto usage_error = [](const std::string& message) {
     std::fprintf(stderr, "%s: %s\n", kServeProgram, message.c_str());
     return kExitUsage;
@@ -191,10 +197,23 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (!setup) return usage_error(setup.error().message);
   const Grid& maze = setup->scenario.grid;
   if (Status policy = runtime::CheckPolicyPlan(
-          plan->policy, plan->approaches, plan->options, maze.rows(), maze.cols(),
-          static_cast<int>(setup->scenario.changes.steps.size()));
+          plan->policy, plan->approaches, plan->options, maze,
+          static_cast<int>(setup->scenario.changes.steps.size()), setup->seed);
       !policy) {
     return usage_error(policy.error().message);
+  }
+  runtime::ServiceConfig config;
+  config.approach = plan->approaches[0];
+  config.answer = *answer_mode;
+  config.options = plan->options;
+  config.options.run_seed = setup->seed;
+  config.labels = setup->labels;
+  config.threads = *threads;
+  config.max_starts = static_cast<int>(*starts_limit);
+  config.load = plan->policy.Find(config.approach);
+  config.catch_up = setup->scenario.changes;
+  if (Status loadable = runtime::PathService::CheckLoad(maze, config); !loadable) {
+    return usage_error("--load-policy " + plan->policy.load_path + ": " + loadable.error().message);
   }
   const bool write_results = app.count("--out") > 0;
   std::optional<runtime::OutputLock> out_lock;
@@ -265,16 +284,6 @@ int ServeCommand(const std::vector<std::string>& args) {
     }
   }
 
-  runtime::ServiceConfig config;
-  config.approach = plan->approaches[0];
-  config.answer = *answer_mode;
-  config.options = plan->options;
-  config.options.run_seed = setup->seed;
-  config.labels = setup->labels;
-  config.threads = *threads;
-  config.max_starts = static_cast<int>(*starts_limit);
-  config.load = plan->policy.Find(config.approach);
-  config.catch_up = setup->scenario.changes;
   if (training.session) config.trainer = &*training.session;
   runtime::ServiceBus* glue = nullptr;
   runtime::PathService service(maze, config, [&glue](const runtime::Commit& commit) {
@@ -284,6 +293,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   glue_options.thresholds = {occupied_thresh, free_thresh};
   glue_options.policy_gap_seconds = policy_gap;
   glue_options.republish_seconds = policy_every;
+  glue_options.own_probe_client = "serve-probe-" + std::to_string(getpid());
   runtime::ServiceBus service_bus(bus, service, glue_options);
   glue = &service_bus;
 
@@ -294,6 +304,24 @@ int ServeCommand(const std::vector<std::string>& args) {
                setup->labels.size_label, setup->labels.difficulty_label, setup->source,
                ApproachName(config.approach), answer, *threads);
   protocol::Dispatcher dispatcher(**lcm);
+  // Before any work: is another service answering this run here? Two
+  // would both answer every request (a private network or memq:// has no
+  // other process; this one does not answer its own probe).
+  if (network != launch::ProcessNetwork::kPrivate &&
+      !protocol::IsMemq(protocol::ResolveLcmUrl(url))) {
+    Result<std::unique_ptr<ServiceClient>> prober =
+        ServiceClient::Open(*process, glue_options.own_probe_client, ServiceClient::kRepliesOnly);
+    if (!prober) {
+      spdlog::error("{}", prober.error().message);
+      return kExitFailure;
+    }
+    if (std::optional<path_reply_t> other = (*prober)->Ask({}, kOtherServiceSeconds)) {
+      return usage_error("run " + process->run_id + " is already served on this network by " +
+                         runtime::DescribeReplier(*other) + "; this service's maze has " +
+                         FingerprintText(service.maze_fingerprint()) +
+                         ": give it a run id of its own, or stop the other");
+    }
+  }
   if (training.session) {
     training.session->set_stop(&service.stopping());
     if (training.lcm != lcm->get()) training.dispatcher.emplace(*training.lcm);
@@ -348,6 +376,14 @@ int ServeCommand(const std::vector<std::string>& args) {
   if (!run) {
     spdlog::error("{}", run.error().message);
     return kExitFailure;
+  }
+  // Stopped before a step was scored (during the initial training): no
+  // result to write, and the exit status of an interrupted run.
+  if (run->steps.empty()) {
+    const bool interrupted = service.Current() == nullptr;
+    spdlog::info("serve: {}: no results written",
+                 interrupted ? "stopped before its first policy" : "no time step was scored");
+    return interrupted ? kExitInterrupted : 0;
   }
   if (write_results) {
     if (Status written = WriteResultFiles({*run}, plan->out_dir); !written) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <thread>
 
+#include "dynapath/change_sequence.h"
 #include "dynapath/step_report_t.hpp"
 #include "protocol/channels.h"
 
@@ -22,10 +23,15 @@ Result<std::unique_ptr<ServiceClient>> ServiceClient::Open(const runtime::Proces
   ServiceClient* self = c.get();
   c->bus_->Subscribe<path_reply_t>(protocol::channel::kPathReply, [self](path_reply_t& reply) {
     if (reply.client != self->client_) return;  // another client's
-    if (self->on_reply_) return self->on_reply_(reply);
     {
       std::lock_guard lock(self->mutex_);
-      self->reply_ = std::move(reply);
+      const bool first = self->witness_.Saw(reply);
+      if (self->on_reply_) {
+        if (first) self->on_reply_(reply);
+        return;
+      }
+      // A second service's different reply does not replace the first.
+      if (first) self->reply_ = std::move(reply);
     }
     self->changed_.notify_all();
   });
@@ -91,6 +97,31 @@ std::optional<path_reply_t> ServiceClient::Ask(
     }
   }
   return last;
+}
+
+std::optional<std::string> ServiceClient::SecondService() {
+  std::this_thread::sleep_for(std::chrono::duration<double>(kSecondReplySeconds));
+  std::lock_guard lock(mutex_);
+  return witness_.conflict();
+}
+
+Result<path_reply_t> ServiceClient::Meet(const Grid& maze, double seconds) {
+  std::optional<path_reply_t> reply = Ask({}, seconds);
+  if (!reply || reply->refused == path_reply_t::NOT_READY) {
+    return Error("no policy from a service of run " + bus_->run_id() + " within --timeout",
+                 Error::Code::kUnavailable);
+  }
+  if (std::optional<std::string> two = SecondService()) {
+    return Error(*two, Error::Code::kUnavailable);
+  }
+  const uint64_t ours = MazeFingerprint(maze);
+  if (static_cast<uint64_t>(reply->maze_fingerprint) != ours) {
+    return Error("run " + bus_->run_id() + " is served by " + runtime::DescribeReplier(*reply) +
+                 ", not this maze (fingerprint " + FingerprintText(ours) +
+                 "): give the service's maze options (size, difficulty, seed, maze file, "
+                 "stations)");
+  }
+  return *reply;
 }
 
 std::optional<policy_t> ServiceClient::LatestPolicy(double seconds) {

@@ -45,11 +45,17 @@ std::string Where(const ProgressSnapshot& s) {
   return text;
 }
 
+// "~56 s left", or "at least 56 s left" while an approach to come has
+// never run (`compact`: ">56 s left").
+std::string Left(const ProgressSnapshot& s, bool compact) {
+  if (!s.remaining) return "time left unknown";
+  const std::string time = FormatDuration(*s.remaining);
+  if (!s.remaining_at_least) return "~" + time + " left";
+  return (compact ? ">" : "at least ") + time + " left";
+}
+
 std::string Times(const ProgressSnapshot& s) {
-  std::string text = FormatDuration(s.elapsed) + " elapsed";
-  text += s.remaining ? std::string(", ~") + FormatDuration(*s.remaining) + " left"
-                      : ", time left unknown";
-  return text;
+  return FormatDuration(s.elapsed) + " elapsed, " + Left(s, false);
 }
 
 }  // namespace
@@ -60,36 +66,71 @@ void TimeEstimator::AddFinished(double work, double seconds) {
   seconds_ += seconds;
 }
 
-std::optional<double> TimeEstimator::Remaining(double current_work, double elapsed, double fraction,
-                                               double remaining_work) const {
-  const bool by_fraction = fraction >= 0.02 && elapsed >= 1.0;
-  if (work_ > 0 && seconds_ > 0) {
-    const double rate = seconds_ / work_;
-    double current_left = rate * current_work - elapsed;
-    if (current_left < 0) current_left = by_fraction ? elapsed * (1 - fraction) / fraction : 0.0;
-    return current_left + rate * remaining_work;
-  }
-  if (by_fraction && current_work > 0) {
-    const double total = elapsed / fraction;
-    return total - elapsed + total / current_work * remaining_work;
-  }
-  return std::nullopt;
+void TimeEstimator::AddApproachFinished(int approach, double work, double seconds) {
+  if (approach < 0 || work <= 0 || seconds < 0) return;
+  if (static_cast<size_t>(approach) >= rates_.size()) rates_.resize(approach + 1);
+  Rate& rate = rates_[static_cast<size_t>(approach)];
+  if (work > rate.work * (1 + 1e-9)) rate = Rate{work, 0.0, 0};
+  if (work < rate.work * (1 - 1e-9)) return;  // a smaller one: the larger's rate stays
+  rate.seconds += seconds;
+  ++rate.runs;
 }
 
-std::string FormatDuration(double seconds) {
-  const long long total = std::llround(std::max(0.0, seconds));
-  char buffer[32];
-  if (seconds < 9.95) {
-    std::snprintf(buffer, sizeof buffer, "%.1f s", std::max(0.0, seconds));
-  } else if (total < 60) {
-    std::snprintf(buffer, sizeof buffer, "%lld s", total);
-  } else if (total < 3600) {
-    std::snprintf(buffer, sizeof buffer, "%lld:%02lld", total / 60, total % 60);
-  } else {
-    std::snprintf(buffer, sizeof buffer, "%lld:%02lld:%02lld", total / 3600, total / 60 % 60,
-                  total % 60);
+std::optional<double> TimeEstimator::ApproachCost(int approach, double work) const {
+  if (approach < 0 || static_cast<size_t>(approach) >= rates_.size()) return std::nullopt;
+  const Rate& rate = rates_[static_cast<size_t>(approach)];
+  if (rate.runs == 0) return std::nullopt;
+  return rate.seconds / rate.runs / rate.work * work;
+}
+
+std::optional<TimeLeft> TimeEstimator::Remaining(const ConfigurationProgress& c,
+                                                 double remaining_work) const {
+  // The current approach by its own time steps: reliable once it is a few
+  // per cent through and a second old.
+  auto by_steps = [](double elapsed, double fraction) -> std::optional<double> {
+    if (fraction < 0.02 || elapsed < 1.0) return std::nullopt;
+    return elapsed * (1 - fraction) / fraction;
+  };
+  const int count = std::max(c.approach_count, static_cast<int>(rates_.size()));
+  bool every_rate = count > 0;
+  for (int a = 0; a < count; ++a) every_rate = every_rate && ApproachCost(a, 1.0).has_value();
+  if (!every_rate && work_ > 0 && seconds_ > 0) {
+    // Whole configurations of earlier sessions, scaled by work.
+    const double rate = seconds_ / work_;
+    double current_left = rate * c.work - c.elapsed;
+    if (current_left < 0) current_left = by_steps(c.elapsed, c.fraction).value_or(0.0);
+    return TimeLeft{current_left + rate * remaining_work, false};
   }
-  return buffer;
+  TimeLeft left;
+  bool anything = false;
+  auto add = [&](std::optional<double> seconds) {
+    if (seconds) {
+      left.seconds += std::max(0.0, *seconds);
+      anything = true;
+    } else {
+      left.at_least = true;
+    }
+  };
+  if (c.approach >= 0) {
+    // The current approach: its measured cost less the time it has run;
+    // past that (a slower run than before), its own steps.
+    std::optional<double> rest;
+    if (const std::optional<double> cost = ApproachCost(c.approach, c.work)) {
+      rest = *cost - c.approach_elapsed;
+      if (*rest < 0) rest = by_steps(c.approach_elapsed, c.approach_fraction).value_or(0.0);
+    } else {
+      rest = by_steps(c.approach_elapsed, c.approach_fraction);
+    }
+    add(rest);
+  }
+  // Before its first step the configuration's approaches are the study's.
+  const int in_this = c.approach_count > 0 ? c.approach_count : count;
+  for (int a = std::max(c.approach + 1, 0); a < in_this; ++a) add(ApproachCost(a, c.work));
+  if (remaining_work > 0) {
+    for (int a = 0; a < count; ++a) add(ApproachCost(a, remaining_work));
+  }
+  if (!anything) return std::nullopt;
+  return left;
 }
 
 std::string BarLine(const ProgressSnapshot& s, size_t width) {
@@ -113,7 +154,7 @@ std::string BarLine(const ProgressSnapshot& s, size_t width) {
   }
   compact += " ";
   compact += FormatDuration(s.elapsed);
-  if (s.remaining) compact += " ~" + FormatDuration(*s.remaining) + " left";
+  if (s.remaining) compact += " " + Left(s, true);
   if (bar.size() + compact.size() <= width) return bar + compact;
   if (compact.size() <= width) return compact;
   return compact.substr(0, width > 3 ? width - 3 : width) + "...";
@@ -121,8 +162,7 @@ std::string BarLine(const ProgressSnapshot& s, size_t width) {
 
 std::string PlainLine(const ProgressSnapshot& s) {
   return std::string("[") + FormatDuration(s.elapsed) + "] configuration " + Where(s) + "; " +
-         (s.remaining ? std::string("~") + FormatDuration(*s.remaining) + " left"
-                      : "time left unknown");
+         Left(s, false);
 }
 
 ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal)
@@ -150,7 +190,7 @@ void ProgressDisplay::BeginConfiguration(int index, const std::string& label,
   current_ = index;
   label_ = label;
   short_label_ = short_label;
-  current_start_ = Now();
+  current_start_ = approach_start_ = last_step_time_ = Now();
   approach_.clear();
   approach_index_ = approach_count_ = total_steps_ = 0;
   step_ = -1;
@@ -161,6 +201,17 @@ void ProgressDisplay::Step(const std::string& approach, int approach_index, int 
                            int step, int total_steps) {
   std::lock_guard lock(mutex_);
   if (current_ < 0) return;
+  const double now = Now();
+  if (approach_index + 1 != approach_index_) {
+    // A new approach: the previous one ended with its last step, and this
+    // one began then.
+    if (approach_index_ > 0) {
+      estimator_.AddApproachFinished(approach_index_ - 1, work_[static_cast<size_t>(current_)],
+                                     last_step_time_ - approach_start_);
+    }
+    approach_start_ = last_step_time_;
+  }
+  last_step_time_ = now;
   approach_ = approach;
   approach_index_ = approach_index + 1;
   approach_count_ = approach_count;
@@ -193,6 +244,10 @@ void ProgressDisplay::EndConfiguration(int index, double seconds, bool completed
     if (completed) {
       estimator_.AddFinished(work_[static_cast<size_t>(index)], seconds);
       finished_[static_cast<size_t>(index)] = true;
+      if (current_ == index && approach_index_ > 0) {  // its last approach
+        estimator_.AddApproachFinished(approach_index_ - 1, work_[static_cast<size_t>(index)],
+                                       Now() - approach_start_);
+      }
     }
   }
   if (current_ != index) return;  // another one (run at once) is shown
@@ -248,10 +303,21 @@ ProgressSnapshot ProgressDisplay::Snapshot() const {
     in_step = std::clamp(training_->Fraction(), 0.0, 1.0);
     s.training = DescribeTraining(*training_);
   }
-  const double fraction =
+  ConfigurationProgress progress;
+  progress.work = current;
+  progress.elapsed = now - current_start_;
+  progress.fraction =
       ConfigurationFraction(approach_index_, approach_count_, step_, total_steps_, in_step);
-  s.done_fraction = total > 0 ? (done + current * fraction) / total : 0.0;
-  s.remaining = estimator_.Remaining(current, now - current_start_, fraction, after);
+  progress.approach = approach_index_ - 1;
+  progress.approach_count = approach_count_;
+  progress.approach_elapsed = now - approach_start_;
+  progress.approach_fraction = ConfigurationFraction(1, 1, step_, total_steps_, in_step);
+  if (approach_index_ <= 0) progress.approach_elapsed = progress.approach_fraction = 0.0;
+  s.done_fraction = total > 0 ? (done + current * progress.fraction) / total : 0.0;
+  if (const std::optional<TimeLeft> left = estimator_.Remaining(progress, after)) {
+    s.remaining = left->seconds;
+    s.remaining_at_least = left->at_least;
+  }
   return s;
 }
 

@@ -17,25 +17,60 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/text_util.h"
 #include "dynapath/training_progress.h"
 
 namespace dynapath::cli {
 
-// The time left in a study, from the wall times of finished configurations
-// scaled by their work (cells x steps), or, before any has finished, from
-// the fraction of the current one done.
+// Where the configuration in hand is, for TimeEstimator.
+struct ConfigurationProgress {
+  double work = 0.0;      // cells x steps
+  double elapsed = 0.0;   // s since it began
+  double fraction = 0.0;  // 0..1 done, by approaches and time steps
+  int approach = -1;      // 0-based index of the approach running; -1: none yet
+  int approach_count = 0;
+  double approach_elapsed = 0.0;   // s since that approach began
+  double approach_fraction = 0.0;  // 0..1 of its time steps done
+};
+
+// An estimate of the time left; `at_least` when some approach still to run
+// has never run (its cost is unknown, so counted as nothing).
+struct TimeLeft {
+  double seconds = 0.0;
+  bool at_least = false;
+};
+
+// The time left in a study. Each approach's cost is measured on its own,
+// as seconds per unit of work (cells x steps), from the largest
+// configuration it has finished (an A* Oracle costs more per cell on a
+// larger maze, so a smaller one's rate underestimates it); the time left is
+// the current approach's rest, then every approach still to run in this
+// configuration, then every approach of the configurations after it. Before
+// every approach has run once, whole configurations of earlier sessions
+// (AddFinished) stand in; without those either, the approaches that have
+// run give a lower bound ("at least").
 class TimeEstimator {
  public:
+  // A whole configuration of `work` that took `seconds`.
   void AddFinished(double work, double seconds);
-  // `current_work` has run `elapsed` s and is `fraction` (0..1) done;
-  // `remaining_work` is the work of the configurations after it. None when
-  // there is nothing to go on yet.
-  std::optional<double> Remaining(double current_work, double elapsed, double fraction,
-                                  double remaining_work) const;
+  // Approach `approach` (0-based) of a configuration of `work` took `seconds`.
+  void AddApproachFinished(int approach, double work, double seconds);
+  // `remaining_work`: the work of the configurations after the current one.
+  // None when there is nothing to go on yet.
+  std::optional<TimeLeft> Remaining(const ConfigurationProgress& current,
+                                    double remaining_work) const;
 
  private:
+  struct Rate {
+    double work = 0.0;  // of the largest configuration it finished
+    double seconds = 0.0;
+    int runs = 0;  // finished at that work (their mean)
+  };
+  std::optional<double> ApproachCost(int approach, double work) const;
+
   double work_ = 0.0;
   double seconds_ = 0.0;
+  std::vector<Rate> rates_;
 };
 
 struct ProgressSnapshot {
@@ -48,14 +83,13 @@ struct ProgressSnapshot {
   int approach_count = 0;
   int step = -1;  // time step reached, -1: none yet
   int total_steps = 0;
-  std::string training;  // the training batch in hand ("training 3/12 jobs"), or empty
+  std::string training;        // the training batch in hand ("training 3/12 jobs"), or empty
   double elapsed = 0.0;        // the whole session
   double done_fraction = 0.0;  // of the study's work
   std::optional<double> remaining;
+  bool remaining_at_least = false;  // a lower bound: some approach has not run yet
 };
 
-// "42 s", "12:03", "1:02:03".
-std::string FormatDuration(double seconds);
 // The terminal line, at most `width` characters.
 std::string BarLine(const ProgressSnapshot& snapshot, size_t width);
 // The plain line.
@@ -115,6 +149,9 @@ class ProgressDisplay {
   int current_ = -1;
   std::string label_, short_label_;
   double current_start_ = 0.0;
+  // The approach in hand: when it began (the previous one's last step) and
+  // when its last step was reported.
+  double approach_start_ = 0.0, last_step_time_ = 0.0;
   std::string approach_;
   int approach_index_ = 0, approach_count_ = 0, step_ = -1, total_steps_ = 0;
   const TrainingProgress* training_ = nullptr;

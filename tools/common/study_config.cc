@@ -3,6 +3,8 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <charconv>
+#include <map>
 
 #include "dynapath/text_file.h"
 
@@ -53,9 +55,8 @@ Result<ConfigValue> Convert(const toml::node& node, const std::string& key, cons
       return value;
     }
     case toml::node_type::table:
-      return FailAt(
-          name, value.line,
-          "'" + key + "' is a table: study options are 'key = value' lines at the top level");
+      return FailAt(name, value.line,
+                    "'" + key + "' is a table: options are 'key = value' lines at the top level");
     case toml::node_type::date:
     case toml::node_type::time:
     case toml::node_type::date_time:
@@ -84,6 +85,28 @@ std::string ConfigValue::KindName() const {
   return "?";
 }
 
+std::string ConfigValue::Text() const {
+  switch (kind) {
+    case Kind::kString:
+      return string;
+    case Kind::kInteger:
+      return std::to_string(integer);
+    case Kind::kFloat: {
+      char text[32];  // shortest round-trip form, whatever the locale
+      const auto end = std::to_chars(text, text + sizeof text, number).ptr;
+      return std::string(text, end);
+    }
+    case Kind::kBoolean:
+      return boolean ? "true" : "false";
+    case Kind::kArray: {
+      std::string joined;
+      for (const ConfigValue& item : items) joined += (joined.empty() ? "" : ",") + item.Text();
+      return joined;
+    }
+  }
+  return "";
+}
+
 Result<ConfigFile> ParseConfigText(std::string_view text, const std::string& name) {
   ConfigFile file;
   file.name = name;
@@ -98,11 +121,26 @@ Result<ConfigFile> ParseConfigText(std::string_view text, const std::string& nam
     Result<ConfigValue> value = Convert(node, std::string(key.str()), name, false);
     if (!value) return value.error();
     const int line = static_cast<int>(key.source().begin.line);
-    file.entries.push_back(ConfigEntry{std::string(key.str()), std::move(*value), line});
+    std::string written(key.str());
+    std::string dashed = written;
+    std::replace(dashed.begin(), dashed.end(), '_', '-');
+    file.entries.push_back(ConfigEntry{dashed, written, std::move(*value), line});
   }
   // toml++ keeps keys sorted; the file's order reads better in messages.
   std::stable_sort(file.entries.begin(), file.entries.end(),
                    [](const ConfigEntry& a, const ConfigEntry& b) { return a.line < b.line; });
+  // toml++ refuses a key written twice alike; two spellings of one option
+  // would otherwise both be kept and the last one win unseen.
+  std::map<std::string, const ConfigEntry*> first;
+  for (const ConfigEntry& entry : file.entries) {
+    const auto [earlier, fresh] = first.emplace(entry.key, &entry);
+    if (!fresh) {
+      return FailAt(name, entry.line,
+                    "'" + entry.written + "' gives '" + earlier->second->written + "' of line " +
+                        std::to_string(earlier->second->line) +
+                        " again (one option, '-' or '_'): keep one");
+    }
+  }
   return file;
 }
 

@@ -9,9 +9,13 @@
 //   edge-case = false                # booleans
 //
 // Tables, dates and times, nested arrays and arrays that mix kinds are
-// refused with an error naming the line: no study option takes them. This
-// module only parses; which keys exist is the study's business
-// (study_plan.h).
+// refused with an error naming the line: no option takes them. A key
+// may be spelled with '-' or '_' (`epsilon-start`, `epsilon_start`), as the
+// options' names are; a key given twice under any spelling is refused,
+// naming both lines. This is the one reading rule of every options file:
+// study files, `dynapath run --config FILE` and a checkpoint's run.toml
+// (toml_config.h). This module only parses; which keys exist is the
+// caller's business (study_plan.h, CLI11's options).
 
 #include <string>
 #include <string_view>
@@ -33,10 +37,15 @@ struct ConfigValue {
 
   // "string", "integer", "float", "boolean" or "array".
   std::string KindName() const;
+  // A scalar as an option's text: "true"/"false", decimal integers, the
+  // shortest round-trip form of a float; an array's items joined by ','.
+  std::string Text() const;
 };
 
 struct ConfigEntry {
-  std::string key;
+  std::string key;      // with '-': "epsilon-start"
+  std::string written;  // as the file spells it: "epsilon_start"
+
   ConfigValue value;
   int line = 0;
 };

@@ -23,25 +23,6 @@ namespace {
 
 constexpr int kMaxSize = kMaxGridSide;
 
-std::string ScalarText(const ConfigValue& value) {
-  switch (value.kind) {
-    case ConfigValue::Kind::kString:
-      return value.string;
-    case ConfigValue::Kind::kInteger:
-      return std::to_string(value.integer);
-    case ConfigValue::Kind::kFloat: {
-      char text[32];  // shortest round-trip form, whatever the locale
-      const auto end = std::to_chars(text, text + sizeof text, value.number).ptr;
-      return std::string(text, end);
-    }
-    case ConfigValue::Kind::kBoolean:
-      return value.boolean ? "true" : "false";
-    case ConfigValue::Kind::kArray:
-      break;
-  }
-  return "";
-}
-
 // The report's study: the defaults of --sizes, --difficulties and
 // --approaches, shown in --help and resolved like given values.
 constexpr const char* kDefaultSizes = "20,50,100,200,300";
@@ -99,6 +80,22 @@ Status CheckDistinctMaps(const std::string& first, const std::string& second) {
   return Ok{};
 }
 
+// An item of --maps: "PATH" or "MAP:STATIONS_FILE" (that map's stations
+// from a file, 'row col' per line, instead of --stations): split at the
+// last ':' unless the whole item names an existing file or folder.
+struct MapItem {
+  std::string map, stations_file;
+};
+MapItem SplitMapItem(const std::string& item) {
+  const size_t colon = item.rfind(':');
+  std::error_code error;
+  if (colon == std::string::npos || colon + 1 == item.size() ||
+      std::filesystem::exists(item, error)) {
+    return MapItem{item, ""};
+  }
+  return MapItem{item.substr(0, colon), item.substr(colon + 1)};
+}
+
 // A study file's relative map paths are relative to the file's folder, as
 // users expect of a config file (the map folder can travel with it); the
 // command line's stay relative to the working directory. `out` is not a
@@ -107,11 +104,16 @@ std::string MapsRelativeToFile(const std::string& list, const std::string& file_
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(file_name).parent_path();
   if (folder.empty()) return list;  // the file is in the working directory
-  std::vector<std::string> paths = Split(list, ',');
-  for (std::string& path : paths) {
-    if (!path.empty() && fs::path(path).is_relative()) path = (folder / path).string();
+  auto relative = [&](const std::string& path) {
+    return !path.empty() && fs::path(path).is_relative() ? (folder / path).string() : path;
+  };
+  std::vector<std::string> items = Split(list, ',');
+  for (std::string& item : items) {
+    const MapItem split = SplitMapItem(item);
+    item = relative(split.map) +
+           (split.stations_file.empty() ? "" : ":" + relative(split.stations_file));
   }
-  return Join(paths, ",");
+  return Join(items, ",");
 }
 
 // The maps of a --maps list: files as given, folders as their .map files in
@@ -120,13 +122,19 @@ std::string MapsRelativeToFile(const std::string& list, const std::string& file_
 Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::string>& items,
                                                      const std::string& origin) {
   namespace fs = std::filesystem;
-  std::vector<std::string> paths;
-  for (const std::string& item : items) {
+  std::vector<MapItem> paths;
+  for (const std::string& given : items) {
+    const MapItem split = SplitMapItem(given);
+    const std::string& item = split.map;
     std::error_code error;
     if (fs::is_directory(item, error)) {
+      if (!split.stations_file.empty()) {
+        return Error{origin + ": " + given + ": a stations file is one map's, not a folder's"};
+      }
       std::vector<std::string> found;
       for (const fs::directory_entry& entry : fs::directory_iterator(item, error)) {
-        if (entry.path().extension() == ".map") found.push_back(entry.path().string());
+        if (ToLower(entry.path().extension().string()) == ".map")
+          found.push_back(entry.path().string());
       }
       if (error) {
         return Error::File(error.value(),
@@ -134,23 +142,28 @@ Result<std::vector<StudyOptions::Map>> ExpandMapList(const std::vector<std::stri
       }
       if (found.empty()) return Error{origin + ": folder " + item + " holds no .map file"};
       std::sort(found.begin(), found.end());
-      paths.insert(paths.end(), found.begin(), found.end());
+      for (const std::string& path : found) paths.push_back(MapItem{path, ""});
     } else {
-      paths.push_back(item);
+      paths.push_back(split);
     }
   }
   std::vector<StudyOptions::Map> maps;
-  for (const std::string& path : paths) {
+  for (const auto& [path, stations_file] : paths) {
     Result<std::string> bytes = ReadTextFile(path);
     if (!bytes) return bytes.error().Prefixed(origin + ": ");
     Result<Grid> grid = ParseMovingAiMap(*bytes);
     if (!grid) return grid.error().Prefixed(origin + ": " + path + ": ");
+    if (!stations_file.empty()) {
+      if (Result<std::vector<int>> stations = LoadStationsFile(stations_file, *grid); !stations) {
+        return stations.error().Prefixed(origin + ": " + path + ": ");
+      }
+    }
     for (const StudyOptions::Map& earlier : maps) {
       if (Status distinct = CheckDistinctMaps(earlier.path, path); !distinct) {
         return distinct.error().Prefixed(origin + ": ");
       }
     }
-    maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols()});
+    maps.push_back(StudyOptions::Map{path, grid->rows(), grid->cols(), stations_file});
   }
   return maps;
 }
@@ -197,7 +210,8 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
              "comma-separated MovingAI maps (.map files, or folders of them) to run after the "
              "mazes, each with --stations (default " +
                  std::string(kDefaultStations) + ") and --movers (default " + kDefaultMovers +
-                 "); with --maps, --sizes and the edge case default to none",
+                 "); MAP:FILE gives that map its stations from FILE ('row col' lines) "
+                 "instead; with --maps, --sizes and the edge case default to none",
              "none");
   runtime::DeclareMapPopulationOptions(group, o.stations, o.movers);
   runtime::DeclareSeedAndStepsOptions(group, o.seed, o.steps);
@@ -248,15 +262,15 @@ OptionValues GivenOptionValues(const CLI::App& app) {
 Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
   OptionValues values;
   for (const ConfigEntry& entry : file.entries) {
-    std::string key = entry.key;
-    std::replace(key.begin(), key.end(), '_', '-');
+    const std::string& key = entry.key;
     const runtime::OptionKinds& kinds = StudyOptionKinds();
     const auto spec = kinds.find(key);
     const std::string where = file.name + ":" + std::to_string(entry.line);
     if (spec == kinds.end()) {
       std::string names;
       for (const auto& [name, kind] : kinds) names += (names.empty() ? "" : ", ") + name;
-      return Error{where + ": unknown key '" + entry.key + "' (expected one of: " + names + ")"};
+      return Error{where + ": unknown key '" + entry.written + "' (expected one of: " + names +
+                   ")"};
     }
     const ConfigValue& value = entry.value;
     const std::string origin = where + ": " + key;
@@ -323,11 +337,11 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
         if (item.string.find(',') != std::string::npos) {
           return Error{origin + ": '" + item.string + "' holds a comma"};
         }
-        items.push_back(ScalarText(item));
+        items.push_back(item.Text());
       }
       text = Join(items, ",");
     } else {
-      text = ScalarText(value);
+      text = value.Text();
     }
     if (key == "maps") text = MapsRelativeToFile(text, file.name);
     values[key] = OptionValue{text, origin};
@@ -372,7 +386,8 @@ Result<std::vector<std::string>> ArgumentsOf(const std::string& name, const Opti
 // options with, exactly as it converts a command line: the defaults are
 // that struct's (the runtime groups' own), and every value is converted by
 // the same code whichever source it came from. One value at a time, so a
-// value CLI11 cannot convert (only an integer can fail) names its origin.
+// value CLI11 refuses (an empty one, or an integer it cannot convert)
+// names its origin.
 Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
   StudyCommandLine given;
   for (const auto& [name, value] : values) {
@@ -385,6 +400,9 @@ Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
     try {
       app.parse(*arguments);
     } catch (const CLI::ParseError&) {
+      // The option layer refuses an empty value of every kind
+      // (runtime/option_group.h); else only an integer can fail.
+      if (value.text.empty()) return Error{value.origin + ": must not be empty"};
       return Error{value.origin + ": needs an integer, got '" + value.text + "'"};
     }
   }
@@ -791,6 +809,7 @@ std::vector<StudyConfiguration> OneRepeat(const StudyOptions& options,
     configuration.seed = seed ? *seed : ReportSeed(Difficulty::kEasy);
     configuration.steps = options.steps ? *options.steps : ReportTimeSteps(configuration.size);
     configuration.stations = options.stations;
+    configuration.stations_file = map.stations_file;
     configuration.movers = options.movers;
     plan.push_back(configuration);
   }
@@ -842,7 +861,11 @@ runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configurati
   options.steps = configuration.steps;
   if (!configuration.map.empty()) {
     options.maze = configuration.map;
-    options.stations = configuration.stations;
+    if (configuration.stations_file.empty()) {
+      options.stations = configuration.stations;
+    } else {
+      options.stations_file = configuration.stations_file;
+    }
     if (!configuration.movers.empty()) options.movers = configuration.movers;
     return options;
   }
@@ -947,7 +970,9 @@ Json StudyIdentityJson(const StudyOptions& options) {
   }
   if (!options.maps.empty()) {
     Json& maps = json["maps"] = Json::array();
-    for (const StudyOptions::Map& map : options.maps) maps.push_back(map.path);
+    for (const StudyOptions::Map& map : options.maps) {
+      maps.push_back(map.stations_file.empty() ? map.path : map.path + ":" + map.stations_file);
+    }
     json["stations"] = options.stations;
     json["movers"] = options.movers;
   }

@@ -45,6 +45,9 @@ struct StudyOptions {
   struct Map {
     std::string path;
     int rows = 0, cols = 0;  // read once, when the options are resolved
+    // "a.map:a.stations" in --maps (MAP:FILE): this map's stations from the file
+    // ('row col' per line) instead of --stations; "" none.
+    std::string stations_file;
   };
   std::vector<Map> maps;
   std::string stations = kDefaultStations;
@@ -148,6 +151,7 @@ struct StudyConfiguration {
   std::string map, map_label;
   int cols = 0;
   std::string stations, movers;  // as StudyOptions
+  std::string stations_file;     // the map's own (StudyOptions::Map), "" none
   // Its repeat (1..repeats) and the study's repeats; the learner seed of a
   // repeat after the first, or of every repeat with --learner-seed (unset:
   // the maze's seed, the stream of a run without --learner-seed).

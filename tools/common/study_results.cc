@@ -13,14 +13,17 @@
 namespace dynapath::cli {
 namespace {
 
-// The lines of a file without their newlines (an empty last line dropped).
+// The lines of a file without their newlines (an empty last line dropped);
+// CRLF line ends (a file saved by a Windows editor or spreadsheet) read as
+// LF ones.
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
   size_t start = 0;
   while (start < text.size()) {
     size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
-    lines.push_back(text.substr(start, end - start));
+    const size_t length = end - start - (end > start && text[end - 1] == '\r' ? 1 : 0);
+    lines.push_back(text.substr(start, length));
     start = end + 1;
   }
   return lines;

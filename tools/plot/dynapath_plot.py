@@ -3,7 +3,7 @@
 
 Reads DIR/results.csv and DIR/results_detailed.csv (and, when present, the
 edge case's DIR/edge_results.csv and DIR/edge_results_detailed.csv) and writes
-one PNG per figure; docs/howto/PLOTTING.md explains every figure. Standard library,
+one PNG per figure (--format svg,pdf for vector images too); docs/howto/PLOTTING.md explains every figure. Standard library,
 pandas and matplotlib only (Debian's python3-pandas and python3-matplotlib).
 
 Exit status: 0 figures written, 1 bad data (missing or malformed CSV), 2 bad
@@ -63,6 +63,9 @@ _FIRST_FREE = len(REGISTERED_APPROACHES) % len(STYLES)
 EXTRA_STYLES = STYLES[_FIRST_FREE:] + STYLES[:_FIRST_FREE]
 
 DPI = 150
+# The image formats to write (--format): each figure in each of them.
+FORMATS = ["png"]
+KNOWN_FORMATS = ["png", "svg", "pdf"]
 
 
 class PlotError(Exception):
@@ -83,7 +86,7 @@ class ArgumentParser(argparse.ArgumentParser):
 def parse_arguments(argv):
     parser = ArgumentParser(
         prog=PROG,
-        description="Draw the report's figures (PNG) from a study directory holding results.csv "
+        description="Draw the report's figures (PNG, or SVG/PDF with --format) from a study directory holding results.csv "
                     "and results_detailed.csv, and optionally the edge case's edge_results.csv "
                     "and edge_results_detailed.csv. Prints the files written.",
         epilog="Figures: success_rate_by_size, adapt_time_by_size, path_length_by_size, "
@@ -97,7 +100,12 @@ def parse_arguments(argv):
                "A study with a sweep (sweep_summary.csv): sweep_<parameter> per swept "
                "parameter. "
                "See docs/howto/PLOTTING.md. Exit status: 0 done, 1 bad data, 2 bad usage.")
-    parser.add_argument("study", metavar="DIR", help="the study directory (dynapath run --out DIR)")
+    parser.add_argument("study", metavar="DIR", nargs="?",
+                        help="the study directory (dynapath run --out DIR)")
+    parser.add_argument("--compare", metavar="CSV",
+                        help="instead of a study's figures, draw the paired differences of "
+                             "`dynapath compare --csv` (CSV) into the file --out names; "
+                             "`dynapath compare --plot FILE` does this")
     parser.add_argument("--out", metavar="DIR",
                         help="where to write the figures (default: DIR/figures)")
     parser.add_argument("--reference", metavar="DIR",
@@ -106,9 +114,21 @@ def parse_arguments(argv):
                              "docs/reference")
     parser.add_argument("--overlay-reference", action="store_true",
                         help="the same as --reference default")
-    parser.add_argument("--format", choices=["png"], default="png",
-                        help="image format (only png)")
+    parser.add_argument("--format", metavar="LIST", default="png", type=image_formats,
+                        help="comma-separated image formats, each figure in each of them: "
+                             f"{', '.join(KNOWN_FORMATS)} (default png; svg and pdf are vector "
+                             "images for papers)")
     return parser.parse_args(argv)
+
+
+def image_formats(text):
+    formats = [item.strip().lower() for item in text.split(",")]
+    unknown = [item for item in formats if item not in KNOWN_FORMATS]
+    if unknown or not formats:
+        raise argparse.ArgumentTypeError(
+            f"unknown image format '{','.join(unknown) or text}' (expected a comma-separated "
+            f"list of {', '.join(KNOWN_FORMATS)})")
+    return list(dict.fromkeys(formats))
 
 
 def default_reference_dir():
@@ -346,12 +366,21 @@ def blank_handle():
     return Line2D([], [], linestyle="none", label=" ")
 
 
-def figure_with_legend_row(panels, legend_rows, panel_width=4.6, panel_height=4.1):
-    """A row of panels above an axis-free strip holding the legend."""
+def figure_with_legend_row(panels, legend_rows, panel_width=4.6, panel_height=4.1,
+                           width_ratios=None):
+    """A row of panels (widths in `width_ratios`, default equal) above an
+    axis-free strip holding the legend."""
     plt = pyplot()
     legend_height = 0.32 * legend_rows + 0.3
-    figure = plt.figure(figsize=(max(7.5, panel_width * panels), panel_height + legend_height))
-    grid = figure.add_gridspec(2, panels, height_ratios=[panel_height, legend_height])
+    width = panel_width * panels
+    if width_ratios:
+        # A panel of one size needs less room than one of five.
+        width = sum(panel_width * (0.45 + 0.55 * ratio / max(width_ratios))
+                    for ratio in width_ratios)
+        width_ratios = [0.45 + 0.55 * ratio / max(width_ratios) for ratio in width_ratios]
+    figure = plt.figure(figsize=(max(7.5, width), panel_height + legend_height))
+    grid = figure.add_gridspec(2, panels, height_ratios=[panel_height, legend_height],
+                               width_ratios=width_ratios)
     axes = []
     for index in range(panels):
         share = axes[0] if axes else None
@@ -362,9 +391,12 @@ def figure_with_legend_row(panels, legend_rows, panel_width=4.6, panel_height=4.
 
 
 def save(figure, path, written):
-    figure.savefig(path, dpi=DPI)
+    """Writes `figure` as path.png (and .svg, .pdf when asked for)."""
+    for extension in FORMATS:
+        target = Path(path).with_suffix("." + extension)
+        figure.savefig(target, dpi=DPI)
+        written.append(target)
     pyplot().close(figure)
-    written.append(path)
 
 
 def configuration_title(size, difficulty):
@@ -375,12 +407,32 @@ def positive_or_nan(values):
     return [value if value > 0 else math.nan for value in values]
 
 
-def percent_formatter(decimals=0):
-    """Fractions as percentages; no tick label above 100% (the axis may reach
-    a little higher so that markers at 100% are not cut)."""
-    from matplotlib.ticker import FuncFormatter
-    return FuncFormatter(lambda value, _position: f"{value * 100:.{decimals}f}%"
-                         if value <= 1.0 + 1e-9 else "")
+def percent_axis(axis):
+    """Fractions as percentages on `axis` (an x or y axis), every tick label
+    exact: tick steps of 1, 2 or 5 times a power of ten (never 2.5, whose
+    half steps printed rounded: "98%, 95%, 92%" for 97.5, 95, 92.5), with as
+    many decimals as the ticks need. No tick label above 100% (the axis may
+    reach a little higher so that markers at 100% are not cut)."""
+    from matplotlib.ticker import Formatter, MaxNLocator
+
+    class ExactPercent(Formatter):
+        def __call__(self, value, position=None):
+            if value > 1.0 + 1e-9:
+                return ""
+            shown = [x for x in getattr(self, "locs", []) if x <= 1.0 + 1e-9] or [value]
+            return f"{value * 100:.{percent_decimals(shown)}f}%"
+
+    axis.set_major_locator(MaxNLocator(nbins=6, steps=[1, 2, 5, 10]))
+    axis.set_major_formatter(ExactPercent())
+
+
+def percent_decimals(locations):
+    """The fewest decimals (0..4) that print every location (a fraction) as
+    an exact percentage."""
+    for decimals in range(5):
+        if all(abs(round(value * 100, decimals) - value * 100) < 1e-6 for value in locations):
+            return decimals
+    return 4
 
 
 def seconds_formatter():
@@ -433,7 +485,10 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
     sizes = sizes_of(summary)
     difficulties = difficulties_of(summary)
     approaches = styles.ordered(summary["Approach"].unique())
-    position = {size: index for index, size in enumerate(sizes)}
+    # Each panel's x axis holds its own sizes: the maps of a --maps study
+    # (one panel each) have one size apiece, not every map's.
+    panel_sizes = {difficulty: sizes_of(summary[summary["Difficulty"] == difficulty])
+                   for difficulty in difficulties}
     # Approaches side by side around each size so that equal values (A* Oracle
     # and BFS Oracle) stay visible.
     spread = min(0.36, 0.07 * (len(approaches) - 1))
@@ -457,15 +512,19 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
         if overlay:
             rows_of_legend = max(2, rows_of_legend)
         columns = math.ceil(len(approaches) / rows_of_legend)
-        figure, axes, legend_axis = figure_with_legend_row(len(difficulties), rows_of_legend)
+        figure, axes, legend_axis = figure_with_legend_row(
+            len(difficulties), rows_of_legend,
+            width_ratios=[len(panel_sizes[difficulty]) for difficulty in difficulties])
         fewest_repeats = None
         for axis, difficulty in zip(axes, difficulties):
             rows = summary[summary["Difficulty"] == difficulty]
+            here = panel_sizes[difficulty]
+            position = {size: index for index, size in enumerate(here)}
             for approach in approaches:
                 series = rows[rows["Approach"] == approach]
                 if intervals is not None:
                     at, ys, low, high, fewest = interval_series(intervals, approach, difficulty,
-                                                                sizes, column)
+                                                                here, column)
                     fewest_repeats = fewest if fewest_repeats is None else min(fewest_repeats,
                                                                                fewest)
                     xs = [position[size] + offset[approach] for size in at]
@@ -487,7 +546,8 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
                               zorder=3)
                 if overlay:
                     published = reference[(reference["Difficulty"] == difficulty)
-                                          & (reference["Approach"] == approach)]
+                                          & (reference["Approach"] == approach)
+                                          & reference["Size"].isin(here)]
                     points = sorted((position[size] + offset[approach], value)
                                     for size, value in zip(published["Size"], published[column]))
                     ys_ref = [value for _, value in points]
@@ -498,9 +558,9 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
                               markerfacecolor="none", markeredgewidth=1.3, linestyle="--",
                               linewidth=1.1, alpha=0.85, zorder=2)
             axis.set_title(difficulty)
-            axis.set_xticks(range(len(sizes)))
-            axis.set_xticklabels([size_display(size) for size in sizes])
-            axis.set_xlim(-0.5, len(sizes) - 0.5)
+            axis.set_xticks(range(len(here)))
+            axis.set_xticklabels([size_display(size) for size in here])
+            axis.set_xlim(-0.5, len(here) - 0.5)
             axis.set_xlabel("Maze size (cells)")
             axis.grid(True, which="major", axis="y", alpha=0.3)
             if kind == "log":
@@ -508,7 +568,7 @@ def plot_by_size(summary, reference, styles, out_dir, written, intervals=None):
                 axis.yaxis.set_major_formatter(seconds_formatter())
                 axis.grid(True, which="minor", axis="y", alpha=0.1)
             elif kind == "percent":
-                axis.yaxis.set_major_formatter(percent_formatter())
+                percent_axis(axis.yaxis)
         for axis in axes[1:]:
             axis.tick_params(labelleft=False)
         axes[0].set_ylabel(ylabel)
@@ -584,7 +644,8 @@ def plot_sweeps(sweep, styles, out_dir, written, prefix=""):
                 first = frame[other].iloc[0]
                 rows = rows[rows[other] == first]
                 fixed.append(f"{other} {first:g}")
-        figure, axes = plt.subplots(1, len(SWEEP_PANELS), figsize=(15.0, 4.8))
+        figure, axes = plt.subplots(1, len(SWEEP_PANELS), figsize=(15.0, 5.4))
+        values = sorted(rows[name].dropna().unique())
         for axis, (metric, ylabel, kind) in zip(axes, SWEEP_PANELS):
             for approach in styles.ordered(rows["Approach"].unique()):
                 series = rows[(rows["Approach"] == approach) & (rows["Metric"] == metric)]
@@ -602,18 +663,39 @@ def plot_sweeps(sweep, styles, out_dir, written, prefix=""):
             axis.set_xlabel(name)
             axis.set_ylabel(ylabel)
             axis.grid(True, alpha=0.3)
+            parameter_ticks(axis.xaxis, values)
             if kind == "log":
                 axis.set_yscale("log")
                 axis.yaxis.set_major_formatter(seconds_formatter())
             elif kind == "percent":
-                axis.yaxis.set_major_formatter(percent_formatter(2))
-        axes[0].legend(fontsize=8.5, frameon=False)
+                percent_axis(axis.yaxis)
+        # Below the panels, never over their data.
+        handles, labels = axes[0].get_legend_handles_labels()
+        figure.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5) or 1,
+                      frameon=False, fontsize=9)
+        legend_rows = math.ceil(len(labels) / 5) if labels else 0
         where = "edge case" if prefix else "all configurations"
         title = f"Sweep of {name} ({where}; mean and 95% bootstrap interval over runs"
         title += (", " + ", ".join(fixed) if fixed else "") + ")"
         figure.suptitle(title, fontsize=12)
-        figure.tight_layout()
+        figure.tight_layout(rect=(0, 0.06 * legend_rows, 1, 1))
         save(figure, out_dir / f"{prefix}sweep_{file_token(name)}.png", written)
+
+
+def parameter_ticks(axis, values):
+    """Ticks at a swept parameter's values when they are few; otherwise
+    matplotlib's, whole numbers only for a parameter whose values all are
+    (no 2.25 between the swept 2 and 3)."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, MaxNLocator
+    whole = all(float(value).is_integer() for value in values)
+    if 0 < len(values) <= 12:
+        axis.set_major_locator(FixedLocator(values))
+    elif whole:
+        axis.set_major_locator(MaxNLocator(integer=True))
+    if whole:
+        axis.set_major_formatter(FuncFormatter(lambda value, _position: f"{value:.0f}"))
+    else:
+        axis.set_major_formatter(FuncFormatter(lambda value, _position: f"{value:g}"))
 
 
 def plot_performance_profile(repeats, styles, out_dir, written, prefix=""):
@@ -628,7 +710,7 @@ def plot_performance_profile(repeats, styles, out_dir, written, prefix=""):
     values = repeats["AvgSuccessRate"]
     low = max(0.0, float(values.min()) - 0.01)
     taus = np.linspace(low, 1.0, 400)
-    figure, axis = plt.subplots(figsize=(8.0, 5.2))
+    figure, axis = plt.subplots(figsize=(10.0, 5.2))
     for approach in approaches:
         scores = np.sort(repeats.loc[repeats["Approach"] == approach, "AvgSuccessRate"].to_numpy())
         share = 1.0 - np.searchsorted(scores, taus, side="right") / len(scores)
@@ -638,10 +720,10 @@ def plot_performance_profile(repeats, styles, out_dir, written, prefix=""):
     configurations = len(repeats[["Size", "Difficulty"]].drop_duplicates())
     axis.set_xlabel("Average success rate τ")
     axis.set_ylabel("Share of runs with success rate > τ")
-    axis.xaxis.set_major_formatter(percent_formatter(1 if 1.0 - low < 0.3 else 0))
+    percent_axis(axis.xaxis)
     axis.set_ylim(-0.02, 1.02)
     axis.grid(True, alpha=0.3)
-    axis.legend(loc="lower left", fontsize=9, frameon=False)
+    axis.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
     what = "edge case" if prefix else f"{configurations} configurations"
     axis.set_title(f"Performance profile of the success rate ({what}, {runs} runs per approach)",
                    fontsize=11.5)
@@ -719,29 +801,57 @@ def staggered(rank, approaches, points, markers):
 
 
 def time_series_axis_setup(axis, last_step):
-    axis.set_xlim(0, max(last_step, 1))
+    # Half a step beyond the first and last: the bars of the obstacle changes
+    # (0.8 wide, centred on their step) are not cut at the edges.
+    axis.set_xlim(-0.5, max(last_step, 1) + 0.5)
     axis.grid(True, alpha=0.3)
+
+
+# Totals spanning this factor or more (A* Oracle's 66 s beside 0.01 s) get a
+# second panel with a log axis: on the linear one the small ones lie flat.
+CUMULATIVE_LOG_SPAN = 100.0
 
 
 def plot_cumulative_adapt(rows, size, difficulty, styles, path, written, label):
     plt = pyplot()
     approaches = styles.ordered(rows["Approach"].unique())
-    figure, axis = plt.subplots(figsize=(10, 5.2))
     last_step = int(rows["TimeStep"].max())
-    for rank, approach in enumerate(approaches):
+    lines = []
+    for approach in approaches:
         series = rows[rows["Approach"] == approach].sort_values("TimeStep")
         times = series["AdaptTime"].where(series["TimeStep"] >= 1, 0.0).fillna(0.0)
-        cumulative = times.cumsum()
-        total = cumulative.iloc[-1]
-        axis.plot(series["TimeStep"], cumulative, color=styles.colour(approach),
-                  marker=styles.marker(approach), markevery=staggered(rank, len(approaches), len(series), 10),
-                  markersize=6, linewidth=1.7, label=f"{approach} (total {format_seconds(total)})")
-    time_series_axis_setup(axis, last_step)
-    axis.set_ylim(bottom=0)
-    axis.set_xlabel("Time step")
-    axis.set_ylabel("Cumulative adaptation time (s)")
-    axis.set_title(f"Cumulative adaptation time: {label}{configuration_title(size, difficulty)}")
-    axis.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9.5)
+        lines.append((approach, series["TimeStep"], times.cumsum()))
+    totals = [cumulative.iloc[-1] for _, _, cumulative in lines if cumulative.iloc[-1] > 0]
+    log_panel = bool(totals) and max(totals) / min(totals) >= CUMULATIVE_LOG_SPAN
+    if log_panel:
+        figure, axes = plt.subplots(1, 2, figsize=(15, 5.2))
+    else:
+        figure, axis = plt.subplots(figsize=(10, 5.2))
+        axes = [axis]
+    for axis in axes:
+        for rank, (approach, steps, cumulative) in enumerate(lines):
+            ys = cumulative if axis is axes[0] else cumulative.where(cumulative > 0)
+            axis.plot(steps, ys, color=styles.colour(approach), marker=styles.marker(approach),
+                      markevery=staggered(rank, len(approaches), len(steps), 10),
+                      markersize=6, linewidth=1.7,
+                      label=f"{approach} (total {format_seconds(cumulative.iloc[-1])})")
+        time_series_axis_setup(axis, last_step)
+        axis.set_xlabel("Time step")
+    axes[0].set_ylim(bottom=0)
+    axes[0].set_ylabel("Cumulative adaptation time (s)")
+    title = f"Cumulative adaptation time: {label}{configuration_title(size, difficulty)}"
+    if log_panel:
+        axes[0].set_title("linear axis")
+        axes[1].set_yscale("log")
+        axes[1].yaxis.set_major_formatter(seconds_formatter())
+        axes[1].grid(True, which="minor", axis="y", alpha=0.1)
+        axes[1].set_ylabel("Cumulative adaptation time (s, log scale)")
+        axes[1].set_title("log axis (totals span "
+                          f"{math.floor(math.log10(max(totals) / min(totals)))}+ decades)")
+        figure.suptitle(title, fontsize=12)
+    else:
+        axes[0].set_title(title)
+    axes[-1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9.5)
     figure.tight_layout()
     save(figure, path, written)
 
@@ -777,7 +887,7 @@ def plot_success_over_time(rows, size, difficulty, styles, path, written, label)
     time_series_axis_setup(axis, last_step)
     low, high = axis.get_ylim()
     axis.set_ylim(low, min(high, 1.01))
-    axis.yaxis.set_major_formatter(percent_formatter(decimals=1 if high - low < 0.05 else 0))
+    percent_axis(axis.yaxis)
     axis.set_ylabel("Success rate (% of start cells)")
     axis.set_title(f"Success rate over time: {label}{configuration_title(size, difficulty)}")
     axis.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9.5)
@@ -872,7 +982,7 @@ def plot_edge_summary(summary, reference, styles, out_dir, written, intervals=No
                                   markerfacecolor="none", markeredgecolor="black",
                                   markeredgewidth=1.5, zorder=4)
             if kind == "percent":
-                axis.yaxis.set_major_formatter(percent_formatter())
+                percent_axis(axis.yaxis)
                 low = min([v for v in values if not math.isnan(v)] + [1.0])
                 axis.set_ylim(max(0.0, low - 0.1), 1.02)
             axis.set_ylabel(ylabel)
@@ -905,6 +1015,10 @@ def plot_edge_summary(summary, reference, styles, out_dir, written, intervals=No
 
 def run(argv):
     args = parse_arguments(argv)
+    if args.compare is not None:
+        return run_compare(args)
+    if args.study is None:
+        raise PlotError("the following arguments are required: DIR (see --help)", EXIT_USAGE)
     study = Path(args.study)
     if not study.is_dir():
         raise PlotError(f"{study}: no such directory", EXIT_USAGE)
@@ -941,6 +1055,7 @@ def run(argv):
             approaches.update(frame["Approach"].unique())
     styles = Styles(approaches)
 
+    FORMATS[:] = args.format
     out_dir = Path(args.out) if args.out else study / "figures"
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -967,6 +1082,80 @@ def run(argv):
             plot_sweeps(edge_sweep, styles, out_dir, written, prefix=EDGE_PREFIX)
     for path in written:
         print(path)
+    return 0
+
+
+COMPARE_COLUMNS = ["A", "B", "Size", "Difficulty", "Metric", "Pairs", "MeanDifference",
+                   "MeanCILow", "MeanCIHigh"]
+COMPARE_PANELS = [
+    ("AvgSuccessRate", "success rate (percentage points)", 100.0),
+    ("AvgPathLength", "path length (steps)", 1.0),
+    ("AdaptTimePerStep", "adaptation time per step (ms)", 1000.0),
+    ("InitialTime", "initial training time (ms)", 1000.0),
+]
+
+
+def run_compare(args):
+    """The figure of `dynapath compare --plot FILE`: one panel per metric,
+    one row per configuration (and all of them, stratified), the mean
+    difference A - B with its 95% bootstrap interval, a line at 0."""
+    if args.study is not None:
+        raise PlotError("--compare draws one comparison: give no study directory", EXIT_USAGE)
+    if not args.out:
+        raise PlotError("--compare needs --out FILE (.png, .svg or .pdf)", EXIT_USAGE)
+    out = Path(args.out)
+    if out.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise PlotError(f"--out {out}: the figure must end in .png, .svg or .pdf", EXIT_USAGE)
+    import_libraries()
+    warnings.simplefilter("ignore")
+    import pandas as pd
+    path = Path(args.compare)
+    try:
+        frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as error:
+        raise PlotError(f"{path}: not a readable CSV table: {error}") from None
+    missing = [column for column in COMPARE_COLUMNS if column not in frame.columns]
+    if missing or frame.empty:
+        raise PlotError(f"{path}: not the CSV of dynapath compare "
+                        f"({'missing ' + ', '.join(missing) if missing else 'no rows'})")
+    for column in ("MeanDifference", "MeanCILow", "MeanCIHigh"):
+        frame[column] = pd.to_numeric(frame[column], errors="coerce")
+    configurations = list(dict.fromkeys(zip(frame["Size"], frame["Difficulty"])))
+    labels = ["all (stratified)" if size == "all" else configuration_title(size, difficulty)
+              for size, difficulty in configurations]
+    a, b = frame["A"].iloc[0], frame["B"].iloc[0]
+    plt = pyplot()
+    figure, axes = plt.subplots(1, len(COMPARE_PANELS), sharey=True,
+                                figsize=(15.0, 2.4 + 0.38 * len(configurations)))
+    for axis, (metric, label, scale) in zip(axes, COMPARE_PANELS):
+        rows = frame[frame["Metric"] == metric]
+        for index, (size, difficulty) in enumerate(configurations):
+            row = rows[(rows["Size"] == size) & (rows["Difficulty"] == difficulty)]
+            if row.empty:
+                continue
+            mean, low, high = (scale * row[c].iloc[0]
+                               for c in ("MeanDifference", "MeanCILow", "MeanCIHigh"))
+            resolved = low > 0 or high < 0
+            colour = "#0072b2" if resolved else "#777777"
+            axis.errorbar([mean], [index], xerr=[[max(0.0, mean - low)], [max(0.0, high - mean)]],
+                          fmt="D" if size == "all" else "o", color=colour, capsize=3,
+                          markersize=6)
+        axis.axvline(0.0, color="black", linewidth=0.9)
+        axis.set_title(label)
+        axis.set_xlabel("A − B")
+        axis.grid(True, axis="x", alpha=0.3)
+    axes[0].set_yticks(range(len(configurations)))
+    axes[0].set_yticklabels(labels)
+    axes[0].invert_yaxis()
+    figure.suptitle(f"Paired differences A − B, A = {a}, B = {b}, over the repeats\n(mean and "
+                    "95% bootstrap interval; blue: the interval excludes 0)", fontsize=12)
+    figure.tight_layout()
+    try:
+        figure.savefig(out, dpi=DPI)
+    except OSError as error:
+        raise PlotError(f"{out}: cannot write the figure: {error.strerror}") from None
+    pyplot().close(figure)
+    print(out)
     return 0
 
 

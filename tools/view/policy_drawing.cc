@@ -27,8 +27,9 @@ std::string SuccessText(const PolicySummary& summary) {
 
 const std::vector<Rgb>& DrawingPalette() {
   static const std::vector<Rgb> palette = {
-      colour::kHeader,  colour::kHeaderText, colour::kFree,   colour::kObstacle, colour::kStation,
-      colour::kFailing, colour::kArrow,      colour::kRegion, colour::kGridLine,
+      colour::kHeader,   colour::kHeaderText, colour::kFree,   colour::kObstacle,
+      colour::kStation,  colour::kFailing,    colour::kArrow,  colour::kRegion,
+      colour::kGridLine, colour::kMover,      colour::kLegend, colour::kLegendText,
   };
   return palette;
 }
@@ -51,6 +52,58 @@ PolicySummary Summarize(const policy_t& policy) {
   }
   return summary;
 }
+
+void MovingCells::Add(const policy_t& policy) {
+  if (first_.empty()) {
+    first_.assign(policy.cells.begin(), policy.cells.end());
+    moving_.assign(first_.size(), 0);
+  }
+  if (policy.cells.size() != first_.size()) return;  // another grid: not this run's
+  for (size_t i = 0; i < first_.size(); ++i) {
+    if ((policy.cells[i] == kObstacleCode) != (first_[i] == kObstacleCode)) {
+      moving_[i] = 1;
+    }
+  }
+}
+
+bool MovingCells::any() const {
+  return std::find(moving_.begin(), moving_.end(), 1) != moving_.end();
+}
+
+namespace {
+
+bool HasMovers(const DrawOptions& options) {
+  return options.moving != nullptr &&
+         std::find(options.moving->begin(), options.moving->end(), 1) != options.moving->end();
+}
+
+// The legend: a swatch and a name per colour the run's pictures use,
+// wrapped to the picture's width. It depends on the options and the width
+// only, so every frame of a run has the same size.
+void LayOutLegend(PolicyLayout& layout, const DrawOptions& options) {
+  std::vector<std::pair<Rgb, std::string>> entries = {{colour::kFree, "free"},
+                                                      {colour::kObstacle, "obstacle"}};
+  if (HasMovers(options)) entries.emplace_back(colour::kMover, "moving obstacle");
+  entries.emplace_back(colour::kStation, "station");
+  entries.emplace_back(colour::kFailing, "start that fails");
+  if (layout.arrows) entries.emplace_back(colour::kArrow, "action");
+  entries.emplace_back(colour::kRegion, "retrained region");
+  const int swatch = kGlyphHeight + 2, gap = 8, margin = 3;
+  const int width = std::max(layout.width, 1);
+  int row = 0, x = margin;
+  for (const auto& [rgb, name] : entries) {
+    const int needed = swatch + 3 + TextWidth(name, 1);
+    if (x > margin && x + needed > width - margin) {
+      ++row;
+      x = margin;
+    }
+    layout.legend.push_back({rgb, name, row, x});
+    x += needed + gap;
+  }
+  layout.height = layout.legend_y + (row + 1) * (kLineHeight + 2) + 2 * margin;
+}
+
+}  // namespace
 
 PolicyLayout LayoutFor(const policy_t& policy, const DrawOptions& options) {
   PolicyLayout layout;
@@ -90,6 +143,8 @@ PolicyLayout LayoutFor(const policy_t& policy, const DrawOptions& options) {
     layout.grid_y = scale * (lines * kLineHeight + 4);
   }
   layout.height = layout.grid_y + grid_height;
+  layout.legend_y = layout.height;
+  if (options.legend) LayOutLegend(layout, options);
   return layout;
 }
 
@@ -108,12 +163,15 @@ RgbImage DrawPolicy(const policy_t& policy, const DrawOptions& options) {
   }
 
   // Cells.
+  const std::vector<uint8_t>* moving =
+      options.moving != nullptr && options.moving->size() == policy.cells.size() ? options.moving
+                                                                                 : nullptr;
   for (int r = 0; r < policy.rows; ++r) {
     for (int c = 0; c < policy.cols; ++c) {
       const size_t i = static_cast<size_t>(r) * policy.cols + c;
       Rgb fill = colour::kFree;
       if (policy.cells[i] == kObstacleCode) {
-        fill = colour::kObstacle;
+        fill = moving != nullptr && (*moving)[i] ? colour::kMover : colour::kObstacle;
       } else if (policy.cells[i] == kStationCode) {
         fill = colour::kStation;
       } else if (policy.reaches[i] == 0) {
@@ -162,6 +220,18 @@ RgbImage DrawPolicy(const policy_t& policy, const DrawOptions& options) {
     OutlineRect(image, layout.grid_x + policy.region_col0[k] * cell,
                 layout.grid_y + policy.region_row0[k] * cell, policy.region_cols[k] * cell,
                 policy.region_rows[k] * cell, thickness, colour::kRegion);
+  }
+
+  if (!layout.legend.empty()) {
+    FillRect(image, 0, layout.legend_y, layout.width, layout.height - layout.legend_y,
+             colour::kLegend);
+    const int swatch = kGlyphHeight + 2, margin = 3;
+    for (const PolicyLayout::LegendEntry& entry : layout.legend) {
+      const int y = layout.legend_y + margin + entry.row * (kLineHeight + 2);
+      FillRect(image, entry.x, y, swatch, swatch, entry.colour);
+      OutlineRect(image, entry.x, y, swatch, swatch, 1, colour::kLegendText);
+      DrawText(image, entry.x + swatch + 3, y + 1, entry.name, 1, colour::kLegendText);
+    }
   }
   return image;
 }

@@ -7,7 +7,10 @@
 //     whose policy fails tinted red;
 //   * the greedy action of every free cell as an arrow (when cells are at
 //     least kMinArrowCell pixels; smaller cells show colour only);
-//   * the regions retrained at this step, outlined in orange.
+//   * the regions retrained at this step, outlined in orange;
+//   * obstacles on the cells a moving obstacle visits (DrawOptions::moving)
+//     in purple rather than dark;
+//   * optionally a legend below the grid naming every colour (render's frames).
 //
 // The picture uses only the colours of DrawingPalette(), so an animated GIF
 // with that palette holds it exactly. No window system here: the render tool
@@ -31,6 +34,9 @@ inline constexpr Rgb kFailing{244, 172, 172};
 inline constexpr Rgb kArrow{34, 68, 150};
 inline constexpr Rgb kRegion{255, 140, 0};
 inline constexpr Rgb kGridLine{204, 204, 198};
+inline constexpr Rgb kMover{150, 80, 190};
+inline constexpr Rgb kLegend{255, 255, 255};
+inline constexpr Rgb kLegendText{32, 36, 44};
 }  // namespace colour
 
 // Every colour a policy picture uses (the header text and background, the
@@ -45,8 +51,27 @@ inline constexpr int kMinArrowCell = 6;  // smaller cells: colour only, no grid 
 int AutoCellSize(int rows, int cols);
 
 struct DrawOptions {
-  int cell_px = 0;     // 0: AutoCellSize
-  bool header = true;  // the text line(s) above the grid
+  int cell_px = 0;      // 0: AutoCellSize
+  bool header = true;   // the text line(s) above the grid
+  bool legend = false;  // the colours' names below the grid
+  // Row-major, one per cell: 1 where an obstacle is a moving one at some
+  // time step of the run (MovingCells); its obstacles are drawn kMover and
+  // the legend names them. Null or empty: no moving obstacles.
+  const std::vector<uint8_t>* moving = nullptr;
+};
+
+// Accumulates, over a run's pictures, the cells that are an obstacle in one
+// and not in another: where its obstacles move (walls never change).
+class MovingCells {
+ public:
+  void Add(const policy_t& policy);
+  // One per cell; empty before any picture.
+  const std::vector<uint8_t>& cells() const { return moving_; }
+  bool any() const;
+
+ private:
+  std::vector<int8_t> first_;
+  std::vector<uint8_t> moving_;
 };
 
 // Where things are in a picture.
@@ -59,6 +84,14 @@ struct PolicyLayout {
   int text_scale = 1;   // font scale of the header
   bool arrows = false;  // cell >= kMinArrowCell
   std::vector<std::string> header_lines;
+  int legend_y = 0;  // top of the legend (= height when there is none)
+  // Each legend entry's swatch colour and name, and its row and x offset.
+  struct LegendEntry {
+    Rgb colour;
+    std::string name;
+    int row = 0, x = 0;
+  };
+  std::vector<LegendEntry> legend;
 };
 
 // The header's numbers. success_rate is reaching / starts (-1 when there are

@@ -53,8 +53,9 @@ int Run(const std::vector<std::string>& args) {
       "Draws the policy of every time step of a logged run (dynapath run --log LOG) as PNG\n"
       "frames, OUT/<approach>/step_0000.png ..., and an animated OUT/<approach>/policy.gif.\n"
       "With several runs in the log (and no --run-id): OUT/<run>/<approach>/...\n"
-      "Free cells light, obstacles dark, stations green, cells whose policy fails red,\n"
-      "arrows for the greedy actions, retrained regions outlined in orange.",
+      "Free cells light, obstacles dark (moving ones purple), stations green, cells whose\n"
+      "policy fails red, arrows for the greedy actions, retrained regions outlined in\n"
+      "orange; a legend below the grid names the colours (--no-legend: none).",
       "dynapath render");
   std::string log_path;
   app.add_option("LOG", log_path, "the LCM log of a run (dynapath run --log LOG)");
@@ -67,6 +68,8 @@ int Run(const std::vector<std::string>& args) {
   group.Option("--delay", delay_given, "MS", "GIF frame delay in milliseconds (20-60000)");
   bool no_gif = false;
   group.Flag("--no-gif", no_gif, "write the PNG frames only");
+  bool no_legend = false;
+  group.Flag("--no-legend", no_legend, "no legend of the colours below the grid");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
 
@@ -97,15 +100,19 @@ int Run(const std::vector<std::string>& args) {
   const bool want_gif = !no_gif;
   view::DrawOptions draw;
   draw.cell_px = static_cast<int>(*cell);
+  draw.legend = !no_legend;
 
   // Pass 1: which runs and approaches the log holds.
   std::vector<std::pair<std::string, std::string>> keys;  // (run, approach), first seen first
   std::set<std::pair<std::string, std::string>> seen;
+  // Where each run's obstacles move, to draw them apart from the walls.
+  std::map<std::string, view::MovingCells> moving;
   Result<view::PolicyLogSummary> scan =
       view::ReadPolicyLog(log_path, run_filter, [&](const policy_t& policy) {
         if (seen.insert({policy.run_id, policy.approach}).second) {
           keys.emplace_back(policy.run_id, policy.approach);
         }
+        moving[policy.run_id].Add(policy);
       });
   if (!scan) return runtime::ProcessError(kProgram, scan.error().message, kExitFailure);
   if (keys.empty()) {
@@ -191,6 +198,7 @@ int Run(const std::vector<std::string>& args) {
                        output.dir.string());
           current = &output;
         }
+        draw.moving = &moving[policy.run_id].cells();
         const view::RgbImage image = view::DrawPolicy(policy, draw);
         char name[32];
         std::snprintf(name, sizeof name, "step_%04d.png", policy.time_step);

@@ -33,8 +33,9 @@ enum class UpdateRefusal {
   kUnknownState,       // a state other than free or obstacle
   kStationToObstacle,  // an obstacle on a station
   kGridShape,          // an occupancy grid of another size than the map
+  kOtherMaze,          // made for another maze (its maze fingerprint is not the service's)
 };
-inline constexpr size_t kUpdateRefusalCount = 5;
+inline constexpr size_t kUpdateRefusalCount = 6;
 const char* UpdateRefusalName(UpdateRefusal why);  // "stale", "outside_grid", ...
 
 struct UpdateCounts {

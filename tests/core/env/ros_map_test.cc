@@ -99,6 +99,13 @@ TEST(RosMapTest, LoadMazeFileReadsTheImageBesideTheYaml) {
   ASSERT_TRUE(grid.ok()) << grid.error().message;
   EXPECT_TRUE(movingai);
   EXPECT_EQ(GridToText(*grid), "#.#\n.#.\n");
+  // The extension in any case (a map copied from a camera or Windows).
+  ASSERT_TRUE(WriteFileAtomically(dir + "/M5.YAML", std::string(kYaml)).ok());
+  grid = LoadMazeFile(dir + "/M5.YAML", &movingai);
+  ASSERT_TRUE(grid.ok()) << grid.error().message;
+  EXPECT_EQ(GridToText(*grid), "#.#\n.#.\n");
+  EXPECT_TRUE(IsRosMapPath("a/M.Yml"));
+  EXPECT_FALSE(IsRosMapPath("a/yaml"));
   ASSERT_TRUE(WriteFileAtomically(dir + "/m.pgm", std::string("P5\n9000 9000\n255\n")).ok());
   grid = LoadMazeFile(dir + "/m.yaml");
   ASSERT_FALSE(grid.ok());
