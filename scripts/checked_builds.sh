@@ -44,11 +44,13 @@ for step in "${steps[@]}"; do
       # impairments; the normal build runs it, and alone it was 118 s of
       # this pass's wall time with one core idle. Nor the checks that run
       # no instrumented code: the plots (Python on committed CSVs), the
-      # layering of the tree and the CLI reference (--help texts).
+      # layering of the tree and the CLI reference (--help texts). Nor the
+      # executable docs (ctest docs.*: the documentation's commands, which
+      # the other tests cover under ASan in their own configurations).
       # Twice as many tests as cores: the end-to-end scripts spend much of
       # their time waiting (process start-up, pauses, timeouts), not computing.
       ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
-        -E '^(lan|plot_figures|plot_reference_overlay|layering|layering_self_test|options_table)$' \
+        -E '^(lan|plot_figures|plot_reference_overlay|layering|layering_self_test|options_table|docs\..*|docs_self_test)$' \
         | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
       ;;
