@@ -369,7 +369,8 @@ int LaunchProcesses(const DistributedRun& run) {
     }
     return started;
   };
-  if (!start_run_processes(false)) {  // the run cannot go on without one of them: stop the others now
+  if (!start_run_processes(
+          false)) {  // the run cannot go on without one of them: stop the others now
     StopAll(children, std::chrono::milliseconds(3000));
     return 1;
   }

@@ -163,8 +163,10 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
     return;
   }
   Record(name, ValueKind::kFloat);
-  CLI::Option* option =
-      app_->add_option(name, value, help)->type_name(value_name)->check(NonEmptyValue())->check(FiniteReal());
+  CLI::Option* option = app_->add_option(name, value, help)
+                            ->type_name(value_name)
+                            ->check(NonEmptyValue())
+                            ->check(FiniteReal());
   if (!default_text.empty()) option->default_str(default_text);
 }
 
@@ -187,7 +189,8 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
   app_->add_option(name, value, help)
       ->type_name(value_name)
       ->capture_default_str()
-      ->check(NonEmptyValue())->check(FiniteReal());
+      ->check(NonEmptyValue())
+      ->check(FiniteReal());
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
@@ -269,8 +272,8 @@ Status ParseArguments(CLI::App& app, std::vector<std::string> args) {
     const std::string_view detail =
         colon == std::string::npos ? std::string_view() : std::string_view(what).substr(colon + 2);
     if (what.rfind("--", 0) == 0 &&
-        (detail.rfind("needs a decimal number", 0) == 0 || detail.rfind("is out of range", 0) == 0 ||
-         detail == kEmptyValueText)) {
+        (detail.rfind("needs a decimal number", 0) == 0 ||
+         detail.rfind("is out of range", 0) == 0 || detail == kEmptyValueText)) {
       return usage_error("option " + what.substr(0, colon) + " " + what.substr(colon + 2));
     }
     return usage_error(what);

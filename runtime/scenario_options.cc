@@ -75,7 +75,8 @@ void DeclareScenarioOptions(OptionGroup& group, ScenarioOptions& o) {
   DeclareSeedAndStepsOptions(group, o.seed, o.steps);
   group.Option("--maze", o.maze, "FILE",
                "load the maze from a file instead: a MovingAI map (.map, walls never move), "
-               "a ROS map_server map (.yaml/.yml naming a PGM; walls never move) or the text format ('#', '.', 'C', every obstacle may move)");
+               "a ROS map_server map (.yaml/.yml naming a PGM; walls never move) or the text "
+               "format ('#', '.', 'C', every obstacle may move)");
   DeclareMapPopulationOptions(group, o.stations, o.movers);
   group.Option("--stations-file", o.stations_file, "FILE",
                "with --maze: stations from a file, 'row col' per line");

@@ -77,7 +77,8 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
     if (value.empty()) return YamlLineError(number, "key '" + key + "' has no value");
     const auto number_of = [&](double& out, const char* what) -> Status {
       if (!ParseNumber(value, out)) {
-        return YamlLineError(number, "'" + key + "' must be " + what + ", got '" + std::string(value) + "'");
+        return YamlLineError(
+            number, "'" + key + "' must be " + what + ", got '" + std::string(value) + "'");
       }
       return Ok{};
     };
@@ -109,7 +110,8 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
     } else if (key == "occupied_thresh" || key == "free_thresh") {
       double& out = key == "free_thresh" ? info.free_thresh : info.occupied_thresh;
       if (Status s = number_of(out, "a number in 0..1"); !s) return s.error();
-      if (out < 0 || out > 1) return YamlLineError(number, "'" + key + "' must be a number in 0..1");
+      if (out < 0 || out > 1)
+        return YamlLineError(number, "'" + key + "' must be a number in 0..1");
     } else if (key == "negate") {
       if (value == "0" || value == "false") {
         info.negate = false;
@@ -126,13 +128,13 @@ Result<RosMapInfo> ParseRosMapYaml(std::string_view bytes) {
       } else if (value == "raw") {
         info.mode = RosMapMode::kRaw;
       } else {
-        return YamlLineError(number, "'mode' must be trinary, scale or raw, got '" +
-                                     std::string(value) + "'");
+        return YamlLineError(
+            number, "'mode' must be trinary, scale or raw, got '" + std::string(value) + "'");
       }
     } else {
       return YamlLineError(number, "unknown key '" + key +
-                                   "' (known: image resolution origin occupied_thresh "
-                                   "free_thresh negate mode)");
+                                       "' (known: image resolution origin occupied_thresh "
+                                       "free_thresh negate mode)");
     }
   }
   for (const char* required : {"image", "resolution", "origin", "occupied_thresh", "free_thresh"}) {
@@ -253,8 +255,8 @@ Result<Grid> RosMapGrid(const RosMapInfo& info, std::string_view pgm) {
   }
   // Every ascii pixel takes at least two bytes: refuse a short file before allocating.
   if (pgm.size() - reader.pos() < cells) {
-    return Error::Corrupt("PGM data truncated: the file is too short for " +
-                          std::to_string(cells) + " pixels");
+    return Error::Corrupt("PGM data truncated: the file is too short for " + std::to_string(cells) +
+                          " pixels");
   }
   Grid grid(height, width);
   for (size_t i = 0; i < cells; ++i) {

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/temp_path.h"
-
 #include <fstream>
+
+#include "tests/temp_path.h"
 
 namespace dynapath::cli {
 namespace {

@@ -34,9 +34,9 @@ TEST(LongRunWarningsTest, AStarOracleOnTheLargestMapIsEstimatedInHours) {
 TEST(LongRunWarningsTest, NoWarningForSmallMapsOrFastApproaches) {
   Grid large(4096, 4096);
   large.set(0, Cell::kStation);
-  EXPECT_TRUE(LongRunWarnings(PlanOf({Approach::kBfsOracle, Approach::kIncrementalOracle}),
-                              large, 100)
-                  .empty());
+  EXPECT_TRUE(
+      LongRunWarnings(PlanOf({Approach::kBfsOracle, Approach::kIncrementalOracle}), large, 100)
+          .empty());
   Grid report(300, 300);
   report.set(0, Cell::kStation);
   EXPECT_TRUE(LongRunWarnings(PlanOf({Approach::kAStarOracle}), report, 100).empty());

@@ -17,7 +17,9 @@ const char kYaml[] =
     "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
 
 // 0 = black (occupied), 254 free, 205 unknown, 100 between.
-std::string Pgm5() { return std::string("P5\n3 2\n255\n") + std::string("\x00\xfe\xcd\xfe\x64\xfe", 6); }
+std::string Pgm5() {
+  return std::string("P5\n3 2\n255\n") + std::string("\x00\xfe\xcd\xfe\x64\xfe", 6);
+}
 
 Grid Cells(const std::string& yaml, const std::string& pgm) {
   Result<RosMapInfo> info = ParseRosMapYaml(yaml);
@@ -56,7 +58,8 @@ TEST(RosMapTest, RefusesBadYamlWithOneClearError) {
       {"image: m.pgm\n" + base + "occupied_thresh: 0.6\nfree_thresh: 0.2\nmode: fancy\n",
        "line 6: 'mode' must be trinary, scale or raw, got 'fancy'"},
       {"image: m.pgm\nimage: n.pgm\n", "line 2: key 'image' given twice"},
-      {"image: m.pgm\n  nested: 1\n", "line 2: indented line: only flat 'key: value' lines are read"},
+      {"image: m.pgm\n  nested: 1\n",
+       "line 2: indented line: only flat 'key: value' lines are read"},
       {"image: m.pgm\ncolour: red\n", "line 2: unknown key 'colour'"},
       {"image: m.pgm\norigin: [1, 2]\n", "line 2: 'origin' must be [x, y, yaw]"},
   };
@@ -109,8 +112,9 @@ TEST(RosMapTest, LoadMazeFileReadsTheImageBesideTheYaml) {
   ASSERT_TRUE(WriteFileAtomically(dir + "/m.pgm", std::string("P5\n9000 9000\n255\n")).ok());
   grid = LoadMazeFile(dir + "/m.yaml");
   ASSERT_FALSE(grid.ok());
-  EXPECT_EQ(grid.error().message, dir + "/m.pgm: image of 9000x9000 pixels: each side must be "
-                                        "1..4096 (the grid limit)");
+  EXPECT_EQ(grid.error().message, dir +
+                                      "/m.pgm: image of 9000x9000 pixels: each side must be "
+                                      "1..4096 (the grid limit)");
   std::filesystem::remove_all(dir);
 }
 
