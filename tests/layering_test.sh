@@ -35,19 +35,23 @@ allowed_for() {
   esac
 }
 
-# The kind of header an include line names (empty: not the project's).
+# The kind of header an include line names, into $kind (empty: not the
+# project's). Pure bash, no subshell: the tree has thousands of include
+# lines, and a fork for each made this check a minute long on a busy machine.
 kind_of() {
-  local path
-  path=$(sed -n 's/^#include *"\([^"]*\)".*/\1/p' <<<"$1")
+  kind=""
+  [[ $1 =~ ^#include\ *\"([^\"]*)\" ]] || return 0
+  local path=${BASH_REMATCH[1]}
   case $path in
     dynapath/*)
-      if [ -f "$src/core/include/$path" ]; then echo face; else echo messages; fi
+      if [ -f "$src/core/include/$path" ]; then kind=face; else kind=messages; fi
       ;;
     */*)
       local dir=${path%%/*}
-      [ -d "$src/$dir" ] && echo "$dir"
+      [ -d "$src/$dir" ] && kind=$dir
       ;;
   esac
+  return 0
 }
 
 # Libraries only the applications may use (header-only ones cannot be seen
@@ -60,7 +64,7 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
   while IFS= read -r file; do
     [ "$layer" = core ] && [[ $file == "$src/core/include/"* ]] && continue  # checked as core/include
     while IFS= read -r line; do
-      kind=$(kind_of "$line")
+      kind_of "$line"
       [ -n "$kind" ] || continue
       case " $allowed " in
         *" $kind "*) ;;

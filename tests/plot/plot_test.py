@@ -29,7 +29,7 @@ def fail(message):
 
 def plot(dynapath, *args):
     return subprocess.run([dynapath, "plot", *map(str, args)], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=300)
 
 
 def png_size(path):
