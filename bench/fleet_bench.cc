@@ -185,8 +185,7 @@ double RunMode(const Scenario& scenario, const Options& o, bool ignore) {
     cpu.Add(cpu_now() - cpu_start);
     checked.Add(CheckJointMove(world, move.before, move.after, move.delayed));
   }
-  const double throughput =
-      static_cast<double>(fleet.tasks_done()) / static_cast<double>(o.ticks);
+  const double throughput = static_cast<double>(fleet.tasks_done()) / static_cast<double>(o.ticks);
   std::printf(
       "{\"mode\":\"%s\",\"rows\":%d,\"cols\":%d,\"robots\":%lld,\"goals\":%zu,\"ticks\":%lld,"
       "\"changed_cells\":%lld,\"tasks\":%lld,\"throughput\":%.3f,\"conflicts\":%lld,"
