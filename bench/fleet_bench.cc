@@ -35,7 +35,7 @@ namespace {
 
 struct Options {
   std::string maze, stations = "0.5%", movers;
-  long long size = 300, seed = 1, robots = 1000, ticks = 1000, goals = 64, threads = 1;
+  long long size = 300, seed = 1, robots = 1000, ticks = 1000, goals = 32, threads = 1;
   std::string difficulty = "hard";
   double delay = 0.0;
   std::string modes = "both";  // both, pibt, ignore
