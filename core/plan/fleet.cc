@@ -126,6 +126,14 @@ Result<std::unique_ptr<Fleet>> Fleet::Create(const Grid& grid, const FleetOption
     }
   }
 
+  const double field_bytes = static_cast<double>(fleet->goals_.size() + 1) *
+                            static_cast<double>(grid.size()) * kFieldBytesPerCell;
+  if (field_bytes > static_cast<double>(kMaxFieldBytes)) {
+    return Error{"the fleet's distance fields would take " +
+                 std::to_string(static_cast<long long>(field_bytes / (1 << 20))) +
+                 " MiB ((goals + 1) x cells x 8 bytes), more than " +
+                 std::to_string(kMaxFieldBytes >> 20) + " MiB: give fewer goals"};
+  }
   fields.goals.resize(fleet->goals_.size());
   if (options.threads > 1) fields.pool = std::make_unique<ThreadPool>(options.threads);
   auto build = [&](int g) {

@@ -19,7 +19,7 @@
 // stations' field), then a goal cell drawn from the goal pool, then a
 // station again, and so on; a robot gets its next task on the tick it
 // arrives. One field per pool goal plus one for the stations: memory is
-// (goals + 1) x cells x 8 bytes.
+// (goals + 1) x cells x 8 bytes, refused above kMaxFieldBytes.
 //
 // The map changes (movers, live updates) between ticks: ApplyChanges
 // repairs every field from the changed cells only. A robot never moves onto
@@ -46,6 +46,10 @@
 #include "dynapath/rng.h"
 
 namespace dynapath {
+
+// The distance fields' memory: (goals + 1) x cells x 8 bytes, at most this.
+inline constexpr long long kMaxFieldBytes = 2LL << 30;
+inline constexpr int kFieldBytesPerCell = 8;
 
 struct FleetOptions {
   int robots = 10;
