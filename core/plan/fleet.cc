@@ -127,7 +127,7 @@ Result<std::unique_ptr<Fleet>> Fleet::Create(const Grid& grid, const FleetOption
   }
 
   const double field_bytes = static_cast<double>(fleet->goals_.size() + 1) *
-                            static_cast<double>(grid.size()) * kFieldBytesPerCell;
+                             static_cast<double>(grid.size()) * kFieldBytesPerCell;
   if (field_bytes > static_cast<double>(kMaxFieldBytes)) {
     return Error{"the fleet's distance fields would take " +
                  std::to_string(static_cast<long long>(field_bytes / (1 << 20))) +

@@ -138,6 +138,14 @@ TEST(Fleet, BadOptionsAreRefused) {
   options.delay_probability = 0;
   options.goals = {0};  // a station, not a free cell
   EXPECT_FALSE(Fleet::Create(grid, options).ok());
+  // Fields over the memory cap: refused before they are built.
+  Grid big(400, 400);
+  big.set(0, Cell::kStation);
+  FleetOptions many;
+  many.goal_count = 1700;
+  Result<std::unique_ptr<Fleet>> refused = Fleet::Create(big, many);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("give fewer goals"), std::string::npos);
 }
 
 // Random mazes with their change sequences, fleets of many robots, delays:
