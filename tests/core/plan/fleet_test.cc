@@ -161,6 +161,7 @@ TEST(Fleet, RandomFleetsOnChangingMapsHaveNoConflicts) {
     options.seed = seed;
     options.goal_count = 6;
     options.delay_probability = seed % 3 == 0 ? 0.2 : 0.0;
+    options.threads = seed % 2 ? 1 : 2;  // fields repaired in parallel
     std::unique_ptr<Fleet> fleet = Make(scenario.grid, options);
     ASSERT_TRUE(fleet);
     Grid world = scenario.grid;  // kept apart from the planner's copy
