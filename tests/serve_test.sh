@@ -169,6 +169,10 @@ done
 refused "a fleet for another maze" "not this maze" \
   "$dynapath" robots "${auth[@]}" --size 20 --difficulty easy --seed 99 --steps 3 --robots 2 \
   --ticks 5 --timeout 10
+refused "a fleet whose moves always fail" "delay-prob must be between" \
+  "$dynapath" robots "${auth[@]}" --size 20 --difficulty easy --steps 3 --robots 2 --delay-prob 1
+refused "a fleet of more robots than cells" "fewer than the 500 robots" \
+  "$dynapath" robots "${auth[@]}" "${maze[@]}" --robots 500 --ticks 5 --timeout 10
 nine=()
 for i in 1 2 3 4 5 6 7 8 9; do nine+=(--from "$i,$i"); done
 if "$dynapath" query "${auth[@]}" "${nine[@]}" --json >"$work/q9.json" 2>&1; then
@@ -288,10 +292,25 @@ small=(--size 16 --difficulty hard --seed 5 --steps 30)
 server_pid=$!
 fleet=$("$dynapath" robots --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --robots 10 \
   --ticks 60 --timeout 60 2>>"$work/fleet.log")
-if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["arrived"] == 10 and o["queries"] >= 10 else 1)' "$fleet"; then
-  pass "a fleet of 10 robots arrived: $fleet"
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["arrived"] == 10 and o["queries"] >= 10 and o["conflicts"] == 0 and o["tasks"] >= 10 else 1)' "$fleet"; then
+  pass "a fleet of 10 robots that block each other arrived, no conflict: $fleet"
 else
   fail "fleet: $fleet $(tail -3 "$work/fleet.log")"
+fi
+# With delays, still no conflict; ignoring conflicts, the validator sees them.
+fleet=$("$dynapath" robots --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --robots 30 \
+  --ticks 60 --delay-prob 0.2 --timeout 60 2>>"$work/fleet.log")
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["conflicts"] == 0 and o["delays"] > 0 and o["tasks"] > 0 else 1)' "$fleet"; then
+  pass "a delayed fleet of 30 robots, no conflict: $fleet"
+else
+  fail "delayed fleet: $fleet $(tail -3 "$work/fleet.log")"
+fi
+fleet=$("$dynapath" robots --run-id fleet-$$ --secret-file "$work/key" "${small[@]}" --robots 30 \
+  --ticks 60 --ignore-conflicts --timeout 60 2>>"$work/fleet.log")
+if python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["conflicts"] > 0 else 1)' "$fleet"; then
+  pass "a fleet ignoring conflicts has them: $fleet"
+else
+  fail "fleet ignoring conflicts: $fleet $(tail -3 "$work/fleet.log")"
 fi
 kill -INT "$server_pid"
 wait "$server_pid" || fail "the fleet's service exited $?"

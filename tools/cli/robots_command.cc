@@ -1,22 +1,25 @@
 // dynapath robots: a simulated fleet in closed loop with a running
 // `dynapath serve` (docs/howto/SERVICE.md). N robots at seeded free cells
-// each ask the service for a path and move one cell per tick along it; the
-// obstacles move per the maze's change sequence, published to the service
-// as live updates; a robot asks again when its next cell became an
-// obstacle or a newer policy was committed. Reports arrivals, ticks
-// against each robot's exact optimum, blocked moves, queries.
+// run lifelong tasks (a station, then a goal of the pool, then a station...);
+// on the way to a station a robot asks the service for a path and prefers
+// its next cell; the joint move of each tick is the fleet planner's
+// (dynapath/fleet.h: robots block each other, no conflicts), checked by the
+// validator (dynapath/fleet_validator.h). The obstacles move per the maze's
+// change sequence, published to the service as live updates. Wiring only:
+// the planning is core's.
 
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
-#include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "dynapath/bfs_oracle.h"
+#include "dynapath/fleet.h"
+#include "dynapath/fleet_validator.h"
+#include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_update_t.hpp"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
@@ -30,13 +33,13 @@ namespace {
 
 constexpr const char* kRobotsProgram = "dynapath robots";
 
+// A robot's path from the service, on its way to a station.
 struct Robot {
-  int cell = 0;
-  int optimum = 0;        // exact distance at the start (tick 0)
-  std::vector<int> plan;  // cells from the current one on; empty: none
+  int optimum = 0;        // exact distance to a station at the start (tick 0)
+  std::vector<int> plan;  // cells from the one it was asked at on; empty: none
   size_t next = 0;        // index of the next cell in `plan`
   int64_t plan_version = 0;
-  int arrived_at = -1;  // tick of arrival
+  int64_t tasks_seen = 0;  // the fleet's count of its tasks when planned
   bool asked = false;
 };
 
@@ -45,17 +48,25 @@ struct Robot {
 int RobotsCommand(const std::vector<std::string>& args) {
   CLI::App app(
       "A simulated fleet in closed loop with a running `dynapath serve`: --robots N\n"
-      "robots start at seeded free cells that can reach a station, ask the service for\n"
-      "a path and move one cell per tick along it. Every --ticks-per-step ticks the\n"
+      "robots start on distinct seeded free cells that can reach a station and run\n"
+      "lifelong tasks: reach a station, then a goal of a pool of --goals cells drawn from\n"
+      "--robot-seed, then a station again, and so on. On the way to a station a robot\n"
+      "asks the service for a path and prefers its next cell; on the way to a goal it\n"
+      "follows the fleet's own exact distance field of the goal. Each tick makes one\n"
+      "joint move in which robots block each other: no two end on one cell, swap cells\n"
+      "or cross diagonally (PIBT; --ignore-conflicts: each moves as if alone), and an\n"
+      "independent validator checks every tick. Every --ticks-per-step ticks the\n"
       "obstacles move by the maze's next change step, which this command publishes to\n"
       "the service as an update and waits for its commit; a robot asks again when its\n"
-      "next cell became an obstacle (a blocked move) or its plan comes from an older\n"
-      "policy. Robots do not block each other. The maze options must be the service's\n"
-      "(its maze fingerprint is checked first); the obstacles start from the service's\n"
-      "current step of the maze's change sequence.\n"
-      "Prints one JSON line: robots, arrived, arrival_rate, ticks_over_optimal (ticks\n"
-      "of the arrived robots over their exact optimum at tick 0), blocked_moves,\n"
-      "queries, requeries, queries_per_s.",
+      "next cell became an obstacle (a blocked move), it left its path or its plan\n"
+      "comes from an older policy. The maze options must be the service's (its maze\n"
+      "fingerprint is checked first); the obstacles start from the service's current\n"
+      "step of the maze's change sequence.\n"
+      "Prints one JSON line: robots, arrived (robots that reached their first station),\n"
+      "arrival_rate, ticks_over_optimal (their ticks over their exact optimum at tick\n"
+      "0), tasks, throughput (tasks per tick), conflicts (the validator's), overruns\n"
+      "(obstacles that appeared under a robot), delays, blocked_moves, queries,\n"
+      "requeries, queries_per_s, ms_per_tick_p50/p99 (the fleet's planning).",
       kRobotsProgram);
   runtime::OptionGroup group(app);
   runtime::ScenarioOptions scenario;
@@ -67,7 +78,17 @@ int RobotsCommand(const std::vector<std::string>& args) {
   group.Option("--ticks", ticks, "T", "ticks to simulate (1-1000000)");
   group.Option("--ticks-per-step", ticks_per_step, "K",
                "ticks between two change steps of the obstacles (1-1000000)");
-  group.Option("--robot-seed", robot_seed, "S", "seed of the robots' start cells");
+  group.Option("--robot-seed", robot_seed, "S",
+               "seed of the robots' start cells, goals, priorities and delays");
+  long long goals = 16;
+  group.Option("--goals", goals, "G", "goal cells of the tasks, drawn from --robot-seed (1-1024)");
+  double delay_prob = 0;
+  group.Option("--delay-prob", delay_prob, "P",
+               "each move fails with probability P (0-0.9; seeded): the robot stays and so do "
+               "the robots that would enter its cell");
+  bool ignore_conflicts = false;
+  group.Flag("--ignore-conflicts", ignore_conflicts,
+             "robots do not block each other (each moves as if alone; for comparison)");
   double timeout = 60;
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
@@ -83,6 +104,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
     Result<long long> checked =
         runtime::InRange(name, value, value, name == std::string("robot-seed") ? 0 : 1, max);
     if (!checked) return runtime::ProcessError(kRobotsProgram, checked.error().message);
+  }
+  if (!(delay_prob >= 0 && delay_prob <= 0.9)) {
+    return runtime::ProcessError(kRobotsProgram, "--delay-prob must be between 0 and 0.9");
   }
   if (!(timeout > 0 && timeout <= 3600)) {
     return runtime::ProcessError(kRobotsProgram, "--timeout must be between 0 and 3600 seconds");
@@ -115,22 +139,18 @@ int RobotsCommand(const std::vector<std::string>& args) {
   }
   for (int t = 0; t < service_start; ++t) ApplyChanges(steps[static_cast<size_t>(t)], grid);
 
-  // Starts: free cells that can reach a station at tick 0.
-  std::vector<int32_t> distance, queue;
-  NearestStationDistances(grid, distance, queue);
-  std::vector<int> candidates;
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    if (grid.at(cell) == Cell::kFree && distance[cell] > 0) candidates.push_back(cell);
-  }
-  if (candidates.empty()) {
-    return runtime::ProcessError(kRobotsProgram, "no free cell of the maze reaches a station", 1);
-  }
-  std::mt19937_64 random(static_cast<uint64_t>(robot_seed));
-  std::uniform_int_distribution<size_t> pick(0, candidates.size() - 1);
+  FleetOptions fleet_options;
+  fleet_options.robots = static_cast<int>(robots);
+  fleet_options.seed = static_cast<uint64_t>(robot_seed);
+  fleet_options.goal_count = static_cast<int>(goals);
+  fleet_options.delay_probability = delay_prob;
+  fleet_options.ignore_conflicts = ignore_conflicts;
+  Result<std::unique_ptr<Fleet>> made = Fleet::Create(grid, fleet_options);
+  if (!made) return runtime::ProcessError(kRobotsProgram, made.error().message);
+  Fleet& planner = **made;
   std::vector<Robot> fleet(static_cast<size_t>(robots));
-  for (Robot& robot : fleet) {
-    robot.cell = candidates[pick(random)];
-    robot.optimum = distance[robot.cell];
+  for (size_t r = 0; r < fleet.size(); ++r) {
+    fleet[r].optimum = planner.StationDistance(planner.robots()[r].cell);
   }
 
   const std::string source = "robots-" + std::to_string(getpid());
@@ -145,7 +165,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
       const size_t last = std::min(who.size(), first + 64);
       std::vector<std::pair<int32_t, int32_t>> starts;
       for (size_t k = first; k < last; ++k) {
-        const int cell = fleet[who[k]].cell;
+        const int cell = planner.robots()[who[k]].cell;
         starts.emplace_back(grid.RowOf(cell), grid.ColOf(cell));
       }
       std::optional<path_reply_t> reply = client.Ask(starts, timeout);
@@ -161,6 +181,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
         robot.plan.clear();
         robot.next = 1;
         robot.plan_version = reply->version;
+        robot.tasks_seen = planner.robots()[who[k]].tasks_done;
         if (reply->status[i] != path_reply_t::REACHED) {
           ++unanswered;
           continue;
@@ -176,10 +197,19 @@ int RobotsCommand(const std::vector<std::string>& args) {
 
   size_t step_index = static_cast<size_t>(service_start);
   int64_t sequence = 0;
+  JointMoveReport checked;
+  LatencyHistogram planning;
+  std::vector<int> preferred(fleet.size(), -1);
   for (long long tick = 0; tick < ticks; ++tick) {
+    int64_t repair_us = 0;
     if (tick > 0 && tick % ticks_per_step == 0 && step_index < steps.size()) {
       const ChangeStep& step = steps[step_index++];
       ApplyChanges(step, grid);
+      const auto repair_start = std::chrono::steady_clock::now();
+      planner.ApplyChanges(step);
+      repair_us = std::chrono::duration_cast<std::chrono::microseconds>(
+                      std::chrono::steady_clock::now() - repair_start)
+                      .count();
       obstacle_update_t update = protocol::UpdateToMessage(
           step, grid.cols(), source, ++sequence, static_cast<uint64_t>(met->maze_fingerprint));
       update.run_id = process->run_id;
@@ -201,11 +231,14 @@ int RobotsCommand(const std::vector<std::string>& args) {
         service_step = std::max(service_step, probe->time_step);
       }
     }
+    // Robots on their way to a station whose path is missing, walled,
+    // older than the newest policy or for an earlier task ask the service.
     std::vector<size_t> needing;
     for (size_t r = 0; r < fleet.size(); ++r) {
       Robot& robot = fleet[r];
-      if (robot.arrived_at >= 0) continue;
-      const bool no_plan = robot.next >= robot.plan.size();
+      const FleetRobot& state = planner.robots()[r];
+      if (!state.to_station) continue;
+      const bool no_plan = robot.next >= robot.plan.size() || robot.tasks_seen != state.tasks_done;
       const bool wall = !no_plan && grid.at(robot.plan[robot.next]) == Cell::kObstacle;
       if (no_plan || wall || robot.plan_version < latest_version) needing.push_back(r);
     }
@@ -214,17 +247,31 @@ int RobotsCommand(const std::vector<std::string>& args) {
           kRobotsProgram,
           "no answer from a service of run " + process->run_id + " within --timeout", kExitFailure);
     }
-    for (Robot& robot : fleet) {
-      if (robot.arrived_at >= 0 || robot.next >= robot.plan.size()) continue;
-      const int next = robot.plan[robot.next];
-      if (grid.at(next) == Cell::kObstacle) {
+    for (size_t r = 0; r < fleet.size(); ++r) {
+      Robot& robot = fleet[r];
+      preferred[r] = -1;
+      if (!planner.robots()[r].to_station || robot.next >= robot.plan.size()) continue;
+      if (grid.at(robot.plan[robot.next]) == Cell::kObstacle) {
         ++blocked;
         robot.plan.clear();
         continue;
       }
-      robot.cell = next;
-      ++robot.next;
-      if (grid.at(robot.cell) == Cell::kStation) robot.arrived_at = static_cast<int>(tick) + 1;
+      preferred[r] = robot.plan[robot.next];
+    }
+    const auto plan_start = std::chrono::steady_clock::now();
+    const JointMove& move = planner.Tick(preferred);
+    planning.Add(repair_us + std::chrono::duration_cast<std::chrono::microseconds>(
+                                 std::chrono::steady_clock::now() - plan_start)
+                                 .count());
+    checked.Add(CheckJointMove(grid, move.before, move.after, move.delayed));
+    for (size_t r = 0; r < fleet.size(); ++r) {
+      Robot& robot = fleet[r];
+      if (preferred[r] < 0) continue;
+      if (move.after[r] == preferred[r]) {
+        ++robot.next;
+      } else if (move.after[r] != move.before[r]) {
+        robot.plan.clear();  // pushed off its path: ask again
+      }
     }
   }
   const double seconds =
@@ -233,22 +280,31 @@ int RobotsCommand(const std::vector<std::string>& args) {
     return runtime::ProcessError(kRobotsProgram, *two, kExitFailure);
   }
   int64_t arrived = 0, ticks_sum = 0, optimum_sum = 0;
-  for (const Robot& robot : fleet) {
-    if (robot.arrived_at < 0) continue;
+  for (size_t r = 0; r < fleet.size(); ++r) {
+    const FleetRobot& state = planner.robots()[r];
+    if (state.first_done < 0) continue;
     ++arrived;
-    ticks_sum += robot.arrived_at;
-    optimum_sum += robot.optimum;
+    ticks_sum += state.first_done;
+    optimum_sum += fleet[r].optimum;
   }
   std::printf(
       "{\"robots\":%lld,\"ticks\":%lld,\"arrived\":%lld,\"arrival_rate\":%.4f,"
-      "\"ticks_over_optimal\":%.4f,\"blocked_moves\":%lld,\"queries\":%lld,\"requeries\":%lld,"
-      "\"not_reached_answers\":%lld,\"queries_per_s\":%.1f,\"seconds\":%.2f,\"version\":%lld}\n",
+      "\"ticks_over_optimal\":%.4f,\"tasks\":%lld,\"throughput\":%.4f,\"conflicts\":%lld,"
+      "\"overruns\":%lld,\"delays\":%lld,\"blocked_moves\":%lld,\"queries\":%lld,"
+      "\"requeries\":%lld,\"not_reached_answers\":%lld,\"queries_per_s\":%.1f,"
+      "\"ms_per_tick_p50\":%.3f,\"ms_per_tick_p99\":%.3f,\"seconds\":%.2f,\"version\":%lld}\n",
       robots, ticks, static_cast<long long>(arrived),
       static_cast<double>(arrived) / static_cast<double>(robots),
       optimum_sum > 0 ? static_cast<double>(ticks_sum) / static_cast<double>(optimum_sum) : 0.0,
-      static_cast<long long>(blocked), static_cast<long long>(queries),
-      static_cast<long long>(requeries), static_cast<long long>(unanswered),
-      seconds > 0 ? static_cast<double>(queries) / seconds : 0.0, seconds,
+      static_cast<long long>(planner.tasks_done()),
+      static_cast<double>(planner.tasks_done()) / static_cast<double>(ticks),
+      static_cast<long long>(checked.conflicts()), static_cast<long long>(planner.overruns()),
+      static_cast<long long>(planner.delays()), static_cast<long long>(blocked),
+      static_cast<long long>(queries), static_cast<long long>(requeries),
+      static_cast<long long>(unanswered),
+      seconds > 0 ? static_cast<double>(queries) / seconds : 0.0,
+      static_cast<double>(planning.Quantile(0.5)) / 1000.0,
+      static_cast<double>(planning.Quantile(0.99)) / 1000.0, seconds,
       static_cast<long long>(latest_version));
   std::fflush(stdout);
   return 0;
