@@ -40,10 +40,10 @@ echo "== 1. zero-shot, fresh seeds $seeds, sizes 20-100, every difficulty"
   --no-edge-case --maze-seeds "$seeds" --threads 2 \
   --approaches "convQ,fedAsynQ_EqAvg,BFS Oracle" --model "$model" --out "$out/fresh" >/dev/null
 summary "$out/fresh"
-echo "== 1b. the edge case (hard 50x50, seed 102), 5 learner seeds"
-"$dynapath" experiment --log-level warn --sizes "" --edge-case --repeats 5 --threads 2 \
-  --approaches "convQ,fedAsynQ_EqAvg,BFS Oracle" --model "$model" --out "$out/edge" >/dev/null || true
-[ -f "$out/edge/edge_results.csv" ] && column -s, -t < "$out/edge/edge_results.csv"
+echo "== 1b. the edge case (hard 50x50, seed 102), 5 learner seeds (convQ learns nothing per maze)"
+"$dynapath" run --log-level warn --size 50 --difficulty hard --seed 102 --repeats 5 --threads 2 \
+  --approach "convQ,fedAsynQ_EqAvg,BFS Oracle" --model "$model" --out "$out/edge" >/dev/null
+summary "$out/edge"
 
 echo "== 2. hard 300x300, fresh seeds 700011,700012 (100 steps)"
 "$dynapath" experiment --log-level warn --sizes 300 --difficulties hard --no-edge-case \
@@ -52,7 +52,8 @@ echo "== 2. hard 300x300, fresh seeds 700011,700012 (100 steps)"
 summary "$out/hard300"
 echo "== 2b. the MovingAI maps (maze, random, room, warehouse), 100 steps"
 "$dynapath" experiment --log-level warn --maps "$here/docs/examples/maps" --steps 100 \
-  --threads 2 --approaches "convQ,fedAsynQ_EqAvg" --model "$model" --out "$out/maps" >/dev/null
+  --threads 2 --approaches "convQ,fedAsynQ_EqAvg,BFS Oracle" --model "$model" --out "$out/maps" \
+  >/dev/null
 table "$out/maps"
 
 echo "== 3. hard 1000x1000, seed 700021, 100 steps (convQ, Incremental Oracle)"
