@@ -27,7 +27,7 @@ ModelFile SomeFile() {
   return file;
 }
 
-std::string_view View(const std::vector<uint8_t>& bytes) {
+std::string_view ModelView(const std::vector<uint8_t>& bytes) {
   return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
@@ -35,7 +35,7 @@ TEST(ModelFileTest, RoundTrip) {
   Result<std::vector<uint8_t>> bytes = EncodeModelFile(SomeFile());
   ASSERT_TRUE(bytes.ok());
   EXPECT_EQ(bytes->size(), kModelFileBytes);
-  Result<ModelFile> back = DecodeModelFile(View(*bytes));
+  Result<ModelFile> back = DecodeModelFile(ModelView(*bytes));
   ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_EQ(back->model, SomeFile().model);
   EXPECT_EQ(back->training.seed, 42u);
@@ -49,13 +49,13 @@ TEST(ModelFileTest, EveryFlippedByteTruncationAndExtensionIsRefused) {
   for (size_t i = 0; i < bytes->size(); ++i) {
     std::vector<uint8_t> flipped = *bytes;
     flipped[i] ^= 0x01;
-    EXPECT_FALSE(DecodeModelFile(View(flipped)).ok()) << "byte " << i;
+    EXPECT_FALSE(DecodeModelFile(ModelView(flipped)).ok()) << "byte " << i;
   }
   std::vector<uint8_t> shorter(bytes->begin(), bytes->end() - 1);
-  EXPECT_FALSE(DecodeModelFile(View(shorter)).ok());
+  EXPECT_FALSE(DecodeModelFile(ModelView(shorter)).ok());
   std::vector<uint8_t> longer = *bytes;
   longer.push_back(0);
-  EXPECT_FALSE(DecodeModelFile(View(longer)).ok());
+  EXPECT_FALSE(DecodeModelFile(ModelView(longer)).ok());
   EXPECT_FALSE(DecodeModelFile("DYNAPOL\n").ok());
 }
 
@@ -68,7 +68,7 @@ TEST(ModelFileTest, WeightsOutOfBoundsAreNeitherWrittenNorRead) {
   // The discount's bytes replaced, checksum not checked: the bound refuses.
   const double one = 1.0;
   std::memcpy(bytes->data() + kModelFileBytes - 32 - 16, &one, sizeof one);
-  Result<ModelFile> read = DecodeModelFile(View(*bytes), /*verify_checksum=*/false);
+  Result<ModelFile> read = DecodeModelFile(ModelView(*bytes), /*verify_checksum=*/false);
   ASSERT_FALSE(read.ok());
   EXPECT_NE(read.error().message.find("move_discount"), std::string::npos);
 }
