@@ -17,6 +17,7 @@
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
 #include "dynapath/thread_pool.h"
+#include "runtime/model_file.h"
 #include "runtime/output_check.h"
 #include "runtime/policy_saver.h"
 
@@ -155,6 +156,9 @@ void DeclareLearnerOptions(OptionGroup& group, RunOptions& o) {
                "the learners' random stream: every learner's seed derives from N (0 to 2^53-1); "
                "the same N gives the same results in every mode (docs/howto/STUDIES.md, Repeats)",
                "the maze's seed");
+  group.Option("--model", o.model, "FILE",
+               "convQ's model file, written by `dynapath train-model` (default: the model the "
+               "repository ships, docs/examples/models/convq.model; docs/howto/LEARNED_MODEL.md)");
 }
 
 void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
@@ -190,6 +194,13 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   Result<int> leaf_limit = ResolveLeafLimit(o.leaf_limit);
   if (!leaf_limit) return leaf_limit.error();
   plan.options.leaf_limit = *leaf_limit;
+  if (!o.model.empty()) {
+    Result<ModelFile> model = ReadModelFile(o.model);
+    if (!model)
+      return Error::Option("model", "names a file that is refused: " + model.error().message);
+    plan.options.convq_model = std::make_shared<const ConvQModel>(model->model);
+    plan.model_path = o.model;
+  }
   Result<Bootstrap> bootstrap = BootstrapWords().ParseOption("bootstrap", o.bootstrap);
   if (!bootstrap) return bootstrap.error();
   plan.options.bootstrap = *bootstrap;
@@ -380,6 +391,7 @@ std::string RunPlanToml(const RunPlan& plan) {
   }
   text += "semantics = \"" + SemanticsWords().Name(o.semantics) + "\"\n" + ParameterLines(o);
   if (plan.learner_seed) text += "learner-seed = " + std::to_string(*plan.learner_seed) + "\n";
+  if (!plan.model_path.empty()) text += "model = \"" + plan.model_path + "\"\n";
   return text;
 }
 

@@ -61,6 +61,9 @@ struct RunPlan {
   // --learner-seed: the seed every learner's stream derives from. Unset: the
   // maze's seed (the scenario's --seed), the stream of runs without it.
   std::optional<uint64_t> learner_seed;
+  // --model: the model file options.convq_model was read from ("" the
+  // shipped model), for params.toml.
+  std::string model_path;
   // The run seed the learners' seeds derive from on a maze of seed
   // `maze_seed`: learner_seed when set, else maze_seed.
   uint64_t RunSeed(uint64_t maze_seed) const { return learner_seed.value_or(maze_seed); }
@@ -91,6 +94,7 @@ struct RunOptions {
   std::optional<double> checkpoint_interval;  // SECONDS, 0 when unset (needs --checkpoint)
   bool resume_checkpoint = false;         // continue from DIR's checkpoint (run --resume sets it)
   std::optional<long long> learner_seed;  // --learner-seed
+  std::string model;                      // --model FILE, "" the shipped model
 };
 // The values the run plan's options accept, checked without naming the
 // option (callers add "option --NAME" or a config file's origin), so that

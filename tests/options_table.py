@@ -22,8 +22,11 @@ import sys
 # Names that are different options for different commands, each declared
 # once per meaning: (number of meanings, why).
 HOMONYMS = {
-    "--out": (4, "run's result directory; experiment's study directory; render's picture directory; "
-                 "compare's CSV file"),
+    "--out": (5, "run's result directory; experiment's study directory; render's picture directory; "
+                 "compare's CSV file; train-model's model file"),
+    "--seed": (2, "the maze's seed (maze, run, experiment, the processes); train-model's training seed"),
+    "--threads": (2, "worker threads of a run, a study or a process; train-model's threads sharing "
+                     "out a round's mazes"),
     "--approach": (2, "run's list of approaches to run; the one approach render and view show"),
     "--run-id": (2, "the run a process belongs to; the run render and view show"),
     "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
@@ -43,6 +46,7 @@ COMMANDS = [
     ("dynapath secret", ["tools/dynapath", "secret"]),
     ("dynapath params", ["tools/dynapath", "params"]),
     ("dynapath compare", ["tools/dynapath", "compare"]),
+    ("dynapath train-model", ["tools/dynapath", "train-model"]),
     ("dynapath netns", ["tools/dynapath", "netns"]),
     ("dynapath serve", ["tools/dynapath", "serve"]),
     ("dynapath query", ["tools/dynapath", "query"]),

@@ -7,10 +7,28 @@
 
 namespace dynapath {
 
-const std::vector<Approach>& AllApproaches() {
-  static const std::vector<Approach> all = [] {
+const std::vector<Approach>& RegisteredApproaches() {
+  static const std::vector<Approach> registered = [] {
     std::vector<Approach> approaches;
     for (const ApproachSpec& spec : ApproachRegistry()) approaches.push_back(spec.approach);
+    return approaches;
+  }();
+  return registered;
+}
+
+const std::vector<Approach>& AllApproaches() {
+  static const std::vector<Approach> all = [] {
+    static constexpr Approach kOutside[] = {
+#define DYNAPATH_OUTSIDE_ALL(id) Approach::id,
+        DYNAPATH_APPROACHES_OUTSIDE_ALL(DYNAPATH_OUTSIDE_ALL)
+#undef DYNAPATH_OUTSIDE_ALL
+    };
+    std::vector<Approach> approaches;
+    for (Approach approach : RegisteredApproaches()) {
+      if (std::find(std::begin(kOutside), std::end(kOutside), approach) == std::end(kOutside)) {
+        approaches.push_back(approach);
+      }
+    }
     return approaches;
   }();
   return all;
@@ -20,7 +38,7 @@ std::string ApproachName(Approach approach) { return GetApproachSpec(approach).n
 
 std::optional<Approach> ParseApproach(const std::string& name) {
   const std::string wanted = ToLower(Trim(name));
-  for (Approach approach : AllApproaches()) {
+  for (Approach approach : RegisteredApproaches()) {
     if (ToLower(ApproachName(approach)) == wanted) return approach;
   }
   return std::nullopt;
@@ -28,7 +46,7 @@ std::optional<Approach> ParseApproach(const std::string& name) {
 
 std::string ApproachNamesText() {
   std::string names;
-  for (Approach a : AllApproaches()) names += (names.empty() ? "" : ", ") + ApproachName(a);
+  for (Approach a : RegisteredApproaches()) names += (names.empty() ? "" : ", ") + ApproachName(a);
   return names;
 }
 

@@ -28,6 +28,8 @@ int RobotsCommand(const std::vector<std::string>& args);
 int ParamsCommand(const std::vector<std::string>& args);
 // The paired difference of two approaches over the repeats of a study.
 int CompareCommand(const std::vector<std::string>& args);
+// Trains convQ's model from a seed and writes the model file.
+int TrainModelCommand(const std::vector<std::string>& args);
 // Replaces this process with the executable `tool` that sits next to the
 // dynapath binary (plot, view, render), passing `args`; when it is missing,
 // prints one error naming `missing_hint` and returns kExitFailure.

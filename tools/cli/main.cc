@@ -30,6 +30,7 @@ constexpr const char* kUsage =
     "  secret      write a new run secret to a file, for processes started by hand\n"
     "  params      list the learner and strategy parameters (defaults, ranges, help)\n"
     "  compare     paired difference of two approaches over a study's repeats, with its interval\n"
+    "  train-model train convQ's model from a seed and write the model file\n"
     "  plot        draw the report's figures from a study's result files (PNG)\n"
     "  view        watch a run's policy live in a window\n"
     "  render      draw a logged run's policy as PNG frames and an animated GIF\n"
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
   if (command == "secret") return dynapath::cli::SecretCommand(args);
   if (command == "params") return dynapath::cli::ParamsCommand(args);
   if (command == "compare") return dynapath::cli::CompareCommand(args);
+  if (command == "train-model") return dynapath::cli::TrainModelCommand(args);
   if (command == "plot") {
     return dynapath::cli::SiblingCommand("dynapath-plot", args,
                                          "it is installed with the build from tools/plot");

@@ -19,9 +19,11 @@ enum class Approach {
 #undef DYNAPATH_APPROACH_ENUMERATOR
 };
 
-// All approaches in the order of core/include/dynapath/approach_list.h (the order of `all`:
-// SPEC section 9's, then ours).
+// The approaches of `all`, in the order of core/include/dynapath/approach_list.h
+// (SPEC section 9's, then ours), without DYNAPATH_APPROACHES_OUTSIDE_ALL's.
 const std::vector<Approach>& AllApproaches();
+// Every registered approach (`all` and those named explicitly only).
+const std::vector<Approach>& RegisteredApproaches();
 
 // The result-file name ("A* Static", "fedAsynQ_EqAvg", ...).
 std::string ApproachName(Approach approach);
@@ -35,8 +37,8 @@ Result<std::vector<Approach>> ParseApproachList(const std::string& list);
 // True for the approaches that train a learner (Q-learning).
 bool IsLearningApproach(Approach approach);
 
-// "A* Static, A* Oracle, ..., Incremental Oracle": every name in the order of
-// `all`, for help texts.
+// "A* Static, A* Oracle, ..., Incremental Oracle, convQ": every registered
+// name in the registry's order, for help texts.
 std::string ApproachNamesText();
 
 }  // namespace dynapath

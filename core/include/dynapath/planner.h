@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dynapath/approach.h"
+#include "dynapath/convq_model.h"
 #include "dynapath/grid.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/quadtree.h"
@@ -57,6 +58,8 @@ struct PlannerOptions : LearnerOptions {
   // reflect the changes while the training runs. Not a parameter of the
   // results: it may read the planner, not change it.
   std::function<void(Planner& planner, const Grid& grid)> before_retraining;
+  // convQ's model (--model FILE); null: the shipped one (ShippedConvQModel).
+  std::shared_ptr<const ConvQModel> convq_model;
 };
 
 // What an initialisation or adaptation did (extra result columns).

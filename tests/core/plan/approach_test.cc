@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/plan/approach_registry.h"
 #include "dynapath/local_trainer.h"
 #include "dynapath/thread_pool.h"
@@ -10,13 +12,21 @@ namespace dynapath {
 namespace {
 
 TEST(ApproachTest, NamesRoundTripCaseInsensitively) {
-  for (Approach approach : AllApproaches()) {
+  for (Approach approach : RegisteredApproaches()) {
     EXPECT_EQ(ParseApproach(ApproachName(approach)), approach);
   }
   EXPECT_EQ(ParseApproach("fedasynq_eqavg"), Approach::kFedAsynQEqAvg);
   EXPECT_EQ(ParseApproach(" a* oracle "), Approach::kAStarOracle);
   EXPECT_FALSE(ParseApproach("fedAsynQ").has_value());
   EXPECT_EQ(ParseApproach("incremental oracle"), Approach::kIncrementalOracle);
+  EXPECT_EQ(ParseApproach("convq"), Approach::kConvQ);
+}
+
+TEST(ApproachTest, AllLeavesOutConvQ) {
+  const std::vector<Approach>& all = AllApproaches();
+  EXPECT_EQ(all.size() + 1, RegisteredApproaches().size());
+  EXPECT_EQ(std::find(all.begin(), all.end(), Approach::kConvQ), all.end());
+  EXPECT_FALSE(IsLearningApproach(Approach::kConvQ));
 }
 
 TEST(ApproachTest, SpecsSevenComeFirstInOrder) {
@@ -29,10 +39,10 @@ TEST(ApproachTest, SpecsSevenComeFirstInOrder) {
 
 TEST(ApproachRegistryTest, OneConsistentLinePerApproach) {
   const std::vector<ApproachSpec>& registry = ApproachRegistry();
-  ASSERT_EQ(registry.size(), AllApproaches().size());
+  ASSERT_EQ(registry.size(), RegisteredApproaches().size());
   for (size_t i = 0; i < registry.size(); ++i) {
     const ApproachSpec& spec = registry[i];
-    EXPECT_EQ(spec.approach, AllApproaches()[i]);
+    EXPECT_EQ(spec.approach, RegisteredApproaches()[i]);
     EXPECT_EQ(&GetApproachSpec(spec.approach), &spec);
     ASSERT_NE(spec.make_planner, nullptr) << spec.name;
     // A learner comes with a retraining strategy, and only then.
@@ -59,7 +69,7 @@ TEST(ApproachRegistryTest, LinesSayWhatEachApproachIs) {
 TEST(ApproachRegistryTest, EveryPlannerIsBuiltAndOnlyAStarStaticNeverAdapts) {
   ThreadPool pool(1);
   LocalTrainer trainer(pool);
-  for (Approach approach : AllApproaches()) {
+  for (Approach approach : RegisteredApproaches()) {
     std::unique_ptr<Planner> planner = MakePlanner(approach, PlannerOptions{}, &trainer);
     ASSERT_NE(planner, nullptr);
     EXPECT_EQ(planner->Adapts(), approach != Approach::kAStarStatic) << ApproachName(approach);
@@ -68,7 +78,7 @@ TEST(ApproachRegistryTest, EveryPlannerIsBuiltAndOnlyAStarStaticNeverAdapts) {
 
 TEST(ApproachTest, NamesTextListsEveryApproach) {
   const std::string text = ApproachNamesText();
-  for (Approach approach : AllApproaches()) {
+  for (Approach approach : RegisteredApproaches()) {
     EXPECT_NE(text.find(ApproachName(approach)), std::string::npos);
   }
   EXPECT_EQ(text.rfind("A* Static, A* Oracle, BFS Oracle", 0), 0u);
