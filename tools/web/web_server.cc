@@ -80,14 +80,17 @@ struct WebServer::Impl {
     });
   }
 
-  // Sends to one client unless its queue would pass the cap; then it is
+  // Sends to one client unless its queue is above the cap; then it is
   // listed in `slow` (dropped after the loop).
   bool SendTo(const Handle& handle, const void* data, size_t size, Opcode opcode,
               std::vector<Handle>& slow) {
     websocketpp::lib::error_code ec;
     Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
     if (ec || !connection) return false;
-    if (static_cast<int64_t>(connection->get_buffered_amount() + size) > options.max_queue_bytes) {
+    // A queue already above the cap: the client is not keeping up. (One
+    // message larger than the cap still goes to a client with an empty
+    // queue: a 1000x1000 maze's whole policy is 1 MB.)
+    if (static_cast<int64_t>(connection->get_buffered_amount()) > options.max_queue_bytes) {
       slow.push_back(handle);
       return false;
     }

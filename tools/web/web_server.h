@@ -12,7 +12,8 @@
 // connection); a Foxglove client may subscribe and unsubscribe only.
 // Frames above max_frame_bytes and malformed frames close the connection;
 // at most max_clients WebSocket clients (more: HTTP 503); a client whose
-// unsent bytes would pass max_queue_bytes is dropped, never waited for.
+// unsent bytes are above max_queue_bytes when a message is due is dropped,
+// never waited for (its queue holds at most that and one message).
 //
 // The message inputs (Grid, Policy, ...) may be called from any thread
 // (the LCM dispatch thread): they post to the I/O thread, which owns the
