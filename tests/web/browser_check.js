@@ -3,13 +3,16 @@
 // approach, then compares the colours of cells with what the run's final
 // POLICY says (from the MCAP export of the run's log: an independent path
 // from the log to the expected colours), and saves a screenshot.
-// Usage: node --experimental-websocket browser_check.js DEVTOOLS_PORT PAGE_URL
+// Usage: node [--experimental-websocket] browser_check.js DEVTOOLS_PORT PAGE_URL
 //          APPROACH STEP POLICY_JSON SCREENSHOT [MEASURE_SECONDS]
 // POLICY_JSON: the /policy message (log-to-mcap's JSON) of that step, read
 // once the page drew the step (the run writes its log when it ends).
 // Prints the page's timers as JSON on the last line. Exit 1 on a mismatch.
 "use strict";
 const fs = require("fs");
+// Node 20 has a WebSocket client (--experimental-websocket), Node 18 (Debian
+// 12's) has not: then npm's ws (scripts/install-web-node.sh, NODE_PATH).
+const WebSocketClient = globalThis.WebSocket || require("ws");
 const [devtools, pageUrl, approach, stepText, policyFile, screenshot, measureText] = process.argv.slice(2);
 const step = Number(stepText);
 let policy = null;
@@ -46,7 +49,7 @@ async function main() {
   }
   if (!targets) fail("no DevTools endpoint");
   const target = targets.find((t) => t.type === "page");
-  const ws = new WebSocket(target.webSocketDebuggerUrl);
+  const ws = new WebSocketClient(target.webSocketDebuggerUrl);
   await new Promise((resolve, reject) => { ws.onopen = resolve; ws.onerror = reject; });
   let id = 0;
   const waiting = new Map();

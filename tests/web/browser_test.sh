@@ -11,6 +11,15 @@ dynapath=$1 source=$2 work=$3 size=${4:-20} steps=${5:-12} measure=${6:-0}
 command -v chromium > /dev/null || { echo "skipped: chromium is not installed (scripts/install-deps.sh)"; exit 77; }
 command -v node > /dev/null || { echo "skipped: node is not installed"; exit 77; }
 "$dynapath" netns -- true 2> /dev/null || { echo "skipped: no private network namespaces here"; exit 77; }
+# The DevTools driver's WebSocket: Node's own (20+), else npm's ws.
+if node --experimental-websocket -e 'if (typeof WebSocket !== "function") process.exit(1)' 2> /dev/null; then
+  export NODE_OPTIONS=--experimental-websocket
+else
+  node_dir=$(dirname "$work")/../web-node
+  "$source/scripts/install-web-node.sh" "$node_dir" ||
+    { echo "skipped: node has no WebSocket client and npm's ws cannot be installed"; exit 77; }
+  export NODE_PATH="$node_dir/node_modules"
+fi
 rm -rf "$work" && mkdir -p "$work"
 cat > "$work/inside.sh" << 'INSIDE'
 set -u
@@ -23,7 +32,7 @@ chromium --headless --no-sandbox --disable-gpu --disable-background-networking \
   --disable-component-update --disable-sync --no-first-run --user-data-dir="$work/profile" \
   --remote-debugging-port=9333 about:blank > "$work/chromium.log" 2>&1 &
 browser=$!
-node --experimental-websocket "$source/tests/web/browser_check.js" 9333 http://127.0.0.1:8765/ \
+node "$source/tests/web/browser_check.js" 9333 http://127.0.0.1:8765/ \
   "$approach" "$steps" "$work/policy.json" "$work/web.png" "$measure" > "$work/check.log" 2>&1 &
 check=$!
 # The run starts once the page is connected: it is watched live.
