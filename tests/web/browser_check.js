@@ -36,7 +36,7 @@ function fail(why) {
   console.log("browser_check: " + why);
   process.exit(1);
 }
-setTimeout(() => fail("timed out"), 120000);
+setTimeout(() => fail("timed out"), Number(process.env.BROWSER_CHECK_TIMEOUT || 120) * 1000);
 
 async function main() {
   let targets = null;
