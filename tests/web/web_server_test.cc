@@ -224,6 +224,27 @@ TEST(WebServer, RefusesClientsAboveTheCap) {
   EXPECT_EQ(again.Handshake(), "HTTP/1.1 101 Switching Protocols");
 }
 
+TEST(WebServer, CapsABurstOfHandshakes) {
+  // Five handshakes sent before any answer is read: three get in.
+  WebServer server(TestOptions());
+  ASSERT_TRUE(server.Start());
+  std::vector<std::unique_ptr<RawClient>> burst;
+  for (int i = 0; i < 5; ++i) {
+    burst.push_back(std::make_unique<RawClient>(server.port()));
+    burst.back()->Send(
+        "GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
+  }
+  int accepted = 0, refused = 0;
+  for (auto& client : burst) {
+    const std::string response = client->Read(5000);
+    accepted += response.rfind("HTTP/1.1 101", 0) == 0;
+    refused += response.rfind("HTTP/1.1 503", 0) == 0;
+  }
+  EXPECT_EQ(accepted, 3);
+  EXPECT_EQ(refused, 2);
+}
+
 TEST(WebServer, DropsAClientThatDoesNotRead) {
   WebServer server(TestOptions());
   ASSERT_TRUE(server.Start());

@@ -49,6 +49,10 @@ struct WebServer::Impl {
 
   // I/O thread only.
   std::map<Handle, Client, std::owner_less<Handle>> clients;
+  // Handshakes accepted whose connection is not open yet: they count
+  // against the cap too (a burst of connections is validated before any
+  // of them opens).
+  std::set<Handle, std::owner_less<Handle>> opening;
   bool have_maze = false;
   FrameHeader maze_header;
   std::vector<uint8_t> maze;
@@ -169,7 +173,7 @@ struct WebServer::Impl {
 
   bool OnValidate(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
-    if (static_cast<int>(clients.size()) >= options.max_clients) {
+    if (static_cast<int>(clients.size() + opening.size()) >= options.max_clients) {
       Count(&ServerCounters::refused_full);
       connection->set_status(websocketpp::http::status_code::service_unavailable);
       connection->set_body("too many clients (--max-clients " +
@@ -189,11 +193,13 @@ struct WebServer::Impl {
       }
       connection->select_subprotocol(kFoxgloveSubprotocol);
     }
+    opening.insert(handle);
     return true;
   }
 
   void OnOpen(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    opening.erase(handle);
     Client client;
     client.foxglove = connection->get_subprotocol() == kFoxgloveSubprotocol;
     clients[handle] = client;
@@ -240,6 +246,7 @@ struct WebServer::Impl {
   }
 
   void OnClose(Handle handle) {
+    opening.erase(handle);
     auto it = clients.find(handle);
     if (it == clients.end()) return;
     const bool foxglove = it->second.foxglove;
