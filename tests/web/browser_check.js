@@ -71,6 +71,21 @@ async function main() {
     await new Promise((r) => setTimeout(r, 100));
   }
   fs.writeFileSync(policyFile + ".ready", "connected\n");  // the test starts the run now
+  if (step < 0) {
+    // Frame rate only (bench/web_robots.sh): once robots' paths arrived,
+    // the page's frames per second each second for MEASURE_SECONDS.
+    while (!(await evaluate("window.dynapath.paths.length > 0"))) await new Promise((r) => setTimeout(r, 100));
+    const samples = [];
+    for (let i = 0; i < Number(measureText || 10); i++) {
+      await new Promise((r) => setTimeout(r, 1000));
+      samples.push(await evaluate("window.dynapath.fps"));
+    }
+    const robots = await evaluate("window.dynapath.paths.length");
+    const shot = await call("Page.captureScreenshot", { format: "png" });
+    fs.writeFileSync(screenshot, Buffer.from(shot.result.data, "base64"));
+    console.log(JSON.stringify({ robots, fps: samples }));
+    process.exit(0);
+  }
   let summary = null;
   for (;;) {
     summary = await evaluate(`window.dynapath && JSON.stringify({s: window.dynapath.summary(), d: window.dynapath.drawn})`);

@@ -8,6 +8,7 @@
 "use strict";
 
 const STAGE = 800;
+const MAX_PATHS = 2000;
 const NO_ACTION = 15;
 // Colours (RGBA) of obstacles, moving obstacles, stations, failing starts.
 const OBSTACLE = [43, 43, 43], MOVER = [142, 68, 173], STATION = [39, 174, 96];
@@ -190,7 +191,14 @@ function onText(text) {
       dirtyOverlay = true;
       break;
     }
-    case "paths": state.paths = m.paths; state.pathStep = m.step; dirtyOverlay = true; break;
+    case "paths": {
+      // A reply answers one request (a fleet asks for a few robots at a
+      // time): the latest MAX_PATHS paths of all replies are shown.
+      state.paths = state.paths.concat(m.paths.filter((p) => p.cells.length > 0));
+      if (state.paths.length > MAX_PATHS) state.paths = state.paths.slice(-MAX_PATHS);
+      state.pathStep = m.step; dirtyOverlay = true;
+      break;
+    }
   }
 }
 
