@@ -50,7 +50,7 @@ for step in "${steps[@]}"; do
       # Twice as many tests as cores: the end-to-end scripts spend much of
       # their time waiting (process start-up, pauses, timeouts), not computing.
       ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
-        -E '^(lan|plot_figures|plot_reference_overlay|layering|layering_self_test|options_table|docs\..*|docs_self_test|web_browser|web_foxglove|web\..*)$' \
+        -E '^(lan|plot_figures|plot_reference_overlay|layering|layering_self_test|options_table|docs\..*|docs_self_test|web_.*|web\..*)$' \
         | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
       ;;
