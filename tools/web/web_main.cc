@@ -3,6 +3,7 @@
 // client of the run (its secret), publishes nothing. Run directly or as
 // `dynapath web`.
 
+#include <arpa/inet.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -36,7 +37,13 @@ double NowMs() {
 }
 
 bool IsLoopback(const std::string& address) {
-  return address.rfind("127.", 0) == 0 || address == "::1" || address == "localhost";
+  return address.rfind("127.", 0) == 0 || address == "::1";
+}
+
+bool IsIpAddress(const std::string& address) {
+  unsigned char bytes[16];
+  return inet_pton(AF_INET, address.c_str(), bytes) == 1 ||
+         inet_pton(AF_INET6, address.c_str(), bytes) == 1;
 }
 
 int Run(const std::vector<std::string>& args) {
@@ -81,6 +88,11 @@ int Run(const std::vector<std::string>& args) {
   if (!port_given) return runtime::ProcessError(kProgram, "option --port is required");
   Result<long long> port = runtime::InRange("port", port_given, 0, 0, 65535);
   if (!port) return runtime::ProcessError(kProgram, port.error().message);
+  if (!IsIpAddress(bind)) {
+    return runtime::ProcessError(
+        kProgram, "option --bind needs an IPv4 or IPv6 address (127.0.0.1, ::1, 0.0.0.0), got '" +
+                      bind + "'");
+  }
   Result<long long> max_clients = runtime::InRange("max-clients", max_clients_given, 0, 1, 1000);
   if (!max_clients) return runtime::ProcessError(kProgram, max_clients.error().message);
   Result<long long> max_queue = runtime::InRange("max-queue", max_queue_given, 0, 1, 1024);
