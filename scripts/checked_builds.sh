@@ -54,7 +54,7 @@ for step in "${steps[@]}"; do
       # Twice as many tests as cores: the end-to-end scripts spend much of
       # their time waiting (process start-up, pauses, timeouts), not computing.
       ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
-        -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end)$' \
+        -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end|web_.*|web\..*)$' \
         | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
       ;;

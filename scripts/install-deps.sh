@@ -22,12 +22,18 @@ packages=(
   libsodium-dev                       # message authentication of a run (keyed BLAKE2b), policy file checksums
   libzstd-dev                         # compressed tables of policy files (runtime/policy_file.h)
   xvfb xauth                          # the viewer's one headless check (tests)
+  libwebsocketpp-dev libasio-dev      # dynapath web: HTTP + WebSocket on one port (websocketpp on standalone asio)
+  chromium                            # dynapath web's page tested in headless Chromium (tests)
+  nodejs                              # the page test's DevTools driver; Foxglove's client library test
   iproute2 nftables iptables          # the simulated LAN (tools/lan): bridge, veths, loss/dup, NFQUEUE
   libnetfilter-queue-dev libmnl-dev   # dynapath-lan-delay: delay, jitter, reordering on that LAN
   clang-14 libfuzzer-14-dev           # fuzz targets (scripts/checked_builds.sh fuzz)
   libclang-rt-14-dev                  # clang's sanitizer and libFuzzer runtimes (only recommended by clang-14)
   time                                # GNU time: peak memory in bench/scale_bench.sh
 )
+# npm (Foxglove's client library for its test, scripts/install-web-node.sh),
+# unless a Node.js from elsewhere brought its own.
+command -v npm > /dev/null || packages+=(npm)
 
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
 missing=()

@@ -54,6 +54,8 @@ COMMANDS = [
     ("dynapath robots", ["tools/dynapath", "robots"]),
     ("dynapath render", ["tools/dynapath-render"]),
     ("dynapath view", ["tools/dynapath-view"]),
+    ("dynapath web", ["tools/dynapath-web"]),
+    ("dynapath log-to-mcap", ["tools/dynapath-log-to-mcap"]),
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),
     ("dynapath-coordinator", ["coordinator/dynapath-coordinator"]),
     ("dynapath-agent", ["agent/dynapath-agent"]),

@@ -34,6 +34,8 @@ constexpr const char* kUsage =
     "  plot        draw the report's figures from a study's result files (PNG)\n"
     "  view        watch a run's policy live in a window\n"
     "  render      draw a logged run's policy as PNG frames and an animated GIF\n"
+    "  web         watch a run or a service live in a browser or in Foxglove (one port)\n"
+    "  log-to-mcap write an LCM log's run messages as MCAP (Foxglove, Lichtblick)\n"
     "\n"
     "Run 'dynapath <command> --help' for the options of a command.\n";
 
@@ -84,6 +86,14 @@ int main(int argc, char** argv) {
   if (command == "render") {
     return dynapath::cli::SiblingCommand("dynapath-render", args,
                                          "it is built with the project from tools/view");
+  }
+  if (command == "web") {
+    return dynapath::cli::SiblingCommand("dynapath-web", args,
+                                         "it is built only when libwebsocketpp-dev is installed");
+  }
+  if (command == "log-to-mcap") {
+    return dynapath::cli::SiblingCommand("dynapath-log-to-mcap", args,
+                                         "it is built only when libwebsocketpp-dev is installed");
   }
   std::fprintf(stderr, "dynapath: unknown command '%s' (see dynapath --help)\n", command.c_str());
   return dynapath::cli::kExitUsage;

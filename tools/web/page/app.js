@@ -1,0 +1,353 @@
+// The DynaPath live page: one WebSocket to the server that served it.
+// Binary frames carry policies (whole, or the cells that changed) and the
+// maze, packed one byte per cell (tools/web/messages.h); text frames carry
+// JSON reports, changes, paths and map updates. The maze is drawn one pixel
+// per cell into an ImageData (only changed cells are rewritten) and scaled
+// by CSS; arrows, regions, changes and robots go on an overlay canvas.
+// window.dynapath holds the page's state for tests and measurements.
+"use strict";
+
+const STAGE = 800;
+const MAX_PATHS = 2000;
+const NO_ACTION = 15;
+// Colours (RGBA) of obstacles, moving obstacles, stations, failing starts.
+const OBSTACLE = [43, 43, 43], MOVER = [142, 68, 173], STATION = [39, 174, 96];
+const FAIL = [231, 76, 60], NONE = [236, 236, 236];
+// Greedy actions N, NE, E, SE, S, SW, W, NW: light hues around the circle.
+const ACTION = [[166, 206, 227], [178, 223, 138], [253, 191, 111], [202, 178, 214],
+                [255, 255, 153], [251, 154, 153], [204, 235, 197], [222, 203, 228]];
+const DR = [-1, -1, 0, 1, 1, 1, 0, -1], DC = [0, 1, 1, 1, 0, -1, -1, -1];
+const LINE = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b",
+              "#e377c2", "#7f7f7f", "#bcbd22"];
+
+const state = {
+  connected: false, run: "", approaches: {}, order: [], maze: null, selected: "",
+  reports: {}, reportRx: {}, changes: null, moved: null, paths: [], pathStep: -1,
+  framesReceived: 0, framesDrawn: 0, fps: 0, updates: [], drawn: null,
+  // Pixel colour [r, g, b] drawn at (row, col) of the shown grid.
+  pixel(row, col) {
+    const view = shown();
+    if (!view || row < 0 || col < 0 || row >= view.rows || col >= view.cols) return null;
+    const i = (row * view.cols + col) * 4;
+    return [image.data[i], image.data[i + 1], image.data[i + 2]];
+  },
+  summary() {
+    const v = shown();
+    return v ? { approach: state.selected, step: v.step, rows: v.rows, cols: v.cols } : null;
+  },
+};
+window.dynapath = state;
+
+const cells = document.getElementById("cells");
+const overlay = document.getElementById("overlay");
+const ctx = cells.getContext("2d");
+const octx = overlay.getContext("2d");
+const select = document.getElementById("approach");
+const follow = document.getElementById("follow");
+let image = ctx.createImageData(1, 1);
+let imageKey = "";
+let dirtyCells = true, dirtyOverlay = true, dirtyPlots = true;
+let pendingFull = true;      // redraw every pixel of the shown grid
+const pendingIndices = [];   // else only these cells
+
+function shown() {
+  return state.approaches[state.selected] || state.maze;
+}
+
+function colour(packed, index) {
+  const code = packed & 3, reach = (packed >> 2) & 3, action = packed >> 4;
+  if (code === 0) return state.moved && state.moved[index] ? MOVER : OBSTACLE;
+  if (code === 2) return STATION;
+  if (reach === 0) return FAIL;
+  if (action !== NO_ACTION) return ACTION[action & 7];
+  return NONE;
+}
+
+function paint(view, index) {
+  const c = colour(view.cells[index], index);
+  const i = index * 4;
+  image.data[i] = c[0]; image.data[i + 1] = c[1]; image.data[i + 2] = c[2]; image.data[i + 3] = 255;
+}
+
+function layout(view) {
+  const key = view.rows + "x" + view.cols;
+  if (key === imageKey) return;
+  imageKey = key;
+  cells.width = view.cols; cells.height = view.rows;
+  const scale = Math.min(STAGE / view.cols, STAGE / view.rows);
+  cells.style.width = view.cols * scale + "px"; cells.style.height = view.rows * scale + "px";
+  overlay.width = Math.round(view.cols * scale); overlay.height = Math.round(view.rows * scale);
+  image = ctx.createImageData(view.cols, view.rows);
+  state.moved = new Uint8Array(view.rows * view.cols);
+  pendingFull = true;
+}
+
+// --- messages ---
+
+function parseFrame(buffer) {
+  const view = new DataView(buffer);
+  let at = 0;
+  const kind = view.getUint8(at); at += 1;
+  const n = view.getUint16(at, true); at += 2;
+  const approach = new TextDecoder().decode(new Uint8Array(buffer, at, n)); at += n;
+  const step = view.getInt32(at, true); at += 4;
+  const rows = view.getInt32(at, true); at += 4;
+  const cols = view.getInt32(at, true); at += 4;
+  const rx = view.getFloat64(at, true); at += 8;
+  const count = view.getUint32(at, true); at += 4;
+  const regions = [];
+  for (let i = 0; i < count; i++) {
+    regions.push([view.getInt32(at, true), view.getInt32(at + 4, true), view.getInt32(at + 8, true),
+                  view.getInt32(at + 12, true)]);
+    at += 16;
+  }
+  return { kind, approach, step, rows, cols, rx, regions, view, at };
+}
+
+function onFrame(buffer) {
+  const f = parseFrame(buffer);
+  state.framesReceived++;
+  const total = f.rows * f.cols;
+  if (f.kind === 3) {  // the maze
+    state.maze = { rows: f.rows, cols: f.cols, step: f.step, cells: new Uint8Array(buffer, f.at, total).slice(), regions: [], rx: f.rx };
+    if (!state.selected) { pendingFull = true; dirtyCells = dirtyOverlay = true; }
+    return;
+  }
+  let a = state.approaches[f.approach];
+  if (f.kind === 1) {
+    if (!a) { state.order.push(f.approach); addOption(f.approach); }
+    a = state.approaches[f.approach] = { rows: f.rows, cols: f.cols, step: f.step, regions: f.regions, rx: f.rx,
+                                         cells: new Uint8Array(buffer, f.at, total).slice() };
+    if (f.approach === state.selected) pendingFull = true;
+  } else {
+    if (!a) return;  // a delta before its whole policy: never sent so
+    const k = f.view.getUint32(f.at, true);
+    const indices = new Uint32Array(buffer.slice(f.at + 4, f.at + 4 + 4 * k));
+    const values = new Uint8Array(buffer, f.at + 4 + 4 * k, k);
+    for (let i = 0; i < k; i++) {
+      const index = indices[i];
+      if (index < a.cells.length) a.cells[index] = values[i];
+    }
+    if (f.approach === state.selected && !pendingFull) {
+      for (let i = 0; i < k; i++) pendingIndices.push(indices[i]);
+      if (pendingIndices.length > total / 2) { pendingFull = true; pendingIndices.length = 0; }
+    }
+    a.step = f.step; a.regions = f.regions; a.rx = f.rx;
+  }
+  if (!state.selected || (follow.checked && state.selected !== f.approach)) choose(f.approach);
+  if (f.approach === state.selected) { dirtyCells = dirtyOverlay = true; a.pendingDraw = f.step; }
+}
+
+function addOption(name) {
+  const option = document.createElement("option");
+  option.value = option.textContent = name;
+  select.appendChild(option);
+}
+
+function choose(name) {
+  state.selected = name;
+  select.value = name;
+  pendingFull = true; pendingIndices.length = 0;
+  dirtyCells = dirtyOverlay = true;
+}
+select.addEventListener("change", () => { follow.checked = false; choose(select.value); });
+
+function onReport(r) {
+  (state.reports[r.approach] = state.reports[r.approach] || []).push(r);
+  state.reportRx[r.approach + "/" + r.step] = r.rx;
+  dirtyPlots = true;
+}
+
+function onText(text) {
+  const m = JSON.parse(text);
+  switch (m.t) {
+    case "hello": state.run = m.run; break;
+    case "history": for (const r of m.reports) onReport(r); break;
+    case "report": onReport(m); break;
+    case "changes": {
+      state.changes = m;
+      const view = shown();
+      if (state.maze) {
+        for (let i = 0; i < m.cells.length; i++) {
+          const index = m.cells[i];
+          if (index < state.maze.cells.length) state.maze.cells[index] = (state.maze.cells[index] & ~3) | (m.codes[i] & 3);
+        }
+      }
+      if (state.moved && view) {
+        for (const index of m.cells) if (index < state.moved.length) { state.moved[index] = 1; pendingIndices.push(index); }
+      }
+      dirtyCells = dirtyOverlay = true;
+      break;
+    }
+    case "updates": {
+      const view = shown();
+      if (view && state.moved) {
+        for (let i = 0; i < m.rows.length; i++) {
+          const index = m.rows[i] * view.cols + m.cols[i];
+          if (index >= 0 && index < state.moved.length) state.moved[index] = 1;
+        }
+      }
+      state.changes = { step: -1, cells: m.rows.map((r, i) => r * (view ? view.cols : 0) + m.cols[i]) };
+      dirtyOverlay = true;
+      break;
+    }
+    case "paths": {
+      // A reply answers one request (a fleet asks for a few robots at a
+      // time): the latest MAX_PATHS paths of all replies are shown.
+      state.paths = state.paths.concat(m.paths.filter((p) => p.cells.length > 0));
+      if (state.paths.length > MAX_PATHS) state.paths = state.paths.slice(-MAX_PATHS);
+      state.pathStep = m.step; dirtyOverlay = true;
+      break;
+    }
+  }
+}
+
+// --- drawing ---
+
+function drawCells() {
+  const view = shown();
+  if (!view) return;
+  layout(view);
+  if (pendingFull) {
+    const total = view.rows * view.cols;
+    for (let i = 0; i < total; i++) paint(view, i);
+    pendingFull = false;
+  } else {
+    for (const index of pendingIndices) if (index < view.cells.length) paint(view, index);
+  }
+  pendingIndices.length = 0;
+  ctx.putImageData(image, 0, 0);
+}
+
+function drawOverlay(now) {
+  const view = shown();
+  octx.clearRect(0, 0, overlay.width, overlay.height);
+  if (!view) return;
+  const s = overlay.width / view.cols;
+  if (s >= 8 && state.approaches[state.selected]) {  // arrows
+    octx.strokeStyle = "#333"; octx.lineWidth = Math.max(1, s / 12);
+    octx.beginPath();
+    for (let r = 0; r < view.rows; r++) {
+      for (let c = 0; c < view.cols; c++) {
+        const a = view.cells[r * view.cols + c] >> 4;
+        if (a === NO_ACTION || (view.cells[r * view.cols + c] & 3) !== 1) continue;
+        const x = (c + 0.5) * s, y = (r + 0.5) * s, dx = DC[a] * s * 0.32, dy = DR[a] * s * 0.32;
+        octx.moveTo(x - dx, y - dy); octx.lineTo(x + dx, y + dy);
+        octx.moveTo(x + dx, y + dy); octx.lineTo(x + dx * 0.4 - dy * 0.45, y + dy * 0.4 + dx * 0.45);
+        octx.moveTo(x + dx, y + dy); octx.lineTo(x + dx * 0.4 + dy * 0.45, y + dy * 0.4 - dx * 0.45);
+      }
+    }
+    octx.stroke();
+  }
+  if (state.changes && state.changes.cells) {  // this step's changes
+    octx.strokeStyle = "#f1c40f"; octx.lineWidth = 2;
+    for (const index of state.changes.cells.slice(0, 5000)) {
+      const r = Math.floor(index / view.cols), c = index % view.cols;
+      octx.strokeRect(c * s, r * s, Math.max(s, 2), Math.max(s, 2));
+    }
+  }
+  octx.strokeStyle = "#e67e22"; octx.lineWidth = 2;
+  for (const [r0, c0, rows, cols] of view.regions || []) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
+  if (state.paths.length) {  // robots and their paths
+    octx.strokeStyle = "rgba(41,128,185,0.55)"; octx.lineWidth = Math.max(1, s / 4);
+    octx.beginPath();
+    for (const p of state.paths) {
+      const cs = p.cells;
+      for (let k = 0; k + 1 < cs.length; k += 2) {
+        const x = (cs[k + 1] + 0.5) * s, y = (cs[k] + 0.5) * s;
+        if (k === 0) octx.moveTo(x, y); else octx.lineTo(x, y);
+      }
+    }
+    octx.stroke();
+    // Each robot moves along its path, a cell every 100 ms.
+    octx.fillStyle = "#0b3d91";
+    const t = Math.floor(now / 100), radius = Math.max(1.5, s / 3);
+    octx.beginPath();
+    for (const p of state.paths) {
+      const n = p.cells.length / 2;
+      const k = n > 0 ? (t % n) * 2 : -1;
+      const r = k >= 0 ? p.cells[k] : p.r, c = k >= 0 ? p.cells[k + 1] : p.c;
+      octx.moveTo((c + 0.5) * s + radius, (r + 0.5) * s);
+      octx.arc((c + 0.5) * s, (r + 0.5) * s, radius, 0, 2 * Math.PI);
+    }
+    octx.fill();
+  }
+}
+
+function drawPlot(id, field) {
+  const canvas = document.getElementById(id);
+  const g = canvas.getContext("2d");
+  g.clearRect(0, 0, canvas.width, canvas.height);
+  let maxStep = 1, lo = Infinity, hi = -Infinity;
+  for (const name of Object.keys(state.reports)) {
+    for (const r of state.reports[name]) {
+      maxStep = Math.max(maxStep, r.step); lo = Math.min(lo, r[field]); hi = Math.max(hi, r[field]);
+    }
+  }
+  if (!(hi >= lo)) return;
+  if (hi === lo) { hi += 1; lo -= lo > 0 ? 1 : 0; }
+  const W = canvas.width, H = canvas.height, pad = 28;
+  g.fillStyle = "#555"; g.font = "10px sans-serif";
+  g.fillText(hi.toPrecision(3), 2, 10); g.fillText(lo.toPrecision(3), 2, H - pad + 10);
+  g.fillText("step " + maxStep, W - 50, H - 4);
+  Object.keys(state.reports).forEach((name, n) => {
+    g.strokeStyle = LINE[n % LINE.length]; g.lineWidth = 1.5; g.beginPath();
+    state.reports[name].forEach((r, i) => {
+      const x = pad + (W - pad - 4) * r.step / maxStep, y = 4 + (H - pad - 4) * (1 - (r[field] - lo) / (hi - lo));
+      if (i === 0) g.moveTo(x, y); else g.lineTo(x, y);
+    });
+    g.stroke();
+  });
+}
+
+function drawKeys() {
+  document.getElementById("keys").innerHTML = Object.keys(state.reports)
+    .map((name, n) => `<span><i style="background:${LINE[n % LINE.length]}"></i>${name.replace(/[<&>]/g, "")}</span>`).join("");
+}
+
+let fpsCount = 0, fpsSince = performance.now();
+function frame(now) {
+  requestAnimationFrame(frame);
+  const view = shown();
+  const drawing = dirtyCells;
+  if (dirtyCells) { drawCells(); dirtyCells = false; }
+  if (dirtyOverlay || state.paths.length) { drawOverlay(now); dirtyOverlay = false; }
+  if (dirtyPlots) { drawPlot("plot-success", "success"); drawPlot("plot-length", "length"); drawPlot("plot-adapt", "adapt"); drawKeys(); dirtyPlots = false; }
+  state.framesDrawn++; fpsCount++;
+  if (now - fpsSince >= 1000) { state.fps = fpsCount * 1000 / (now - fpsSince); fpsCount = 0; fpsSince = now; }
+  if (view) {
+    document.getElementById("step").textContent =
+      `${state.run}  ${state.selected || "maze"}  step ${view.step}  ${view.rows}x${view.cols}`;
+  }
+  if (drawing && view && view.pendingDraw !== undefined) {
+    // The page's own timer: drawn (wall clock) minus when the server got
+    // the step's REPORT (and its POLICY).
+    const drawnAt = Date.now();
+    const reportRx = state.reportRx[state.selected + "/" + view.pendingDraw];
+    state.updates.push({ step: view.pendingDraw, afterReportMs: reportRx ? drawnAt - reportRx : null,
+                         afterPolicyMs: drawnAt - view.rx });
+    if (state.updates.length > 10000) state.updates.splice(0, 5000);
+    state.drawn = { approach: state.selected, step: view.pendingDraw };
+    view.pendingDraw = undefined;
+    const u = state.updates[state.updates.length - 1];
+    document.getElementById("timing").textContent =
+      `drawn ${u.afterReportMs === null ? "-" : u.afterReportMs.toFixed(0)} ms after the step's report, ` +
+      `${u.afterPolicyMs.toFixed(0)} ms after its policy; ${state.fps.toFixed(0)} frames/s`;
+  }
+}
+requestAnimationFrame(frame);
+
+function connect() {
+  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/");
+  ws.binaryType = "arraybuffer";
+  ws.onopen = () => { state.connected = true; document.getElementById("status").textContent = "live"; };
+  ws.onclose = () => {
+    state.connected = false;
+    document.getElementById("status").textContent = "disconnected; retrying…";
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (event) => {
+    if (typeof event.data === "string") onText(event.data); else onFrame(event.data);
+  };
+}
+connect();

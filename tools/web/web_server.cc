@@ -1,0 +1,531 @@
+#include "tools/web/web_server.h"
+
+#define ASIO_STANDALONE 1
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+#include <vector>
+#include <websocketpp/config/asio_no_tls.hpp>
+#include <websocketpp/server.hpp>
+
+#include "tools/web/messages.h"
+
+namespace dynapath::web {
+namespace {
+
+using Server = websocketpp::server<websocketpp::config::asio>;
+using Handle = websocketpp::connection_hdl;
+using Opcode = websocketpp::frame::opcode::value;
+
+constexpr const char* kFoxgloveSubprotocol = "foxglove.websocket.v1";
+constexpr size_t kMaxSubscriptions = 256;
+
+struct Client {
+  bool foxglove = false;
+  std::map<uint32_t, uint32_t> subscriptions;  // subscription id -> channel id
+};
+
+// A policy as every page client holds it.
+struct ApproachState {
+  FrameHeader header;
+  std::vector<uint8_t> cells;
+};
+
+}  // namespace
+
+struct WebServer::Impl {
+  explicit Impl(ServerOptions o) : options(std::move(o)) {}
+
+  ServerOptions options;
+  Server server;
+  std::thread thread;
+  std::atomic<int> bound_port{0};
+  std::atomic<int64_t> pending_bytes{0};
+  std::atomic<bool> started{false};
+
+  // I/O thread only.
+  std::map<Handle, Client, std::owner_less<Handle>> clients;
+  // Handshakes accepted whose connection is not open yet: they count
+  // against the cap too (a burst of connections is validated before any
+  // of them opens).
+  std::set<Handle, std::owner_less<Handle>> opening;
+  bool have_maze = false;
+  FrameHeader maze_header;
+  std::vector<uint8_t> maze;
+  std::vector<std::string> approach_order;
+  std::map<std::string, ApproachState> approaches;
+  std::vector<std::string> reports;
+
+  mutable std::mutex counters_mutex;
+  ServerCounters counters;
+
+  void Count(int64_t ServerCounters::*field, int64_t by = 1) {
+    std::lock_guard lock(counters_mutex);
+    counters.*field += by;
+  }
+
+  // Runs `work` on the I/O thread, unless too much waits already.
+  template <class F>
+  void Post(int64_t bytes, F work) {
+    if (!started) return;
+    Count(&ServerCounters::messages_in);
+    if (pending_bytes.load() + bytes > options.max_pending_bytes) {
+      Count(&ServerCounters::inputs_dropped);
+      return;
+    }
+    pending_bytes += bytes;
+    asio::post(server.get_io_service(), [this, bytes, work = std::move(work)]() mutable {
+      pending_bytes -= bytes;
+      work();
+    });
+  }
+
+  // Sends to one client unless its queue is above the cap; then it is
+  // listed in `slow` (dropped after the loop).
+  bool SendTo(const Handle& handle, const void* data, size_t size, Opcode opcode,
+              std::vector<Handle>& slow) {
+    websocketpp::lib::error_code ec;
+    Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
+    if (ec || !connection) return false;
+    // A queue already above the cap: the client is not keeping up. (One
+    // message larger than the cap still goes to a client with an empty
+    // queue: a 1000x1000 maze's whole policy is 1 MB.)
+    if (static_cast<int64_t>(connection->get_buffered_amount()) > options.max_queue_bytes) {
+      slow.push_back(handle);
+      return false;
+    }
+    ec = connection->send(data, size, opcode);
+    if (ec) return false;
+    Count(&ServerCounters::frames_sent);
+    return true;
+  }
+
+  void DropSlow(const std::vector<Handle>& slow) {
+    for (const Handle& handle : slow) {
+      websocketpp::lib::error_code ec;
+      Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
+      if (ec || !connection) continue;
+      Count(&ServerCounters::dropped_slow);
+      spdlog::warn("dropped a slow client ({} bytes unsent)", connection->get_buffered_amount());
+      // Not a close handshake: that would wait behind the unsent bytes.
+      asio::error_code ignored;
+      connection->get_raw_socket().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+      connection->get_raw_socket().close(ignored);
+    }
+  }
+
+  void ToPages(const void* data, size_t size, Opcode opcode) {
+    std::vector<Handle> slow;
+    for (auto& [handle, client] : clients) {
+      if (!client.foxglove) SendTo(handle, data, size, opcode, slow);
+    }
+    DropSlow(slow);
+  }
+
+  // `payload` is made only when some Foxglove client subscribed to `topic`.
+  template <class MakePayload>
+  void ToFoxglove(std::string_view topic, double received_ms, MakePayload make) {
+    const uint32_t channel = FoxgloveChannelId(topic);
+    std::string payload;
+    bool made = false;
+    std::vector<Handle> slow;
+    const uint64_t time_ns = static_cast<uint64_t>(received_ms * 1e6);
+    for (auto& [handle, client] : clients) {
+      if (!client.foxglove) continue;
+      for (const auto& [subscription, subscribed] : client.subscriptions) {
+        if (subscribed != channel) continue;
+        if (!made) {
+          payload = make();
+          made = true;
+        }
+        const std::string frame = MessageDataFrame(subscription, time_ns, payload);
+        SendTo(handle, frame.data(), frame.size(), websocketpp::frame::opcode::binary, slow);
+      }
+    }
+    DropSlow(slow);
+  }
+
+  void SendText(const Handle& handle, const std::string& text) {
+    std::vector<Handle> slow;
+    SendTo(handle, text.data(), text.size(), websocketpp::frame::opcode::text, slow);
+    DropSlow(slow);
+  }
+
+  void SendBinary(const Handle& handle, const std::vector<uint8_t>& bytes) {
+    std::vector<Handle> slow;
+    SendTo(handle, bytes.data(), bytes.size(), websocketpp::frame::opcode::binary, slow);
+    DropSlow(slow);
+  }
+
+  void CloseBadClient(const Handle& handle, websocketpp::close::status::value code,
+                      const std::string& why) {
+    Count(&ServerCounters::closed_bad_input);
+    spdlog::warn("closing a client: {}", why);
+    websocketpp::lib::error_code ec;
+    server.close(handle, code, why.substr(0, 120), ec);
+  }
+
+  // --- handlers (I/O thread) ---
+
+  bool OnValidate(Handle handle) {
+    Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    if (static_cast<int>(clients.size() + opening.size()) >= options.max_clients) {
+      Count(&ServerCounters::refused_full);
+      connection->set_status(websocketpp::http::status_code::service_unavailable);
+      connection->set_body("too many clients (--max-clients " +
+                           std::to_string(options.max_clients) + ")\n");
+      return false;
+    }
+    const std::vector<std::string>& asked = connection->get_requested_subprotocols();
+    if (!asked.empty()) {
+      bool foxglove = false;
+      for (const std::string& protocol : asked) foxglove |= protocol == kFoxgloveSubprotocol;
+      if (!foxglove) {
+        Count(&ServerCounters::refused_handshake);
+        connection->set_status(websocketpp::http::status_code::bad_request);
+        connection->set_body(std::string("unknown subprotocol: this server speaks ") +
+                             kFoxgloveSubprotocol + " or none\n");
+        return false;
+      }
+      connection->select_subprotocol(kFoxgloveSubprotocol);
+    }
+    opening.insert(handle);
+    return true;
+  }
+
+  void OnOpen(Handle handle) {
+    Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    opening.erase(handle);
+    Client client;
+    client.foxglove = connection->get_subprotocol() == kFoxgloveSubprotocol;
+    clients[handle] = client;
+    {
+      std::lock_guard lock(counters_mutex);
+      ++counters.accepted;
+      counters.clients = static_cast<int64_t>(clients.size());
+      if (client.foxglove) ++counters.foxglove_clients;
+    }
+    if (client.foxglove) {
+      nlohmann::json info = {{"op", "serverInfo"},
+                             {"name", "dynapath web " + options.version},
+                             {"capabilities", nlohmann::json::array()},
+                             {"supportedEncodings", nlohmann::json::array()},
+                             {"metadata", {{"run_id", options.run_id}}}};
+      SendText(handle, info.dump());
+      nlohmann::json channels = nlohmann::json::array();
+      for (const FoxgloveChannel& channel : FoxgloveChannels()) {
+        channels.push_back({{"id", channel.id},
+                            {"topic", channel.topic},
+                            {"encoding", "json"},
+                            {"schemaName", channel.schema_name},
+                            {"schema", channel.schema},
+                            {"schemaEncoding", "jsonschema"}});
+      }
+      SendText(handle, nlohmann::json{{"op", "advertise"}, {"channels", channels}}.dump());
+      return;
+    }
+    SendText(handle, HelloJson(options.run_id, options.version, options.max_clients));
+    if (have_maze) SendBinary(handle, FullFrame(maze_header, maze));
+    for (const std::string& name : approach_order) {
+      const ApproachState& state = approaches[name];
+      SendBinary(handle, FullFrame(state.header, state.cells));
+    }
+    if (!reports.empty()) {
+      std::string history = "{\"t\":\"history\",\"reports\":[";
+      for (size_t i = 0; i < reports.size(); ++i) {
+        if (i > 0) history += ',';
+        history += reports[i];
+      }
+      history += "]}";
+      SendText(handle, history);
+    }
+  }
+
+  void OnClose(Handle handle) {
+    opening.erase(handle);
+    auto it = clients.find(handle);
+    if (it == clients.end()) return;
+    const bool foxglove = it->second.foxglove;
+    clients.erase(it);
+    std::lock_guard lock(counters_mutex);
+    counters.clients = static_cast<int64_t>(clients.size());
+    if (foxglove) --counters.foxglove_clients;
+  }
+
+  void OnMessage(Handle handle, Server::message_ptr message) {
+    auto it = clients.find(handle);
+    if (it == clients.end()) return;
+    if (!it->second.foxglove) {
+      return CloseBadClient(handle, websocketpp::close::status::policy_violation,
+                            "the page's connection is read-only");
+    }
+    if (message->get_opcode() != websocketpp::frame::opcode::text) {
+      return CloseBadClient(handle, websocketpp::close::status::unsupported_data,
+                            "binary client messages are not supported (no capabilities)");
+    }
+    ClientMessage parsed = ParseClientMessage(message->get_payload());
+    Client& client = it->second;
+    switch (parsed.kind) {
+      case ClientMessage::kMalformed:
+        return CloseBadClient(handle, websocketpp::close::status::invalid_payload,
+                              "malformed message: " + parsed.why);
+      case ClientMessage::kUnsupported:
+        SendText(handle,
+                 nlohmann::json{
+                     {"op", "status"}, {"level", 1}, {"message", "unsupported op: " + parsed.op}}
+                     .dump());
+        return;
+      case ClientMessage::kSubscribe:
+        for (const auto& [id, channel] : parsed.subscribe) {
+          bool known = false;
+          for (const FoxgloveChannel& c : FoxgloveChannels()) known |= c.id == channel;
+          if (!known || client.subscriptions.size() >= kMaxSubscriptions) {
+            SendText(handle, nlohmann::json{{"op", "status"},
+                                            {"level", 1},
+                                            {"message", "cannot subscribe to channel " +
+                                                            std::to_string(channel)}}
+                                 .dump());
+            continue;
+          }
+          client.subscriptions[id] = channel;
+        }
+        return;
+      case ClientMessage::kUnsubscribe:
+        for (uint32_t id : parsed.unsubscribe) client.subscriptions.erase(id);
+        return;
+    }
+  }
+
+  void OnHttp(Handle handle) {
+    Count(&ServerCounters::http_requests);
+    Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    const websocketpp::http::parser::request& request = connection->get_request();
+    if (request.get_method() != "GET" && request.get_method() != "HEAD") {
+      connection->set_status(websocketpp::http::status_code::method_not_allowed);
+      connection->set_body("read-only: GET only\n");
+      return;
+    }
+    std::string path = connection->get_resource();
+    if (size_t query = path.find('?'); query != std::string::npos) path.resize(query);
+    if (path == "/stats.json") {
+      const ServerCounters c = Counters();
+      nlohmann::json stats = {{"clients", c.clients},
+                              {"foxglove_clients", c.foxglove_clients},
+                              {"accepted", c.accepted},
+                              {"refused_full", c.refused_full},
+                              {"refused_handshake", c.refused_handshake},
+                              {"dropped_slow", c.dropped_slow},
+                              {"closed_bad_input", c.closed_bad_input},
+                              {"messages_in", c.messages_in},
+                              {"inputs_dropped", c.inputs_dropped},
+                              {"frames_sent", c.frames_sent}};
+      connection->set_status(websocketpp::http::status_code::ok);
+      connection->append_header("Content-Type", "application/json");
+      connection->append_header("Cache-Control", "no-store");
+      connection->set_body(stats.dump() + "\n");
+      return;
+    }
+    auto file = options.files.find(path == "/" ? "/index.html" : path);
+    if (file == options.files.end()) {
+      connection->set_status(websocketpp::http::status_code::not_found);
+      connection->set_body("not found\n");
+      return;
+    }
+    connection->set_status(websocketpp::http::status_code::ok);
+    connection->append_header("Content-Type", file->second.content_type);
+    connection->append_header("Cache-Control", "no-cache");
+    connection->append_header("X-Content-Type-Options", "nosniff");
+    connection->set_body(file->second.body);
+  }
+
+  ServerCounters Counters() const {
+    std::lock_guard lock(counters_mutex);
+    return counters;
+  }
+
+  // --- run messages (I/O thread) ---
+
+  void TakeGrid(const grid_t& grid, double received_ms) {
+    maze_header = FrameHeader{};
+    maze_header.kind = FrameKind::kMaze;
+    maze_header.rows = grid.rows;
+    maze_header.cols = grid.cols;
+    maze_header.received_ms = received_ms;
+    maze = PackCodes(grid.cells);
+    have_maze = true;
+    const std::vector<uint8_t> frame = FullFrame(maze_header, maze);
+    ToPages(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
+    ToFoxglove("/grid", received_ms, [&] { return GridFoxglove(grid); });
+  }
+
+  void TakeChanges(const changes_t& changes, double received_ms) {
+    if (have_maze) {
+      for (int i = 0; i < changes.num_changes; ++i) {
+        const int32_t cell = changes.cells[i];
+        if (cell >= 0 && static_cast<size_t>(cell) < maze.size()) {
+          maze[cell] = PackCell(changes.codes[i], -1, -1);
+        }
+      }
+      maze_header.step = changes.time_step;
+    }
+    const std::string text = ChangesJson(changes, received_ms);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    ToFoxglove("/changes", received_ms, [&] { return ChangesFoxglove(changes); });
+  }
+
+  void TakeReport(const step_report_t& report, double received_ms) {
+    std::string text = ReportJson(report, received_ms);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    if (static_cast<int>(reports.size()) >= options.max_reports) {
+      reports.erase(reports.begin(), reports.begin() + reports.size() / 2);
+    }
+    reports.push_back(std::move(text));
+    ToFoxglove("/report", received_ms, [&] { return ReportFoxglove(report); });
+  }
+
+  void TakePolicy(const policy_t& policy, double received_ms) {
+    FrameHeader header;
+    header.approach = policy.approach;
+    header.step = policy.time_step;
+    header.rows = policy.rows;
+    header.cols = policy.cols;
+    header.received_ms = received_ms;
+    for (int i = 0; i < policy.num_regions; ++i) {
+      header.regions.insert(header.regions.end(), {policy.region_row0[i], policy.region_col0[i],
+                                                   policy.region_rows[i], policy.region_cols[i]});
+    }
+    std::vector<uint8_t> cells = PackPolicy(policy);
+    auto it = approaches.find(policy.approach);
+    std::vector<uint8_t> frame;
+    if (it == approaches.end() || it->second.cells.size() != cells.size() ||
+        it->second.header.rows != header.rows) {
+      if (it == approaches.end()) approach_order.push_back(policy.approach);
+      header.kind = FrameKind::kFull;
+      frame = FullFrame(header, cells);
+    } else {
+      frame = DeltaFrame(header, it->second.cells, cells);
+    }
+    ApproachState& state = approaches[policy.approach];
+    state.header = header;
+    state.header.kind = FrameKind::kFull;
+    state.cells = std::move(cells);
+    ToPages(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
+    ToFoxglove("/policy", received_ms, [&] { return PolicyFoxglove(policy); });
+  }
+
+  void TakePaths(const path_reply_t& reply, double received_ms) {
+    const std::string text = PathsJson(reply, received_ms, options.max_paths);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    ToFoxglove("/paths", received_ms, [&] { return PathsFoxglove(reply); });
+  }
+
+  void TakeUpdates(const obstacle_update_t& update, double received_ms) {
+    const std::string text = UpdatesJson(update, received_ms);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    ToFoxglove("/map_updates", received_ms, [&] { return UpdatesFoxglove(update); });
+  }
+};
+
+WebServer::WebServer(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+
+WebServer::~WebServer() { Stop(); }
+
+Status WebServer::Start() {
+  Impl& s = *impl_;
+  Server& server = s.server;
+  server.clear_access_channels(websocketpp::log::alevel::all);
+  server.clear_error_channels(websocketpp::log::elevel::all);
+  websocketpp::lib::error_code ec;
+  server.init_asio(ec);
+  if (ec) return Error::Io("cannot start the server: " + ec.message());
+  server.set_reuse_addr(true);
+  server.set_max_message_size(static_cast<size_t>(s.options.max_frame_bytes));
+  server.set_max_http_body_size(static_cast<size_t>(s.options.max_frame_bytes));
+  server.set_open_handshake_timeout(5000);
+  server.set_close_handshake_timeout(2000);
+  server.set_validate_handler([&s](Handle h) { return s.OnValidate(h); });
+  server.set_open_handler([&s](Handle h) { s.OnOpen(h); });
+  server.set_close_handler([&s](Handle h) { s.OnClose(h); });
+  server.set_fail_handler([&s](Handle h) { s.OnClose(h); });
+  server.set_message_handler([&s](Handle h, Server::message_ptr m) { s.OnMessage(h, m); });
+  server.set_http_handler([&s](Handle h) { s.OnHttp(h); });
+
+  asio::ip::address address = asio::ip::make_address(s.options.bind, ec);
+  if (ec) return Error::Io("cannot listen on '" + s.options.bind + "': not an IP address");
+  const asio::ip::tcp::endpoint endpoint(address, static_cast<uint16_t>(s.options.port));
+  server.listen(endpoint, ec);
+  if (ec) {
+    return Error::Io("cannot listen on " + s.options.bind + ":" + std::to_string(s.options.port) +
+                     ": " + ec.message());
+  }
+  asio::error_code local_ec;
+  const asio::ip::tcp::endpoint local = server.get_local_endpoint(local_ec);
+  s.bound_port = local_ec ? s.options.port : local.port();
+  server.start_accept(ec);
+  if (ec) return Error::Io("cannot accept connections: " + ec.message());
+  s.started = true;
+  s.thread = std::thread([&s] {
+    for (;;) {
+      try {
+        s.server.run();
+        return;
+      } catch (const std::exception& error) {
+        spdlog::error("web server: {}", error.what());
+      }
+    }
+  });
+  return Ok{};
+}
+
+void WebServer::Stop() {
+  Impl& s = *impl_;
+  if (!s.started) return;
+  s.started = false;
+  asio::post(s.server.get_io_service(), [&s] {
+    websocketpp::lib::error_code ec;
+    s.server.stop_listening(ec);
+    for (auto& [handle, client] : s.clients) {
+      s.server.close(handle, websocketpp::close::status::going_away, "server stopping", ec);
+    }
+  });
+  // Give the close handshakes a moment, then stop whatever is left.
+  for (int i = 0; i < 20 && s.Counters().clients > 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  s.server.stop();
+  if (s.thread.joinable()) s.thread.join();
+}
+
+int WebServer::port() const { return impl_->bound_port.load(); }
+
+ServerCounters WebServer::counters() const { return impl_->Counters(); }
+
+void WebServer::Grid(const grid_t& grid, double received_ms) {
+  impl_->Post(grid.num_cells + 64,
+              [this, grid, received_ms] { impl_->TakeGrid(grid, received_ms); });
+}
+void WebServer::Changes(const changes_t& changes, double received_ms) {
+  impl_->Post(int64_t{changes.num_changes} * 5 + 64,
+              [this, changes, received_ms] { impl_->TakeChanges(changes, received_ms); });
+}
+void WebServer::Report(const step_report_t& report, double received_ms) {
+  impl_->Post(256, [this, report, received_ms] { impl_->TakeReport(report, received_ms); });
+}
+void WebServer::Policy(const policy_t& policy, double received_ms) {
+  impl_->Post(int64_t{policy.num_cells} * 3 + 64,
+              [this, policy, received_ms] { impl_->TakePolicy(policy, received_ms); });
+}
+void WebServer::Paths(const path_reply_t& reply, double received_ms) {
+  impl_->Post(int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64,
+              [this, reply, received_ms] { impl_->TakePaths(reply, received_ms); });
+}
+void WebServer::Updates(const obstacle_update_t& update, double received_ms) {
+  impl_->Post(int64_t{update.num_cells} * 9 + 64,
+              [this, update, received_ms] { impl_->TakeUpdates(update, received_ms); });
+}
+
+}  // namespace dynapath::web

@@ -1,0 +1,100 @@
+#pragma once
+// The HTTP + WebSocket server of `dynapath web`, on one port (websocketpp
+// over standalone asio, one I/O thread):
+//
+//   * GET of the page's files (served from memory), and /stats.json;
+//   * WebSocket connections of the page (no subprotocol: binary policy
+//     frames and JSON messages, tools/web/messages.h) and of Foxglove
+//     clients (subprotocol foxglove.websocket.v1: serverInfo, advertise,
+//     subscribe/unsubscribe, messageData).
+//
+// Read-only: a page client sends nothing (any data frame from it closes the
+// connection); a Foxglove client may subscribe and unsubscribe only.
+// Frames above max_frame_bytes and malformed frames close the connection;
+// at most max_clients WebSocket clients (more: HTTP 503); a client whose
+// unsent bytes are above max_queue_bytes when a message is due is dropped,
+// never waited for (its queue holds at most that and one message).
+//
+// The message inputs (Grid, Policy, ...) may be called from any thread
+// (the LCM dispatch thread): they post to the I/O thread, which owns the
+// state new clients get (the maze, every approach's latest policy, the
+// reports so far). While more than max_pending_bytes of input wait for the
+// I/O thread, new input is dropped and counted.
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "dynapath/changes_t.hpp"
+#include "dynapath/grid_t.hpp"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/path_reply_t.hpp"
+#include "dynapath/policy_t.hpp"
+#include "dynapath/result.h"
+#include "dynapath/step_report_t.hpp"
+
+namespace dynapath::web {
+
+struct PageFile {
+  std::string content_type;
+  std::string body;
+};
+
+struct ServerOptions {
+  std::string bind = "127.0.0.1";
+  int port = 8080;  // 0: any free port (tests)
+  int max_clients = 32;
+  int64_t max_frame_bytes = 64 * 1024;
+  int64_t max_queue_bytes = int64_t{32} << 20;
+  int64_t max_pending_bytes = int64_t{256} << 20;
+  int max_reports = 20000;  // kept for new clients' plots
+  int max_paths = 1000;     // paths of one PATH_REPLY sent to the page
+  std::string run_id;
+  std::string version;
+  std::map<std::string, PageFile> files;  // "/" and "/app.js", ...
+};
+
+struct ServerCounters {
+  int64_t clients = 0;            // WebSocket clients connected now
+  int64_t foxglove_clients = 0;   // of them, Foxglove's
+  int64_t accepted = 0;           // WebSocket connections opened so far
+  int64_t refused_full = 0;       // refused: max_clients reached
+  int64_t refused_handshake = 0;  // refused: an unknown subprotocol
+  int64_t dropped_slow = 0;       // dropped: their queue passed max_queue_bytes
+  int64_t closed_bad_input = 0;   // closed: a frame they must not send or a malformed one
+  int64_t http_requests = 0;
+  int64_t messages_in = 0;     // run messages taken
+  int64_t inputs_dropped = 0;  // run messages dropped: the I/O thread was behind
+  int64_t frames_sent = 0;
+};
+
+class WebServer {
+ public:
+  explicit WebServer(ServerOptions options);
+  ~WebServer();
+  WebServer(const WebServer&) = delete;
+  WebServer& operator=(const WebServer&) = delete;
+
+  // Binds and listens, then serves on its own thread. Error: the address
+  // cannot be bound (in use, not local, ...).
+  Status Start();
+  void Stop();
+  int port() const;  // the bound port
+  ServerCounters counters() const;
+
+  // received_ms: wall clock (ms since the epoch) when the message arrived.
+  void Grid(const grid_t& grid, double received_ms);
+  void Changes(const changes_t& changes, double received_ms);
+  void Report(const step_report_t& report, double received_ms);
+  void Policy(const policy_t& policy, double received_ms);
+  void Paths(const path_reply_t& reply, double received_ms);
+  void Updates(const obstacle_update_t& update, double received_ms);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dynapath::web
