@@ -28,11 +28,6 @@ const runtime::WordTable<AnswerMode>& AnswerWords() {
   return words;
 }
 
-// An error of the options: serve prints it and exits 2.
-Error Usage(std::string message, std::string option = {}) {
-  return Error(std::move(message), Error::Code::kInvalidArgument, std::move(option));
-}
-
 // Every commit builds a snapshot (megabytes on a large map) and frees an
 // older one. glibc hands such blocks back to the kernel (munmap, or
 // trimming the heap's top) and the next commit faults fresh pages in:
@@ -67,22 +62,23 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
   plan.run = std::move(*run);
   if (plan.run.approaches.size() != 1 || (!IsLearningApproach(plan.run.approaches[0]) &&
                                           plan.run.approaches[0] != Approach::kIncrementalOracle)) {
-    return Usage("--approach must name one learning approach or Incremental Oracle", "approach");
+    return OptionError("--approach must name one learning approach or Incremental Oracle",
+                       "approach");
   }
   if (!plan.run.policy.save_path.empty() || options.save_at_given) {
-    return Usage(
+    return OptionError(
         "--save-policy and --save-at are run's: a service's steps come from live updates that a "
         "later service could not replay to catch up with a saved step; save a policy with "
         "dynapath run",
         "save-policy");
   }
   if (!plan.run.checkpoint.dir.empty() || plan.run.checkpoint.resume) {
-    return Usage("--checkpoint is run's: a service starts from a policy file (--load-policy)",
-                 "checkpoint");
+    return OptionError("--checkpoint is run's: a service starts from a policy file (--load-policy)",
+                       "checkpoint");
   }
   if (options.placement_given && !on_agents) {
-    return Usage("--placement is for training on agents: give --agents N or --embedded",
-                 "placement");
+    return OptionError("--placement is for training on agents: give --agents N or --embedded",
+                       "placement");
   }
   Result<AnswerMode> answer_mode = AnswerWords().ParseOption("answer", options.answer);
   if (!answer_mode) return answer_mode.error();
@@ -90,14 +86,14 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
   if (!starts_limit) return starts_limit.error();
   if (!(options.occupied_thresh >= 0 && options.occupied_thresh <= 1 && options.free_thresh >= 0 &&
         options.free_thresh < options.occupied_thresh)) {
-    return Usage("--free-thresh and --occupied-thresh must satisfy 0 <= free < occupied <= 1",
-                 "free-thresh");
+    return OptionError("--free-thresh and --occupied-thresh must satisfy 0 <= free < occupied <= 1",
+                       "free-thresh");
   }
   if (!(options.policy_every >= 0 && options.policy_every <= 3600)) {
-    return Usage("--policy-every must be between 0 and 3600 seconds", "policy-every");
+    return OptionError("--policy-every must be between 0 and 3600 seconds", "policy-every");
   }
   if (!(options.policy_gap >= 0 && options.policy_gap <= 3600)) {
-    return Usage("--policy-gap must be between 0 and 3600 seconds", "policy-gap");
+    return OptionError("--policy-gap must be between 0 and 3600 seconds", "policy-gap");
   }
   Result<runtime::ProcessSetup> process = runtime::ResolveProcessOptions(options.process, true);
   if (!process) return process.error();
@@ -123,8 +119,9 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
   config.catch_up = plan.setup.scenario.changes;
   config.load = plan.run.policy.Find(config.approach);
   if (Status loadable = runtime::PathService::CheckLoad(maze, config); !loadable) {
-    return Usage("--load-policy " + plan.run.policy.load_path + ": " + loadable.error().message,
-                 "load-policy");
+    return OptionError(
+        "--load-policy " + plan.run.policy.load_path + ": " + loadable.error().message,
+        "load-policy");
   }
   config.load = nullptr;  // a pointer into plan.run: ServiceSession sets it again
   plan.bus.thresholds = {options.occupied_thresh, options.free_thresh};
@@ -190,7 +187,7 @@ ServiceSession::~ServiceSession() {
 Status ServiceSession::Open() {
   if (plan_.write_results) {
     Result<runtime::OutputLock> lock = runtime::LockResultDirectory(plan_.run.out_dir);
-    if (!lock) return Usage(lock.error().message, "out");
+    if (!lock) return OptionError(lock.error().message, "out");
     out_lock_.emplace(std::move(*lock));
   }
   KeepFreedMemory();
@@ -198,7 +195,7 @@ Status ServiceSession::Open() {
   const launch::ProcessNetwork network = launch::EnterProcessNetwork(plan_.process.lcm_url);
   const std::string& url = plan_.process.lcm_url;
   if (network == launch::ProcessNetwork::kNone) {
-    return Usage("no private network can be made here: give --lcm-url", "lcm-url");
+    return OptionError("no private network can be made here: give --lcm-url", "lcm-url");
   }
   private_network_ = network == launch::ProcessNetwork::kPrivate;
   if (private_network_) {
@@ -222,8 +219,9 @@ Status ServiceSession::Open() {
     protocol::BusOptions training_options = bus_options;
     if (protocol::IsMemq(protocol::ResolveLcmUrl(url))) {
       if (!embedded) {
-        return Usage("agent processes cannot join memq://: use --embedded, or give a network URL",
-                     "lcm-url");
+        return OptionError(
+            "agent processes cannot join memq://: use --embedded, or give a network URL",
+            "lcm-url");
       }
       training.lcm = lcm_.get();  // one memq:// per process: share it
     } else if (embedded) {

@@ -84,7 +84,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   o.placement_given = app.count("--placement") > 0;
   o.out_given = app.count("--out") > 0;
   Result<app::ServicePlan> plan = app::PlanService(o);
-  if (!plan) return fail(plan.error());
+  if (!plan) return fail(Error(plan.error().message));  // every error of the options
   app::ServiceSession session(std::move(*plan));
   if (Status opened = session.Open(); !opened) return fail(opened);
   const std::atomic<bool>& stop =
