@@ -10,7 +10,7 @@
 # not in its face core/include/dynapath/); when a header of the face includes
 # a private one; when anything below tools/ includes a study-only library
 # (JSON, TOML, PNG, SFML); or when a process executable links a library
-# above the processes (the study and CLI code of tools/, the launcher, the
+# above the processes (the study and CLI code of tools/, app/, the launcher, the
 # view).
 # Usage: tests/layering_test.sh SOURCE_DIR [BUILD_DIR]
 set -uo pipefail
