@@ -19,12 +19,12 @@ namespace dynapath::runtime {
 
 // Time steps from live updates, one per batch; ends (kCancelled) when the
 // service stops. A loaded policy's first steps come from the change
-// sequence it was saved on (RunApproach catches up with them).
+// sequence it was saved on (the stepper catches up with them).
 class PathService::LiveSource : public StepSource {
  public:
   LiveSource(PathService& service, int catch_up_steps)
       : service_(service), catch_up_steps_(catch_up_steps) {}
-  // RunApproach needs a last step; a service runs until stopped, and a
+  // A run needs a last step; a service runs until stopped, and a
   // million steps of updates is far beyond any session.
   int total_steps() const override { return static_cast<int>(kMaxSteps); }
   Grid Initial(int /*pass*/) override { return service_.maze_; }
@@ -39,9 +39,6 @@ class PathService::LiveSource : public StepSource {
       if (service_.stop_.load()) return {};
       step = service_.updates_.Take();
     }
-    service_.last_changed_.clear();
-    for (const CellChange& change : step.changes) service_.last_changed_.push_back(change.cell);
-    service_.adapting_step_ = t;
     return step;
   }
   Status status() const override {
@@ -56,7 +53,7 @@ class PathService::LiveSource : public StepSource {
 
 namespace {
 
-// The step a loaded policy continues from on this maze (RunApproach's own
+// The step a loaded policy continues from on this maze (ApproachStepper's own
 // test), 0 when it starts at step 0 (or adapts to another maze).
 int CatchUpSteps(const ServiceConfig& config, const Grid& maze) {
   const PolicyState* loaded = config.load;
@@ -146,16 +143,32 @@ void PathService::Train() {
     }
     PlannerOptions options = config_.options;
     options.stop = &stop_;
-    options.before_retraining = [this](Planner& planner, const Grid& grid) {
-      BeforeRetraining(planner, grid);
-    };
+    std::unique_ptr<Planner> planner = MakePlanner(config_.approach, options, trainer);
+    ApproachRun begun;
+    begun.approach = config_.approach;
+    begun.size_label = config_.labels.size_label;
+    begun.difficulty_label = config_.labels.difficulty_label;
     LiveSource source(*this, catch_up);
     PolicyHooks hooks;
     hooks.load = config_.load;
-    hooks.on_loaded = [this](const StepView& view) { OnStep(view); };
-    Result<ApproachRun> run =
-        RunApproach(source, 0, config_.approach, options, trainer, config_.labels, hooks,
-                    SteadyClock(), [this](const StepView& view) { OnStep(view); });
+    ApproachStepper stepper(source, 0, *planner, std::move(begun), options, trainer, hooks);
+    Result<ApproachRun> run = ApproachRun{};
+    if (Status started = stepper.Begin(); !started) {
+      run = started.error();
+    } else {
+      // The first policy: step 0's, or the loaded one taken over at its
+      // saved step (no step record yet).
+      if (!stepper.failed()) CommitStep(stepper);
+      while (!stepper.failed() && stepper.NextStep()) {
+        // The interim version: the step's grid under the previous policy
+        // (the exact distances already repaired), so that replies reflect
+        // the changes while the training runs.
+        if (stepper.retrains()) CommitSnapshot(stepper, nullptr);
+        if (!stepper.Retrain()) break;
+        CommitStep(stepper);
+      }
+      run = stepper.Take();
+    }
     if (run && !trainer->status() && !trainer->status().error().IsCancelled()) {
       result_ = trainer->status().error();
     } else {
@@ -168,22 +181,15 @@ void PathService::Train() {
   training_ended_ = true;
 }
 
-void PathService::OnStep(const StepView& view) {
-  // A loaded policy taken over at its saved step has no step record yet.
-  const int time_step =
-      view.run.steps.empty() ? CatchUpSteps(config_, maze_) : view.run.steps.back().time_step;
-  CommitSnapshot(view.planner, view.grid, time_step, &view);
+void PathService::CommitStep(ApproachStepper& stepper) {
+  const StepView view = stepper.view();
+  CommitSnapshot(stepper, &view);
 }
 
-void PathService::BeforeRetraining(Planner& planner, const Grid& grid) {
-  // Nothing is committed before the first policy (a loaded policy adapting
-  // to another maze retrains before it has one).
-  if (Current() == nullptr) return;
-  CommitSnapshot(planner, grid, adapting_step_, nullptr);
-}
-
-void PathService::CommitSnapshot(Planner& planner, const Grid& grid, int time_step,
-                                 const StepView* view) {
+void PathService::CommitSnapshot(ApproachStepper& stepper, const StepView* view) {
+  Planner& planner = stepper.planner();
+  const Grid& grid = stepper.grid();
+  const int time_step = stepper.time_step();
   const bool want_exact = config_.answer != AnswerMode::kLearned;
   const Planner* exact = nullptr;
   if (want_exact && planner.ExactDistances() == nullptr) {
@@ -194,7 +200,7 @@ void PathService::CommitSnapshot(Planner& planner, const Grid& grid, int time_st
       exact_ = MakePlanner(Approach::kIncrementalOracle, config_.options, nullptr);
       exact_->Initialize(grid);
     } else if (exact_step_ != time_step) {
-      exact_->Adapt(grid, last_changed_);
+      exact_->Adapt(grid, stepper.changed_cells());
     }
     exact_step_ = time_step;
     exact = exact_.get();

@@ -4,15 +4,17 @@
 // merged into time steps, and path queries answered from the last committed
 // policy while the next one trains.
 //
-// Threads. The training thread runs the same RunApproach as `run` (core's
-// experiment.h) over a LiveStepSource: each time step is the batch of
+// Threads. The training thread steps through a run as RunApproach does for
+// `run` (core's ApproachStepper, dynapath/experiment.h) over a live step
+// source: each time step is the batch of
 // updates accepted since the previous one began, so the retraining strategy
 // decides exactly as in a run given that change sequence. After each step
 // it builds a RouteSnapshot (dynapath/routes.h) and commits it by swapping
 // one shared_ptr under a mutex: a query copies the pointer and answers every
 // start of its request from that one snapshot, so it never waits for
 // training and never mixes two versions. A step that retrains commits twice:
-// first, just before its training starts, an interim version (the step's
+// first, between taking in the step's changes and retraining (the
+// stepper's NextStep and Retrain), an interim version (the step's
 // grid under the previous policy, the exact distances already repaired, so
 // learned-else-exact answers around the new obstacles at once), then the
 // retrained one. Submit and Answer are safe from any thread.
@@ -161,12 +163,11 @@ class PathService {
  private:
   class LiveSource;
   void Train();
-  void OnStep(const StepView& view);
-  // The planner's before_retraining hook: the interim commit.
-  void BeforeRetraining(Planner& planner, const Grid& grid);
-  // Builds and swaps in the snapshot of `planner` on `grid` (`view`: the
-  // step's record, null for an interim commit).
-  void CommitSnapshot(Planner& planner, const Grid& grid, int time_step, const StepView* view);
+  // Commits the stepper's last step (its record in the hook's view).
+  void CommitStep(ApproachStepper& stepper);
+  // Builds and swaps in the snapshot of the stepper's planner on its grid
+  // (`view`: the step's record, null for an interim commit).
+  void CommitSnapshot(ApproachStepper& stepper, const StepView* view);
 
   const Grid maze_;
   const uint64_t maze_fingerprint_;
@@ -178,8 +179,6 @@ class PathService {
   mutable std::mutex updates_mutex_;  // guards updates_
   std::condition_variable updates_ready_;
   UpdateQueue updates_;
-  std::vector<int> last_changed_;  // training thread: the step being adapted
-  int adapting_step_ = 0;          // training thread: its time step
 
   mutable std::mutex snapshot_mutex_;
   mutable std::condition_variable committed_;

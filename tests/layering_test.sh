@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The layers point one way (CONTRIBUTING.md, "The layering rule"):
 #   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
-#   coordinator/ agent/ (the processes) <- launch/ <- tools/ (the applications);
+#   coordinator/ agent/ (the processes) <- launch/ <- app/ (plans and sessions)
+#   <- tools/ (the front ends);
 #   python/ (the Python module) beside the processes: runtime/ and below.
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
@@ -9,7 +10,7 @@
 # not in its face core/include/dynapath/); when a header of the face includes
 # a private one; when anything below tools/ includes a study-only library
 # (JSON, TOML, PNG, SFML); or when a process executable links a library
-# above the processes (the study and CLI code of tools/, the launcher, the
+# above the processes (the study and CLI code of tools/, app/, the launcher, the
 # view).
 # Usage: tests/layering_test.sh SOURCE_DIR [BUILD_DIR]
 set -uo pipefail
@@ -31,7 +32,8 @@ allowed_for() {
     envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
     python) echo "face messages protocol runtime python" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
-    tools) echo "face messages protocol runtime envsim coordinator agent launch tools" ;;
+    app) echo "face messages protocol runtime envsim coordinator agent launch app" ;;
+    tools) echo "face messages protocol runtime envsim coordinator agent launch app tools" ;;
   esac
 }
 
@@ -58,7 +60,7 @@ kind_of() {
 # at link time, so their headers are checked).
 forbidden_headers='^#include *[<"](nlohmann/|toml\+\+/|png\.h|gif_lib\.h|SFML/)'
 
-for layer in core/include core lcmtypes protocol runtime envsim coordinator agent python launch tools; do
+for layer in core/include core lcmtypes protocol runtime envsim coordinator agent python launch app tools; do
   allowed=$(allowed_for "$layer")
   [ -d "$src/$layer" ] || continue
   while IFS= read -r file; do

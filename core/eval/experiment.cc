@@ -77,6 +77,132 @@ ApproachRun RunApproach(StepSource& source, int pass, Approach approach,
   return run ? std::move(*run) : ApproachRun{};
 }
 
+ApproachStepper::ApproachStepper(StepSource& source, int pass, Planner& planner, ApproachRun run,
+                                 const PlannerOptions& options, Trainer* trainer,
+                                 const PolicyHooks& hooks, Clock clock)
+    : source_(source),
+      pass_(pass),
+      planner_(planner),
+      run_(std::move(run)),
+      run_seed_(options.run_seed),
+      trainer_(trainer),
+      hooks_(hooks),
+      clock_(std::move(clock)),
+      total_steps_(source.total_steps()),
+      save_at_(hooks.save_at == kSaveAtEnd ? total_steps_ : hooks.save_at) {}
+
+bool ApproachStepper::failed() const {
+  return !source_.status() || (trainer_ != nullptr && !trainer_->status());
+}
+
+bool ApproachStepper::Export(int time_step, PolicyState& state) const {
+  if (!planner_.ExportPolicy(state)) return false;
+  state.step = time_step;
+  state.initial_fingerprint = initial_fingerprint_;
+  state.fingerprint = MazeFingerprint(grid_);
+  return true;
+}
+
+void ApproachStepper::SaveAndCheckpoint(int t, bool checkpoint) {
+  if (t == save_at_ && hooks_.save) {
+    PolicyState state;
+    if (Export(t, state)) hooks_.save(std::move(state));
+  }
+  if (!checkpoint || hooks_.checkpoint_every <= 0 || !hooks_.checkpoint ||
+      t % hooks_.checkpoint_every != 0 || (hooks_.checkpoint_due && !hooks_.checkpoint_due())) {
+    return;
+  }
+  PolicyState state;
+  if (Export(t, state)) hooks_.checkpoint(std::move(state), run_);
+}
+
+Status ApproachStepper::Begin() {
+  grid_ = source_.Initial(pass_);
+  if (failed()) return Ok{};
+  initial_fingerprint_ = MazeFingerprint(grid_);
+  const PolicyState* loaded = hooks_.load;
+  const bool same_run = loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint_ &&
+                        loaded->run_seed == run_seed_;
+  if (loaded != nullptr && hooks_.must_continue && !same_run) {
+    return Error(loaded->run_seed != run_seed_
+                     ? "the checkpoint is of a run with seed " + std::to_string(loaded->run_seed) +
+                           ", this run has " + std::to_string(run_seed_)
+                     : "the maze at step 0 differs from the checkpointed run's (was the map or "
+                       "change file edited?)");
+  }
+  if (same_run) {
+    // The maze it was saved from: catch up with the saved step, then go on.
+    const int saved = loaded->step;
+    if (saved > total_steps_) {
+      return Error("the policy was saved after step " + std::to_string(saved) + ", this run has " +
+                   std::to_string(total_steps_) + " steps");
+    }
+    for (int t = 1; t <= saved; ++t) {
+      const ChangeStep step = source_.Changes(pass_, t);
+      if (failed()) return Ok{};
+      ApplyChanges(step, grid_);
+    }
+    if (MazeFingerprint(grid_) != loaded->fingerprint) {
+      return Error("the maze at step " + std::to_string(saved) +
+                   " differs from the one the policy was saved on "
+                   "(another change sequence?)");
+    }
+    const double start = clock_();
+    if (Status imported = planner_.ImportPolicy(*loaded, grid_); !imported) {
+      return imported.error();
+    }
+    run_.load_seconds = clock_() - start;
+    time_step_ = saved;
+    loaded_ = true;
+    SaveAndCheckpoint(saved, false);
+    return Ok{};
+  }
+  double start = clock_();
+  if (loaded != nullptr) {
+    // Another maze of the same shape: the strategy decides node by node
+    // from the loaded baselines, as after a step that changed every cell.
+    if (Status imported = planner_.ImportPolicy(*loaded, grid_); !imported) {
+      return imported.error();
+    }
+    run_.load_seconds = clock_() - start;
+    std::vector<int> every_cell(static_cast<size_t>(grid_.size()));
+    for (int cell = 0; cell < grid_.size(); ++cell) every_cell[cell] = cell;
+    details_ = planner_.Adapt(grid_, every_cell);
+  } else {
+    details_ = planner_.Initialize(grid_);
+  }
+  run_.initial_seconds = clock_() - start;
+  if (failed()) return Ok{};
+  run_.steps.push_back(Score(planner_, grid_, 0, 0, 0.0, details_));
+  SaveAndCheckpoint(0, true);
+  return Ok{};
+}
+
+bool ApproachStepper::NextStep() {
+  if (time_step_ >= total_steps_) return false;
+  const int t = time_step_ + 1;
+  const ChangeStep step = source_.Changes(pass_, t);
+  if (failed()) return false;
+  time_step_ = t;
+  requested_moves_ = step.requested_moves;
+  ApplyChanges(step, grid_);
+  changed_cells_.clear();
+  for (const CellChange& change : step.changes) changed_cells_.push_back(change.cell);
+  adapt_start_ = clock_();
+  retrains_ = planner_.TakeChanges(grid_, changed_cells_);
+  return true;
+}
+
+bool ApproachStepper::Retrain() {
+  details_ = planner_.Retrain();
+  retrains_ = false;
+  const double seconds = planner_.Adapts() ? clock_() - adapt_start_ : 0.0;
+  if (failed()) return false;
+  run_.steps.push_back(Score(planner_, grid_, time_step_, requested_moves_, seconds, details_));
+  SaveAndCheckpoint(time_step_, true);
+  return true;
+}
+
 namespace {
 
 // One pass of `planner` over the source (RunApproach's body), filling `run`
@@ -85,116 +211,15 @@ Result<ApproachRun> RunPlanner(StepSource& source, int pass, Planner& planner, A
                                const PlannerOptions& options, Trainer* trainer,
                                const PolicyHooks& hooks, const Clock& clock,
                                const StepCallback& on_step) {
-  const int total_steps = source.total_steps();
-  // A failed source or trainer ends the run (its status tells the caller).
-  auto failed = [&] { return !source.status() || (trainer != nullptr && !trainer->status()); };
-  uint64_t initial_fingerprint = 0;
-  const int save_at = hooks.save_at == kSaveAtEnd ? total_steps : hooks.save_at;
-  auto export_at = [&](int t, const Grid& grid, PolicyState& state) {
-    if (!planner.ExportPolicy(state)) return false;
-    state.step = t;
-    state.initial_fingerprint = initial_fingerprint;
-    state.fingerprint = MazeFingerprint(grid);
-    return true;
-  };
-  auto maybe_save = [&](int t, const Grid& grid) {
-    if (t != save_at || !hooks.save) return;
-    PolicyState state;
-    if (export_at(t, grid, state)) hooks.save(std::move(state));
-  };
-  auto maybe_checkpoint = [&](int t, const Grid& grid) {
-    if (hooks.checkpoint_every <= 0 || !hooks.checkpoint || t % hooks.checkpoint_every != 0 ||
-        (hooks.checkpoint_due && !hooks.checkpoint_due())) {
-      return;
-    }
-    PolicyState state;
-    if (export_at(t, grid, state)) hooks.checkpoint(std::move(state), run);
-  };
-
-  Grid grid = source.Initial(pass);
-  if (failed()) return run;
-  initial_fingerprint = MazeFingerprint(grid);
-  int first_step = 1;
-  const PolicyState* loaded = hooks.load;
-  const bool same_run = loaded != nullptr && loaded->initial_fingerprint == initial_fingerprint &&
-                        loaded->run_seed == options.run_seed;
-  if (loaded != nullptr && hooks.must_continue && !same_run) {
-    return Error(loaded->run_seed != options.run_seed
-                     ? "the checkpoint is of a run with seed " + std::to_string(loaded->run_seed) +
-                           ", this run has " + std::to_string(options.run_seed)
-                     : "the maze at step 0 differs from the checkpointed run's (was the map or "
-                       "change file edited?)");
+  ApproachStepper stepper(source, pass, planner, std::move(run), options, trainer, hooks, clock);
+  if (Status begun = stepper.Begin(); !begun) return begun.error();
+  if (stepper.failed()) return stepper.Take();
+  if (!stepper.loaded() && on_step) on_step(stepper.view());
+  while (stepper.NextStep()) {
+    if (!stepper.Retrain()) break;
+    if (on_step) on_step(stepper.view());
   }
-  if (same_run) {
-    // The maze it was saved from: catch up with the saved step, then go on.
-    const int saved = loaded->step;
-    if (saved > total_steps) {
-      return Error("the policy was saved after step " + std::to_string(saved) + ", this run has " +
-                   std::to_string(total_steps) + " steps");
-    }
-    for (int t = 1; t <= saved; ++t) {
-      const ChangeStep step = source.Changes(pass, t);
-      if (failed()) return run;
-      ApplyChanges(step, grid);
-    }
-    if (MazeFingerprint(grid) != loaded->fingerprint) {
-      return Error("the maze at step " + std::to_string(saved) +
-                   " differs from the one the policy was saved on "
-                   "(another change sequence?)");
-    }
-    const double start = clock();
-    if (Status imported = planner.ImportPolicy(*loaded, grid); !imported) {
-      return imported.error();
-    }
-    run.load_seconds = clock() - start;
-    first_step = saved + 1;
-    maybe_save(saved, grid);
-    if (hooks.on_loaded) {
-      const StepDetails none;
-      hooks.on_loaded(StepView{run, pass, total_steps, planner, grid, none});
-    }
-  } else {
-    StepDetails details;
-    double start = clock();
-    if (loaded != nullptr) {
-      // Another maze of the same shape: the strategy decides node by node
-      // from the loaded baselines, as after a step that changed every cell.
-      if (Status imported = planner.ImportPolicy(*loaded, grid); !imported) {
-        return imported.error();
-      }
-      run.load_seconds = clock() - start;
-      std::vector<int> every_cell(static_cast<size_t>(grid.size()));
-      for (int cell = 0; cell < grid.size(); ++cell) every_cell[cell] = cell;
-      details = planner.Adapt(grid, every_cell);
-    } else {
-      details = planner.Initialize(grid);
-    }
-    run.initial_seconds = clock() - start;
-    if (failed()) return run;
-    run.steps.push_back(Score(planner, grid, 0, 0, 0.0, details));
-    maybe_save(0, grid);
-    maybe_checkpoint(0, grid);
-    if (on_step) on_step(StepView{run, pass, total_steps, planner, grid, details});
-  }
-
-  std::vector<int> changed_cells;
-  for (int t = first_step; t <= total_steps; ++t) {
-    const ChangeStep step = source.Changes(pass, t);
-    if (failed()) return run;
-    ApplyChanges(step, grid);
-    changed_cells.clear();
-    for (const CellChange& change : step.changes) changed_cells.push_back(change.cell);
-    const bool timed = planner.Adapts();
-    const double start = clock();
-    const StepDetails details = planner.Adapt(grid, changed_cells);
-    const double seconds = timed ? clock() - start : 0.0;
-    if (failed()) return run;
-    run.steps.push_back(Score(planner, grid, t, step.requested_moves, seconds, details));
-    maybe_save(t, grid);
-    maybe_checkpoint(t, grid);
-    if (on_step) on_step(StepView{run, pass, total_steps, planner, grid, details});
-  }
-  return run;
+  return stepper.Take();
 }
 
 }  // namespace

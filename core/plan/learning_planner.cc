@@ -28,7 +28,7 @@ std::unique_ptr<Planner> MakeLearningPlanner(const ApproachSpec& spec,
 
 StepDetails LearningPlanner::Initialize(const Grid& grid) {
   Reset(grid);
-  return RunStrategy({});
+  return Details(strategy_->Adapt({}, *this));
 }
 
 void LearningPlanner::Reset(const Grid& grid) {
@@ -81,6 +81,11 @@ Status LearningPlanner::ImportPolicy(const PolicyState& state, const Grid& grid)
 }
 
 StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& changed_cells) {
+  TakeChanges(grid, changed_cells);
+  return Retrain();
+}
+
+bool LearningPlanner::TakeChanges(const Grid& grid, const std::vector<int>& changed_cells) {
   std::vector<NodeId> changed_leaves;
   for (int cell : changed_cells) changed_leaves.push_back(tree_->LeafOf(cell));
   std::sort(changed_leaves.begin(), changed_leaves.end());
@@ -88,15 +93,19 @@ StepDetails LearningPlanner::Adapt(const Grid& grid, const std::vector<int>& cha
                        changed_leaves.end());
   grid_ = &grid;
   evaluation_.GridChanged(changed_cells);
-  if (changed_leaves.empty()) return {};
-  announce_retraining_ = static_cast<bool>(options_.before_retraining);
-  StepDetails details = RunStrategy(changed_leaves);
-  announce_retraining_ = false;
-  return details;
+  first_to_train_.clear();
+  if (!changed_leaves.empty()) first_to_train_ = strategy_->FirstToTrain(changed_leaves, *this);
+  return !first_to_train_.empty();
 }
 
-StepDetails LearningPlanner::RunStrategy(const std::vector<NodeId>& changed_leaves) {
-  const AdaptationReport report = strategy_->Adapt(changed_leaves, *this);
+StepDetails LearningPlanner::Retrain() {
+  if (first_to_train_.empty()) return {};
+  const std::vector<NodeId> first = std::move(first_to_train_);
+  first_to_train_.clear();
+  return Details(strategy_->TrainFrom(first, *this));
+}
+
+StepDetails LearningPlanner::Details(const AdaptationReport& report) const {
   StepDetails details{static_cast<int>(report.trained.size()), report.highest_level, {}};
   for (NodeId node : report.trained) details.trained_regions.push_back(tree_->node(node).region);
   return details;
@@ -160,12 +169,6 @@ bool LearningPlanner::AncestorTrained(NodeId node) const {
 }
 
 void LearningPlanner::Train(const std::vector<NodeId>& nodes) {
-  if (announce_retraining_) {
-    // Before any value changes: the hook sees the step's grid under the
-    // previous step's policy (the evaluation already repaired for it).
-    announce_retraining_ = false;
-    options_.before_retraining(*this, *grid_);
-  }
   std::vector<uint64_t> seeds;
   seeds.reserve(nodes.size());
   for (NodeId node : nodes) {

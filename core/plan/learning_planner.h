@@ -18,6 +18,8 @@ class LearningPlanner : public Planner, private TrainingContext {
 
   StepDetails Initialize(const Grid& grid) override;
   StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) override;
+  bool TakeChanges(const Grid& grid, const std::vector<int>& changed_cells) override;
+  StepDetails Retrain() override;
   PolicyScore Evaluate(const Grid& grid) override;
   bool Picture(const Grid& grid, PolicyPicture& picture) override;
   bool ExportPolicy(PolicyState& state) const override;
@@ -31,7 +33,7 @@ class LearningPlanner : public Planner, private TrainingContext {
   double SuccessRate(NodeId node) override;
   void Train(const std::vector<NodeId>& nodes) override;
 
-  StepDetails RunStrategy(const std::vector<NodeId>& changed_leaves);
+  StepDetails Details(const AdaptationReport& report) const;
   // Initialize's part before training: a fresh tree, table, counts, strategy.
   void Reset(const Grid& grid);
   // Whether some ancestor of `node` has been trained (--semantics report's
@@ -43,8 +45,8 @@ class LearningPlanner : public Planner, private TrainingContext {
   LearnerConfig learner_;
   Trainer& trainer_;
   const Grid* grid_ = nullptr;  // the grid of the step being adapted
-  // Inside Adapt until options_.before_retraining has been called.
-  bool announce_retraining_ = false;
+  // TakeChanges' decision: the nodes Retrain trains first.
+  std::vector<NodeId> first_to_train_;
   std::unique_ptr<QuadTree> tree_;
   std::unique_ptr<RootQTable> root_;
   std::unique_ptr<RetrainingStrategy> strategy_;

@@ -62,17 +62,20 @@ std::vector<NodeId> TreeStrategy::TrainAndCollectParents(const std::vector<NodeI
   return parents;
 }
 
-AdaptationReport TreeStrategy::Adapt(const std::vector<NodeId>& changed_leaves,
-                                     TrainingContext& context) {
-  AdaptationReport report;
+std::vector<NodeId> TreeStrategy::FirstToTrain(const std::vector<NodeId>& changed_leaves,
+                                               TrainingContext& context) {
+  if (changed_leaves.empty()) return tree_.leaves();
   std::vector<NodeId> to_train;
-  if (changed_leaves.empty()) {
-    to_train = tree_.leaves();
-  } else {
-    for (NodeId leaf : changed_leaves) {
-      if (NeedsTraining(leaf, context)) to_train.push_back(leaf);
-    }
+  for (NodeId leaf : changed_leaves) {
+    if (NeedsTraining(leaf, context)) to_train.push_back(leaf);
   }
+  return to_train;
+}
+
+AdaptationReport TreeStrategy::TrainFrom(const std::vector<NodeId>& first,
+                                         TrainingContext& context) {
+  AdaptationReport report;
+  std::vector<NodeId> to_train = first;
   while (!to_train.empty()) {
     const std::vector<NodeId> candidates = TrainAndCollectParents(to_train, context, report);
     to_train.clear();
@@ -83,13 +86,17 @@ AdaptationReport TreeStrategy::Adapt(const std::vector<NodeId>& changed_leaves,
   return report;
 }
 
-AdaptationReport LeavesOnlyStrategy::Adapt(const std::vector<NodeId>& changed_leaves,
-                                           TrainingContext& context) {
+std::vector<NodeId> LeavesOnlyStrategy::FirstToTrain(const std::vector<NodeId>& changed_leaves,
+                                                     TrainingContext& /*context*/) {
+  return changed_leaves.empty() ? tree_.leaves() : changed_leaves;
+}
+
+AdaptationReport LeavesOnlyStrategy::TrainFrom(const std::vector<NodeId>& first,
+                                               TrainingContext& context) {
   AdaptationReport report;
-  const std::vector<NodeId>& to_train = changed_leaves.empty() ? tree_.leaves() : changed_leaves;
-  if (!to_train.empty()) {
-    context.Train(to_train);
-    RecordTraining(tree_, to_train, report);
+  if (!first.empty()) {
+    context.Train(first);
+    RecordTraining(tree_, first, report);
   }
   return report;
 }

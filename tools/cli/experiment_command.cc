@@ -22,6 +22,7 @@
 #include <thread>
 #include <variant>
 
+#include "app/resources.h"
 #include "dynapath/experiment.h"
 #include "dynapath/parameters.h"
 #include "launch/launcher.h"
@@ -208,10 +209,10 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   run.process.run_id = protocol::NewRunId() + suffix;
   run.process.lcm_url = session.options.lcm_url;
   runtime::MakeRunSecret(run.process);  // a new secret for each run of the study
-  run.process.bus.max_grid_cells =
-      static_cast<int64_t>(setup->scenario.grid.rows()) * setup->scenario.grid.cols();
+  run.process.bus.max_grid_cells = app::GridCap(setup->scenario.grid);
   run.agents = session.options.mode.agents;
-  run.threads_per_agent = std::max(1, session.options.threads / session.options.mode.agents);
+  run.threads_per_agent =
+      app::ThreadsPerAgent(session.options.threads, session.options.mode.agents);
   run.scenario = scenario;
   run.run = run_options;
   run.log_level = session.options.log.log_level;

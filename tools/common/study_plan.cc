@@ -768,13 +768,6 @@ double StudyConfiguration::Work() const {
   return 15800.0 + std::pow(cell_steps, 0.8);
 }
 
-std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, uint64_t maze_seed,
-                                          int repeat) {
-  if (repeat <= 1 && !learner_seed) return std::nullopt;
-  const uint64_t base = learner_seed ? static_cast<uint64_t>(*learner_seed) : maze_seed;
-  return base + static_cast<uint64_t>(repeat - 1) * kRepeatSeedStride;
-}
-
 namespace {
 
 // The configurations of one repeat, in study order.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/repeats.h"
 #include "dynapath/approach.h"
 #include "dynapath/difficulty.h"
 #include "dynapath/result.h"
@@ -190,15 +191,11 @@ struct StudyConfiguration {
 // configuration's repeats follow each other (repeat 1 first).
 std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options);
 
-// The learner seed of repeat `repeat` (1-based) on a maze of seed
-// `maze_seed`: base + (repeat - 1) x kRepeatSeedStride, base being
-// --learner-seed when given, else the maze seed. Unset for repeat 1 without
-// --learner-seed (the run's default stream, which is the maze seed).
-inline constexpr uint64_t kRepeatSeedStride = 1000003;
-inline constexpr int kMaxRepeats = 1000;
+// The learner seed of each repeat, and the most repeats: app/repeats.h.
+using app::kMaxRepeats;
+using app::kRepeatSeedStride;
+using app::RepeatLearnerSeed;
 inline constexpr size_t kMaxSweepPoints = 1000;
-std::optional<uint64_t> RepeatLearnerSeed(std::optional<long long> learner_seed, uint64_t maze_seed,
-                                          int repeat);
 
 // The `dynapath run` maze options of a configuration (size, difficulty,
 // seed, steps), and its run options (approaches, out, leaf limit,

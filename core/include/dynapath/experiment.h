@@ -133,11 +133,6 @@ struct PolicyHooks {
   // maze or run seed differ, fail instead of starting from it as on
   // another maze.
   bool must_continue = false;
-  // Called once when `load` was taken over on the maze it was saved from
-  // (the view's grid is that of the saved step; run.steps may be empty):
-  // the step callback is not, as no step was scored. A service commits
-  // the loaded policy here before the next step.
-  StepCallback on_loaded;
 };
 // RunApproach with `hooks`; fails when the loaded policy does not fit the
 // run (CheckPolicyFits) or continuing it finds another change sequence.
@@ -146,6 +141,73 @@ Result<ApproachRun> RunApproach(StepSource& source, int pass, Approach approach,
                                 const RunLabels& labels, const PolicyHooks& hooks,
                                 const Clock& clock = SteadyClock(),
                                 const StepCallback& on_step = {});
+
+// RunApproach's pass a time step at a time, for a caller that acts inside
+// a step: the service commits the step's grid under the previous policy
+// between taking in a step's changes and retraining. RunApproach is
+// Begin, then NextStep and Retrain until NextStep says the run is over.
+class ApproachStepper {
+ public:
+  // `source`, `planner` and `trainer` (may be null) must outlive the
+  // stepper; `run` has its approach and labels set.
+  ApproachStepper(StepSource& source, int pass, Planner& planner, ApproachRun run,
+                  const PlannerOptions& options, Trainer* trainer, const PolicyHooks& hooks,
+                  Clock clock = SteadyClock());
+  // Time step 0: the initial training, scored, or taking over hooks.load
+  // (on the maze it was saved from, its steps caught up without adapting
+  // and nothing scored: loaded() is then true). Fails when the loaded
+  // policy does not fit the run. When the source or trainer fails, Begin
+  // is Ok and failed() says so: the run ends with the steps so far.
+  Status Begin();
+  // Reads the next time step's changes from the source, applies them to
+  // the grid and gives them to the planner (Planner::TakeChanges); false
+  // when the run is over (its last step done, or the source failed).
+  bool NextStep();
+  // After NextStep: whether Retrain will train (until then the planner's
+  // Picture shows the step's grid under the previous policy).
+  bool retrains() const { return retrains_; }
+  // Adapts to the step NextStep took (Planner::Retrain; timed from
+  // NextStep's TakeChanges on), scores it and saves or checkpoints as the
+  // hooks ask; false when the source or trainer failed.
+  bool Retrain();
+
+  bool loaded() const { return loaded_; }
+  bool failed() const;
+  int total_steps() const { return total_steps_; }
+  // The step NextStep took last (the loaded policy's or 0 before).
+  int time_step() const { return time_step_; }
+  const std::vector<int>& changed_cells() const { return changed_cells_; }
+  Planner& planner() { return planner_; }
+  const Grid& grid() const { return grid_; }
+  const ApproachRun& run() const { return run_; }
+  // The last step scored, or taken over when loaded() and none was.
+  StepView view() { return StepView{run_, pass_, total_steps_, planner_, grid_, details_}; }
+  ApproachRun Take() { return std::move(run_); }
+
+ private:
+  bool Export(int time_step, PolicyState& state) const;
+  void SaveAndCheckpoint(int time_step, bool checkpoint);
+
+  StepSource& source_;
+  const int pass_;
+  Planner& planner_;
+  ApproachRun run_;
+  const uint64_t run_seed_;
+  Trainer* const trainer_;
+  const PolicyHooks hooks_;
+  const Clock clock_;
+  const int total_steps_;
+  const int save_at_;
+  Grid grid_;
+  uint64_t initial_fingerprint_ = 0;
+  bool loaded_ = false;
+  int time_step_ = 0;
+  int requested_moves_ = 0;
+  std::vector<int> changed_cells_;
+  bool retrains_ = false;
+  double adapt_start_ = 0.0;
+  StepDetails details_;
+};
 
 // RunApproach for a planner made outside core (no policy to load or save),
 // its rows labelled `label`: the same steps, timing and scoring.

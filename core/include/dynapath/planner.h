@@ -4,7 +4,6 @@
 // Adapt; everything that counts as adaptation happens inside them.
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -51,13 +50,6 @@ struct PlannerOptions : LearnerOptions {
   // searches) end it early once set; the run is then cancelled. Not a
   // parameter of the results.
   StopToken stop = nullptr;
-  // Called by a learning planner's Adapt once per step, just before the
-  // step's first training job, with the planner and the step's grid: its
-  // Picture then shows the changed grid under the policy not yet
-  // retrained. The service commits that interim policy so that replies
-  // reflect the changes while the training runs. Not a parameter of the
-  // results: it may read the planner, not change it.
-  std::function<void(Planner& planner, const Grid& grid)> before_retraining;
   // convQ's model (--model FILE); null: the shipped one (ShippedConvQModel).
   std::shared_ptr<const ConvQModel> convq_model;
 };
@@ -89,6 +81,16 @@ class Planner {
   virtual StepDetails Initialize(const Grid& grid) = 0;
   // `grid` already holds the step's changes; `changed_cells` their positions.
   virtual StepDetails Adapt(const Grid& grid, const std::vector<int>& changed_cells) = 0;
+  // Adapt in two calls, for a caller that acts between them (the service
+  // commits the step's grid under the previous policy while the retraining
+  // runs): TakeChanges takes in the step's changes (same arguments as
+  // Adapt; `grid` must outlive Retrain) and decides what to retrain, true
+  // when Retrain will train something (until then Picture shows `grid`
+  // under the previous step's policy); Retrain then adapts. The two in a
+  // row are Adapt. The defaults: TakeChanges keeps its arguments and
+  // returns false, Retrain calls Adapt with them.
+  virtual bool TakeChanges(const Grid& grid, const std::vector<int>& changed_cells);
+  virtual StepDetails Retrain();
   virtual PolicyScore Evaluate(const Grid& grid) = 0;
   // Fills `picture` for the current policy on `grid` (after Evaluate);
   // false for approaches without a table (the baselines).
@@ -107,6 +109,11 @@ class Planner {
   // grid (kUnreachable where none), for planners that keep them up to date
   // (Incremental Oracle); null for the others.
   virtual const std::vector<int32_t>* ExactDistances() const { return nullptr; }
+
+ private:
+  // The default TakeChanges' arguments, for the default Retrain.
+  const Grid* taken_grid_ = nullptr;
+  std::vector<int> taken_cells_;
 };
 
 // The approach's planner (its factory in core/plan/approach_registry.h).

@@ -47,9 +47,19 @@ class RetrainingStrategy {
  public:
   virtual ~RetrainingStrategy() = default;
   // One time step: `changed_leaves` are the leaves (ascending ids) holding a
-  // changed cell; empty means initial training.
-  virtual AdaptationReport Adapt(const std::vector<NodeId>& changed_leaves,
-                                 TrainingContext& context) = 0;
+  // changed cell; empty means initial training. It is FirstToTrain then
+  // TrainFrom, the two calls a planner makes separately when its caller acts
+  // between deciding and training (Planner::TakeChanges and Retrain).
+  AdaptationReport Adapt(const std::vector<NodeId>& changed_leaves, TrainingContext& context) {
+    return TrainFrom(FirstToTrain(changed_leaves, context), context);
+  }
+  // The nodes the step trains first (ascending ids), decided without
+  // training anything: empty when the step trains nothing.
+  virtual std::vector<NodeId> FirstToTrain(const std::vector<NodeId>& changed_leaves,
+                                           TrainingContext& context) = 0;
+  // Trains `first` (FirstToTrain's answer) and whatever follows from it.
+  virtual AdaptationReport TrainFrom(const std::vector<NodeId>& first,
+                                     TrainingContext& context) = 0;
   // The per-node success rates the strategy keeps between steps (-1: never
   // trained), for saving a policy; empty for a strategy that keeps none.
   // RestoreBaselines takes back what Baselines returned (same size).
@@ -64,8 +74,9 @@ class TreeStrategy : public RetrainingStrategy {
   // `tree` must outlive the strategy.
   TreeStrategy(const QuadTree& tree, RetrainingThresholds thresholds = {});
 
-  AdaptationReport Adapt(const std::vector<NodeId>& changed_leaves,
-                         TrainingContext& context) override;
+  std::vector<NodeId> FirstToTrain(const std::vector<NodeId>& changed_leaves,
+                                   TrainingContext& context) override;
+  AdaptationReport TrainFrom(const std::vector<NodeId>& first, TrainingContext& context) override;
 
   // Stored baseline success rate of a node; negative when never trained.
   double baseline(NodeId node) const { return baseline_[node]; }
@@ -93,8 +104,9 @@ class TreeStrategy : public RetrainingStrategy {
 class LeavesOnlyStrategy : public RetrainingStrategy {
  public:
   explicit LeavesOnlyStrategy(const QuadTree& tree) : tree_(tree) {}
-  AdaptationReport Adapt(const std::vector<NodeId>& changed_leaves,
-                         TrainingContext& context) override;
+  std::vector<NodeId> FirstToTrain(const std::vector<NodeId>& changed_leaves,
+                                   TrainingContext& context) override;
+  AdaptationReport TrainFrom(const std::vector<NodeId>& first, TrainingContext& context) override;
 
  private:
   const QuadTree& tree_;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "dynapath/change_sequence.h"
@@ -14,52 +16,64 @@
 namespace dynapath {
 namespace {
 
-// PlannerOptions::before_retraining: called once in every step that trains,
-// before any value changes, with the step's grid; never in a step that
-// trains nothing nor in the initial training; and the run's results are
-// those of a run without it.
-TEST(LearningPlanner, AnnouncesEachRetrainingBeforeItChangesTheTable) {
+// Planner::TakeChanges and Retrain, as the service calls them through
+// ApproachStepper: TakeChanges says a step retrains exactly when Retrain
+// then trains a node, and changes no value (the planner's Picture shows the
+// step's grid under the previous step's policy); the run's results are
+// those of RunApproach, which adapts in one call.
+TEST(LearningPlanner, TakesChangesBeforeRetrainingWithoutChangingTheTable) {
   const Scenario scenario = GenerateScenario(24, 24, Difficulty::kHard, 52, 30);
   ThreadPool pool(2);
   LocalTrainer trainer(pool);
-  PlannerOptions plain;
-  plain.run_seed = 9;
-  plain.leaf_limit = 6;
+  PlannerOptions options;
+  options.run_seed = 9;
+  options.leaf_limit = 6;
   const ApproachRun reference =
-      RunApproach(scenario, Approach::kFedAsynQEqAvg, plain, &trainer, {"24", "Hard"});
+      RunApproach(scenario, Approach::kFedAsynQEqAvg, options, &trainer, {"24", "Hard"});
 
-  PlannerOptions options = plain;
-  std::vector<int> announced;  // per call: the step it came in
-  std::vector<float> table_after_last_step;
-  int step = 0;
-  options.before_retraining = [&](Planner& planner, const Grid& grid) {
-    auto& learning = dynamic_cast<LearningPlanner&>(planner);
-    announced.push_back(step);
-    // Nothing retrained yet: the table is the previous step's.
+  std::unique_ptr<Planner> made = MakePlanner(Approach::kFedAsynQEqAvg, options, &trainer);
+  auto& learning = dynamic_cast<LearningPlanner&>(*made);
+  ScenarioStepSource source(scenario);
+  ApproachRun begun;
+  begun.approach = Approach::kFedAsynQEqAvg;
+  ApproachStepper stepper(source, 0, learning, std::move(begun), options, &trainer, PolicyHooks{});
+  ASSERT_TRUE(stepper.Begin());
+  ASSERT_FALSE(stepper.loaded());
+  auto table_now = [&] {
     const QTable& table = learning.root().table();
-    ASSERT_EQ(table.precision(), QPrecision::kFloat);
-    const std::vector<float> now(table.row(0), table.row(0) + 8 * static_cast<size_t>(grid.size()));
-    EXPECT_EQ(now, table_after_last_step) << "step " << step;
-    // The grid is the step's (its changes applied) and the picture is the
-    // previous policy evaluated on it.
+    EXPECT_EQ(table.precision(), QPrecision::kFloat);
+    return std::vector<float>(table.row(0),
+                              table.row(0) + 8 * static_cast<size_t>(stepper.grid().size()));
+  };
+  std::vector<int> announced;  // the steps TakeChanges said would retrain
+  while (stepper.NextStep()) {
+    const int step = stepper.time_step();
+    // The grid is the step's (its changes applied).
     Grid expected = scenario.grid;
     for (int t = 1; t <= step; ++t) ApplyChanges(scenario.changes.steps[t - 1], expected);
-    EXPECT_EQ(grid.codes(), expected.codes()) << "step " << step;
-    PolicyEvaluator evaluator;
-    PolicyDepths full;
-    evaluator.Evaluate(grid, table, full);
-    PolicyPicture picture;
-    ASSERT_TRUE(planner.Picture(grid, picture));
-    EXPECT_EQ(picture.depth, full.depth) << "step " << step;
-  };
-  const ApproachRun run = RunApproach(
-      scenario, Approach::kFedAsynQEqAvg, options, &trainer, {"24", "Hard"}, SteadyClock(),
-      [&](const StepView& view) {
-        const QTable& table = dynamic_cast<LearningPlanner&>(view.planner).root().table();
-        table_after_last_step.assign(table.row(0),
-                                     table.row(0) + 8 * static_cast<size_t>(view.grid.size()));
-        step = static_cast<int>(view.run.steps.size());
-      });
+    EXPECT_EQ(stepper.grid().codes(), expected.codes()) << "step " << step;
+    if (stepper.retrains()) {
+      announced.push_back(step);
+      // Nothing retrained yet: the picture is the previous policy on the
+      // step's grid.
+      PolicyEvaluator evaluator;
+      PolicyDepths full;
+      evaluator.Evaluate(stepper.grid(), learning.root().table(), full);
+      PolicyPicture picture;
+      ASSERT_TRUE(learning.Picture(stepper.grid(), picture));
+      EXPECT_EQ(picture.depth, full.depth) << "step " << step;
+    }
+    const std::vector<float> before = table_now();
+    ASSERT_TRUE(stepper.Retrain());
+    // A step that was not announced trains nothing and keeps the table.
+    if (!announced.empty() && announced.back() == step) {
+      EXPECT_GT(stepper.run().steps.back().nodes_trained, 0) << "step " << step;
+    } else {
+      EXPECT_EQ(stepper.run().steps.back().nodes_trained, 0) << "step " << step;
+      EXPECT_EQ(table_now(), before) << "step " << step;
+    }
+  }
+  const ApproachRun run = stepper.Take();
   std::vector<int> retraining_steps;
   ASSERT_EQ(run.steps.size(), reference.steps.size());
   for (size_t t = 0; t < run.steps.size(); ++t) {
@@ -69,6 +83,35 @@ TEST(LearningPlanner, AnnouncesEachRetrainingBeforeItChangesTheTable) {
   }
   ASSERT_FALSE(retraining_steps.empty());
   EXPECT_EQ(announced, retraining_steps);
+}
+
+// The table does not change between TakeChanges and Retrain: what the
+// service commits as the interim version is the previous step's policy.
+TEST(LearningPlanner, TakeChangesKeepsThePreviousTable) {
+  const Scenario scenario = GenerateScenario(24, 24, Difficulty::kHard, 52, 30);
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  PlannerOptions options;
+  options.run_seed = 9;
+  options.leaf_limit = 6;
+  LearningPlanner planner(Approach::kFedAsynQEqAvg, options, trainer);
+  Grid grid = scenario.grid;
+  planner.Initialize(grid);
+  int retrained = 0;
+  for (const ChangeStep& step : scenario.changes.steps) {
+    const QTable before = planner.root().table();
+    ApplyChanges(step, grid);
+    std::vector<int> cells;
+    for (const CellChange& change : step.changes) cells.push_back(change.cell);
+    const bool retrains = planner.TakeChanges(grid, cells);
+    const QTable& now = planner.root().table();
+    EXPECT_TRUE(std::equal(before.row(0), before.row(0) + 8 * static_cast<size_t>(grid.size()),
+                           now.row(0)));
+    const StepDetails details = planner.Retrain();
+    EXPECT_EQ(retrains, details.nodes_trained > 0);
+    retrained += retrains ? 1 : 0;
+  }
+  EXPECT_GT(retrained, 0);
 }
 
 }  // namespace
