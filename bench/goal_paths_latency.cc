@@ -2,7 +2,7 @@
 // and memory, its exactness against a fresh breadth-first search, beside a
 // from-scratch A* on the same queries. docs/PERFORMANCE.md#goal-paths.
 //
-//   goal_paths_latency MAP [--seconds S] [--rate Q] [--updates U]
+//   goal_paths_latency MAP [--warmup W] [--seconds S] [--rate Q] [--updates U]
 //                      [--change-permille P] [--hot-goals H] [--hot-share F]
 //                      [--cache-mb M] [--check N] [--astar-queries K] [--seed X]
 //
@@ -12,7 +12,8 @@
 // is a random free cell; its goal, with probability F, one of H fixed goals
 // (the most asked), else a random free cell. Each query is timed alone
 // (steady_clock around Plan, lazy field repairs included): service time,
-// not queueing. The first N answers are checked against a fresh search on
+// not queueing. W simulated seconds before are run the same way but not
+// measured (the hot goals' fields are built then). The first N answers are checked against a fresh search on
 // that update's grid; K queries are answered again by a planner without
 // fields (A* from scratch every time).
 
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: goal_paths_latency MAP [options] (see the source's header)\n");
     return 2;
   }
-  double seconds = 10, rate = 10000, updates_per_second = 10, change_permille = 1, hot_share = 0.9;
+  double warmup = 0, seconds = 10, rate = 10000, updates_per_second = 10, change_permille = 1, hot_share = 0.9;
   int hot_goals = 1000, check = 10000, astar_queries = 10000;
   double cache_mb = 256;
   unsigned seed = 1;
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
     if (o == "--seconds") seconds = v;
+    else if (o == "--warmup") warmup = v;
     else if (o == "--rate") rate = v;
     else if (o == "--updates") updates_per_second = v;
     else if (o == "--change-permille") change_permille = v;
@@ -116,7 +118,8 @@ int main(int argc, char** argv) {
   const auto micros = [](Clock::duration d) {
     return std::chrono::duration<double, std::micro>(d).count();
   };
-  const int64_t queries = static_cast<int64_t>(seconds * rate);
+  const int64_t warm = static_cast<int64_t>(warmup * rate);
+  const int64_t queries = warm + static_cast<int64_t>(seconds * rate);
   const int64_t per_update = std::max<int64_t>(1, static_cast<int64_t>(rate / updates_per_second));
   std::vector<double> hot_us, other_us, all_us, astar_hot_us, astar_other_us, update_us;
   int64_t checked = 0, wrong = 0, reached = 0;
@@ -125,8 +128,9 @@ int main(int argc, char** argv) {
   for (int c = 0; c < grid.size(); ++c) {
     if (grid.at(c) == Cell::kObstacle) obstacles.push_back(c);
   }
-  for (int64_t q = 0; q < queries; ++q) {
-    if (q > 0 && q % per_update == 0) {
+  for (int64_t i = 0; i < queries; ++i) {
+    const int64_t q = i - warm;  // negative: warming up, not measured
+    if (i > 0 && i % per_update == 0) {
       // Movers: an obstacle to a free neighbour, until enough cells changed.
       std::vector<int> changed;
       while (static_cast<int>(changed.size()) < changes_per_update && !obstacles.empty()) {
@@ -144,8 +148,10 @@ int main(int argc, char** argv) {
       auto shared = std::make_shared<const Grid>(grid);
       const auto t0 = Clock::now();
       planner.Update(shared, changed);
-      update_us.push_back(micros(Clock::now() - t0));
-      busy_us += update_us.back();
+      if (q >= 0) {
+        update_us.push_back(micros(Clock::now() - t0));
+        busy_us += update_us.back();
+      }
       astar.Update(shared, changed);
     }
     const int start = free_cell();
@@ -157,6 +163,7 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     const GoalPath path = planner.Plan(sr, sc, gr, gc);
     const double us = micros(Clock::now() - t0);
+    if (q < 0) continue;
     busy_us += us;
     (hot ? hot_us : other_us).push_back(us);
     all_us.push_back(us);
@@ -173,9 +180,10 @@ int main(int argc, char** argv) {
     }
   }
   const dynapath::GoalCacheStats& s = planner.stats();
+  std::printf("after %.0f s of warm-up: ", warmup);
   std::printf("queries %lld (%lld reached), updates %zu; checked against a fresh BFS: %lld, "
               "answers that differ (from the BFS or the A*): %lld\n",
-              static_cast<long long>(queries), static_cast<long long>(reached), update_us.size(),
+              static_cast<long long>(queries - warm), static_cast<long long>(reached), update_us.size(),
               static_cast<long long>(checked), static_cast<long long>(wrong));
   Print("goal planner, the hot goals", hot_us);
   Print("goal planner, other goals", other_us);
@@ -186,12 +194,14 @@ int main(int argc, char** argv) {
   std::printf("one core busy %.1f%% of the simulated %.0f s (queries + updates)\n",
               busy_us / (seconds * 1e6) * 100, seconds);
   std::printf("cache: %lld hits, %lld misses, %lld builds, %lld evictions, %lld repairs, "
-              "%lld rebuilds; %lld A* searches (%.0f cells expanded each)\n",
+              "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
+              "%lld proved unreachable\n",
               static_cast<long long>(s.hits), static_cast<long long>(s.misses),
               static_cast<long long>(s.builds), static_cast<long long>(s.evictions),
               static_cast<long long>(s.repairs), static_cast<long long>(s.rebuilds),
               static_cast<long long>(s.searches),
-              s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0);
+              s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
+              static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("fields: %lld now, %.1f MB now, peak %.1f MB, cap %.1f MB; process max RSS %.1f MB\n",

@@ -96,6 +96,7 @@ struct GoalPlanner::Field {
   int goal = 0;
   int64_t update = 0;  // the grid update its distances are exact for
   uint64_t used = 0;   // clock_ at the last use
+  int64_t asks = 0;    // since it was made (halved with the miss counts)
   DynamicDistances distances;
   // What a field holds: its values and repair stamps, 4 bytes a cell each.
   static size_t Bytes(int cells) { return sizeof(Field) + size_t{8} * static_cast<size_t>(cells); }
@@ -116,6 +117,7 @@ void GoalPlanner::Update(std::shared_ptr<const Grid> grid, const std::vector<int
   ++updates_;
   if (resized) {
     fields_.clear();
+    landmarks_.clear();
     misses_.clear();
     log_.clear();
     log_floor_ = updates_;
@@ -126,6 +128,7 @@ void GoalPlanner::Update(std::shared_ptr<const Grid> grid, const std::vector<int
     parent_.assign(n, -1);
     stamp_.assign(n, 0u);
     epoch_ = 0;
+    PlaceLandmarks();
     return;
   }
   log_.push_back(Batch{updates_, changed});
@@ -133,6 +136,44 @@ void GoalPlanner::Update(std::shared_ptr<const Grid> grid, const std::vector<int
     log_floor_ = log_.front().update;
     log_.erase(log_.begin());
   }
+}
+
+void GoalPlanner::PlaceLandmarks() {
+  landmarks_.clear();
+  stats_.landmarks = 0;
+  const Grid& grid = *grid_;
+  const size_t bytes = Field::Bytes(grid.size());
+  const int fit = static_cast<int>(std::min<size_t>(static_cast<size_t>(std::max(0, options_.landmarks)),
+                                                    options_.cache_bytes / 2 / bytes));
+  // Farthest-point selection: the first free cell, then each time the cell
+  // farthest from every landmark so far (cells none of them reaches
+  // skipped). Deterministic.
+  int next = -1;
+  for (int v = 0; v < grid.size() && next < 0; ++v) {
+    if (grid.at(v) != Cell::kObstacle) next = v;
+  }
+  std::vector<int32_t> nearest(static_cast<size_t>(grid.size()), -1);
+  while (next >= 0 && static_cast<int>(landmarks_.size()) < fit) {
+    auto field = std::make_unique<Field>();
+    field->goal = next;
+    field->update = updates_;
+    field->distances.Build(GoalMoves(grid, next), /*limit=*/0);
+    int32_t best = 0;
+    next = -1;
+    for (int v = 0; v < grid.size(); ++v) {
+      const int32_t d = field->distances.value(v);
+      if (d == DynamicDistances::kNone) continue;
+      if (nearest[v] < 0 || d < nearest[v]) nearest[v] = d;
+      if (nearest[v] > best) {
+        best = nearest[v];
+        next = v;
+      }
+    }
+    landmarks_.push_back(std::move(field));
+    stats_.bytes += bytes;
+    ++stats_.landmarks;
+  }
+  stats_.peak_bytes = std::max(stats_.peak_bytes, stats_.bytes);
 }
 
 GoalCheck GoalPlanner::CheckGoal(int row, int col) const {
@@ -174,24 +215,40 @@ void GoalPlanner::Evict(size_t need) {
 }
 
 GoalPlanner::Field* GoalPlanner::HotField(int goal) {
-  ++clock_;
+  if (++clock_ % (uint64_t{1} << 17) == 0) {  // forget old popularity
+    for (auto& [g, field] : fields_) field->asks /= 2;
+    for (auto& [g, count] : misses_) count /= 2;
+  }
   if (auto it = fields_.find(goal); it != fields_.end()) {
     ++stats_.hits;
     Field& field = *it->second;
     field.used = clock_;
+    ++field.asks;
     Bring(field);
     return &field;
   }
   ++stats_.misses;
   const size_t bytes = Field::Bytes(grid_->size());
-  if (bytes > options_.cache_bytes) return nullptr;
+  if (landmarks_.size() * bytes + bytes > options_.cache_bytes) return nullptr;  // no room
   if (misses_.size() >= 65536) misses_.clear();  // bounded: forget old cold goals
-  if (++misses_[goal] < options_.hot_after) return nullptr;
+  const int asked = ++misses_[goal];
+  if (asked < options_.hot_after) return nullptr;
+  // Full: the least recently used field makes room, but only for a goal
+  // asked more often than it (a frequency admission filter): goals asked
+  // about as often as each other do not evict each other in turn.
+  if (stats_.bytes + bytes > options_.cache_bytes) {
+    auto oldest = fields_.begin();
+    for (auto it = fields_.begin(); it != fields_.end(); ++it) {
+      if (it->second->used < oldest->second->used) oldest = it;
+    }
+    if (asked <= oldest->second->asks) return nullptr;
+    Evict(bytes);
+  }
   misses_.erase(goal);
-  Evict(bytes);
   auto field = std::make_unique<Field>();
   field->goal = goal;
   field->used = clock_;
+  field->asks = asked;
   field->update = updates_;
   field->distances.Build(GoalMoves(*grid_, goal), /*limit=*/0);
   ++stats_.builds;
@@ -244,15 +301,40 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     epoch_ = 1;
   }
   const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
+  GoalPath path;
+  path.source = GoalSource::kSearch;
+  landmark_goal_.clear();
+  std::vector<const DynamicDistances*> marks;
+  for (const auto& landmark : landmarks_) {
+    Bring(*landmark);
+    const int32_t at_goal = landmark->distances.value(goal);
+    const int32_t at_start = landmark->distances.value(start);
+    if ((at_goal == DynamicDistances::kNone) != (at_start == DynamicDistances::kNone)) {
+      ++stats_.proved_unreachable;  // one of them is in the landmark's component
+      path.status = GoalStatus::kNoPath;
+      return path;
+    }
+    if (at_goal == DynamicDistances::kNone) continue;
+    marks.push_back(&landmark->distances);
+    landmark_goal_.push_back(at_goal);
+  }
+  const auto h = [&](int v, int r, int c) {
+    int32_t best = Chebyshev(r, c, gr, gc);
+    for (size_t i = 0; i < marks.size(); ++i) {
+      const int32_t d = marks[i]->value(v);
+      // Not reached by a landmark that reaches the goal: no path from v.
+      if (d == DynamicDistances::kNone) return int32_t{-1};
+      best = std::max(best, std::abs(d - landmark_goal_[i]));
+    }
+    return best;
+  };
   // (f, -g, cell): smallest f first, then the deepest (ties to larger g).
   using Entry = std::tuple<int32_t, int32_t, int32_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   stamp_[start] = epoch_;
   g_[start] = 0;
   parent_[start] = -1;
-  open.emplace(Chebyshev(grid.RowOf(start), grid.ColOf(start), gr, gc), 0, start);
-  GoalPath path;
-  path.source = GoalSource::kSearch;
+  open.emplace(h(start, grid.RowOf(start), grid.ColOf(start)), 0, start);
   while (!open.empty()) {
     const auto [f, neg_g, v] = open.top();
     open.pop();
@@ -281,10 +363,12 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
       const int w = grid.Index(r, c);
       if (grid.at(w) == Cell::kObstacle) continue;
       if (stamp_[w] == epoch_ && g_[w] <= g + 1) continue;
+      const int32_t hw = h(w, r, c);
+      if (hw < 0) continue;
       stamp_[w] = epoch_;
       g_[w] = g + 1;
       parent_[w] = v;
-      open.emplace(g + 1 + Chebyshev(r, c, gr, gc), -(g + 1), w);
+      open.emplace(g + 1 + hw, -(g + 1), w);
     }
   }
   path.status = GoalStatus::kNoPath;

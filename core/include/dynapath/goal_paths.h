@@ -12,8 +12,13 @@
 //    log is rebuilt). Fields live in an LRU cache bounded in bytes; a goal
 //    gets a field on its `hot_after`-th miss, so a goal asked once never
 //    pays a whole-grid search.
-//  * cold goals: A* from the start with the Chebyshev distance (the octile
-//    distance when a diagonal costs 1), ties to the larger g.
+//  * cold goals: A* from the start, ties to the larger g, with the larger of
+//    the Chebyshev distance (the octile distance when a diagonal costs 1)
+//    and the ALT bound max |d_L(v) - d_L(goal)| over a few landmark fields
+//    (exact fields of cells spread over the map by farthest-point
+//    selection, repaired like the others, held within half the cache). A
+//    landmark that reaches one of start and goal but not the other proves
+//    there is no path without any search.
 // A path is walked down the field (or back along A*'s parents), neighbours
 // in action order N, NE, E, SE, S, SW, W, NW: the same inputs give the same
 // cells. Not thread-safe: one caller at a time.
@@ -94,6 +99,9 @@ struct GoalPlannerOptions {
   int hot_after = 2;
   // Batches of changed cells kept for fields that were not asked for a while.
   size_t log_batches = 256;
+  // Landmark fields for A*'s heuristic (fewer when half the cache cannot
+  // hold them).
+  int landmarks = 8;
 };
 
 struct GoalCacheStats {
@@ -109,6 +117,8 @@ struct GoalCacheStats {
   size_t peak_bytes = 0;
   size_t cap_bytes = 0;
   int64_t fields = 0;
+  int64_t landmarks = 0;
+  int64_t proved_unreachable = 0;  // no path, told by a landmark without a search
 };
 
 class GoalPlanner {
@@ -146,6 +156,7 @@ class GoalPlanner {
   void Evict(size_t need);
   GoalPath FromField(const Field& field, int start, size_t budget) const;
   GoalPath Search(int start, int goal, size_t budget);
+  void PlaceLandmarks();
 
   GoalPlannerOptions options_;
   std::shared_ptr<const Grid> grid_;
@@ -153,6 +164,8 @@ class GoalPlanner {
   std::vector<Batch> log_;  // oldest first, at most options_.log_batches
   int64_t log_floor_ = 0;   // a field at this update or later can be repaired
   std::unordered_map<int, std::unique_ptr<Field>> fields_;
+  std::vector<std::unique_ptr<Field>> landmarks_;  // never evicted
+  std::vector<int32_t> landmark_goal_;              // A* scratch: d_L(goal)
   std::unordered_map<int, int> misses_;  // per cold goal (bounded: cleared when large)
   uint64_t clock_ = 0;
   GoalCacheStats stats_;

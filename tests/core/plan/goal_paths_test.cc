@@ -94,6 +94,13 @@ TEST(GoalPaths, BadStartsAndGoals) {
   EXPECT_EQ(planner.Plan(0, 3, 0, 2).status, GoalStatus::kNoPath);  // goal on an obstacle
   EXPECT_EQ(planner.Plan(0, 3, 2, 4, /*budget=*/2).status, GoalStatus::kOverBudget);
   EXPECT_EQ(planner.Plan(0, 3, 2, 4, /*budget=*/3).cost, 2);
+  GoalPlannerOptions searched;
+  searched.hot_after = 1000;
+  GoalPlanner landmarked(searched);
+  landmarked.Update(Shared(grid), {});
+  EXPECT_EQ(landmarked.Plan(0, 0, 0, 4).status, GoalStatus::kNoPath);
+  EXPECT_EQ(landmarked.stats().proved_unreachable, 1);  // the first landmark is (0,0)
+  EXPECT_EQ(landmarked.Plan(0, 0, 1, 1).cost, 1);
   GoalPlanner cold;  // before any grid
   EXPECT_EQ(cold.Plan(0, 0, 0, 0).status, GoalStatus::kStartOutsideGrid);
 }
@@ -113,7 +120,13 @@ TEST(GoalPaths, CacheCountsAndBounds) {
   EXPECT_EQ(planner.Plan(0, 5, 9, 9).cost, 9);
   EXPECT_EQ(planner.stats().builds, 1);
   EXPECT_EQ(planner.stats().hits, 1);
-  EXPECT_EQ(planner.Plan(0, 0, 5, 5).cost, 5);  // a second goal evicts the first
+  // A second goal evicts the first once asked more often than it (twice).
+  EXPECT_EQ(planner.Plan(0, 0, 5, 5).source, GoalSource::kSearch);
+  EXPECT_EQ(planner.Plan(0, 0, 5, 5).source, GoalSource::kSearch);
+  EXPECT_EQ(planner.stats().evictions, 0);
+  const GoalPath third = planner.Plan(0, 0, 5, 5);
+  EXPECT_EQ(third.source, GoalSource::kField);
+  EXPECT_EQ(third.cost, 5);
   EXPECT_EQ(planner.stats().evictions, 1);
   EXPECT_EQ(planner.stats().fields, 1);
   EXPECT_LE(planner.stats().peak_bytes, options.cache_bytes);
