@@ -13,9 +13,9 @@
 // (the most asked), else a random free cell. Each query is timed alone
 // (steady_clock around Plan, lazy field repairs included): service time,
 // not queueing. W simulated seconds before are run the same way but not
-// measured (the hot goals' fields are built then). The first N answers are checked against a fresh search on
-// that update's grid; K queries are answered again by a planner without
-// fields (A* from scratch every time).
+// measured (the hot goals' fields are built then). The first N answers are checked against a fresh
+// search on that update's grid; K queries are answered again by a planner without fields (A* from
+// scratch every time).
 
 #include <sys/resource.h>
 
@@ -59,24 +59,36 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: goal_paths_latency MAP [options] (see the source's header)\n");
     return 2;
   }
-  double warmup = 0, seconds = 10, rate = 10000, updates_per_second = 10, change_permille = 1, hot_share = 0.9;
+  double warmup = 0, seconds = 10, rate = 10000, updates_per_second = 10, change_permille = 1,
+         hot_share = 0.9;
   int hot_goals = 1000, check = 10000, astar_queries = 10000;
   double cache_mb = 256;
   unsigned seed = 1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
-    if (o == "--seconds") seconds = v;
-    else if (o == "--warmup") warmup = v;
-    else if (o == "--rate") rate = v;
-    else if (o == "--updates") updates_per_second = v;
-    else if (o == "--change-permille") change_permille = v;
-    else if (o == "--hot-goals") hot_goals = static_cast<int>(v);
-    else if (o == "--hot-share") hot_share = v;
-    else if (o == "--cache-mb") cache_mb = v;
-    else if (o == "--check") check = static_cast<int>(v);
-    else if (o == "--astar-queries") astar_queries = static_cast<int>(v);
-    else if (o == "--seed") seed = static_cast<unsigned>(v);
+    if (o == "--seconds")
+      seconds = v;
+    else if (o == "--warmup")
+      warmup = v;
+    else if (o == "--rate")
+      rate = v;
+    else if (o == "--updates")
+      updates_per_second = v;
+    else if (o == "--change-permille")
+      change_permille = v;
+    else if (o == "--hot-goals")
+      hot_goals = static_cast<int>(v);
+    else if (o == "--hot-share")
+      hot_share = v;
+    else if (o == "--cache-mb")
+      cache_mb = v;
+    else if (o == "--check")
+      check = static_cast<int>(v);
+    else if (o == "--astar-queries")
+      astar_queries = static_cast<int>(v);
+    else if (o == "--seed")
+      seed = static_cast<unsigned>(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", o.c_str());
       return 2;
@@ -99,11 +111,12 @@ int main(int argc, char** argv) {
   const int changes_per_update = std::max(1, static_cast<int>(free_cells * change_permille / 1000));
   std::vector<int> goals;
   for (int k = 0; k < hot_goals; ++k) goals.push_back(free_cell());
-  std::printf("map %s: %dx%d, %d free cells; %.0f queries/s, %.0f updates/s of %d changed cells "
-              "(%.2f per mille of the free cells); %d hot goals take %.0f%% of the queries; "
-              "cache %.0f MB\n",
-              argv[1], grid.rows(), grid.cols(), free_cells, rate, updates_per_second,
-              changes_per_update, change_permille, hot_goals, hot_share * 100, cache_mb);
+  std::printf(
+      "map %s: %dx%d, %d free cells; %.0f queries/s, %.0f updates/s of %d changed cells "
+      "(%.2f per mille of the free cells); %d hot goals take %.0f%% of the queries; "
+      "cache %.0f MB\n",
+      argv[1], grid.rows(), grid.cols(), free_cells, rate, updates_per_second, changes_per_update,
+      change_permille, hot_goals, hot_share * 100, cache_mb);
 
   GoalPlannerOptions options;
   options.cache_bytes = static_cast<size_t>(cache_mb * 1024 * 1024);
@@ -181,10 +194,11 @@ int main(int argc, char** argv) {
   }
   const dynapath::GoalCacheStats& s = planner.stats();
   std::printf("after %.0f s of warm-up: ", warmup);
-  std::printf("queries %lld (%lld reached), updates %zu; checked against a fresh BFS: %lld, "
-              "answers that differ (from the BFS or the A*): %lld\n",
-              static_cast<long long>(queries - warm), static_cast<long long>(reached), update_us.size(),
-              static_cast<long long>(checked), static_cast<long long>(wrong));
+  std::printf(
+      "queries %lld (%lld reached), updates %zu; checked against a fresh BFS: %lld, "
+      "answers that differ (from the BFS or the A*): %lld\n",
+      static_cast<long long>(queries - warm), static_cast<long long>(reached), update_us.size(),
+      static_cast<long long>(checked), static_cast<long long>(wrong));
   Print("goal planner, the hot goals", hot_us);
   Print("goal planner, other goals", other_us);
   Print("goal planner, every query", all_us);
@@ -193,15 +207,16 @@ int main(int argc, char** argv) {
   Print("goal planner Update (log a batch)", update_us);
   std::printf("one core busy %.1f%% of the simulated %.0f s (queries + updates)\n",
               busy_us / (seconds * 1e6) * 100, seconds);
-  std::printf("cache: %lld hits, %lld misses, %lld builds, %lld evictions, %lld repairs, "
-              "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
-              "%lld proved unreachable\n",
-              static_cast<long long>(s.hits), static_cast<long long>(s.misses),
-              static_cast<long long>(s.builds), static_cast<long long>(s.evictions),
-              static_cast<long long>(s.repairs), static_cast<long long>(s.rebuilds),
-              static_cast<long long>(s.searches),
-              s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
-              static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));
+  std::printf(
+      "cache: %lld hits, %lld misses, %lld builds, %lld evictions, %lld repairs, "
+      "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
+      "%lld proved unreachable\n",
+      static_cast<long long>(s.hits), static_cast<long long>(s.misses),
+      static_cast<long long>(s.builds), static_cast<long long>(s.evictions),
+      static_cast<long long>(s.repairs), static_cast<long long>(s.rebuilds),
+      static_cast<long long>(s.searches),
+      s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
+      static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("fields: %lld now, %.1f MB now, peak %.1f MB, cap %.1f MB; process max RSS %.1f MB\n",

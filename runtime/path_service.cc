@@ -214,6 +214,7 @@ void PathService::CommitSnapshot(Planner& planner, const Grid& grid, int time_st
   }
   auto snapshot = std::make_shared<const RouteSnapshot>(
       MakeRouteSnapshot(planner, grid, exact, version, time_step));
+  if (config_.on_snapshot) config_.on_snapshot(snapshot);
   {
     std::lock_guard lock(snapshot_mutex_);
     snapshot_ = snapshot;

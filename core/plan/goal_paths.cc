@@ -71,23 +71,34 @@ Status CheckFrame(double resolution, double origin_x, double origin_y) {
 
 const char* GoalStatusName(GoalStatus status) {
   switch (status) {
-    case GoalStatus::kReached: return "reached";
-    case GoalStatus::kNoPath: return "unreachable";
-    case GoalStatus::kStartObstacle: return "start_obstacle";
-    case GoalStatus::kStartOutsideGrid: return "outside_grid";
-    case GoalStatus::kStartOutsideMap: return "outside_map";
-    case GoalStatus::kOverBudget: return "over_budget";
+    case GoalStatus::kReached:
+      return "reached";
+    case GoalStatus::kNoRoute:
+      return "unreachable";
+    case GoalStatus::kStartObstacle:
+      return "start_obstacle";
+    case GoalStatus::kStartOutsideGrid:
+      return "outside_grid";
+    case GoalStatus::kStartOutsideMap:
+      return "outside_map";
+    case GoalStatus::kOverBudget:
+      return "over_budget";
   }
   return "unknown";
 }
 
 const char* GoalCheckName(GoalCheck check) {
   switch (check) {
-    case GoalCheck::kOk: return "ok";
-    case GoalCheck::kOutsideGrid: return "goal_outside_grid";
-    case GoalCheck::kObstacle: return "goal_obstacle";
-    case GoalCheck::kOutsideMap: return "goal_outside_map";
-    case GoalCheck::kUnknownName: return "unknown_goal";
+    case GoalCheck::kOk:
+      return "ok";
+    case GoalCheck::kOutsideGrid:
+      return "goal_outside_grid";
+    case GoalCheck::kObstacle:
+      return "goal_obstacle";
+    case GoalCheck::kOutsideMap:
+      return "goal_outside_map";
+    case GoalCheck::kUnknownName:
+      return "unknown_goal";
   }
   return "unknown";
 }
@@ -111,8 +122,8 @@ GoalPlanner::GoalPlanner(GoalPlannerOptions options) : options_(options) {
 GoalPlanner::~GoalPlanner() = default;
 
 void GoalPlanner::Update(std::shared_ptr<const Grid> grid, const std::vector<int>& changed) {
-  const bool resized = grid_ == nullptr || grid->rows() != grid_->rows() ||
-                       grid->cols() != grid_->cols();
+  const bool resized =
+      grid_ == nullptr || grid->rows() != grid_->rows() || grid->cols() != grid_->cols();
   grid_ = std::move(grid);
   ++updates_;
   if (resized) {
@@ -143,8 +154,8 @@ void GoalPlanner::PlaceLandmarks() {
   stats_.landmarks = 0;
   const Grid& grid = *grid_;
   const size_t bytes = Field::Bytes(grid.size());
-  const int fit = static_cast<int>(std::min<size_t>(static_cast<size_t>(std::max(0, options_.landmarks)),
-                                                    options_.cache_bytes / 2 / bytes));
+  const int fit = static_cast<int>(std::min<size_t>(
+      static_cast<size_t>(std::max(0, options_.landmarks)), options_.cache_bytes / 2 / bytes));
   // Farthest-point selection: the first free cell, then each time the cell
   // farthest from every landmark so far (cells none of them reaches
   // skipped). Deterministic.
@@ -265,7 +276,7 @@ GoalPath GoalPlanner::FromField(const Field& field, int start, size_t budget) co
   path.source = GoalSource::kField;
   const int32_t d = field.distances.value(start);
   if (d == DynamicDistances::kNone) {
-    path.status = GoalStatus::kNoPath;
+    path.status = GoalStatus::kNoRoute;
     return path;
   }
   if (static_cast<size_t>(d) + 1 > budget) {
@@ -311,7 +322,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     const int32_t at_start = landmark->distances.value(start);
     if ((at_goal == DynamicDistances::kNone) != (at_start == DynamicDistances::kNone)) {
       ++stats_.proved_unreachable;  // one of them is in the landmark's component
-      path.status = GoalStatus::kNoPath;
+      path.status = GoalStatus::kNoRoute;
       return path;
     }
     if (at_goal == DynamicDistances::kNone) continue;
@@ -371,7 +382,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
       open.emplace(g + 1 + hw, -(g + 1), w);
     }
   }
-  path.status = GoalStatus::kNoPath;
+  path.status = GoalStatus::kNoRoute;
   return path;
 }
 

@@ -22,6 +22,7 @@
 #include "launch/launcher.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
+#include "runtime/goal_service.h"
 #include "runtime/output_check.h"
 #include "runtime/output_lock.h"
 #include "runtime/path_service.h"
@@ -140,6 +141,8 @@ int ServeCommand(const std::vector<std::string>& args) {
   group.Option("--policy-gap", policy_gap, "SECONDS",
                "at most one policy message every SECONDS: commits in between are published as "
                "the latest of them (0: one per commit, as run publishes steps)");
+  runtime::GoalOptions goal_options;
+  runtime::DeclareGoalOptions(group, goal_options);
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   runtime::AddConfigOption(app);
@@ -196,6 +199,10 @@ int ServeCommand(const std::vector<std::string>& args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return usage_error(setup.error().message);
   const Grid& maze = setup->scenario.grid;
+  Result<runtime::GoalServiceConfig> goal_config =
+      runtime::ResolveGoalOptions(goal_options, scenario.maze, maze);
+  if (!goal_config) return usage_error(goal_config.error().message);
+  goal_config->max_starts = static_cast<int>(*starts_limit);
   if (Status policy = runtime::CheckPolicyPlan(
           plan->policy, plan->approaches, plan->options, maze,
           static_cast<int>(setup->scenario.changes.steps.size()), setup->seed);
@@ -285,6 +292,10 @@ int ServeCommand(const std::vector<std::string>& args) {
   }
 
   if (training.session) config.trainer = &*training.session;
+  runtime::GoalService goals(std::move(*goal_config));
+  config.on_snapshot = [&goals](const std::shared_ptr<const RouteSnapshot>& snapshot) {
+    goals.OnCommit(snapshot);
+  };
   runtime::ServiceBus* glue = nullptr;
   runtime::PathService service(maze, config, [&glue](const runtime::Commit& commit) {
     if (glue != nullptr) glue->PublishCommit(commit);
@@ -294,6 +305,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   glue_options.policy_gap_seconds = policy_gap;
   glue_options.republish_seconds = policy_every;
   glue_options.own_probe_client = "serve-probe-" + std::to_string(getpid());
+  glue_options.goals = &goals;
   runtime::ServiceBus service_bus(bus, service, glue_options);
   glue = &service_bus;
 
@@ -361,6 +373,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   training.Stop();
   const runtime::ServiceStats stats = service.stats();
   std::printf("%s", runtime::PathService::Summary(stats).c_str());
+  std::printf("%s", runtime::GoalService::Summary(goals.stats()).c_str());
   std::printf("messages: %s; %lld policy messages\n", bus.TrafficSummary().c_str(),
               static_cast<long long>(service_bus.policies_published()));
   if (training.session) {

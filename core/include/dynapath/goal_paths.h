@@ -62,11 +62,11 @@ Status CheckFrame(double resolution, double origin_x, double origin_y);
 
 enum class GoalStatus : int8_t {
   kReached = 0,
-  kNoPath = 1,            // "unreachable": no path from the start to the goal
+  kNoRoute = 1,  // "unreachable": no path from the start to the goal
   kStartObstacle = 2,
   kStartOutsideGrid = 3,
-  kStartOutsideMap = 4,   // a start pose outside the map (runtime only)
-  kOverBudget = 5,        // the path has more cells than the budget left
+  kStartOutsideMap = 4,  // a start pose outside the map (runtime only)
+  kOverBudget = 5,       // the path has more cells than the budget left
 };
 inline constexpr int kGoalStatusCount = 6;
 const char* GoalStatusName(GoalStatus status);
@@ -76,8 +76,8 @@ enum class GoalCheck : int8_t {
   kOk = 0,
   kOutsideGrid = 1,
   kObstacle = 2,
-  kOutsideMap = 3,    // a goal pose outside the map
-  kUnknownName = 4,   // a named goal the service does not have
+  kOutsideMap = 3,   // a goal pose outside the map
+  kUnknownName = 4,  // a named goal the service does not have
 };
 inline constexpr int kGoalCheckCount = 5;
 const char* GoalCheckName(GoalCheck check);
@@ -85,7 +85,7 @@ const char* GoalCheckName(GoalCheck check);
 enum class GoalSource : int8_t { kNone = 0, kField = 1, kSearch = 2 };
 
 struct GoalPath {
-  GoalStatus status = GoalStatus::kNoPath;
+  GoalStatus status = GoalStatus::kNoRoute;
   GoalSource source = GoalSource::kNone;
   int32_t cost = -1;           // moves; -1 unless reached
   std::vector<int32_t> cells;  // start to goal, both included; empty unless reached
@@ -105,15 +105,15 @@ struct GoalPlannerOptions {
 };
 
 struct GoalCacheStats {
-  int64_t hits = 0;        // answered from a field already in the cache
-  int64_t misses = 0;      // the goal had no field
-  int64_t builds = 0;      // fields made (a miss that made the goal hot)
-  int64_t evictions = 0;   // fields dropped for room
-  int64_t repairs = 0;     // fields repaired from changed cells
-  int64_t rebuilds = 0;    // fields behind the log, searched again
-  int64_t searches = 0;    // A* searches (cold goals)
-  int64_t expanded = 0;    // their expanded cells
-  size_t bytes = 0;        // the fields' bytes now
+  int64_t hits = 0;       // answered from a field already in the cache
+  int64_t misses = 0;     // the goal had no field
+  int64_t builds = 0;     // fields made (a miss that made the goal hot)
+  int64_t evictions = 0;  // fields dropped for room
+  int64_t repairs = 0;    // fields repaired from changed cells
+  int64_t rebuilds = 0;   // fields behind the log, searched again
+  int64_t searches = 0;   // A* searches (cold goals)
+  int64_t expanded = 0;   // their expanded cells
+  size_t bytes = 0;       // the fields' bytes now
   size_t peak_bytes = 0;
   size_t cap_bytes = 0;
   int64_t fields = 0;
@@ -139,7 +139,7 @@ class GoalPlanner {
   // Validity of a goal cell on the current grid.
   GoalCheck CheckGoal(int row, int col) const;
   // The shortest path from start to goal (both (row, col)); a goal that is
-  // not kOk answers kNoPath. At most `budget` cells.
+  // not kOk answers kNoRoute. At most `budget` cells.
   GoalPath Plan(int start_row, int start_col, int goal_row, int goal_col,
                 size_t budget = size_t{1} << 20);
 
@@ -165,8 +165,8 @@ class GoalPlanner {
   int64_t log_floor_ = 0;   // a field at this update or later can be repaired
   std::unordered_map<int, std::unique_ptr<Field>> fields_;
   std::vector<std::unique_ptr<Field>> landmarks_;  // never evicted
-  std::vector<int32_t> landmark_goal_;              // A* scratch: d_L(goal)
-  std::unordered_map<int, int> misses_;  // per cold goal (bounded: cleared when large)
+  std::vector<int32_t> landmark_goal_;             // A* scratch: d_L(goal)
+  std::unordered_map<int, int> misses_;            // per cold goal (bounded: cleared when large)
   uint64_t clock_ = 0;
   GoalCacheStats stats_;
   // A* scratch, reused: g and parent per cell, valid where stamp == epoch.

@@ -60,8 +60,9 @@ TEST(GoalPaths, ExactPathsOnAHandMadeGrid) {
     EXPECT_EQ(path.cost, 8);
     ExpectValidPath(grid, path, grid.Index(0, 0), grid.Index(4, 0));
     if (hot_after == 1) {  // down the field, neighbours in action order
-      EXPECT_EQ(path.cells, Cells(grid, {{0, 0}, {0, 1}, {0, 2}, {0, 3}, {1, 4}, {2, 3}, {3, 2},
-                                         {4, 1}, {4, 0}}));
+      EXPECT_EQ(
+          path.cells,
+          Cells(grid, {{0, 0}, {0, 1}, {0, 2}, {0, 3}, {1, 4}, {2, 3}, {3, 2}, {4, 1}, {4, 0}}));
     }
     // Between (3,1) and (4,2), which touch at a corner: allowed.
     const GoalPath corner = planner.Plan(3, 2, 4, 1);
@@ -87,18 +88,18 @@ TEST(GoalPaths, BadStartsAndGoals) {
   EXPECT_EQ(planner.CheckGoal(0, 5), GoalCheck::kOutsideGrid);
   EXPECT_EQ(planner.CheckGoal(0, 2), GoalCheck::kObstacle);
   EXPECT_EQ(planner.CheckGoal(0, 4), GoalCheck::kOk);
-  EXPECT_EQ(planner.Plan(0, 0, 0, 4).status, GoalStatus::kNoPath);
+  EXPECT_EQ(planner.Plan(0, 0, 0, 4).status, GoalStatus::kNoRoute);
   EXPECT_EQ(planner.Plan(0, 0, 0, 4).cost, -1);
   EXPECT_EQ(planner.Plan(2, 0, 0, 4).status, GoalStatus::kStartObstacle);
   EXPECT_EQ(planner.Plan(3, 0, 0, 4).status, GoalStatus::kStartOutsideGrid);
-  EXPECT_EQ(planner.Plan(0, 3, 0, 2).status, GoalStatus::kNoPath);  // goal on an obstacle
+  EXPECT_EQ(planner.Plan(0, 3, 0, 2).status, GoalStatus::kNoRoute);  // goal on an obstacle
   EXPECT_EQ(planner.Plan(0, 3, 2, 4, /*budget=*/2).status, GoalStatus::kOverBudget);
   EXPECT_EQ(planner.Plan(0, 3, 2, 4, /*budget=*/3).cost, 2);
   GoalPlannerOptions searched;
   searched.hot_after = 1000;
   GoalPlanner landmarked(searched);
   landmarked.Update(Shared(grid), {});
-  EXPECT_EQ(landmarked.Plan(0, 0, 0, 4).status, GoalStatus::kNoPath);
+  EXPECT_EQ(landmarked.Plan(0, 0, 0, 4).status, GoalStatus::kNoRoute);
   EXPECT_EQ(landmarked.stats().proved_unreachable, 1);  // the first landmark is (0,0)
   EXPECT_EQ(landmarked.Plan(0, 0, 1, 1).cost, 1);
   GoalPlanner cold;  // before any grid
@@ -158,7 +159,8 @@ TEST(GoalPaths, CacheCountsAndBounds) {
 TEST(GoalPaths, EveryAnswerMatchesAFreshSearch) {
   std::mt19937 random(7);
   for (int trial = 0; trial < 12; ++trial) {
-    const int rows = 5 + static_cast<int>(random() % 20), cols = 5 + static_cast<int>(random() % 20);
+    const int rows = 5 + static_cast<int>(random() % 20),
+              cols = 5 + static_cast<int>(random() % 20);
     Grid grid = RandomGrid(rows, cols, 250 + static_cast<int>(random() % 200), 10, random);
     GoalPlannerOptions options;
     options.hot_after = 1 + static_cast<int>(random() % 3);
@@ -182,8 +184,8 @@ TEST(GoalPaths, EveryAnswerMatchesAFreshSearch) {
       for (int q = 0; q < 10; ++q) {
         const int start = static_cast<int>(random() % grid.size());
         const int goal = goals[random() % goals.size()];
-        const GoalPath path = planner.Plan(grid.RowOf(start), grid.ColOf(start), grid.RowOf(goal),
-                                           grid.ColOf(goal));
+        const GoalPath path =
+            planner.Plan(grid.RowOf(start), grid.ColOf(start), grid.RowOf(goal), grid.ColOf(goal));
         const int32_t fresh = FreshGoalDistance(grid, start, goal);
         if (grid.at(start) == Cell::kObstacle) {
           EXPECT_EQ(path.status, GoalStatus::kStartObstacle);
@@ -193,7 +195,7 @@ TEST(GoalPaths, EveryAnswerMatchesAFreshSearch) {
         if (fresh >= 0) {
           ExpectValidPath(grid, path, start, goal);
         } else {
-          EXPECT_EQ(path.status, GoalStatus::kNoPath);
+          EXPECT_EQ(path.status, GoalStatus::kNoRoute);
         }
       }
     }
