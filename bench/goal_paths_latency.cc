@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
     }
   }
   const dynapath::GoalCacheStats& s = planner.stats();
-  std::printf("after %.0f s of warm-up: ", warmup);
+  std::printf("after %.1f s of warm-up: ", warmup);
   std::printf(
       "queries %lld (%lld reached), updates %zu; checked against a fresh BFS: %lld, "
       "answers that differ (from the BFS or the A*): %lld\n",
