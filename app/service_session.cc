@@ -108,6 +108,11 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
       !policy) {
     return policy.error();
   }
+  Result<runtime::GoalServiceConfig> goals =
+      runtime::ResolveGoalOptions(options.goals, options.scenario.maze, maze);
+  if (!goals) return goals.error();
+  plan.goals = std::move(*goals);
+  plan.goals.max_starts = static_cast<int>(*starts_limit);
   runtime::ServiceConfig& config = plan.config;
   config.approach = plan.run.approaches[0];
   config.answer = *answer_mode;
@@ -133,13 +138,25 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
   return plan;
 }
 
+// The goal service follows every commit of the path service.
+static runtime::ServiceConfig FollowedByGoals(runtime::ServiceConfig config,
+                                              runtime::GoalService& goals) {
+  config.on_snapshot = [&goals](const std::shared_ptr<const RouteSnapshot>& snapshot) {
+    goals.OnCommit(snapshot);
+  };
+  return config;
+}
+
 ServiceOnBus::ServiceOnBus(protocol::Bus& bus, const Grid& maze, runtime::ServiceConfig config,
-                           runtime::ServiceBusOptions options)
-    : service_(maze, std::move(config), [this](const runtime::Commit& commit) {
-        // Commits before the glue exists (none: the service starts later)
-        // have nowhere to go.
-        if (runtime::ServiceBus* glue = published_to_.load()) glue->PublishCommit(commit);
-      }) {
+                           runtime::ServiceBusOptions options, runtime::GoalServiceConfig goals)
+    : goals_(std::move(goals)),
+      service_(maze, FollowedByGoals(std::move(config), goals_),
+               [this](const runtime::Commit& commit) {
+                 // Commits before the glue exists (none: the service starts
+                 // later) have nowhere to go.
+                 if (runtime::ServiceBus* glue = published_to_.load()) glue->PublishCommit(commit);
+               }) {
+  options.goals = &goals_;
   glue_.emplace(bus, service_, std::move(options));
   published_to_ = &*glue_;
 }
@@ -252,7 +269,7 @@ Status ServiceSession::Open() {
   runtime::ServiceConfig config = plan_.config;
   config.load = plan_.run.policy.Find(config.approach);
   if (training.session) config.trainer = &*training.session;
-  served_ = std::make_unique<ServiceOnBus>(*bus_, maze, std::move(config), plan_.bus);
+  served_ = std::make_unique<ServiceOnBus>(*bus_, maze, std::move(config), plan_.bus, plan_.goals);
   spdlog::info("serve: run {}, maze {} {} ({}), {}, answers {}, {} threads", plan_.process.run_id,
                plan_.setup.labels.size_label, plan_.setup.labels.difficulty_label,
                plan_.setup.source, ApproachName(plan_.config.approach),
@@ -318,6 +335,7 @@ Status ServiceSession::Serve(const std::atomic<bool>& stop) {
 std::string ServiceSession::Summary() const {
   if (!started_) return {};
   std::string text = runtime::PathService::Summary(served_->service().stats());
+  text += runtime::GoalService::Summary(served_->goals().stats());
   text += "messages: " + bus_->TrafficSummary() + "; " +
           std::to_string(served_->glue().policies_published()) + " policy messages\n";
   if (training_->session) {

@@ -13,6 +13,7 @@
 
 #include "dynapath/approach.h"
 #include "protocol/dispatcher.h"
+#include "runtime/goal_service.h"
 #include "runtime/output_lock.h"
 #include "runtime/path_service.h"
 #include "runtime/policy_options.h"
@@ -31,6 +32,7 @@ struct ServiceOptions {
   runtime::RunOptions run;
   runtime::ProcessOptions process;
   runtime::ThreadOptions threads;
+  runtime::GoalOptions goals;
   runtime::LogOptions log;
   std::string answer = "learned-else-exact";
   long long max_starts = 64;
@@ -57,6 +59,8 @@ struct ServicePlan {
   // session sets both from the plan).
   runtime::ServiceConfig config;
   runtime::ServiceBusOptions bus;
+  // Goal requests (--goals, --goal-cache-mb, the map frame).
+  runtime::GoalServiceConfig goals;
   std::string log_level;
   bool write_results = false;  // --out given
 };
@@ -67,21 +71,24 @@ Result<ServicePlan> PlanService(const ServiceOptions& options);
 
 // The path service and its bus glue, each needing the other: the service's
 // commits are published on the bus, the bus's requests answered by the
-// service. Construct before the bus is dispatched; destruction stops the
+// service; and the goal service, which follows the commits and answers goal
+// requests. Construct before the bus is dispatched; destruction stops the
 // service first.
 class ServiceOnBus {
  public:
   ServiceOnBus(protocol::Bus& bus, const Grid& maze, runtime::ServiceConfig config,
-               runtime::ServiceBusOptions options);
+               runtime::ServiceBusOptions options, runtime::GoalServiceConfig goals);
   ~ServiceOnBus();
   ServiceOnBus(const ServiceOnBus&) = delete;
   ServiceOnBus& operator=(const ServiceOnBus&) = delete;
 
   runtime::PathService& service() { return service_; }
   const runtime::ServiceBus& glue() const { return *glue_; }
+  const runtime::GoalService& goals() const { return goals_; }
 
  private:
   std::atomic<runtime::ServiceBus*> published_to_{nullptr};
+  runtime::GoalService goals_;  // before the service, whose commits it follows
   runtime::PathService service_;
   std::optional<runtime::ServiceBus> glue_;
 };

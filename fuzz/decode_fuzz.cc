@@ -85,5 +85,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ValidateAndConvert<dynapath::occupancy_grid_t>(data, n);
   ValidateAndConvert<dynapath::path_request_t>(data, n);
   ValidateAndConvert<dynapath::path_reply_t>(data, n);
+  ValidateAndConvert<dynapath::goal_request_t>(data, n);
+  ValidateAndConvert<dynapath::goal_reply_t>(data, n);
   return 0;
 }

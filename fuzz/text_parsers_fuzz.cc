@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "dynapath/change_sequence.h"
+#include "dynapath/goal_paths.h"
 #include "dynapath/grid.h"
 #include "dynapath/movingai_map.h"
 #include "tools/common/study_config.h"
@@ -24,6 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     case 0: {
       dynapath::Result<dynapath::Grid> grid = dynapath::GridFromText(text);
+      (void)dynapath::ParseGoalsText(text);  // a goals file (serve --goals)
       if (grid) (void)dynapath::ChangesFromText("", grid->rows(), grid->cols());
       break;
     }

@@ -26,6 +26,9 @@ inline constexpr std::string_view kMapUpdates = "MAP_UPDATES";
 inline constexpr std::string_view kMapGrid = "MAP_GRID";
 inline constexpr std::string_view kPathRequest = "PATH_REQUEST";
 inline constexpr std::string_view kPathReply = "PATH_REPLY";
+// Goal requests in (goal_request_t) and their replies out (goal_reply_t).
+inline constexpr std::string_view kGoalRequest = "GOAL_REQUEST";
+inline constexpr std::string_view kGoalReply = "GOAL_REPLY";
 // Selective repair of fragmented messages (any channel's): fragment_nack_t.
 inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel

@@ -319,4 +319,58 @@ std::string Validate(const path_reply_t& m) {
   return {};
 }
 
+std::string Validate(const goal_request_t& m) {
+  if (!PeerName(m.client)) return "client name must have 1-64 characters";
+  if (m.goal_kind < goal_request_t::GOAL_CELL || m.goal_kind > goal_request_t::GOAL_NAMED) {
+    return "unknown goal kind";
+  }
+  if (m.goal_kind == goal_request_t::GOAL_NAMED && !PeerName(m.goal_name)) {
+    return "goal name must have 1-64 characters";
+  }
+  if (m.goal_name.size() > kMaxPeerNameChars) return "goal name too long";
+  if (m.num_starts < 0 || m.num_starts > kMaxRequestStarts || m.num_start_poses < 0 ||
+      m.num_start_poses > kMaxRequestStarts ||
+      Wide(m.num_starts) + Wide(m.num_start_poses) > kMaxRequestStarts) {
+    return "bad number of starts";
+  }
+  if (!Count(m.num_starts, m.start_rows.size()) || m.start_cols.size() != m.start_rows.size() ||
+      !Count(m.num_start_poses, m.start_x.size()) || m.start_y.size() != m.start_x.size()) {
+    return "start count mismatch";
+  }
+  // Non-finite coordinates are the service's to answer (outside the map).
+  return {};
+}
+
+std::string Validate(const goal_reply_t& m) {
+  if (!PeerName(m.client)) return "client name must have 1-64 characters";
+  if (m.refused < goal_reply_t::ACCEPTED || m.refused > goal_reply_t::NOT_READY) {
+    return "unknown refusal";
+  }
+  if (m.goal_status < goal_reply_t::GOAL_OK || m.goal_status > goal_reply_t::GOAL_UNKNOWN_NAME) {
+    return "unknown goal status";
+  }
+  const size_t n = m.start_rows.size();
+  if (!Count(m.num_starts, n) || m.start_cols.size() != n || m.status.size() != n ||
+      m.answered_by.size() != n || m.cost.size() != n || m.path_offset.size() != n ||
+      m.path_cells.size() != n) {
+    return "start count mismatch";
+  }
+  if (!Count(m.num_path, m.path_rows.size()) || m.path_cols.size() != m.path_rows.size()) {
+    return "path count mismatch";
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (m.status[i] < goal_reply_t::REACHED || m.status[i] > goal_reply_t::OVER_BUDGET) {
+      return "unknown status";
+    }
+    if (m.answered_by[i] < goal_reply_t::BY_NONE || m.answered_by[i] > goal_reply_t::BY_SEARCH) {
+      return "unknown answerer";
+    }
+    if (m.path_offset[i] < 0 || m.path_cells[i] < 0 ||
+        Wide(m.path_offset[i]) + Wide(m.path_cells[i]) > Wide(m.num_path)) {
+      return "path outside the reply";
+    }
+  }
+  return {};
+}
+
 }  // namespace dynapath::protocol

@@ -10,6 +10,8 @@
 #include "dynapath/changes_t.hpp"
 #include "dynapath/fragment_nack_t.hpp"
 #include "dynapath/fragment_t.hpp"
+#include "dynapath/goal_reply_t.hpp"
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
@@ -48,5 +50,7 @@ std::string Validate(const obstacle_update_t& message);
 std::string Validate(const occupancy_grid_t& message);
 std::string Validate(const path_request_t& message);
 std::string Validate(const path_reply_t& message);
+std::string Validate(const goal_request_t& message);
+std::string Validate(const goal_reply_t& message);
 
 }  // namespace dynapath::protocol

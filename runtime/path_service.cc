@@ -220,6 +220,7 @@ void PathService::CommitSnapshot(ApproachStepper& stepper, const StepView* view)
   }
   auto snapshot = std::make_shared<const RouteSnapshot>(
       MakeRouteSnapshot(planner, grid, exact, version, time_step));
+  if (config_.on_snapshot) config_.on_snapshot(snapshot);
   {
     std::lock_guard lock(snapshot_mutex_);
     snapshot_ = snapshot;

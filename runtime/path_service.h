@@ -68,6 +68,9 @@ struct ServiceConfig {
   // caller, whose waits watch stopping()). Its Train runs on the training
   // thread. Null: in process.
   Trainer* trainer = nullptr;
+  // Sees every committed snapshot (interim ones too) on the training
+  // thread just before it is swapped in: the goal service's map.
+  std::function<void(const std::shared_ptr<const RouteSnapshot>&)> on_snapshot;
 };
 
 // What the training thread hands the glue at every commit (policy

@@ -59,6 +59,10 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
   });
   bus_.Subscribe<path_request_t>(protocol::channel::kPathRequest,
                                  [this](path_request_t& request) { OnRequest(request); });
+  if (options_.goals != nullptr) {
+    bus_.Subscribe<goal_request_t>(protocol::channel::kGoalRequest,
+                                   [this](goal_request_t& request) { OnGoalRequest(request); });
+  }
   if (options_.publish_policy) publisher_ = std::thread([this] { PublishPolicies(); });
 }
 
@@ -94,6 +98,16 @@ void ServiceBus::OnRequest(const path_request_t& request) {
   reply.maze_fingerprint = static_cast<int64_t>(service_.maze_fingerprint());
   bus_.Publish(protocol::channel::kPathReply, reply);
   service_.RecordLatency(NowMicros() - received);
+}
+
+void ServiceBus::OnGoalRequest(const goal_request_t& request) {
+  if (!options_.own_probe_client.empty() && request.client == options_.own_probe_client) return;
+  const int64_t received = NowMicros();
+  goal_reply_t reply = options_.goals->Answer(request);
+  reply.run_id = bus_.run_id();
+  reply.maze_fingerprint = static_cast<int64_t>(service_.maze_fingerprint());
+  bus_.Publish(protocol::channel::kGoalReply, reply);
+  options_.goals->RecordLatency(NowMicros() - received);
 }
 
 void ServiceBus::PublishCommit(const Commit& commit) {

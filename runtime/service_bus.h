@@ -24,9 +24,11 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "protocol/bus.h"
 #include "protocol/convert.h"
+#include "runtime/goal_service.h"
 #include "runtime/path_service.h"
 
 namespace dynapath::runtime {
@@ -44,6 +46,8 @@ struct ServiceBusOptions {
   // Requests of this client are not answered: the service's own probe for
   // another service of its run (dynapath serve asks before it starts).
   std::string own_probe_client;
+  // Answers goal_request_t on GOAL_REQUEST (null: not subscribed).
+  GoalService* goals = nullptr;
 };
 
 class ServiceBus {
@@ -66,6 +70,7 @@ class ServiceBus {
     std::vector<Region> trained_regions;
   };
   void OnRequest(const path_request_t& request);
+  void OnGoalRequest(const goal_request_t& request);
   void PublishPolicies();  // the publisher thread
 
   protocol::Bus& bus_;

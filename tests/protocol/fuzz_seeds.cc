@@ -113,6 +113,45 @@ int main(int argc, char** argv) {
     ok = ok && Write(dir + "/decode_fuzz/path_reply_valid", Encoded(reply));
   }
 
+  {
+    goal_request_t goal{};
+    goal.run_id = "r1";
+    goal.client = "robot-7";
+    goal.request_id = 43;
+    goal.goal_kind = goal_request_t::GOAL_POSE;
+    goal.goal_x = 2.5;
+    goal.goal_y = 1.5;
+    goal.num_starts = 1;
+    goal.start_rows = {1};
+    goal.start_cols = {1};
+    goal.num_start_poses = 1;
+    goal.start_x = {0.5};
+    goal.start_y = {0.5};
+    ok = ok && Write(dir + "/decode_fuzz/goal_request_valid", Encoded(goal));
+    goal_reply_t reply{};
+    reply.run_id = "r1";
+    reply.client = "robot-7";
+    reply.request_id = 43;
+    reply.version = 2;
+    reply.rows = 3;
+    reply.cols = 4;
+    reply.resolution = 1;
+    reply.goal_row = 1;
+    reply.goal_col = 2;
+    reply.num_starts = 2;
+    reply.start_rows = {1, 2};
+    reply.start_cols = {1, 0};
+    reply.status = {goal_reply_t::REACHED, goal_reply_t::START_OBSTACLE};
+    reply.answered_by = {goal_reply_t::BY_SEARCH, goal_reply_t::BY_NONE};
+    reply.cost = {1, -1};
+    reply.path_offset = {0, 2};
+    reply.path_cells = {2, 0};
+    reply.num_path = 2;
+    reply.path_rows = {1, 1};
+    reply.path_cols = {1, 2};
+    ok = ok && Write(dir + "/decode_fuzz/goal_reply_valid", Encoded(reply));
+  }
+
   // Two rounds of the round combiner target's job (fuzz/round_combiner_fuzz.cc).
   const TrainingJob job = fuzz::CombinerTrainingJob(Averaging::kEqual);
   const RegionModel model(job);

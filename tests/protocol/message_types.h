@@ -12,6 +12,8 @@
 #include "dynapath/changes_t.hpp"
 #include "dynapath/fragment_nack_t.hpp"
 #include "dynapath/fragment_t.hpp"
+#include "dynapath/goal_reply_t.hpp"
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
@@ -71,7 +73,8 @@ inline const std::vector<MessageType>& AllMessageTypes() {
       MakeMessageType<shards_t>(),         MakeMessageType<step_report_t>(),
       MakeMessageType<step_request_t>(),   MakeMessageType<obstacle_update_t>(),
       MakeMessageType<occupancy_grid_t>(), MakeMessageType<path_request_t>(),
-      MakeMessageType<path_reply_t>(),
+      MakeMessageType<path_reply_t>(),     MakeMessageType<goal_request_t>(),
+      MakeMessageType<goal_reply_t>(),
   };
   return types;
 }

@@ -17,6 +17,7 @@
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/goal_query.h"
 #include "tools/cli/service_client.h"
 
 namespace dynapath::cli {
@@ -174,13 +175,24 @@ int QueryCommand(const std::vector<std::string>& args) {
       "and prints the reply (with --json one object per start: start, status, length,\n"
       "path, version, step, answered_by). With --rate Q --duration S it measures\n"
       "instead: Q requests a second from random free cells for S seconds, and prints\n"
-      "one JSON line with sent, answered, p50_ms, p99_ms and max_ms.",
+      "one JSON line with sent, answered, p50_ms, p99_ms and max_ms.\n"
+      "With a goal (--to ROW,COL, --to-xy X,Y in metres, or --goal NAME of the\n"
+      "service's --goals file) it asks for the exact shortest path from each start\n"
+      "(--from cells, --from-xy poses) to that goal on the current map instead\n"
+      "(--json: start, goal, status, cost, path, path_xy, version, step, answered_by).",
       kQueryProgram);
   runtime::OptionGroup group(app);
   runtime::ProcessOptions process_options;
   runtime::DeclareProcessOptions(group, process_options, true);
   std::vector<std::string> from;
   app.add_option("--from", from, "a start cell ROW,COL (repeat for more)")->type_name("ROW,COL");
+  std::vector<std::string> from_xy;
+  app.add_option("--from-xy", from_xy, "a start pose X,Y in metres (with a goal; repeat for more)")
+      ->type_name("X,Y");
+  std::optional<std::string> to, to_xy, goal_name;
+  group.Option("--to", to, "ROW,COL", "the goal cell: shortest paths to it instead of a station");
+  group.Option("--to-xy", to_xy, "X,Y", "the goal as a pose in metres in the map's frame");
+  group.Option("--goal", goal_name, "NAME", "the goal named NAME in the service's --goals file");
   bool json = false;
   group.Flag("--json", json, "one JSON object per start");
   double timeout = 10;
@@ -206,6 +218,59 @@ int QueryCommand(const std::vector<std::string>& args) {
   }
   if (!(timeout > 0 && timeout <= 3600)) {
     return runtime::ProcessError(kQueryProgram, "--timeout must be between 0 and 3600 seconds");
+  }
+  const int goals_given = (to ? 1 : 0) + (to_xy ? 1 : 0) + (goal_name ? 1 : 0);
+  if (goals_given > 1) {
+    return runtime::ProcessError(kQueryProgram, "give one goal: --to, --to-xy or --goal");
+  }
+  if (!from_xy.empty() && goals_given == 0) {
+    return runtime::ProcessError(kQueryProgram, "--from-xy needs a goal (--to, --to-xy, --goal)");
+  }
+  if (goals_given == 1) {
+    if (rate) return runtime::ProcessError(kQueryProgram, "--rate asks for stations: no goal");
+    if (from.empty() && from_xy.empty()) {
+      return runtime::ProcessError(kQueryProgram, "give a start with --from or --from-xy");
+    }
+    if (from.size() + from_xy.size() > 65536) {
+      return runtime::ProcessError(kQueryProgram, "at most 65536 starts");
+    }
+    goal_request_t request{};
+    request.client = client;
+    if (to) {
+      Result<Cell2> cell = ParseCell(*to);
+      if (!cell)
+        return runtime::ProcessError(kQueryProgram, "--to must be ROW,COL, got '" + *to + "'");
+      request.goal_kind = goal_request_t::GOAL_CELL;
+      request.goal_row = cell->first;
+      request.goal_col = cell->second;
+    } else if (to_xy) {
+      Result<std::pair<double, double>> point = ParsePoint("to-xy", *to_xy);
+      if (!point) return runtime::ProcessError(kQueryProgram, point.error().message);
+      request.goal_kind = goal_request_t::GOAL_POSE;
+      request.goal_x = point->first;
+      request.goal_y = point->second;
+    } else {
+      if (goal_name->empty() || goal_name->size() > 64) {
+        return runtime::ProcessError(kQueryProgram, "--goal must have 1-64 characters");
+      }
+      request.goal_kind = goal_request_t::GOAL_NAMED;
+      request.goal_name = *goal_name;
+    }
+    for (const std::string& text : from) {
+      Result<Cell2> cell = ParseCell(text);
+      if (!cell) return runtime::ProcessError(kQueryProgram, cell.error().message);
+      request.start_rows.push_back(cell->first);
+      request.start_cols.push_back(cell->second);
+    }
+    for (const std::string& text : from_xy) {
+      Result<std::pair<double, double>> point = ParsePoint("from-xy", text);
+      if (!point) return runtime::ProcessError(kQueryProgram, point.error().message);
+      request.start_x.push_back(point->first);
+      request.start_y.push_back(point->second);
+    }
+    request.num_starts = static_cast<int32_t>(request.start_rows.size());
+    request.num_start_poses = static_cast<int32_t>(request.start_x.size());
+    return AskGoal(*process, std::move(request), json, timeout);
   }
   if (rate) {
     if (!from.empty())

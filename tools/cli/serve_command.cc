@@ -66,6 +66,7 @@ int ServeCommand(const std::vector<std::string>& args) {
   group.Option("--policy-gap", o.policy_gap, "SECONDS",
                "at most one policy message every SECONDS: commits in between are published as "
                "the latest of them (0: one per commit, as run publishes steps)");
+  runtime::DeclareGoalOptions(group, o.goals);
   runtime::DeclareLogOptions(group, o.log);
   runtime::AddConfigOption(app);
   ReadConfigAsToml(app);
