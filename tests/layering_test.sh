@@ -2,7 +2,9 @@
 # The layers point one way (CONTRIBUTING.md, "The layering rule"):
 #   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
 #   coordinator/ agent/ (the processes) <- launch/ <- tools/ (the applications);
-#   python/ (the Python module) beside the processes: runtime/ and below.
+#   python/ (the Python module) beside the processes: runtime/ and below,
+#   and the study library tools/common/ (a front end like `dynapath
+#   experiment`), never the CLI's own tools/cli/.
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
 # aside) includes a header private to core (core/<room>/<name>.h, anything
@@ -29,7 +31,7 @@ allowed_for() {
     protocol) echo "face messages protocol" ;;
     runtime) echo "face messages protocol runtime" ;;
     envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
-    python) echo "face messages protocol runtime python" ;;
+    python) echo "face messages protocol runtime python tools" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
     tools) echo "face messages protocol runtime envsim coordinator agent launch tools" ;;
   esac
@@ -67,6 +69,10 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
         *) fail "${file#"$src"/} ($layer) includes a header of $kind: $line" ;;
       esac
     done < <(grep -h '^#include *"' "$file")
+    if [ "$layer" = python ] && grep -Eq '^#include *"tools/' "$file" &&
+      grep -E '^#include *"tools/' "$file" | grep -vq '"tools/common/'; then
+      fail "${file#"$src"/} (python) includes a header of tools/ other than the study library tools/common/"
+    fi
     if [ "$layer" != tools ] && grep -Eq "$forbidden_headers" "$file"; then
       fail "${file#"$src"/} ($layer) uses a library of the applications: $(grep -Eh "$forbidden_headers" "$file" | head -1)"
     fi

@@ -38,10 +38,15 @@
 #include "dynapath/rng.h"
 #include "python/src/walker_world.h"
 #include "runtime/option_group.h"
+#include "runtime/output_check.h"
+#include "runtime/output_lock.h"
 #include "runtime/policy_file.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+#include "tools/common/study_config.h"
+#include "tools/common/study_plan.h"
+#include "tools/common/study_results.h"
 
 namespace py = pybind11;
 
@@ -612,13 +617,80 @@ class PythonPlanner : public Planner {
   PolicyDepths depths_;
 };
 
+// Runs `work` (which returns when done or when control.stop is set) on a
+// thread of its own while this one waits without the GIL, checking for
+// Ctrl-C every 50 ms. Returns true when a Ctrl-C stopped it (its
+// KeyboardInterrupt is pending, for the caller to raise after cleaning up).
+template <typename Work>
+bool RunWithoutGil(RunControl& control, Work work) {
+  bool done = false;
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool interrupted = false;
+  py::gil_scoped_release release;
+  std::thread worker([&] {
+    work();
+    std::lock_guard lock(mutex);
+    done = true;
+    finished.notify_all();
+  });
+  std::unique_lock lock(mutex);
+  while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
+    if (interrupted) continue;
+    lock.unlock();
+    {
+      py::gil_scoped_acquire gil;
+      // A pending signal's handler raises (KeyboardInterrupt): stop the
+      // run, the exception staying set for after it.
+      if (PyErr_CheckSignals() != 0) {
+        interrupted = true;
+        control.stop = true;
+      }
+    }
+    lock.lock();
+  }
+  lock.unlock();
+  worker.join();
+  return interrupted;
+}
+
+// A Python approach of a run: (the built-in names listed before it,
+// comma-separated; label; the object, or a class to make one of for each
+// run).
+using ExternalArg = std::tuple<std::string, std::string, py::object>;
+
+// Runs `plan` with the Python approaches `external` added (a class is
+// instantiated for this run) as `dynapath run --local`: RunLocal, which
+// writes plan.out_dir's files. `builtin`: whether --approach named any.
+std::vector<ApproachRun> RunWithPython(runtime::RunPlan plan, const runtime::ScenarioSetup& setup,
+                                       int threads, bool builtin,
+                                       const std::vector<ExternalArg>& external) {
+  if (!builtin) plan.approaches.clear();
+  RunControl control;
+  for (const auto& [names_before, label, approach] : external) {
+    // Its place: after the built-in approaches listed before it ("all"
+    // and repeated names counted as --approach counts them).
+    const size_t before = names_before.empty() ? 0 : Take(ParseApproachList(names_before)).size();
+    py::object instance = py::isinstance<py::type>(approach) ? approach() : approach;
+    plan.external.push_back(
+        {label,
+         std::make_shared<PythonPlanner>(std::move(instance), setup.scenario.grid.rows(),
+                                         setup.scenario.grid.cols(), control),
+         before});
+  }
+  std::optional<Result<std::vector<ApproachRun>>> runs;
+  const bool interrupted = RunWithoutGil(
+      control, [&] { runs.emplace(runtime::RunLocal(plan, setup, threads, {}, &control.stop)); });
+  plan.external.clear();  // the planners drop their Python objects here
+  if (interrupted) throw py::error_already_set();
+  if (control.error) std::rethrow_exception(control.error);
+  return Take(std::move(*runs));
+}
+
 // dynapath.run: `args` are `dynapath run`'s options (the package builds
 // them from its keywords), `builtin` whether --approach names any, and
-// `external` the Python approaches as (the built-in names listed before
-// it, comma-separated; label; object). Runs RunLocal, as `dynapath run --local`, on a thread of
-// its own while this one waits without the GIL, checking for Ctrl-C.
-// Returns the texts of results.csv and results_detailed.csv.
-using ExternalArg = std::tuple<std::string, std::string, py::object>;
+// `external` the Python approaches. Returns the texts of results.csv and
+// results_detailed.csv.
 std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::string> args,
                                         bool builtin, std::vector<ExternalArg> external) {
   CLI::App app;
@@ -628,59 +700,141 @@ std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::strin
   runtime::DeclareRunOptions(group, options);
   runtime::DeclareThreadOptions(group, thread_options);
   Check(runtime::ParseArguments(app, std::move(args)));
-  runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
+  const runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
   const int threads = Take(runtime::ResolveThreads(thread_options));
-  if (!builtin) plan.approaches.clear();
-  RunControl control;
-  for (auto& [names_before, label, approach] : external) {
-    // Its place: after the built-in approaches listed before it ("all"
-    // and repeated names counted as --approach counts them).
-    const size_t before = names_before.empty() ? 0 : Take(ParseApproachList(names_before)).size();
-    plan.external.push_back(
-        {label,
-         std::make_shared<PythonPlanner>(std::move(approach), maze.scenario.grid.rows(),
-                                         maze.scenario.grid.cols(), control),
-         before});
-  }
   const runtime::ScenarioSetup setup{maze.scenario, maze.labels, maze.seed, maze.source};
-
-  std::optional<Result<std::vector<ApproachRun>>> runs;
-  std::mutex mutex;
-  std::condition_variable finished;
-  bool interrupted = false;
-  {
-    py::gil_scoped_release release;
-    std::thread worker([&] {
-      Result<std::vector<ApproachRun>> result =
-          runtime::RunLocal(plan, setup, threads, {}, &control.stop);
-      std::lock_guard lock(mutex);
-      runs.emplace(std::move(result));
-      finished.notify_all();
-    });
-    std::unique_lock lock(mutex);
-    while (
-        !finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return runs.has_value(); })) {
-      if (interrupted) continue;
-      lock.unlock();
-      {
-        py::gil_scoped_acquire gil;
-        // A pending signal's handler raises (KeyboardInterrupt): stop the
-        // run, the exception staying set for after it.
-        if (PyErr_CheckSignals() != 0) {
-          interrupted = true;
-          control.stop = true;
-        }
-      }
-      lock.lock();
-    }
-    lock.unlock();
-    worker.join();
-  }
-  plan.external.clear();  // the planners drop their Python objects here
-  if (interrupted) throw py::error_already_set();
-  if (control.error) std::rethrow_exception(control.error);
-  std::vector<ApproachRun> done = Take(std::move(*runs));
+  const std::vector<ApproachRun> done = RunWithPython(plan, setup, threads, builtin, external);
   return {SummaryResultsCsv(done), DetailedResultsCsv(done)};
+}
+
+// `python3 -m dynapath run ARGS` (what `dynapath run --approach py:...`
+// hands off to): `dynapath run`'s maze, run, thread and log options, in one
+// process (--local; --agents and --embedded are refused), with the Python
+// approaches `external` the package took out of --approach. Writes the
+// result files to --out as the CLI does; returns the --out directory.
+std::string CliRun(std::vector<std::string> args, bool builtin, std::vector<ExternalArg> external) {
+  CLI::App app;
+  runtime::OptionGroup group(app);
+  runtime::ModeOptions mode;
+  runtime::DeclareModeOptions(group, mode);
+  runtime::ScenarioOptions scenario;
+  runtime::DeclareScenarioOptions(group, scenario);
+  runtime::RunOptions options;
+  runtime::DeclareRunOptions(group, options);
+  runtime::ThreadOptions thread_options;
+  runtime::DeclareThreadOptions(group, thread_options);
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  Check(runtime::ParseArguments(app, std::move(args)));
+  if (mode.agents || mode.embedded) {
+    throw std::invalid_argument(
+        "a Python approach (py:) runs in this process: --agents and --embedded are not "
+        "available with it (use --local)");
+  }
+  Check(runtime::ApplyLogLevel(log));
+  const runtime::ScenarioSetup setup = Take(runtime::ResolveScenario(scenario));
+  const runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
+  const int threads = Take(runtime::ResolveThreads(thread_options));
+  spdlog::info("maze {} {} ({}), {} time steps, {} approaches ({} in Python), {} threads",
+               setup.labels.size_label, setup.labels.difficulty_label, setup.source,
+               setup.scenario.changes.steps.size(),
+               (builtin ? plan.approaches.size() : 0) + external.size(), external.size(), threads);
+  RunWithPython(plan, setup, threads, builtin, external);
+  return plan.out_dir;
+}
+
+// The study files dynapath.experiment writes (those of `dynapath experiment`
+// but its manifest and log).
+const std::vector<std::string>& ExperimentFiles() {
+  static const std::vector<std::string> files = {
+      "results.csv",      "results_detailed.csv",      "repeats.csv",      "summary.csv",
+      "edge_results.csv", "edge_results_detailed.csv", "edge_repeats.csv", "edge_summary.csv"};
+  return files;
+}
+
+// dynapath.experiment and `python3 -m dynapath experiment ARGS`: a study of
+// `dynapath experiment`'s options `args` (its own declaration and
+// resolution, --config included), every configuration run in this process
+// as `dynapath experiment --local` runs it (the same plan, maze options and
+// run options per configuration), the Python approaches `external` beside
+// the built-in ones, and the merged files and repeats' statistics written by
+// the study library itself. No manifest, log or resume: each call runs the
+// whole study. Returns the --out directory.
+std::string Experiment(std::vector<std::string> args, bool builtin,
+                       std::vector<ExternalArg> external) {
+  CLI::App app;
+  runtime::OptionGroup group(app);
+  cli::StudyCommandLine given;
+  cli::DeclareStudyCommandLine(group, given);
+  std::optional<std::string> config_path;
+  group.Option("--config", config_path, "FILE",
+               "read options from a TOML file (key = value, same names)");
+  Check(runtime::ParseArguments(app, std::move(args)));
+  if (given.edge_case && given.no_edge_case) {
+    throw std::invalid_argument("choose one of --edge-case and --no-edge-case");
+  }
+  if (given.mode.agents || given.mode.embedded) {
+    throw std::invalid_argument(
+        "a study with a Python approach runs in this process: --agents and --embedded are not "
+        "available with it (use --local)");
+  }
+  cli::OptionValues command_line;
+  for (auto& [name, value] : cli::GivenOptionValues(app)) {
+    if (name == "no-edge-case") {
+      command_line["edge-case"] = cli::OptionValue{"false", value.origin};
+    } else if (cli::StudyOptionKinds().count(name) > 0) {
+      command_line[name] = value;
+    }
+  }
+  cli::OptionValues file_values;
+  if (config_path) {
+    const cli::ConfigFile file = Take(cli::ReadConfigFile(*config_path));
+    file_values = Take(cli::ConfigOptionValues(file));
+  }
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const cli::StudyOptions options =
+      Take(cli::ResolveStudyOptions(cli::MergeOptionValues(file_values, command_line), hardware));
+  if (!options.sweeps.empty()) {
+    throw std::invalid_argument(
+        "parameter sweeps (a list in the study file) are not available with Python approaches; "
+        "run one study per value");
+  }
+  Check(runtime::ApplyLogLevel(options.log));
+  const std::vector<cli::StudyConfiguration> plan = cli::MakeStudyPlan(options);
+  const std::string out = options.out;
+  Check(runtime::PrepareOutputDirectory(out, "out"));
+  const runtime::OutputLock lock = Take(runtime::OutputLock::Acquire(out, "out"));
+  Check(runtime::CheckOutputFiles(out, ExperimentFiles(), "out"));
+
+  std::vector<std::string> main_dirs, edge_dirs;
+  std::vector<cli::RepeatFiles> main_repeats, edge_repeats;
+  bool has_edge = false;
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const cli::StudyConfiguration& configuration = plan[i];
+    const std::string directory = out + "/" + configuration.Directory();
+    Check(runtime::PrepareOutputDirectory(directory, "out"));
+    spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
+    const runtime::ScenarioSetup setup =
+        Take(runtime::ResolveScenario(cli::ScenarioOptionsOf(configuration)));
+    const runtime::RunPlan run_plan =
+        Take(runtime::ResolveRunOptions(cli::RunOptionsOf(options, configuration, directory)));
+    RunWithPython(run_plan, setup, options.threads, builtin, external);
+    has_edge = has_edge || configuration.edge_case;
+    if (configuration.repeat == 1) {
+      (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
+    }
+    (configuration.edge_case ? edge_repeats : main_repeats)
+        .push_back({directory, configuration.repeat, configuration.seed,
+                    configuration.learner_seed.value_or(configuration.seed)});
+  }
+  const bool repeats = options.repeats > 1;
+  Check(cli::MergeResultFiles(main_dirs, out, ""));
+  if (repeats) Check(cli::WriteRepeatFiles(main_repeats, out, ""));
+  if (has_edge) {
+    Check(cli::MergeResultFiles(edge_dirs, out, "edge_"));
+    if (repeats) Check(cli::WriteRepeatFiles(edge_repeats, out, "edge_"));
+  }
+  return out;
 }
 
 // BFS Oracle's exact distances (core's NearestStationDistances) of a
@@ -927,6 +1081,8 @@ baselines : numpy.ndarray of float64
       },
       py::arg("path"), py::arg("sections"));
   m.def("run", &Run, py::arg("maze"), py::arg("args"), py::arg("builtin"), py::arg("external"));
+  m.def("cli_run", &CliRun, py::arg("args"), py::arg("builtin"), py::arg("external"));
+  m.def("experiment", &Experiment, py::arg("args"), py::arg("builtin"), py::arg("external"));
   m.def("bfs_distances", &BfsDistances, py::arg("grid"));
   m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),
         py::arg("repeats"));
