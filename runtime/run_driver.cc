@@ -165,7 +165,9 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
 
 void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--approach", o.approach, "LIST",
-               "comma-separated approaches: " + ApproachNamesText() + "; or all");
+               "comma-separated approaches: " + ApproachNamesText() +
+                   "; or all; py:MODULE:CLASS is one written in Python (--local; "
+                   "docs/howto/PYTHON.md)");
   group.Option("--out", o.out, "DIR", "output directory");
   DeclareLearnerOptions(group, o);
   DeclarePlacementOption(group, o);

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -32,10 +33,14 @@
 #include "dynapath/grid.h"
 #include "dynapath/limits.h"
 #include "dynapath/mdp.h"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/path_reply_t.hpp"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/policy_state.h"
 #include "dynapath/results_csv.h"
 #include "dynapath/rng.h"
+#include "dynapath/routes.h"
+#include "protocol/channels.h"
 #include "python/src/walker_world.h"
 #include "runtime/option_group.h"
 #include "runtime/output_check.h"
@@ -44,6 +49,7 @@
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+#include "runtime/service_client.h"
 #include "tools/common/study_config.h"
 #include "tools/common/study_plan.h"
 #include "tools/common/study_results.h"
@@ -837,6 +843,166 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   return out;
 }
 
+// ---------------------------------------------------------------- service client
+
+// dynapath.ServiceClient: runtime's client of `dynapath serve` (the one
+// `dynapath query` and `feed` use), so the bus, its authentication trailer
+// and the fragmenting are the C++ ones; liblcm is linked here (Debian 12
+// has no Python LCM binding). Waits release the GIL.
+class PythonServiceClient {
+ public:
+  PythonServiceClient(const std::string& run_id, const std::string& lcm_url,
+                      std::optional<std::string> secret_file, bool insecure,
+                      std::optional<std::string> name) {
+    if (lcm_url.empty()) {
+      throw std::invalid_argument(
+          "lcm_url is required (the service's --lcm-url, e.g. 'udpm://239.255.76.67:7667?ttl=0')");
+    }
+    runtime::ProcessOptions options;
+    options.run_id = run_id;
+    options.lcm_url = lcm_url;
+    options.secret_file = std::move(secret_file);
+    options.insecure = insecure;
+    process_ = Take(runtime::ResolveProcessOptions(options, true));
+    source_ = name ? *name : "python-" + std::to_string(getpid());
+    if (source_.empty() || source_.size() > 64) {
+      throw std::invalid_argument("client must be 1-64 characters, got '" + source_ + "'");
+    }
+    client_ =
+        Take(runtime::ServiceClient::Open(process_, source_, runtime::ServiceClient::kRepliesOnly));
+  }
+
+  // One path per start: a dict as `dynapath query --json` prints it.
+  py::list Query(const std::vector<std::pair<int32_t, int32_t>>& starts, double timeout) {
+    if (starts.empty()) throw std::invalid_argument("query needs at least one start (row, col)");
+    if (starts.size() > 65536) throw std::invalid_argument("at most 65536 starts per query");
+    const path_reply_t reply = Ask(starts, timeout);
+    if (reply.refused != path_reply_t::ACCEPTED) {
+      throw std::runtime_error(
+          reply.refused == path_reply_t::NOT_READY
+              ? "the service has no policy yet (still training its first) after timeout"
+              : "the service refused the query: more starts than its --max-starts (64 by "
+                "default); ask in smaller batches");
+    }
+    py::list paths;
+    for (int i = 0; i < reply.num_starts; ++i) {
+      py::array_t<int32_t> cells({static_cast<py::ssize_t>(reply.path_cells[i]), py::ssize_t{2}});
+      auto view = cells.mutable_unchecked<2>();
+      for (int k = 0; k < reply.path_cells[i]; ++k) {
+        const size_t at = static_cast<size_t>(reply.path_offset[i] + k);
+        view(k, 0) = reply.path_rows[at];
+        view(k, 1) = reply.path_cols[at];
+      }
+      py::dict path;
+      path["start"] = py::make_tuple(reply.start_rows[i], reply.start_cols[i]);
+      path["status"] = RouteStatusName(static_cast<RouteStatus>(reply.status[i]));
+      path["length"] = reply.length[i];
+      path["path"] = std::move(cells);
+      path["version"] = reply.version;
+      path["step"] = reply.time_step;
+      path["answered_by"] = AnsweredByName(static_cast<AnsweredBy>(reply.answered_by[i]));
+      paths.append(std::move(path));
+    }
+    return paths;
+  }
+
+  // The service's maze fingerprint, approach, version and step.
+  py::dict Probe(double timeout) {
+    const path_reply_t reply = Ask({}, timeout);
+    if (reply.refused == path_reply_t::NOT_READY) {
+      throw std::runtime_error("the service has no policy yet (still training its first)");
+    }
+    py::dict info;
+    info["maze_fingerprint"] = FingerprintText(static_cast<uint64_t>(reply.maze_fingerprint));
+    info["approach"] = reply.approach;
+    info["version"] = reply.version;
+    info["step"] = reply.time_step;
+    return info;
+  }
+
+  // Publishes one obstacle update (the cells `blocked` become obstacles,
+  // `freed` free), made for the service's maze; returns its sequence number.
+  int64_t Update(const std::vector<std::pair<int32_t, int32_t>>& blocked,
+                 const std::vector<std::pair<int32_t, int32_t>>& freed, double timeout) {
+    if (blocked.empty() && freed.empty()) throw std::invalid_argument("an update changes no cell");
+    if (blocked.size() + freed.size() > static_cast<size_t>(protocol::kMaxGridCells)) {
+      throw std::invalid_argument("too many cells in one update");
+    }
+    if (!fingerprint_) fingerprint_ = static_cast<uint64_t>(Ask({}, timeout).maze_fingerprint);
+    obstacle_update_t update{};
+    update.run_id = process_.run_id;
+    update.source = source_;
+    update.sequence = ++sequence_;
+    update.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
+    update.maze_fingerprint = static_cast<int64_t>(*fingerprint_);
+    for (const auto& [cells, state] : {std::pair{&blocked, obstacle_update_t::OBSTACLE},
+                                       std::pair{&freed, obstacle_update_t::FREE}}) {
+      for (const auto& [row, col] : *cells) {
+        update.rows.push_back(row);
+        update.cols.push_back(col);
+        update.states.push_back(state);
+      }
+    }
+    update.num_cells = static_cast<int32_t>(update.rows.size());
+    client_->bus().Publish(protocol::channel::kMapUpdates, update);
+    return update.sequence;
+  }
+
+  // Probes until the service's policy is of time step `step` or later;
+  // returns the step.
+  int WaitForStep(int step, double timeout) {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(timeout));
+    while (true) {
+      const double left =
+          std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+      if (left <= 0) break;
+      const path_reply_t reply = Ask({}, left);
+      if (reply.refused != path_reply_t::NOT_READY && reply.time_step >= step) {
+        return reply.time_step;
+      }
+      py::gil_scoped_release release;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    throw std::runtime_error("the service did not reach time step " + std::to_string(step) +
+                             " within the timeout");
+  }
+
+ private:
+  // A reply (NOT_READY only when the timeout ran out before a policy), or
+  // an error; a second service answering differently is an error too.
+  path_reply_t Ask(const std::vector<std::pair<int32_t, int32_t>>& starts, double timeout) {
+    if (!(timeout > 0)) throw std::invalid_argument("timeout must be > 0 seconds");
+    std::optional<path_reply_t> reply;
+    std::optional<std::string> two;
+    {
+      py::gil_scoped_release release;
+      reply = client_->Ask(starts, timeout);
+      if (reply && !checked_second_) {
+        two = client_->SecondService();
+        checked_second_ = true;
+      }
+    }
+    if (!reply) {
+      throw std::runtime_error("no reply from a service of run " + process_.run_id +
+                               " within the timeout (" + std::to_string(timeout) + " s)");
+    }
+    if (two) throw std::runtime_error(*two);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return *reply;
+  }
+
+  runtime::ProcessSetup process_;
+  std::string source_;
+  std::unique_ptr<runtime::ServiceClient> client_;
+  std::optional<uint64_t> fingerprint_;
+  int64_t sequence_ = 0;
+  bool checked_second_ = false;  // whether a second service was looked for (first reply)
+};
+
 // BFS Oracle's exact distances (core's NearestStationDistances) of a
 // (rows, cols) grid of cell codes: int32, -1 where no station is reachable.
 py::array BfsDistances(CodesArg codes) {
@@ -1084,6 +1250,16 @@ baselines : numpy.ndarray of float64
   m.def("cli_run", &CliRun, py::arg("args"), py::arg("builtin"), py::arg("external"));
   m.def("experiment", &Experiment, py::arg("args"), py::arg("builtin"), py::arg("external"));
   m.def("bfs_distances", &BfsDistances, py::arg("grid"));
+  py::class_<PythonServiceClient>(m, "ServiceClientCore")
+      .def(py::init<const std::string&, const std::string&, std::optional<std::string>, bool,
+                    std::optional<std::string>>(),
+           py::arg("run_id"), py::arg("lcm_url"), py::arg("secret_file"), py::arg("insecure"),
+           py::arg("client"))
+      .def("query", &PythonServiceClient::Query, py::arg("starts"), py::arg("timeout"))
+      .def("probe", &PythonServiceClient::Probe, py::arg("timeout"))
+      .def("update", &PythonServiceClient::Update, py::arg("blocked"), py::arg("freed"),
+           py::arg("timeout"))
+      .def("wait_for_step", &PythonServiceClient::WaitForStep, py::arg("step"), py::arg("timeout"));
   m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),
         py::arg("repeats"));
   m.def(

@@ -202,7 +202,10 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
              "comma-separated difficulties: " + runtime::DifficultyWords().List(),
              kDefaultDifficulties);
   group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
-             "comma-separated approaches: " + ApproachNamesText() + "; or all", kAllApproaches);
+             "comma-separated approaches: " + ApproachNamesText() +
+                 "; or all; py:MODULE:CLASS is one written in Python (--local, no manifest; "
+                 "docs/howto/PYTHON.md)",
+             kAllApproaches);
   group.Flag("--edge-case", o.edge_case,
              "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
   group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");
