@@ -82,6 +82,11 @@ def main(argv):
         return 2
     command, args = argv[0], argv[1:]
     program = f"dynapath {command}"
+    if "--help" in args or "-h" in args:
+        print(f"{program} with a py:MODULE:CLASS approach runs in this process (--local) "
+              f"through the Python module; its options are those of `{program} --help` "
+              f"(docs/howto/PYTHON.md)")
+        return 0
     try:
         args, builtin, external = split_command_line(
             args, "--approach" if command == "run" else "--approaches")

@@ -90,7 +90,8 @@ def experiment(sizes=None, difficulties=None, approaches=("all",), repeats=None,
         The study directory to write the result files to, runs/<name>/ per
         configuration included (default: a temporary one, removed). No
         manifest or log is written and nothing is resumed: every call runs
-        the whole study.
+        the whole study. A directory holding a study of ``dynapath
+        experiment`` (its manifest.json) is refused.
     config : str, optional
         A study file (TOML) as the CLI's --config; the keywords override it.
     threads : int, optional

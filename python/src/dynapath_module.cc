@@ -17,6 +17,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -773,8 +774,7 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   cli::StudyCommandLine given;
   cli::DeclareStudyCommandLine(group, given);
   std::optional<std::string> config_path;
-  group.Option("--config", config_path, "FILE",
-               "read options from a TOML file (key = value, same names)");
+  cli::DeclareStudyConfigOption(group, config_path);
   Check(runtime::ParseArguments(app, std::move(args)));
   if (given.edge_case && given.no_edge_case) {
     throw std::invalid_argument("choose one of --edge-case and --no-edge-case");
@@ -811,6 +811,13 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   Check(runtime::PrepareOutputDirectory(out, "out"));
   const runtime::OutputLock lock = Take(runtime::OutputLock::Acquire(out, "out"));
   Check(runtime::CheckOutputFiles(out, ExperimentFiles(), "out"));
+  // A study of `dynapath experiment` there would be left with a manifest
+  // that no longer describes its files.
+  if (std::filesystem::exists(std::filesystem::path(out) / "manifest.json")) {
+    throw std::invalid_argument("option --out: " + out +
+                                " holds a study of `dynapath experiment` (manifest.json); give "
+                                "another directory");
+  }
 
   std::vector<std::string> main_dirs, edge_dirs;
   std::vector<cli::RepeatFiles> main_repeats, edge_repeats;

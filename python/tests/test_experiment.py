@@ -136,3 +136,11 @@ def test_cli_without_the_module_says_so(cli_path, tmp_path):
     done = run_cli(str(alone), "run", "--size", 20, "--approach", "py:m:C", "--out", tmp_path)
     assert done.returncode == 2
     assert "needs the Python module dynapath, which was not built" in done.stderr
+
+
+def test_a_cli_study_directory_is_not_overwritten(cli, tmp_path):
+    cli("experiment", *STUDY_ARGS, "--approaches", "BFS Oracle", "--out", tmp_path)
+    before = (tmp_path / "results.csv").read_text()
+    with pytest.raises(ValueError, match="manifest.json"):
+        dynapath.experiment(approaches=["BFS Oracle"], out=str(tmp_path), **STUDY)
+    assert (tmp_path / "results.csv").read_text() == before

@@ -194,6 +194,12 @@ void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>&
                default_text);
 }
 
+void DeclareStudyConfigOption(runtime::OptionGroup& group, std::optional<std::string>& path) {
+  group.Option("--config", path, "FILE",
+               "read options from a TOML file (key = value, same names); the command line "
+               "overrides it");
+}
+
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   using runtime::ValueKind;
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
