@@ -105,7 +105,11 @@ def main(argv):
         print(f"\n{program}: interrupted", file=sys.stderr)
         return 130
     except (ValueError, TypeError, FileNotFoundError) as error:
-        print(f"{program}: {error}", file=sys.stderr)
+        text = str(error)
+        if text.startswith("unknown option"):  # one of the CLI's that need its own process
+            text = text.replace(" (see --help)", "") + ": not available with a py: approach " \
+                "(docs/howto/PYTHON.md)"
+        print(f"{program}: {text}", file=sys.stderr)
         return 2
     except (OSError, RuntimeError) as error:
         print(f"{program}: {error}", file=sys.stderr)

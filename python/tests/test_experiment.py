@@ -144,3 +144,11 @@ def test_a_cli_study_directory_is_not_overwritten(cli, tmp_path):
     with pytest.raises(ValueError, match="manifest.json"):
         dynapath.experiment(approaches=["BFS Oracle"], out=str(tmp_path), **STUDY)
     assert (tmp_path / "results.csv").read_text() == before
+
+
+def test_cli_options_that_need_their_own_process_are_refused(cli_path, tmp_path):
+    for extra, message in ((["--repeats", 2], "--repeats: not available with a py: approach"),
+                           (["--agents", 2], "--agents and --embedded are not available")):
+        done = run_cli(cli_path, "run", "--size", 20, "--steps", 2, *extra, "--approach",
+                       "py:nearest_station:NearestStation", "--out", tmp_path)
+        assert done.returncode == 2 and message in done.stderr, done.stderr
