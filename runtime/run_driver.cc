@@ -169,7 +169,9 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& o) {
 
 void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
   group.Option("--approach", o.approach, "LIST",
-               "comma-separated approaches: " + ApproachNamesText() + "; or all");
+               "comma-separated approaches: " + ApproachNamesText() +
+                   "; or all; `dynapath run --local` also takes py:MODULE:CLASS, one written "
+                   "in Python (docs/howto/PYTHON.md)");
   group.Option("--out", o.out, "DIR", "output directory");
   DeclareLearnerOptions(group, o);
   DeclarePlacementOption(group, o);

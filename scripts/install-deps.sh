@@ -16,6 +16,7 @@ packages=(
   libjchart2d-java                    # charts of lcm-spy's detail view (tools/dynapath-spy)
   python3 python3-matplotlib python3-pandas   # dynapath plot, reproduction report
   python3-dev python3-numpy pybind11-dev python3-pytest  # the Python module (python/) and its tests
+  python3-torch                       # python/examples/dqn.py (its test is skipped without it)
   libsfml-dev                         # dynapath view (live policy window)
   libpng-dev                          # PNG output of dynapath render
   libgif-dev                          # GIF decoding in the image tests (independent of our encoder)

@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
 # The layering check itself: on a small tree of the project's shape it passes
 # what is allowed and fails, naming the file, on a process that includes a
-# header private to core, a face header that includes a private one, and a
-# lower layer that includes a higher one.
+# header private to core, a face header that includes a private one, a
+# lower layer that includes a higher one, and the Python module including
+# the CLI's own code (it may include the study library tools/common/).
 # Usage: tests/layering_self_test.sh LAYERING_TEST_SCRIPT
 set -uo pipefail
 check=${1:?usage: layering_self_test.sh LAYERING_TEST_SCRIPT}
 tree=$(mktemp -d)
 trap 'rm -rf "$tree"' EXIT
-mkdir -p "$tree"/core/include/dynapath "$tree"/core/learn "$tree"/protocol "$tree"/agent "$tree"/tools
+mkdir -p "$tree"/core/include/dynapath "$tree"/core/learn "$tree"/protocol "$tree"/agent "$tree"/tools \
+  "$tree"/tools/common "$tree"/tools/cli "$tree"/python/src
 echo '#pragma once' >"$tree/core/learn/hidden.h"
 echo '#include "core/learn/hidden.h"' >"$tree/core/learn/hidden.cc"
 echo '#pragma once' >"$tree/core/include/dynapath/shown.h"
 printf '#include "dynapath/shown.h"\n#include "dynapath/shards_t.hpp"\n' >"$tree/protocol/bus.h"
 printf '#include "dynapath/shown.h"\n#include "protocol/bus.h"\n' >"$tree/agent/agent.cc"
+printf '#include "protocol/bus.h"\n#include "tools/common/study_plan.h"\n' >"$tree/python/src/module.cc"
 failed=0
 expect() {  # expect PASS|FAIL [FILE]: the check's verdict, and the file it names
   local want=$1 file=${2:-} output status
@@ -35,6 +38,12 @@ sed -i '$d' "$tree/core/include/dynapath/shown.h"
 echo '#include "agent/agent.h"' >>"$tree/protocol/bus.h"
 expect FAIL protocol/bus.h
 sed -i '$d' "$tree/protocol/bus.h"
+echo '#include "tools/cli/commands.h"' >>"$tree/python/src/module.cc"
+expect FAIL python/src/module.cc
+sed -i '$d' "$tree/python/src/module.cc"
+echo '#include "agent/agent.h"' >>"$tree/python/src/module.cc"
+expect FAIL python/src/module.cc
+sed -i '$d' "$tree/python/src/module.cc"
 expect PASS
 [ $failed -eq 0 ] && echo "layering self-test: passes the allowed, reports every violation"
 exit $failed

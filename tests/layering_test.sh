@@ -3,7 +3,9 @@
 #   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
 #   coordinator/ agent/ (the processes) <- launch/ <- app/ (plans and sessions)
 #   <- tools/ (the front ends);
-#   python/ (the Python module) beside the processes: runtime/ and below.
+#   python/ (the Python module) beside the processes: runtime/ and below,
+#   and the study library tools/common/ (a front end like `dynapath
+#   experiment`), never the CLI's own tools/cli/.
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
 # aside) includes a header private to core (core/<room>/<name>.h, anything
@@ -30,7 +32,7 @@ allowed_for() {
     protocol) echo "face messages protocol" ;;
     runtime) echo "face messages protocol runtime" ;;
     envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
-    python) echo "face messages protocol runtime python" ;;
+    python) echo "face messages protocol runtime python tools" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
     app) echo "face messages protocol runtime envsim coordinator agent launch app" ;;
     tools) echo "face messages protocol runtime envsim coordinator agent launch app tools" ;;
@@ -73,6 +75,10 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
         *) fail "${file#"$src"/} ($layer) includes a header of $kind: $line" ;;
       esac
     done < <(grep -h '^#include *"' "$file")
+    if [ "$layer" = python ] && grep -Eq '^#include *"tools/' "$file" &&
+      grep -E '^#include *"tools/' "$file" | grep -vq '"tools/common/'; then
+      fail "${file#"$src"/} (python) includes a header of tools/ other than the study library tools/common/"
+    fi
     if [ "$layer" != tools ] && grep -Eq "$forbidden_headers" "$file"; then
       fail "${file#"$src"/} ($layer) uses a library of the applications: $(grep -Eh "$forbidden_headers" "$file" | head -1)"
     fi

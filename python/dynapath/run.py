@@ -56,10 +56,28 @@ class RunResult:
 
 
 def _label(approach):
+    """The rows' label: the object's (or class's) ``name``, else its class's name."""
     name = getattr(approach, "name", None)
     if isinstance(name, str) and name:
         return name
-    return type(approach).__name__
+    return approach.__name__ if isinstance(approach, type) else type(approach).__name__
+
+
+def _split_approaches(approaches):
+    """The built-in names and the Python approaches (as the binding takes
+    them: the names before each, its label, the object) of `approaches`."""
+    if isinstance(approaches, str):
+        approaches = [approaches]
+    names, external = [], []
+    for approach in approaches:
+        if isinstance(approach, str):
+            names.append(approach)
+        else:
+            for method in ("initialize", "adapt"):
+                if not callable(getattr(approach, method, None)):
+                    raise TypeError(f"approach {approach!r} has no method {method}(...)")
+            external.append((",".join(names), _label(approach), approach))
+    return names, external
 
 
 def _option_value(name, value):
@@ -112,17 +130,7 @@ def run(maze, approaches=("all",), out=None, threads=None, log_level="warn", **p
 
     if not isinstance(maze, Maze):
         raise TypeError(f"maze must be a dynapath.Maze, got {type(maze).__name__}")
-    if isinstance(approaches, str):
-        approaches = [approaches]
-    names, external = [], []
-    for approach in approaches:
-        if isinstance(approach, str):
-            names.append(approach)
-        else:
-            for method in ("initialize", "adapt"):
-                if not callable(getattr(approach, method, None)):
-                    raise TypeError(f"approach {approach!r} has no method {method}(...)")
-            external.append((",".join(names), _label(approach), approach))
+    names, external = _split_approaches(approaches)
     args = []
     for name, value in parameters.items():
         args += [f"--{name.replace('_', '-')}", _option_value(name, value)]

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -32,16 +34,26 @@
 #include "dynapath/grid.h"
 #include "dynapath/limits.h"
 #include "dynapath/mdp.h"
+#include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/path_reply_t.hpp"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/policy_state.h"
 #include "dynapath/results_csv.h"
 #include "dynapath/rng.h"
+#include "dynapath/routes.h"
+#include "protocol/channels.h"
 #include "python/src/walker_world.h"
 #include "runtime/option_group.h"
+#include "runtime/output_check.h"
+#include "runtime/output_lock.h"
 #include "runtime/policy_file.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+#include "runtime/service_client.h"
+#include "tools/common/study_config.h"
+#include "tools/common/study_plan.h"
+#include "tools/common/study_results.h"
 
 namespace py = pybind11;
 
@@ -612,13 +624,80 @@ class PythonPlanner : public Planner {
   PolicyDepths depths_;
 };
 
+// Runs `work` (which returns when done or when control.stop is set) on a
+// thread of its own while this one waits without the GIL, checking for
+// Ctrl-C every 50 ms. Returns true when a Ctrl-C stopped it (its
+// KeyboardInterrupt is pending, for the caller to raise after cleaning up).
+template <typename Work>
+bool RunWithoutGil(RunControl& control, Work work) {
+  bool done = false;
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool interrupted = false;
+  py::gil_scoped_release release;
+  std::thread worker([&] {
+    work();
+    std::lock_guard lock(mutex);
+    done = true;
+    finished.notify_all();
+  });
+  std::unique_lock lock(mutex);
+  while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
+    if (interrupted) continue;
+    lock.unlock();
+    {
+      py::gil_scoped_acquire gil;
+      // A pending signal's handler raises (KeyboardInterrupt): stop the
+      // run, the exception staying set for after it.
+      if (PyErr_CheckSignals() != 0) {
+        interrupted = true;
+        control.stop = true;
+      }
+    }
+    lock.lock();
+  }
+  lock.unlock();
+  worker.join();
+  return interrupted;
+}
+
+// A Python approach of a run: (the built-in names listed before it,
+// comma-separated; label; the object, or a class to make one of for each
+// run).
+using ExternalArg = std::tuple<std::string, std::string, py::object>;
+
+// Runs `plan` with the Python approaches `external` added (a class is
+// instantiated for this run) as `dynapath run --local`: RunLocal, which
+// writes plan.out_dir's files. `builtin`: whether --approach named any.
+std::vector<ApproachRun> RunWithPython(runtime::RunPlan plan, const runtime::ScenarioSetup& setup,
+                                       int threads, bool builtin,
+                                       const std::vector<ExternalArg>& external) {
+  if (!builtin) plan.approaches.clear();
+  RunControl control;
+  for (const auto& [names_before, label, approach] : external) {
+    // Its place: after the built-in approaches listed before it ("all"
+    // and repeated names counted as --approach counts them).
+    const size_t before = names_before.empty() ? 0 : Take(ParseApproachList(names_before)).size();
+    py::object instance = py::isinstance<py::type>(approach) ? approach() : approach;
+    plan.external.push_back(
+        {label,
+         std::make_shared<PythonPlanner>(std::move(instance), setup.scenario.grid.rows(),
+                                         setup.scenario.grid.cols(), control),
+         before});
+  }
+  std::optional<Result<std::vector<ApproachRun>>> runs;
+  const bool interrupted = RunWithoutGil(
+      control, [&] { runs.emplace(runtime::RunLocal(plan, setup, threads, {}, &control.stop)); });
+  plan.external.clear();  // the planners drop their Python objects here
+  if (interrupted) throw py::error_already_set();
+  if (control.error) std::rethrow_exception(control.error);
+  return Take(std::move(*runs));
+}
+
 // dynapath.run: `args` are `dynapath run`'s options (the package builds
 // them from its keywords), `builtin` whether --approach names any, and
-// `external` the Python approaches as (the built-in names listed before
-// it, comma-separated; label; object). Runs RunLocal, as `dynapath run --local`, on a thread of
-// its own while this one waits without the GIL, checking for Ctrl-C.
-// Returns the texts of results.csv and results_detailed.csv.
-using ExternalArg = std::tuple<std::string, std::string, py::object>;
+// `external` the Python approaches. Returns the texts of results.csv and
+// results_detailed.csv.
 std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::string> args,
                                         bool builtin, std::vector<ExternalArg> external) {
   CLI::App app;
@@ -628,60 +707,308 @@ std::pair<std::string, std::string> Run(const Maze& maze, std::vector<std::strin
   runtime::DeclareRunOptions(group, options);
   runtime::DeclareThreadOptions(group, thread_options);
   Check(runtime::ParseArguments(app, std::move(args)));
-  runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
+  const runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
   const int threads = Take(runtime::ResolveThreads(thread_options));
-  if (!builtin) plan.approaches.clear();
-  RunControl control;
-  for (auto& [names_before, label, approach] : external) {
-    // Its place: after the built-in approaches listed before it ("all"
-    // and repeated names counted as --approach counts them).
-    const size_t before = names_before.empty() ? 0 : Take(ParseApproachList(names_before)).size();
-    plan.external.push_back(
-        {label,
-         std::make_shared<PythonPlanner>(std::move(approach), maze.scenario.grid.rows(),
-                                         maze.scenario.grid.cols(), control),
-         before});
-  }
   const runtime::ScenarioSetup setup{maze.scenario, maze.labels, maze.seed, maze.source};
-
-  std::optional<Result<std::vector<ApproachRun>>> runs;
-  std::mutex mutex;
-  std::condition_variable finished;
-  bool interrupted = false;
-  {
-    py::gil_scoped_release release;
-    std::thread worker([&] {
-      Result<std::vector<ApproachRun>> result =
-          runtime::RunLocal(plan, setup, threads, {}, &control.stop);
-      std::lock_guard lock(mutex);
-      runs.emplace(std::move(result));
-      finished.notify_all();
-    });
-    std::unique_lock lock(mutex);
-    while (
-        !finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return runs.has_value(); })) {
-      if (interrupted) continue;
-      lock.unlock();
-      {
-        py::gil_scoped_acquire gil;
-        // A pending signal's handler raises (KeyboardInterrupt): stop the
-        // run, the exception staying set for after it.
-        if (PyErr_CheckSignals() != 0) {
-          interrupted = true;
-          control.stop = true;
-        }
-      }
-      lock.lock();
-    }
-    lock.unlock();
-    worker.join();
-  }
-  plan.external.clear();  // the planners drop their Python objects here
-  if (interrupted) throw py::error_already_set();
-  if (control.error) std::rethrow_exception(control.error);
-  std::vector<ApproachRun> done = Take(std::move(*runs));
+  const std::vector<ApproachRun> done = RunWithPython(plan, setup, threads, builtin, external);
   return {SummaryResultsCsv(done), DetailedResultsCsv(done)};
 }
+
+// `python3 -m dynapath run ARGS` (what `dynapath run --approach py:...`
+// hands off to): `dynapath run`'s maze, run, thread and log options, in one
+// process (--local; --agents and --embedded are refused), with the Python
+// approaches `external` the package took out of --approach. Writes the
+// result files to --out as the CLI does; returns the --out directory.
+std::string CliRun(std::vector<std::string> args, bool builtin, std::vector<ExternalArg> external) {
+  CLI::App app;
+  runtime::OptionGroup group(app);
+  runtime::ModeOptions mode;
+  runtime::DeclareModeOptions(group, mode);
+  runtime::ScenarioOptions scenario;
+  runtime::DeclareScenarioOptions(group, scenario);
+  runtime::RunOptions options;
+  runtime::DeclareRunOptions(group, options);
+  runtime::ThreadOptions thread_options;
+  runtime::DeclareThreadOptions(group, thread_options);
+  runtime::LogOptions log;
+  runtime::DeclareLogOptions(group, log);
+  Check(runtime::ParseArguments(app, std::move(args)));
+  if (mode.agents || mode.embedded) {
+    throw std::invalid_argument(
+        "a Python approach (py:) runs in this process: --agents and --embedded are not "
+        "available with it (use --local)");
+  }
+  Check(runtime::ApplyLogLevel(log));
+  const runtime::ScenarioSetup setup = Take(runtime::ResolveScenario(scenario));
+  const runtime::RunPlan plan = Take(runtime::ResolveRunOptions(options));
+  const int threads = Take(runtime::ResolveThreads(thread_options));
+  spdlog::info("maze {} {} ({}), {} time steps, {} approaches ({} in Python), {} threads",
+               setup.labels.size_label, setup.labels.difficulty_label, setup.source,
+               setup.scenario.changes.steps.size(),
+               (builtin ? plan.approaches.size() : 0) + external.size(), external.size(), threads);
+  RunWithPython(plan, setup, threads, builtin, external);
+  return plan.out_dir;
+}
+
+// The study files dynapath.experiment writes (those of `dynapath experiment`
+// but its manifest and log).
+const std::vector<std::string>& ExperimentFiles() {
+  static const std::vector<std::string> files = {
+      "results.csv",      "results_detailed.csv",      "repeats.csv",      "summary.csv",
+      "edge_results.csv", "edge_results_detailed.csv", "edge_repeats.csv", "edge_summary.csv"};
+  return files;
+}
+
+// dynapath.experiment and `python3 -m dynapath experiment ARGS`: a study of
+// `dynapath experiment`'s options `args` (its own declaration and
+// resolution, --config included), every configuration run in this process
+// as `dynapath experiment --local` runs it (the same plan, maze options and
+// run options per configuration), the Python approaches `external` beside
+// the built-in ones, and the merged files and repeats' statistics written by
+// the study library itself. No manifest, log or resume: each call runs the
+// whole study. Returns the --out directory.
+std::string Experiment(std::vector<std::string> args, bool builtin,
+                       std::vector<ExternalArg> external) {
+  CLI::App app;
+  runtime::OptionGroup group(app);
+  cli::StudyCommandLine given;
+  cli::DeclareStudyCommandLine(group, given);
+  std::optional<std::string> config_path;
+  cli::DeclareStudyConfigOption(group, config_path);
+  Check(runtime::ParseArguments(app, std::move(args)));
+  if (given.edge_case && given.no_edge_case) {
+    throw std::invalid_argument("choose one of --edge-case and --no-edge-case");
+  }
+  if (given.mode.agents || given.mode.embedded) {
+    throw std::invalid_argument(
+        "a study with a Python approach runs in this process: --agents and --embedded are not "
+        "available with it (use --local)");
+  }
+  cli::OptionValues command_line;
+  for (auto& [name, value] : cli::GivenOptionValues(app)) {
+    if (name == "no-edge-case") {
+      command_line["edge-case"] = cli::OptionValue{"false", value.origin};
+    } else if (cli::StudyOptionKinds().count(name) > 0) {
+      command_line[name] = value;
+    }
+  }
+  cli::OptionValues file_values;
+  if (config_path) {
+    const cli::ConfigFile file = Take(cli::ReadConfigFile(*config_path));
+    file_values = Take(cli::ConfigOptionValues(file));
+  }
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const cli::StudyOptions options =
+      Take(cli::ResolveStudyOptions(cli::MergeOptionValues(file_values, command_line), hardware));
+  if (!options.sweeps.empty()) {
+    throw std::invalid_argument(
+        "parameter sweeps (a list in the study file) are not available with Python approaches; "
+        "run one study per value");
+  }
+  Check(runtime::ApplyLogLevel(options.log));
+  const std::vector<cli::StudyConfiguration> plan = cli::MakeStudyPlan(options);
+  const std::string out = options.out;
+  Check(runtime::PrepareOutputDirectory(out, "out"));
+  const runtime::OutputLock lock = Take(runtime::OutputLock::Acquire(out, "out"));
+  Check(runtime::CheckOutputFiles(out, ExperimentFiles(), "out"));
+  // A study of `dynapath experiment` there would be left with a manifest
+  // that no longer describes its files.
+  if (std::filesystem::exists(std::filesystem::path(out) / "manifest.json")) {
+    throw std::invalid_argument("option --out: " + out +
+                                " holds a study of `dynapath experiment` (manifest.json); give "
+                                "another directory");
+  }
+
+  std::vector<std::string> main_dirs, edge_dirs;
+  std::vector<cli::RepeatFiles> main_repeats, edge_repeats;
+  bool has_edge = false;
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const cli::StudyConfiguration& configuration = plan[i];
+    const std::string directory = out + "/" + configuration.Directory();
+    Check(runtime::PrepareOutputDirectory(directory, "out"));
+    spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
+    const runtime::ScenarioSetup setup =
+        Take(runtime::ResolveScenario(cli::ScenarioOptionsOf(configuration)));
+    const runtime::RunPlan run_plan =
+        Take(runtime::ResolveRunOptions(cli::RunOptionsOf(options, configuration, directory)));
+    RunWithPython(run_plan, setup, options.threads, builtin, external);
+    has_edge = has_edge || configuration.edge_case;
+    if (configuration.repeat == 1) {
+      (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
+    }
+    (configuration.edge_case ? edge_repeats : main_repeats)
+        .push_back({directory, configuration.repeat, configuration.seed,
+                    configuration.learner_seed.value_or(configuration.seed)});
+  }
+  const bool repeats = options.repeats > 1;
+  Check(cli::MergeResultFiles(main_dirs, out, ""));
+  if (repeats) Check(cli::WriteRepeatFiles(main_repeats, out, ""));
+  if (has_edge) {
+    Check(cli::MergeResultFiles(edge_dirs, out, "edge_"));
+    if (repeats) Check(cli::WriteRepeatFiles(edge_repeats, out, "edge_"));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- service client
+
+// dynapath.ServiceClient: runtime's client of `dynapath serve` (the one
+// `dynapath query` and `feed` use), so the bus, its authentication trailer
+// and the fragmenting are the C++ ones; liblcm is linked here (Debian 12
+// has no Python LCM binding). Waits release the GIL.
+class PythonServiceClient {
+ public:
+  PythonServiceClient(const std::string& run_id, const std::string& lcm_url,
+                      std::optional<std::string> secret_file, bool insecure,
+                      std::optional<std::string> name) {
+    if (lcm_url.empty()) {
+      throw std::invalid_argument(
+          "lcm_url is required (the service's --lcm-url, e.g. 'udpm://239.255.76.67:7667?ttl=0')");
+    }
+    runtime::ProcessOptions options;
+    options.run_id = run_id;
+    options.lcm_url = lcm_url;
+    options.secret_file = std::move(secret_file);
+    options.insecure = insecure;
+    process_ = Take(runtime::ResolveProcessOptions(options, true));
+    source_ = name ? *name : "python-" + std::to_string(getpid());
+    if (source_.empty() || source_.size() > 64) {
+      throw std::invalid_argument("client must be 1-64 characters, got '" + source_ + "'");
+    }
+    client_ =
+        Take(runtime::ServiceClient::Open(process_, source_, runtime::ServiceClient::kRepliesOnly));
+  }
+
+  // One path per start: a dict as `dynapath query --json` prints it.
+  py::list Query(const std::vector<std::pair<int32_t, int32_t>>& starts, double timeout) {
+    if (starts.empty()) throw std::invalid_argument("query needs at least one start (row, col)");
+    if (starts.size() > 65536) throw std::invalid_argument("at most 65536 starts per query");
+    const path_reply_t reply = Ask(starts, timeout);
+    if (reply.refused != path_reply_t::ACCEPTED) {
+      throw std::runtime_error(
+          reply.refused == path_reply_t::NOT_READY
+              ? "the service has no policy yet (still training its first) after timeout"
+              : "the service refused the query: more starts than its --max-starts (64 by "
+                "default); ask in smaller batches");
+    }
+    py::list paths;
+    for (int i = 0; i < reply.num_starts; ++i) {
+      py::array_t<int32_t> cells({static_cast<py::ssize_t>(reply.path_cells[i]), py::ssize_t{2}});
+      auto view = cells.mutable_unchecked<2>();
+      for (int k = 0; k < reply.path_cells[i]; ++k) {
+        const size_t at = static_cast<size_t>(reply.path_offset[i] + k);
+        view(k, 0) = reply.path_rows[at];
+        view(k, 1) = reply.path_cols[at];
+      }
+      py::dict path;
+      path["start"] = py::make_tuple(reply.start_rows[i], reply.start_cols[i]);
+      path["status"] = RouteStatusName(static_cast<RouteStatus>(reply.status[i]));
+      path["length"] = reply.length[i];
+      path["path"] = std::move(cells);
+      path["version"] = reply.version;
+      path["step"] = reply.time_step;
+      path["answered_by"] = AnsweredByName(static_cast<AnsweredBy>(reply.answered_by[i]));
+      paths.append(std::move(path));
+    }
+    return paths;
+  }
+
+  // The service's maze fingerprint, approach, version and step.
+  py::dict Probe(double timeout) {
+    const path_reply_t reply = Ask({}, timeout);
+    if (reply.refused == path_reply_t::NOT_READY) {
+      throw std::runtime_error("the service has no policy yet (still training its first)");
+    }
+    py::dict info;
+    info["maze_fingerprint"] = FingerprintText(static_cast<uint64_t>(reply.maze_fingerprint));
+    info["approach"] = reply.approach;
+    info["version"] = reply.version;
+    info["step"] = reply.time_step;
+    return info;
+  }
+
+  // Publishes one obstacle update (the cells `blocked` become obstacles,
+  // `freed` free), made for the service's maze; returns its sequence number.
+  int64_t Update(const std::vector<std::pair<int32_t, int32_t>>& blocked,
+                 const std::vector<std::pair<int32_t, int32_t>>& freed, double timeout) {
+    if (blocked.empty() && freed.empty()) throw std::invalid_argument("an update changes no cell");
+    if (blocked.size() + freed.size() > static_cast<size_t>(protocol::kMaxGridCells)) {
+      throw std::invalid_argument("too many cells in one update");
+    }
+    if (!fingerprint_) fingerprint_ = static_cast<uint64_t>(Ask({}, timeout).maze_fingerprint);
+    obstacle_update_t update{};
+    update.run_id = process_.run_id;
+    update.source = source_;
+    update.sequence = ++sequence_;
+    update.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
+    update.maze_fingerprint = static_cast<int64_t>(*fingerprint_);
+    for (const auto& [cells, state] : {std::pair{&blocked, obstacle_update_t::OBSTACLE},
+                                       std::pair{&freed, obstacle_update_t::FREE}}) {
+      for (const auto& [row, col] : *cells) {
+        update.rows.push_back(row);
+        update.cols.push_back(col);
+        update.states.push_back(state);
+      }
+    }
+    update.num_cells = static_cast<int32_t>(update.rows.size());
+    client_->bus().Publish(protocol::channel::kMapUpdates, update);
+    return update.sequence;
+  }
+
+  // Probes until the service's policy is of time step `step` or later;
+  // returns the step.
+  int WaitForStep(int step, double timeout) {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(timeout));
+    while (true) {
+      const double left =
+          std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+      if (left <= 0) break;
+      const path_reply_t reply = Ask({}, left);
+      if (reply.refused != path_reply_t::NOT_READY && reply.time_step >= step) {
+        return reply.time_step;
+      }
+      py::gil_scoped_release release;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    throw std::runtime_error("the service did not reach time step " + std::to_string(step) +
+                             " within the timeout");
+  }
+
+ private:
+  // A reply (NOT_READY only when the timeout ran out before a policy), or
+  // an error; a second service answering differently is an error too.
+  path_reply_t Ask(const std::vector<std::pair<int32_t, int32_t>>& starts, double timeout) {
+    if (!(timeout > 0)) throw std::invalid_argument("timeout must be > 0 seconds");
+    std::optional<path_reply_t> reply;
+    std::optional<std::string> two;
+    {
+      py::gil_scoped_release release;
+      reply = client_->Ask(starts, timeout);
+      if (reply && !checked_second_) {
+        two = client_->SecondService();
+        checked_second_ = true;
+      }
+    }
+    if (!reply) {
+      throw std::runtime_error("no reply from a service of run " + process_.run_id +
+                               " within the timeout (" + std::to_string(timeout) + " s)");
+    }
+    if (two) throw std::runtime_error(*two);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return *reply;
+  }
+
+  runtime::ProcessSetup process_;
+  std::string source_;
+  std::unique_ptr<runtime::ServiceClient> client_;
+  std::optional<uint64_t> fingerprint_;
+  int64_t sequence_ = 0;
+  bool checked_second_ = false;  // whether a second service was looked for (first reply)
+};
 
 // BFS Oracle's exact distances (core's NearestStationDistances) of a
 // (rows, cols) grid of cell codes: int32, -1 where no station is reachable.
@@ -927,7 +1254,19 @@ baselines : numpy.ndarray of float64
       },
       py::arg("path"), py::arg("sections"));
   m.def("run", &Run, py::arg("maze"), py::arg("args"), py::arg("builtin"), py::arg("external"));
+  m.def("cli_run", &CliRun, py::arg("args"), py::arg("builtin"), py::arg("external"));
+  m.def("experiment", &Experiment, py::arg("args"), py::arg("builtin"), py::arg("external"));
   m.def("bfs_distances", &BfsDistances, py::arg("grid"));
+  py::class_<PythonServiceClient>(m, "ServiceClientCore")
+      .def(py::init<const std::string&, const std::string&, std::optional<std::string>, bool,
+                    std::optional<std::string>>(),
+           py::arg("run_id"), py::arg("lcm_url"), py::arg("secret_file"), py::arg("insecure"),
+           py::arg("client"))
+      .def("query", &PythonServiceClient::Query, py::arg("starts"), py::arg("timeout"))
+      .def("probe", &PythonServiceClient::Probe, py::arg("timeout"))
+      .def("update", &PythonServiceClient::Update, py::arg("blocked"), py::arg("freed"),
+           py::arg("timeout"))
+      .def("wait_for_step", &PythonServiceClient::WaitForStep, py::arg("step"), py::arg("timeout"));
   m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),
         py::arg("repeats"));
   m.def(

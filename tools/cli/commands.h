@@ -40,6 +40,13 @@ int SiblingCommand(const std::string& tool, const std::vector<std::string>& args
 int RunSibling(const std::string& tool, const std::vector<std::string>& args,
                const std::string& missing_hint);
 
+// True when --approach (`option`) names a Python approach (py:MODULE:CLASS).
+bool NamesPythonApproach(const std::vector<std::string>& args, const std::string& option);
+// Replaces this process with `python3 -m dynapath COMMAND ARGS` of the
+// Python module built alongside (tools/cli/python_handoff.cc); when it was
+// not built, one error and kExitUsage.
+int PythonCommand(const std::string& command, const std::vector<std::string>& args);
+
 // Exit codes: 0 success, 1 run-time failure, 2 bad usage, 130 interrupted.
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;

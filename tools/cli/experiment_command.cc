@@ -602,12 +602,8 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   runtime::OptionGroup group(app);
   StudyCommandLine given;
   DeclareStudyCommandLine(group, given);
-  // The study file is TOML read by toml++ (study_config.h), so that its
-  // errors name the line; CLI11's own --config would not.
   std::optional<std::string> config_path;
-  group.Option("--config", config_path, "FILE",
-               "read options from a TOML file (key = value, same names); the command line "
-               "overrides it");
+  DeclareStudyConfigOption(group, config_path);
   bool force = false;
   group.Flag("--force", force, "start over: delete the results of the study already in DIR");
   if (int code = runtime::ParseCommandLine(app, args, "dynapath experiment"); code >= 0) {

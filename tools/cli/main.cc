@@ -60,6 +60,11 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "maze") return dynapath::cli::MazeCommand(args);
+  // An approach written in Python: the Python module runs it (python_handoff.cc).
+  if ((command == "run" && dynapath::cli::NamesPythonApproach(args, "--approach")) ||
+      (command == "experiment" && dynapath::cli::NamesPythonApproach(args, "--approaches"))) {
+    return dynapath::cli::PythonCommand(command, args);
+  }
   if (command == "run") return dynapath::cli::RunCommand(args);
   // Single-threaded too (--agents enters a private network namespace).
   if (command == "experiment") return dynapath::cli::ExperimentCommand(args);

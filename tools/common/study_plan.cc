@@ -194,6 +194,12 @@ void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>&
                default_text);
 }
 
+void DeclareStudyConfigOption(runtime::OptionGroup& group, std::optional<std::string>& path) {
+  group.Option("--config", path, "FILE",
+               "read options from a TOML file (key = value, same names); the command line "
+               "overrides it");
+}
+
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   using runtime::ValueKind;
   group.List("--sizes", o.sizes, ValueKind::kIntegerList, "LIST",
@@ -202,7 +208,10 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
              "comma-separated difficulties: " + runtime::DifficultyWords().List(),
              kDefaultDifficulties);
   group.List("--approaches", o.approaches, ValueKind::kStringList, "LIST",
-             "comma-separated approaches: " + ApproachNamesText() + "; or all", kAllApproaches);
+             "comma-separated approaches: " + ApproachNamesText() +
+                 "; or all; py:MODULE:CLASS is one written in Python (--local, no manifest; "
+                 "docs/howto/PYTHON.md)",
+             kAllApproaches);
   group.Flag("--edge-case", o.edge_case,
              "also run the report's edge case, the hard 50x50 maze of seed 102 (default: on)");
   group.Flag("--no-edge-case", o.no_edge_case, "leave the edge case out");

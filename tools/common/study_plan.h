@@ -116,6 +116,10 @@ struct StudyCommandLine {
   runtime::LogOptions log;
 };
 void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& options);
+// --config FILE of a study (`dynapath experiment`, dynapath.experiment): a
+// TOML study file read by toml++ (study_config.h), so that its errors name
+// the line (CLI11's own --config would not); the command line overrides it.
+void DeclareStudyConfigOption(runtime::OptionGroup& group, std::optional<std::string>& path);
 // --repeats N, of `dynapath experiment` and `dynapath run` (which runs its
 // repeats in DIR/r<k>).
 void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>& repeats,
