@@ -12,27 +12,6 @@
 namespace dynapath {
 namespace {
 
-// The grid's moves with one goal cell as the only source.
-class GoalMoves {
- public:
-  GoalMoves(const Grid& grid, int goal) : moves_(grid), grid_(grid), goal_(goal) {}
-  int size() const { return grid_.size(); }
-  bool IsBlocked(int v) const { return grid_.at(v) == Cell::kObstacle; }
-  bool IsSource(int v) const { return v == goal_; }
-  template <class F>
-  void ForEachSuccessor(int v, F f) const {
-    moves_.ForEachSuccessor(v, f);
-  }
-  template <class F>
-  void ForEachPredecessor(int u, F f) const {
-    moves_.ForEachSuccessor(u, f);
-  }
-
- private:
-  GridMoves moves_;
-  const Grid& grid_;
-  int goal_;
-};
 
 constexpr int32_t kFar = 1 << 30;  // the key of a cell with no distance
 

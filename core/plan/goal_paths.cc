@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/plan/dynamic_distances.h"
+#include "core/plan/incremental_oracle.h"
 
 namespace dynapath {
 namespace {
@@ -16,31 +17,6 @@ namespace {
 constexpr int kDr[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
 constexpr int kDc[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
-// The grid's moves with one source, the goal.
-class GoalMoves {
- public:
-  GoalMoves(const Grid& grid, int goal) : grid_(grid), goal_(goal) {}
-  int size() const { return grid_.size(); }
-  bool IsBlocked(int v) const { return grid_.at(v) == Cell::kObstacle; }
-  bool IsSource(int v) const { return v == goal_; }
-  template <class F>
-  void ForEachSuccessor(int v, F f) const {
-    const int cols = grid_.cols();
-    const int row = v / cols, col = v % cols;
-    for (int a = 0; a < 8; ++a) {
-      const int r = row + kDr[a], c = col + kDc[a];
-      if (grid_.InBounds(r, c)) f(r * cols + c);
-    }
-  }
-  template <class F>
-  void ForEachPredecessor(int u, F f) const {
-    ForEachSuccessor(u, f);
-  }
-
- private:
-  const Grid& grid_;
-  int goal_;
-};
 
 int32_t Chebyshev(int r0, int c0, int r1, int c1) {
   return std::max(std::abs(r0 - r1), std::abs(c0 - c1));

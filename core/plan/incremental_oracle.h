@@ -45,6 +45,29 @@ class GridMoves {
   const Grid& grid_;
 };
 
+// The grid's moves with one cell, a goal, as the only source: the moves of
+// goal-rooted distance fields (the fleet's and the goal service's).
+class GoalMoves {
+ public:
+  GoalMoves(const Grid& grid, int goal) : moves_(grid), grid_(grid), goal_(goal) {}
+  int size() const { return grid_.size(); }
+  bool IsBlocked(int v) const { return grid_.at(v) == Cell::kObstacle; }
+  bool IsSource(int v) const { return v == goal_; }
+  template <class F>
+  void ForEachSuccessor(int v, F f) const {
+    moves_.ForEachSuccessor(v, f);
+  }
+  template <class F>
+  void ForEachPredecessor(int u, F f) const {
+    moves_.ForEachSuccessor(u, f);
+  }
+
+ private:
+  GridMoves moves_;
+  const Grid& grid_;
+  int goal_;
+};
+
 class IncrementalOraclePlanner : public Planner {
  public:
   StepDetails Initialize(const Grid& grid) override;
