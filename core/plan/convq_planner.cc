@@ -3,6 +3,7 @@
 #include <array>
 
 #include "core/plan/approach_registry.h"
+#include "core/plan/learning_planner.h"
 #include "dynapath/mdp.h"
 
 namespace dynapath {
@@ -67,34 +68,9 @@ PolicyScore ConvQPlanner::Evaluate(const Grid& grid) {
   return evaluation_.Score(grid, table_, tree_->root());
 }
 
-namespace {
-
-int8_t ConvQActionTo(int cell, int32_t target, int cols) {
-  if (target < 0) return -1;
-  const int dr = target / cols - cell / cols, dc = target % cols - cell % cols;
-  for (int a = 0; a < kNumActions; ++a) {
-    if (kActionRowOffset[a] == dr && kActionColOffset[a] == dc) return static_cast<int8_t>(a);
-  }
-  return -1;
-}
-
-}  // namespace
-
 bool ConvQPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
   const std::vector<int32_t>& depth = evaluation_.Depths(grid, table_);
-  const std::vector<int32_t>& successors = evaluation_.Successors(grid, table_);
-  const int cols = grid.cols();
-  picture.actions.assign(static_cast<size_t>(grid.size()), -1);
-  picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
-  picture.second.assign(static_cast<size_t>(grid.size()), -1);
-  picture.depth = depth;
-  for (int cell = 0; cell < grid.size(); ++cell) {
-    if (grid.at(cell) == Cell::kObstacle) continue;
-    picture.reaches[cell] = depth[cell] == kNoPath ? 0 : 1;
-    if (grid.at(cell) == Cell::kStation) continue;
-    picture.actions[cell] = ConvQActionTo(cell, successors[2 * static_cast<size_t>(cell)], cols);
-    picture.second[cell] = ConvQActionTo(cell, successors[2 * static_cast<size_t>(cell) + 1], cols);
-  }
+  PictureFromSuccessors(grid, depth, evaluation_.Successors(grid, table_), picture);
   return true;
 }
 

@@ -12,7 +12,6 @@
 namespace dynapath {
 namespace {
 
-
 constexpr int32_t kFar = 1 << 30;  // the key of a cell with no distance
 
 }  // namespace

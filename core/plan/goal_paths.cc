@@ -17,7 +17,6 @@ namespace {
 constexpr int kDr[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
 constexpr int kDc[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
-
 int32_t Chebyshev(int r0, int c0, int r1, int c1) {
   return std::max(std::abs(r0 - r1), std::abs(c0 - c1));
 }

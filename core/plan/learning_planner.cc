@@ -136,12 +136,8 @@ int8_t ActionTo(int cell, int32_t target, int cols) {
 
 }  // namespace
 
-bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
-  grid_ = &grid;
-  const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
-  // The evaluation keeps every cell's two best actions as their targets:
-  // reading them back is the table's TopTwoActions without its values.
-  const std::vector<int32_t>& successors = evaluation_.Successors(grid, root_->table());
+void PictureFromSuccessors(const Grid& grid, const std::vector<int32_t>& depth,
+                           const std::vector<int32_t>& successors, PolicyPicture& picture) {
   const int cols = grid.cols();
   picture.actions.assign(static_cast<size_t>(grid.size()), -1);
   picture.reaches.assign(static_cast<size_t>(grid.size()), -1);
@@ -154,6 +150,12 @@ bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
     picture.actions[cell] = ActionTo(cell, successors[2 * static_cast<size_t>(cell)], cols);
     picture.second[cell] = ActionTo(cell, successors[2 * static_cast<size_t>(cell) + 1], cols);
   }
+}
+
+bool LearningPlanner::Picture(const Grid& grid, PolicyPicture& picture) {
+  grid_ = &grid;
+  const std::vector<int32_t>& depth = evaluation_.Depths(grid, root_->table());
+  PictureFromSuccessors(grid, depth, evaluation_.Successors(grid, root_->table()), picture);
   return true;
 }
 

@@ -11,6 +11,13 @@
 
 namespace dynapath {
 
+// A policy's picture from the incremental evaluation of its table: each
+// cell's depth, and its two best actions read back from the successors the
+// evaluation keeps (two a cell), which is the table's TopTwoActions without
+// its values. Shared by every planner whose policy is a Q-table.
+void PictureFromSuccessors(const Grid& grid, const std::vector<int32_t>& depth,
+                           const std::vector<int32_t>& successors, PolicyPicture& picture);
+
 class LearningPlanner : public Planner, private TrainingContext {
  public:
   // `approach` must be registered with a learner (IsLearningApproach).
