@@ -50,11 +50,13 @@ for step in "${steps[@]}"; do
       # the study scripts whose C++ is the study driver that
       # experiment_end_to_end runs under ASan (repeats, params.toml reruns,
       # the reproduction report): their files and statistics are the release
-      # build's to check, their parsers are fuzzed and unit-tested here.
+      # build's to check, their parsers are fuzzed and unit-tested here. Nor
+      # the web tests' clients (web_*: headless Chromium, Node.js): the
+      # server's unit tests (web.*) run here.
       # Twice as many tests as cores: the end-to-end scripts spend much of
       # their time waiting (process start-up, pauses, timeouts), not computing.
       ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
-        -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end|web_.*|web\..*)$' \
+        -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end|web_.*)$' \
         | tee build-asan/ctest.log
       echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
       ;;
