@@ -45,7 +45,7 @@ struct Options {
   std::fprintf(stderr,
                "fleet_bench: %s\n"
                "usage: fleet_bench [--maze FILE --stations N|P%% --movers N|P%% | --size N "
-               "--difficulty easy|medium|hard] [--seed S] [--robots N] [--ticks T] [--goals G] "
+               "--difficulty easy|medium|hard] [--seed S] [--robots N] [--ticks T] [--goal-count G] "
                "[--delay-prob P] [--threads K] [--modes both|pibt|ignore]\n",
                why.c_str());
   std::exit(2);
@@ -86,7 +86,7 @@ Options Parse(int argc, char** argv) {
       o.robots = Integer(name, value, 1, 1000000);
     } else if (name == "--ticks") {
       o.ticks = Integer(name, value, 1, 1000000);
-    } else if (name == "--goals") {
+    } else if (name == "--goal-count") {
       o.goals = Integer(name, value, 1, 4096);
     } else if (name == "--threads") {
       o.threads = Integer(name, value, 1, 64);

@@ -101,7 +101,10 @@ std::vector<Crafted> CraftedMessages(const MessageType& type) {
   SchemaEncoder encoder(11);
   const int64_t counts[] = {
       -1, int64_t{1} << 29, int64_t{1} << 30, 0x7fffffff, 0x7ffffff8, -0x7fffffff - 1, 100000};
-  const int64_t lengths[] = {0, -1, 0x7fffffff, 1 << 20, 100};
+  // 1000: under the string limit but past the end of any crafted message
+  // (each is < 1 KB); a shorter one can end inside a message of many fields
+  // after the string (goal_reply_t) on a zero byte taken for its NUL.
+  const int64_t lengths[] = {0, -1, 0x7fffffff, 1 << 20, 1000};
   for (int t = 0; t < SchemaTypeCount(); ++t) {
     const schema::Type& holder = SchemaTypes()[t];
     if (!SchemaEncoder::Contains(top, &holder)) continue;

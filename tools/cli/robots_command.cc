@@ -49,7 +49,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
   CLI::App app(
       "A simulated fleet in closed loop with a running `dynapath serve`: --robots N\n"
       "robots start on distinct seeded free cells that can reach a station and run\n"
-      "lifelong tasks: reach a station, then a goal of a pool of --goals cells drawn from\n"
+      "lifelong tasks: reach a station, then a goal of a pool of --goal-count cells drawn from\n"
       "--robot-seed, then a station again, and so on. On the way to a station a robot\n"
       "asks the service for a path and prefers its next cell; on the way to a goal it\n"
       "follows the fleet's own exact distance field of the goal. Each tick makes one\n"
@@ -81,7 +81,7 @@ int RobotsCommand(const std::vector<std::string>& args) {
   group.Option("--robot-seed", robot_seed, "S",
                "seed of the robots' start cells, goals, priorities and delays");
   long long goals = 16;
-  group.Option("--goals", goals, "G", "goal cells of the tasks, drawn from --robot-seed (1-1024)");
+  group.Option("--goal-count", goals, "G", "goal cells of the tasks, drawn from --robot-seed (1-1024)");
   double delay_prob = 0;
   group.Option("--delay-prob", delay_prob, "P",
                "each move fails with probability P (0-0.9; seeded): the robot stays and so do "
