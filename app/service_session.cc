@@ -60,10 +60,23 @@ Result<ServicePlan> PlanService(const ServiceOptions& options) {
   Result<runtime::RunPlan> run = runtime::ResolveRunOptions(options.run);
   if (!run) return run.error();
   plan.run = std::move(*run);
-  if (plan.run.approaches.size() != 1 || (!IsLearningApproach(plan.run.approaches[0]) &&
-                                          plan.run.approaches[0] != Approach::kIncrementalOracle)) {
-    return OptionError("--approach must name one learning approach or Incremental Oracle",
+  if (plan.run.approaches.size() != 1 ||
+      (!IsLearningApproach(plan.run.approaches[0]) && plan.run.approaches[0] != Approach::kConvQ &&
+       plan.run.approaches[0] != Approach::kIncrementalOracle)) {
+    return OptionError("--approach must name one learning approach, convQ or Incremental Oracle",
                        "approach");
+  }
+  // convQ trains nothing (its model settles on the map in this process):
+  // agents would only idle.
+  if (plan.run.approaches[0] == Approach::kConvQ && on_agents) {
+    return OptionError(
+        "convQ trains nothing, so it has no work for agents: serve it without --agents and "
+        "--embedded (it settles on the map in this process)",
+        "agents");
+  }
+  if (!plan.run.model_path.empty() && plan.run.approaches[0] != Approach::kConvQ) {
+    return OptionError("--model is convQ's model file: give --approach convQ, or leave it out",
+                       "model");
   }
   if (!plan.run.policy.save_path.empty() || options.save_at_given) {
     return OptionError(

@@ -14,6 +14,9 @@
 #    processes only), which stop with it within a second.
 #    A second service of the same run id refuses to start, naming the
 #    first's maze fingerprint.
+#    convQ with its model file: its replies (--answer learned) have the
+#    optimum's lengths and its steps equal run --local's; on agents it is
+#    refused.
 # 3. Bad input, all from the network: an unauthenticated sender, stale
 #    sequence numbers, a request with too many starts. Each is dropped or
 #    refused and counted; a feed made for another maze is refused by its
@@ -72,8 +75,9 @@ else
   fail "query: $(cat "$work/q0.log")"
 fi
 "$dynapath" query "${auth[@]}" --from 25,3 --from -1,2 --json >"$work/q1.json" 2>&1
-check_replies() {  # check_replies JSON MAZE: every path valid, optimum respected
-  python3 - "$1" "$2" <<'PY'
+check_replies() {  # check_replies JSON MAZE [optimal]: every path valid, optimum respected
+  # (with `optimal`: every path the policy's and of the optimum's length)
+  python3 - "$@" <<'PY'
 import json, sys
 from collections import deque
 rows = [l for l in open(sys.argv[2]).read().split("\n") if l and not l.startswith(";")]
@@ -109,6 +113,8 @@ for line in open(sys.argv[1]):
     ok = ok and all(max(abs(a[0]-b[0]), abs(a[1]-b[1])) == 1 for a, b in zip(p, p[1:]))
     ok = ok and o["length"] >= dist[s] and o["answered_by"] in ("learned", "exact")
     ok = ok and o["version"] >= 1 and o["step"] == 0
+    if len(sys.argv) > 3:
+        ok = ok and o["length"] == dist[s] and o["answered_by"] == "learned"
     if not ok: print("bad reply:", o); bad += 1
 sys.exit(1 if bad else 0)
 PY
@@ -224,8 +230,8 @@ grep -Eq 'refused 1 too many starts' <<<"$summary" || fail "the refused request 
 grep -q 'query latency' <<<"$summary" || fail "no latency figures printed"
 
 # The first 1 + steps rows (the lock-step part) against run's.
-same_steps() {  # same_steps SERVED_DIR
-python3 - "$work/run/results_detailed.csv" "$1/results_detailed.csv" "$steps" <<'PY'
+same_steps() {  # same_steps SERVED_DIR [RUN_DIR]
+python3 - "${2:-$work/run}/results_detailed.csv" "$1/results_detailed.csv" "$steps" <<'PY'
 
 import csv, sys
 run = list(csv.DictReader(open(sys.argv[1])))
@@ -284,6 +290,35 @@ for mode in "${agent_modes[@]}"; do
     fail "serve $mode: the steps differ from run --local's"
   fi
 done
+
+# 2c. convQ (its model file given): nothing trained, the policy committed at
+# once; its replies (--answer learned) are the optimum's lengths, and every
+# lock-step step equals run --local's. On agents it is refused.
+model=$(dirname "$0")/../docs/examples/models/convq.model
+"$dynapath" run --local --maze "$work/maze.txt" --changes "$work/changes.txt" --approach convQ \
+  --out "$work/runq" >/dev/null 2>"$work/runq.log" || fail "run convQ: $(tail -2 "$work/runq.log")"
+"$dynapath" serve --run-id convq-$$ --secret-file "$work/key" --maze "$work/maze.txt" \
+  --changes "$work/changes.txt" --approach convQ --model "$model" --answer learned --threads 1 \
+  --out "$work/convq" >"$work/convq.out" 2>"$work/convq.log" &
+server_pid=$!
+if "$dynapath" query --run-id convq-$$ --secret-file "$work/key" "${starts[@]}" --json \
+     --timeout 60 >"$work/qq.json" 2>"$work/qq.log" &&
+   [ "$(wc -l <"$work/qq.json")" -eq 8 ] && check_replies "$work/qq.json" "$work/maze.txt" optimal; then
+  pass "convQ: 8 replies from its policy, each of the optimum's length"
+else
+  fail "convQ replies: $(cat "$work/qq.json" "$work/qq.log")"
+fi
+"$dynapath" feed --run-id convq-$$ --secret-file "$work/key" --maze "$work/maze.txt" \
+  --changes "$work/changes.txt" --source lockstep --timeout 60 >/dev/null 2>"$work/convq.feed" ||
+  fail "convQ: feed: $(tail -2 "$work/convq.feed")"
+stop_server "convQ: serve" "$work/convq.log"
+if same_steps "$work/convq" "$work/runq" && grep -q ' 0 retrainings' "$work/convq.out"; then
+  pass "serve convQ: every step equals run --local's, no retraining"
+else
+  fail "serve convQ: the steps differ from run --local's: $(cat "$work/convq.out")"
+fi
+refused "convQ on agents" "convQ trains nothing" \
+  "$dynapath" serve --run-id convq-$$ --secret-file "$work/key" --agents 2 --approach convQ "${maze[@]}"
 
 # 5. A robot fleet in closed loop on a small map arrives.
 small=(--size 16 --difficulty hard --seed 5 --steps 30)

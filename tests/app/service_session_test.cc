@@ -6,8 +6,12 @@
 #include <filesystem>
 #include <thread>
 
+#include "dynapath/convq_model.h"
+
 namespace dynapath::app {
 namespace {
+
+constexpr const char* kShippedModel = DYNAPATH_SOURCE_DIR "/docs/examples/models/convq.model";
 
 // A small service: hard 12x12 maze, in process, on memq:// (no network).
 ServiceOptions SmallService() {
@@ -37,6 +41,18 @@ TEST(PlanService, TakesTheOptionsAsTyped) {
   EXPECT_FALSE(plan->write_results);
 }
 
+// convQ is served with its model (--model's, else the built-in one).
+TEST(PlanService, ServesConvQWithItsModel) {
+  ServiceOptions options = SmallService();
+  options.run.approach = "convQ";
+  options.run.model = kShippedModel;
+  Result<ServicePlan> plan = PlanService(options);
+  ASSERT_TRUE(plan) << plan.error().message;
+  EXPECT_EQ(plan->config.approach, Approach::kConvQ);
+  ASSERT_NE(plan->config.options.convq_model, nullptr);
+  EXPECT_EQ(*plan->config.options.convq_model, ShippedConvQModel());
+}
+
 // Each bad option: one error, kInvalidArgument, naming the option.
 TEST(PlanService, NamesTheOptionOfEachError) {
   struct Case {
@@ -52,6 +68,18 @@ TEST(PlanService, NamesTheOptionOfEachError) {
       {"policy-every", [](ServiceOptions& o) { o.policy_every = -1; }},
       {"policy-gap", [](ServiceOptions& o) { o.policy_gap = 4000; }},
       {"save-policy", [](ServiceOptions& o) { o.save_at_given = true; }},
+      // convQ trains nothing: no agents for it; --model is convQ's only.
+      {"agents",
+       [](ServiceOptions& o) {
+         o.run.approach = "convQ";
+         o.mode.agents = 2;
+       }},
+      {"agents",
+       [](ServiceOptions& o) {
+         o.run.approach = "convQ";
+         o.mode.embedded = true;
+       }},
+      {"model", [](ServiceOptions& o) { o.run.model = kShippedModel; }},
   };
   for (const Case& c : cases) {
     ServiceOptions options = SmallService();

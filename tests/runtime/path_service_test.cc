@@ -266,5 +266,78 @@ TEST(PathService, ProbesAreCountedApartFromStarts) {
   EXPECT_TRUE(service.Stop().ok());
 }
 
+// convQ served: no training (its model settles on the map), each update
+// re-settled around the changed cells (Adapt, no interim commit). With the
+// shipped weights its policy is the optimum (as convQ's planner and end-to-
+// end tests assert), so every learned reply has the Incremental Oracle's
+// exact length, and every step scores as a run of convQ.
+TEST(PathService, ConvQAnswersWithTheOraclesLengths) {
+  const unsigned seed = 7;
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, seed, 5);
+  ThreadPool pool(1);
+  LocalTrainer trainer(pool);
+  PlannerOptions options;
+  options.run_seed = seed;
+  const ApproachRun run = RunApproach(scenario, Approach::kConvQ, options, &trainer, RunLabels{});
+
+  ServiceConfig learned_config = Config(scenario, seed, 1000);
+  learned_config.approach = Approach::kConvQ;
+  learned_config.answer = AnswerMode::kLearned;
+  ServiceConfig exact_config = Config(scenario, seed, 1000);
+  exact_config.approach = Approach::kIncrementalOracle;
+  exact_config.answer = AnswerMode::kExact;
+  PathService convq(scenario.grid, learned_config);
+  PathService oracle(scenario.grid, exact_config);
+  convq.Start();
+  oracle.Start();
+  ASSERT_TRUE(convq.WaitForVersion(1, kWait));
+  ASSERT_TRUE(oracle.WaitForVersion(1, kWait));
+  int reached = 0;
+  for (size_t t = 0; t <= scenario.changes.steps.size(); ++t) {
+    if (t > 0) {
+      const MapUpdate update = UpdateOf(scenario.changes.steps[t - 1], static_cast<int64_t>(t));
+      ASSERT_FALSE(convq.Submit(update));
+      ASSERT_FALSE(oracle.Submit(update));
+      ASSERT_TRUE(convq.WaitForStep(static_cast<int>(t), kWait));
+      ASSERT_TRUE(oracle.WaitForStep(static_cast<int>(t), kWait));
+    }
+    const Answer got = convq.Ask(AllCells(scenario.grid));
+    const Answer want = oracle.Ask(AllCells(scenario.grid));
+    ASSERT_EQ(got.refused, Answer::kAccepted);
+    ASSERT_EQ(want.refused, Answer::kAccepted);
+    ASSERT_EQ(got.snapshot->time_step, static_cast<int>(t));
+    ASSERT_EQ(got.snapshot->grid, want.snapshot->grid);
+    ASSERT_EQ(got.routes.size(), want.routes.size());
+    for (size_t i = 0; i < got.routes.size(); ++i) {
+      const Route& route = got.routes[i];
+      EXPECT_TRUE(ValidOn(got.snapshot->grid, route));
+      // The same starts reached, at the same lengths (where no station can
+      // be reached the policy's route fails its own way: loops, say).
+      EXPECT_EQ(route.status == RouteStatus::kReached,
+                want.routes[i].status == RouteStatus::kReached)
+          << "step " << t << ", start " << i;
+      EXPECT_EQ(route.length, want.routes[i].length) << "step " << t << ", start " << i;
+      if (route.status == RouteStatus::kReached) {
+        EXPECT_EQ(route.answered_by, AnsweredBy::kLearned);
+        ++reached;
+      }
+    }
+  }
+  EXPECT_GT(reached, 0);
+  Result<ApproachRun> served = convq.Stop();
+  ASSERT_TRUE(served.ok());
+  ASSERT_TRUE(oracle.Stop().ok());
+  ASSERT_EQ(served->steps.size(), run.steps.size());
+  for (size_t t = 0; t < run.steps.size(); ++t) {
+    EXPECT_EQ(served->steps[t].success_rate, run.steps[t].success_rate) << "step " << t;
+    EXPECT_EQ(served->steps[t].average_path_length, run.steps[t].average_path_length);
+    EXPECT_EQ(served->steps[t].nodes_trained, 0);
+  }
+  const ServiceStats stats = convq.stats();
+  EXPECT_EQ(stats.interim_commits, 0);
+  EXPECT_EQ(stats.retrainings, 0);
+  EXPECT_EQ(stats.commits, static_cast<int64_t>(run.steps.size()));
+}
+
 }  // namespace
 }  // namespace dynapath::runtime

@@ -28,7 +28,8 @@ constexpr double kOtherServiceSeconds = 0.5;
 int ServeCommand(const std::vector<std::string>& args) {
   CLI::App app(
       "Serves paths to stations over LCM while the map changes: loads the maze, trains\n"
-      "one approach on it (or takes over --load-policy's policy), then\n"
+      "one approach on it (or takes over --load-policy's policy; convQ trains nothing:\n"
+      "its model, --model, settles on the map and re-settles around each change), then\n"
       "until Ctrl-C or SIGTERM answers path_request_t on DYNAPATH/<run>/PATH_REQUEST\n"
       "from the last committed policy and takes obstacle_update_t on MAP_UPDATES and\n"
       "occupancy_grid_t on MAP_GRID: the updates that arrive while a step trains make\n"
