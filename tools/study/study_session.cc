@@ -173,20 +173,18 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   run.on_step = [&display, approaches](const launch::StepReport& report) {
     display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
   };
-  int code = 0;
+  Status ran = Ok{};
   if (session.mode == StudyMode::kEmbedded) {
     spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                  run.process.run_id, run.agents);
-    code = launch::RunEmbedded(run, *plan, *setup);
+    ran = launch::RunEmbedded(run, *plan, *setup);
   } else {
     spdlog::info("run {}: envsim, coordinator and {} agent processes", run.process.run_id,
                  run.agents);
-    code = launch::LaunchProcesses(run);
+    ran = launch::LaunchProcesses(run);
   }
-  if (code == 0) return Ok{};
-  if (code == 130) return Error::Cancelled();
-  return Error::Unavailable("the run failed (exit status " + std::to_string(code) +
-                            "); see study.log");
+  if (ran || ran.error().IsCancelled()) return ran;
+  return Error::Unavailable("the run failed (" + ran.error().message + "); see study.log");
 }
 
 // The options of the config file `config_path` (if any) overridden by the
