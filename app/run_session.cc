@@ -20,11 +20,11 @@
 namespace dynapath::app {
 namespace {
 
-// A launcher's exit status as the run's outcome (its messages were logged).
-Status OutcomeOfExit(int code) {
-  if (code == 0) return Ok{};
-  if (code == 130) return Error("", Error::Code::kCancelled);
-  if (code == 2) return Error("", Error::Code::kInvalidArgument);
+// A launcher's outcome as the run's (its messages were logged: none here).
+Status Quiet(const Status& outcome) {
+  if (outcome) return Ok{};
+  if (outcome.error().IsCancelled()) return Error("", Error::Code::kCancelled);
+  if (outcome.error().IsInvalidArgument()) return Error("", Error::Code::kInvalidArgument);
   return Error("", Error::Code::kInternal);
 }
 
@@ -240,7 +240,7 @@ Status RunSession::Run(const std::atomic<bool>& stop) {
     if (embedded_) {
       spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                    plan_.process.run_id, run.agents);
-      return OutcomeOfExit(launch::RunEmbedded(run, plan_.run, setup));
+      return Quiet(launch::RunEmbedded(run, plan_.run, setup));
     }
     spdlog::info("run {}: envsim, coordinator and {} agent processes", plan_.process.run_id,
                  run.agents);
@@ -252,7 +252,7 @@ Status RunSession::Run(const std::atomic<bool>& stop) {
           "(to share one, make it with `dynapath secret PATH` and pass --secret-file PATH here "
           "and to them)");
     }
-    return OutcomeOfExit(launch::LaunchProcesses(run));
+    return Quiet(launch::LaunchProcesses(run));
   }
   spdlog::info("maze {} {} ({}), {} time steps, {} approaches, {} threads", setup.labels.size_label,
                setup.labels.difficulty_label, setup.source, setup.scenario.changes.steps.size(),

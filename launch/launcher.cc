@@ -288,7 +288,17 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
   return ProcessNetwork::kPrivate;
 }
 
-int LaunchProcesses(const DistributedRun& run) {
+Status OutcomeOfExit(int exit_status) {
+  if (exit_status == 0) return Ok{};
+  if (exit_status == 130) return Error::Cancelled();
+  return Error("exit status " + std::to_string(exit_status),
+               exit_status == 2 ? Error::Code::kInvalidArgument : Error::Code::kUnavailable);
+}
+
+namespace {
+
+// The processes' run, by exit status (LaunchProcesses).
+int LaunchProcessesExit(const DistributedRun& run) {
   {
     // A value a config file cannot carry fails the run before anything starts.
     runtime::ConfigWriter check;
@@ -467,8 +477,9 @@ int LaunchProcesses(const DistributedRun& run) {
   return exit_code;
 }
 
-int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
-                const runtime::ScenarioSetup& scenario) {
+// The embedded run, by exit status (RunEmbedded).
+int RunEmbeddedExit(const DistributedRun& run, const runtime::RunPlan& plan,
+                    const runtime::ScenarioSetup& scenario) {
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   // One memq:// instance: a second one in this process would hear nothing.
   lcm::LCM lcm("memq://");
@@ -505,6 +516,17 @@ int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
   for (std::thread& thread : threads) thread.join();
   agents.Stop();
   return stop ? 130 : code;
+}
+
+}  // namespace
+
+Status LaunchProcesses(const DistributedRun& run) {
+  return OutcomeOfExit(LaunchProcessesExit(run));
+}
+
+Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                   const runtime::ScenarioSetup& scenario) {
+  return OutcomeOfExit(RunEmbeddedExit(run, plan, scenario));
 }
 
 AgentProcesses::AgentProcesses(AgentLaunch launch) : launch_(std::move(launch)) {}

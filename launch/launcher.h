@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/result.h"
 #include "protocol/bus.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
@@ -141,13 +142,19 @@ class EmbeddedAgents {
   std::vector<std::thread> threads_;
 };
 
+// A run's outcome (LaunchProcesses, RunEmbedded): Ok when it ran to its end;
+// Error::Cancelled() when stopped (Ctrl-C, SIGTERM; exit status 130);
+// otherwise "exit status N" (what went wrong was logged), kInvalidArgument
+// for N = 2 (options a component refused), else kUnavailable.
+Status OutcomeOfExit(int exit_status);
+
 // Starts the processes, waits for the coordinator, stops every child on
-// Ctrl-C or failure. Returns the exit code. With a log file, lcm-logger must
-// be recording before the run starts, and a logger that dies during the run
-// stops it (exit 1, saying how much was recorded).
-int LaunchProcesses(const DistributedRun& run);
+// Ctrl-C or failure. With a log file, lcm-logger must be recording before
+// the run starts, and a logger that dies during the run stops it (exit
+// status 1, saying how much was recorded).
+Status LaunchProcesses(const DistributedRun& run);
 // Runs all components as threads over memq://.
-int RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
-                const runtime::ScenarioSetup& scenario);
+Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                   const runtime::ScenarioSetup& scenario);
 
 }  // namespace dynapath::launch
