@@ -64,7 +64,10 @@ void ConvQValues::Push(int cell) {
 
 void ConvQValues::Propagate(const Grid& grid) {
   while (!queue_.empty()) {
-    const auto [value, cell] = queue_.top();
+    // Named copies, not a structured binding: clang 14 (the fuzz build)
+    // cannot capture a binding in the lambda below.
+    const double value = queue_.top().first;
+    const int cell = queue_.top().second;
     queue_.pop();
     if (value != shifted_[static_cast<size_t>(cell)]) continue;  // stale
     const double offer = move_ * value;
