@@ -254,14 +254,20 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   ASSERT_EQ(reader.Handshake(), "HTTP/1.1 101 Switching Protocols");
   ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 2; }));
   // 300x300 policies whose every cell changes each time: 450 KB deltas
-  // against a 1 MB queue; `reader` reads, `slow` never does.
+  // against a 1 MB queue; `reader` reads, `slow` never does. The next
+  // policy waits until `reader` has 100 KB of the last one, so `reader` is
+  // never a queue behind, however slowly this machine (or a sanitizer) runs.
   std::atomic<bool> stop{false};
+  std::atomic<size_t> read_bytes{0};
   std::thread drain([&] {
-    while (!stop) reader.Read(50);
+    while (!stop) read_bytes += reader.Read(50).size();
   });
   for (int i = 0; i < 200 && server.counters().dropped_slow == 0; ++i) {
+    const size_t before = read_bytes;
     server.Policy(Policy(300, i % 8), 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    WaitFor([&] {
+      return read_bytes >= before + 100'000 || server.counters().dropped_slow > 0;
+    });
   }
   EXPECT_TRUE(WaitFor([&] { return server.counters().dropped_slow == 1; }));
   EXPECT_TRUE(slow.ClosedWithin(10));
