@@ -392,6 +392,12 @@ fi
 "$dynapath" serve --run-id slow-$$ --secret-file "$work/key" --size 150 --difficulty hard \
   --threads 1 --out "$work/interrupted" >/dev/null 2>"$work/interrupted.log" &
 server_pid=$!
+# Its start line first: a background job of this script inherits SIGINT as
+# ignored until serve installs its handler, so an earlier SIGINT is lost.
+for _ in $(seq 600); do
+  grep -q 'serve: run slow' "$work/interrupted.log" 2>/dev/null && break
+  sleep 0.1
+done
 sleep 1
 kill -INT "$server_pid"
 wait "$server_pid"

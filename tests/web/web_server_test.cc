@@ -265,9 +265,7 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   for (int i = 0; i < 200 && server.counters().dropped_slow == 0; ++i) {
     const size_t before = read_bytes;
     server.Policy(Policy(300, i % 8), 0);
-    WaitFor([&] {
-      return read_bytes >= before + 100'000 || server.counters().dropped_slow > 0;
-    });
+    WaitFor([&] { return read_bytes >= before + 100'000 || server.counters().dropped_slow > 0; });
   }
   EXPECT_TRUE(WaitFor([&] { return server.counters().dropped_slow == 1; }));
   EXPECT_TRUE(slow.ClosedWithin(10));

@@ -87,11 +87,14 @@ int ServeCommand(const std::vector<std::string>& args) {
   o.out_given = app.count("--out") > 0;
   Result<app::ServicePlan> plan = app::PlanService(o);
   if (!plan) return fail(Error(plan.error().message));  // every error of the options
-  app::ServiceSession session(std::move(*plan));
-  if (Status opened = session.Open(); !opened) return fail(opened);
+  // Before Open, whose log line tells a script the service has started: a
+  // SIGINT from then on is honoured even where it was inherited as ignored
+  // (a background job of a non-interactive shell).
   const std::atomic<bool>& stop =
       protocol::StopOnSignals("\ndynapath serve: stopping (Ctrl-C again: at once)\n",
                               "\ndynapath serve: stopped at once\n");
+  app::ServiceSession session(std::move(*plan));
+  if (Status opened = session.Open(); !opened) return fail(opened);
   // Before any work: is another service answering this run here? Two
   // would both answer every request (a private network or memq:// has no
   // other process; this one does not answer its own probe).
