@@ -7,6 +7,7 @@
 
 #include "dynapath/ros_map.h"
 #include "dynapath/text_file.h"
+#include "runtime/path_service.h"
 
 namespace dynapath::runtime {
 
@@ -180,14 +181,7 @@ std::string GoalService::Summary(const GoalServiceStats& s) {
                 static_cast<double>(c.cap_bytes) / 1048576.0, static_cast<long long>(c.searches),
                 static_cast<long long>(c.proved_unreachable));
   text += line;
-  std::snprintf(line, sizeof line,
-                "goal latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "
-                "over %lld requests\n",
-                static_cast<double>(s.latency.Quantile(0.5)) / 1000.0,
-                static_cast<double>(s.latency.Quantile(0.99)) / 1000.0,
-                static_cast<double>(s.latency.max()) / 1000.0,
-                static_cast<long long>(s.latency.count()));
-  text += line;
+  text += PathService::LatencyLine("goal", s.latency, "requests");
   return text;
 }
 

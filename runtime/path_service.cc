@@ -338,16 +338,21 @@ std::string PathService::Summary(const ServiceStats& s) {
           " steps of updates, " + std::to_string(s.retrainings) + " retrainings (" +
           std::to_string(s.nodes_trained) + " nodes trained, " + std::to_string(s.interim_commits) +
           " interim commits before them)\n";
-  char latency[160];
-  std::snprintf(latency, sizeof latency,
-                "query latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "
-                "over %lld queries\n",
-                static_cast<double>(s.latency.Quantile(0.5)) / 1000.0,
-                static_cast<double>(s.latency.Quantile(0.99)) / 1000.0,
-                static_cast<double>(s.latency.max()) / 1000.0,
-                static_cast<long long>(s.latency.count()));
-  text += latency;
+  text += LatencyLine("query", s.latency, "queries");
   return text;
+}
+
+std::string PathService::LatencyLine(const char* what, const LatencyHistogram& latency,
+                                     const char* noun) {
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "%s latency (received to reply sent): p50 %.3f ms, p99 %.3f ms, max %.3f ms "
+                "over %lld %s\n",
+                what, static_cast<double>(latency.Quantile(0.5)) / 1000.0,
+                static_cast<double>(latency.Quantile(0.99)) / 1000.0,
+                static_cast<double>(latency.max()) / 1000.0,
+                static_cast<long long>(latency.count()), noun);
+  return line;
 }
 
 }  // namespace dynapath::runtime

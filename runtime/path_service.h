@@ -162,6 +162,10 @@ class PathService {
   const ServiceConfig& config() const { return config_; }
   // Multi-line summary of stats() for the end of a service.
   static std::string Summary(const ServiceStats& stats);
+  // The summary's latency line: "<what> latency (received to reply sent):
+  // p50 .. ms, p99 .. ms, max .. ms over N <noun>\n", from microseconds.
+  static std::string LatencyLine(const char* what, const LatencyHistogram& latency,
+                                 const char* noun);
 
  private:
   class LiveSource;
