@@ -33,6 +33,9 @@ using Ms = std::chrono::milliseconds;
 // while it waits on, up to the cap), or twice our own compute time if longer.
 constexpr int64_t kNudgeMs = 10;
 constexpr int64_t kNudgeCapMs = 250;
+// The longest a round's re-send answers later requests for it (and the
+// interval before a repair round trip is measured).
+constexpr int64_t kResendMs = 20;
 // Rounds of our own shards kept for re-sending (at most kKeptBytes of them,
 // at least two): the coordinator asks for a round it lacks as soon as it
 // sees a later one, by which time the agents may be a few rounds further
@@ -115,8 +118,9 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
                                                options_.coordinator_timeout_seconds + 0.5);
     // Said here too: the agent thread may be inside a long job.
     if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
-      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
-                   options_.id, silent, options_.coordinator_timeout_seconds);
+      spdlog::warn(
+          "agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+          options_.id, silent, options_.coordinator_timeout_seconds);
     }
     if (verdict == Verdict::kGone) {
       spdlog::error("agent {}: the coordinator is gone; exiting", options_.id);
@@ -155,14 +159,16 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
       announced = true;
     }
     // Checked first: a pause of our own resets the coordinator's silence.
-    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
-                                               options_.coordinator_timeout_seconds);
+    const Verdict verdict =
+        coordinator_.Check(options_.startup_timeout_seconds, options_.coordinator_timeout_seconds);
     if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
-      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
-                   options_.id, silent, options_.coordinator_timeout_seconds);
+      spdlog::warn(
+          "agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+          options_.id, silent, options_.coordinator_timeout_seconds);
     }
     switch (verdict) {
       case Verdict::kFinished:
+        spdlog::debug("agent {}: {} round(s) re-sent on request", options_.id, shard_resends_);
         return AgentExit::kCoordinatorFinished;
       case Verdict::kFailed:
         return AgentExit::kCoordinatorFailed;
@@ -195,6 +201,7 @@ void Agent::OnBatch(const job_batch_t& batch) {
   combiner_.reset();
   results_.clear();
   sent_.clear();
+  resend_gate_.Reset();
   computed_round_ = -1;
   reported_batch_ = batch_id_;
   reported_epoch_ = epoch_;
@@ -247,8 +254,8 @@ void Agent::OnBatch(const job_batch_t& batch) {
             : FederatedState::Resume(job, *hosted->model, hosted->received.attempts,
                                      hosted->received.successes);
     hosted->rounds = state.rounds;
-    hosted->learners = std::make_unique<FederatedLearners>(
-        job, *hosted->model, split_learners[j], state.shared, pool_.threads());
+    hosted->learners = std::make_unique<FederatedLearners>(job, *hosted->model, split_learners[j],
+                                                           state.shared, pool_.threads());
     combined.emplace_back(j, std::move(state));
     start_round = std::max(start_round, hosted->received.start_round);
     split_jobs_.push_back(std::move(hosted));
@@ -411,9 +418,19 @@ void Agent::OnShards(const shards_t& shards) {
   // The sender still lacks shards of an earlier round: ours of it got lost.
   // That round alone: the coordinator keeps the later rounds it got
   // (RoundCombiner's rounds_ahead), and asks again for any other it lacks.
+  // Once per repair interval for a round (protocol/resend_gate.h): the
+  // re-send is multicast, so it answers every request for that round.
   if (shards.needs_round < combiner_->round()) {
+    const int64_t oldest_kept = sent_.empty() ? combiner_->round() : sent_.front().round;
+    const double rtt = bus_.RepairRoundTripMs();
+    const int64_t interval =
+        rtt < 0 ? kResendMs : std::clamp<int64_t>(static_cast<int64_t>(2 * rtt) + 5, 5, kResendMs);
     for (const shards_t& sent : sent_) {
-      if (sent.round == shards.needs_round) PublishShards(sent, combiner_->round());
+      if (sent.round == shards.needs_round &&
+          resend_gate_.Allow(sent.round, oldest_kept, protocol::SteadyMs(), interval)) {
+        PublishShards(sent, combiner_->round());
+        ++shard_resends_;
+      }
     }
   }
   if (shards.num_shards == 0) return;  // the coordinator's request: nothing to combine

@@ -24,6 +24,7 @@
 #include "protocol/convert.h"
 #include "protocol/inbox.h"
 #include "protocol/liveness.h"
+#include "protocol/resend_gate.h"
 #include "protocol/round_combiner.h"
 
 namespace dynapath::agent {
@@ -106,6 +107,8 @@ class Agent {
   std::unique_ptr<protocol::RoundCombiner> combiner_;   // all agents' rounds of them
   int64_t computed_round_ = -1;                         // last round computed here
   std::deque<shards_t> sent_;                           // our last rounds' shards (agent.cc)
+  protocol::ResendGate resend_gate_;                    // answers to others' needs_round
+  int64_t shard_resends_ = 0;                           // rounds re-sent in answer
   int64_t waiting_since_ms_ = 0;                        // when our shards of the round went out
   int64_t next_nudge_ms_ = 0;
   int64_t nudge_interval_ms_ = 0;

@@ -99,6 +99,24 @@ for case in "1 auto" "2 auto" "$(scaled "3 split" "2 split")"; do
   fi
 done
 
+# 1a. Split rounds while every core is busy with other work (four spinning
+# processes): agents fall behind and ask each other for rounds again. Each
+# answers a round's requests once per repair interval (protocol/
+# resend_gate.h); answering every request made the three agents re-send
+# each other's shards in a loop that did not end (1,000 messages a second,
+# inboxes past 1 GB) under this load, where the run takes seconds.
+busy=(--size 30 --difficulty medium --steps "$(scaled 30 10)" --approach fedAsynQ_ImAvg)
+"$dynapath" run --local "${busy[@]}" --out "$work/busy_local" --log-level warn >/dev/null ||
+  fail "--local run (busy machine case)"
+hogs=()
+for _ in 1 2 3 4; do timeout 200 sh -c 'while :; do :; done' & hogs+=($!); done
+timeout 150 "$dynapath" run --agents "$(scaled 3 2)" --placement split "${busy[@]}" \
+  --out "$work/busy_agents" --log-level warn >/dev/null 2>"$work/busy_agents.log" ||
+  fail "split rounds on a busy machine: the run did not finish within 150 s (exit $?)"
+kill "${hogs[@]}" 2>/dev/null
+wait "${hogs[@]}" 2>/dev/null
+same_results "$work/busy_local" "$work/busy_agents" "split rounds on a busy machine"
+
 # 1b. --semantics report (the report code's bootstrap and first training)
 # travels to the agents: same answers as --local under the switch, with
 # learners split and with whole jobs, and not the default's answers.
