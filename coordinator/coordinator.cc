@@ -32,21 +32,9 @@ Coordinator::Coordinator(protocol::Bus& bus, CoordinatorOptions options)
 
 void Coordinator::PublishStep(const StepView& view, int pass) {
   const StepRecord& record = view.run.steps.back();
-  step_report_t report{};
-  report.run_id = bus_.run_id();
-  report.approach = ApproachName(view.run.approach);
-  report.size_label = view.run.size_label;
-  report.difficulty = view.run.difficulty_label;
-  report.pass = pass;
-  report.time_step = record.time_step;
-  report.total_steps = view.total_steps;
-  report.num_changes = record.num_changes;
-  report.initial_seconds = view.run.initial_seconds;
-  report.adapt_seconds = record.adapt_seconds;
-  report.success_rate = record.success_rate;
-  report.average_path_length = record.average_path_length;
-  report.nodes_trained = record.nodes_trained;
-  report.highest_level = record.highest_level;
+  const step_report_t report =
+      protocol::StepReportToMessage(bus_.run_id(), ApproachName(view.run.approach), view.run,
+                                    record, pass, view.total_steps);
   bus_.Publish(protocol::channel::kReport, report);
   if (pass == 0 && record.time_step == options_.hold_at_step) {
     runtime::HoldForTest("coordinator", record.time_step);

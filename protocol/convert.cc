@@ -260,6 +260,27 @@ Result<ChangeStep> ChangesFromMessage(const changes_t& m, int rows, int cols) {
   return step;
 }
 
+step_report_t StepReportToMessage(const std::string& run_id, const std::string& approach,
+                                  const ApproachRun& run, const StepRecord& record, int pass,
+                                  int total_steps) {
+  step_report_t report{};
+  report.run_id = run_id;
+  report.approach = approach;
+  report.size_label = run.size_label;
+  report.difficulty = run.difficulty_label;
+  report.pass = pass;
+  report.time_step = record.time_step;
+  report.total_steps = total_steps;
+  report.num_changes = record.num_changes;
+  report.initial_seconds = run.initial_seconds;
+  report.adapt_seconds = record.adapt_seconds;
+  report.success_rate = record.success_rate;
+  report.average_path_length = record.average_path_length;
+  report.nodes_trained = record.nodes_trained;
+  report.highest_level = record.highest_level;
+  return report;
+}
+
 policy_t PolicyToMessage(const std::string& run_id, const std::string& approach, int pass,
                          int time_step, const Grid& grid, const PolicyPicture* picture,
                          const std::vector<Region>& trained_regions) {

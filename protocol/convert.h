@@ -9,6 +9,7 @@
 
 #include "dynapath/change_sequence.h"
 #include "dynapath/changes_t.hpp"
+#include "dynapath/experiment.h"
 #include "dynapath/fedasynq.h"
 #include "dynapath/grid.h"
 #include "dynapath/grid_t.hpp"
@@ -23,6 +24,7 @@
 #include "dynapath/region.h"
 #include "dynapath/routes.h"
 #include "dynapath/start_statistics.h"
+#include "dynapath/step_report_t.hpp"
 #include "dynapath/trainer.h"
 #include "dynapath/training_job.h"
 
@@ -104,6 +106,13 @@ Grid GridFromMessage(const grid_t& message);  // message validated
 changes_t ChangesToMessage(const ChangeStep& step, int time_step, int total_steps);
 // Fails when a cell lies outside a rows x cols grid.
 Result<ChangeStep> ChangesFromMessage(const changes_t& message, int rows, int cols);
+
+// The REPORT message of a step's last record (coordinator and service
+// alike). `total_steps`: the run's last step (a service, which has none,
+// gives the step itself).
+step_report_t StepReportToMessage(const std::string& run_id, const std::string& approach,
+                                  const ApproachRun& run, const StepRecord& record, int pass,
+                                  int total_steps);
 
 // The POLICY message of one step (coordinator and service alike):
 // `picture` null for approaches without a table (actions and reaches -1).

@@ -263,12 +263,13 @@ bool PathService::WaitForStep(int time_step, double seconds) const {
                              [&] { return committed_step_ >= time_step; });
 }
 
-Answer PathService::Ask(const std::vector<QueryStart>& starts) {
+Answer PathService::Ask(const std::vector<QueryStart>& starts, size_t announced) {
   Answer answer;
   answer.snapshot = Current();
   if (answer.snapshot == nullptr) {
     answer.refused = Answer::kNotReady;
-  } else if (starts.size() > static_cast<size_t>(std::max(0, config_.max_starts))) {
+  } else if (announced > static_cast<size_t>(std::max(0, config_.max_starts)) ||
+             starts.size() > static_cast<size_t>(std::max(0, config_.max_starts))) {
     answer.refused = Answer::kTooManyStarts;
   } else {
     size_t budget = config_.reply_budget;
@@ -281,7 +282,7 @@ Answer PathService::Ask(const std::vector<QueryStart>& starts) {
   }
   std::lock_guard lock(stats_mutex_);
   ++stats_.requests;
-  if (starts.empty()) ++stats_.probes;
+  if (announced == 0) ++stats_.probes;
   if (answer.refused == Answer::kNotReady) ++stats_.refused_not_ready;
   if (answer.refused == Answer::kTooManyStarts) ++stats_.refused_too_many_starts;
   for (const Route& route : answer.routes) {

@@ -136,7 +136,11 @@ class PathService {
   std::optional<UpdateRefusal> Submit(const MapUpdate& update);
   void Refuse(UpdateRefusal why);
   // Answers `starts` from the current snapshot.
-  Answer Ask(const std::vector<QueryStart>& starts);
+  Answer Ask(const std::vector<QueryStart>& starts) { return Ask(starts, starts.size()); }
+  // The same for a request that announced `announced` starts: above the
+  // service's max_starts it is refused (kTooManyStarts) without reading
+  // `starts`, which a caller need not have filled then.
+  Answer Ask(const std::vector<QueryStart>& starts, size_t announced);
   void RecordLatency(int64_t micros);
 
   // Set once Stop() was called: the flag an outside trainer's waits watch.

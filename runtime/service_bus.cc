@@ -1,5 +1,6 @@
 #include "runtime/service_bus.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -81,16 +82,14 @@ void ServiceBus::OnRequest(const path_request_t& request) {
   std::vector<QueryStart> starts;
   // A request above the service's limit is refused unread: no work in
   // proportion to what a sender announces.
+  const auto announced = static_cast<size_t>(std::max(0, request.num_starts));
   if (request.num_starts <= service_.config().max_starts) {
-    starts.reserve(static_cast<size_t>(request.num_starts));
-    for (int32_t i = 0; i < request.num_starts; ++i) {
-      starts.emplace_back(request.start_rows[static_cast<size_t>(i)],
-                          request.start_cols[static_cast<size_t>(i)]);
+    starts.reserve(announced);
+    for (size_t i = 0; i < announced; ++i) {
+      starts.emplace_back(request.start_rows[i], request.start_cols[i]);
     }
-  } else {
-    starts.resize(static_cast<size_t>(service_.config().max_starts) + 1);
   }
-  const Answer answer = service_.Ask(starts);
+  const Answer answer = service_.Ask(starts, announced);
   path_reply_t reply = protocol::ReplyToMessage(request.client, request.request_id,
                                                 static_cast<int8_t>(answer.refused), approach_,
                                                 answer.snapshot.get(), starts, answer.routes);
@@ -114,21 +113,9 @@ void ServiceBus::PublishCommit(const Commit& commit) {
   const StepView& view = commit.view;
   if (!view.run.steps.empty()) {
     const StepRecord& record = view.run.steps.back();
-    step_report_t report{};
-    report.run_id = bus_.run_id();
-    report.approach = approach_;
-    report.size_label = view.run.size_label;
-    report.difficulty = view.run.difficulty_label;
-    report.pass = 0;
-    report.time_step = record.time_step;
-    report.total_steps = record.time_step;  // a service has no last step
-    report.num_changes = record.num_changes;
-    report.initial_seconds = view.run.initial_seconds;
-    report.adapt_seconds = record.adapt_seconds;
-    report.success_rate = record.success_rate;
-    report.average_path_length = record.average_path_length;
-    report.nodes_trained = record.nodes_trained;
-    report.highest_level = record.highest_level;
+    // A service has no last step: its total is the step itself.
+    const step_report_t report = protocol::StepReportToMessage(
+        bus_.run_id(), approach_, view.run, record, /*pass=*/0, record.time_step);
     bus_.Publish(protocol::channel::kReport, report);
   }
   if (!options_.publish_policy) return;

@@ -142,6 +142,8 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
   EXPECT_EQ(service.Submit(UpdateOf(ChangeStep{}, 2)), UpdateRefusal::kStale);
   service.Refuse(UpdateRefusal::kUnknownState);
   EXPECT_EQ(service.Ask(std::vector<QueryStart>(9, {0, 0})).refused, Answer::kTooManyStarts);
+  // A request announcing more starts than allowed is refused unread.
+  EXPECT_EQ(service.Ask({}, 1000).refused, Answer::kTooManyStarts);
 
   // Queries from another thread while every step's updates arrive as a
   // burst of single-cell updates.
@@ -172,7 +174,7 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
   EXPECT_EQ(invalid.load(), 0);
   const ServiceStats stats = service.stats();
   EXPECT_EQ(stats.updates.refused_total(), 4);
-  EXPECT_EQ(stats.refused_too_many_starts, 1);
+  EXPECT_EQ(stats.refused_too_many_starts, 2);
   EXPECT_GE(stats.updates.steps, static_cast<int64_t>(scenario.changes.steps.size()));
   EXPECT_LE(stats.updates.steps, stats.updates.cells_changed);
   EXPECT_GE(stats.commits, 2);
