@@ -12,6 +12,7 @@
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
+#include "tools/web/host_check.h"
 #include "tools/web/messages.h"
 
 namespace dynapath::web {
@@ -171,8 +172,44 @@ struct WebServer::Impl {
 
   // --- handlers (I/O thread) ---
 
+  // False (and a 403 set on the connection) unless the request's Host
+  // header, and its Origin header when `check_origin` and it has one,
+  // name this server: DNS rebinding and other sites' pages are refused.
+  bool FromAllowedHost(const Server::connection_ptr& connection, bool check_origin) {
+    const HostPolicy policy{options.bind, bound_port.load(), options.allowed_hosts};
+    const std::string host = connection->get_request_header("Host");
+    const std::string origin = check_origin ? connection->get_request_header("Origin") : "";
+    const bool host_ok = HostAllowed(host, policy);
+    if (host_ok && (origin.empty() || OriginAllowed(origin, policy))) return true;
+    int64_t refused;
+    {
+      std::lock_guard lock(counters_mutex);
+      refused = ++counters.refused_host;
+    }
+    // Every refusal counted, the first ones logged (a hostile page may retry).
+    if (refused <= 10) {
+      std::string shown = host_ok ? "Origin " + origin : "Host " + host;
+      shown.resize(std::min<size_t>(shown.size(), 120));
+      for (char& c : shown) {
+        if (c < 0x20 || c > 0x7e) c = '?';
+      }
+      spdlog::warn("refused a request for {} (not this server; --allow-host NAME allows a name){}",
+                   shown, refused == 10 ? "; further refusals are counted, not logged" : "");
+    }
+    connection->set_status(websocketpp::http::status_code::forbidden);
+    connection->append_header("Content-Type", "text/plain");
+    connection->set_body(
+        host_ok ? "forbidden: a WebSocket from another site's page; start dynapath web with "
+                  "--allow-host NAME to allow that site\n"
+                : "forbidden: this server answers requests for localhost, 127.0.0.1, [::1] "
+                  "or its address on its port; start dynapath web with --allow-host NAME to "
+                  "allow another name\n");
+    return false;
+  }
+
   bool OnValidate(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    if (!FromAllowedHost(connection, /*check_origin=*/true)) return false;
     if (static_cast<int>(clients.size() + opening.size()) >= options.max_clients) {
       Count(&ServerCounters::refused_full);
       connection->set_status(websocketpp::http::status_code::service_unavailable);
@@ -303,6 +340,7 @@ struct WebServer::Impl {
   void OnHttp(Handle handle) {
     Count(&ServerCounters::http_requests);
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    if (!FromAllowedHost(connection, /*check_origin=*/false)) return;
     const websocketpp::http::parser::request& request = connection->get_request();
     if (request.get_method() != "GET" && request.get_method() != "HEAD") {
       connection->set_status(websocketpp::http::status_code::method_not_allowed);
@@ -318,6 +356,7 @@ struct WebServer::Impl {
                               {"accepted", c.accepted},
                               {"refused_full", c.refused_full},
                               {"refused_handshake", c.refused_handshake},
+                              {"refused_host", c.refused_host},
                               {"dropped_slow", c.dropped_slow},
                               {"closed_bad_input", c.closed_bad_input},
                               {"messages_in", c.messages_in},
