@@ -140,13 +140,15 @@ int Run(const std::vector<std::string>& args) {
   }
   protocol::Bus bus(**lcm, setup->run_id, bus_options);
   namespace ch = protocol::channel;
-  bus.Subscribe<grid_t>(ch::kEnvGrid, [&](grid_t& m) { server.Grid(m, NowMs()); });
-  bus.Subscribe<changes_t>(ch::kEnvChanges, [&](changes_t& m) { server.Changes(m, NowMs()); });
+  bus.Subscribe<grid_t>(ch::kEnvGrid, [&](grid_t& m) { server.Grid(std::move(m), NowMs()); });
+  bus.Subscribe<changes_t>(ch::kEnvChanges,
+                           [&](changes_t& m) { server.Changes(std::move(m), NowMs()); });
   bus.Subscribe<step_report_t>(ch::kReport, [&](step_report_t& m) { server.Report(m, NowMs()); });
-  bus.Subscribe<policy_t>(ch::kPolicy, [&](policy_t& m) { server.Policy(m, NowMs()); });
-  bus.Subscribe<path_reply_t>(ch::kPathReply, [&](path_reply_t& m) { server.Paths(m, NowMs()); });
-  bus.Subscribe<obstacle_update_t>(ch::kMapUpdates,
-                                   [&](obstacle_update_t& m) { server.Updates(m, NowMs()); });
+  bus.Subscribe<policy_t>(ch::kPolicy, [&](policy_t& m) { server.Policy(std::move(m), NowMs()); });
+  bus.Subscribe<path_reply_t>(ch::kPathReply,
+                              [&](path_reply_t& m) { server.Paths(std::move(m), NowMs()); });
+  bus.Subscribe<obstacle_update_t>(
+      ch::kMapUpdates, [&](obstacle_update_t& m) { server.Updates(std::move(m), NowMs()); });
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   {
     protocol::Dispatcher dispatcher(**lcm);

@@ -36,6 +36,12 @@ struct ApproachState {
   std::vector<uint8_t> cells;
 };
 
+double WallMs() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 }  // namespace
 
 struct WebServer::Impl {
@@ -209,6 +215,11 @@ struct WebServer::Impl {
 
   bool OnValidate(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    // No Nagle: a step's small messages (its report, its policy's few
+    // changed cells) leave at once instead of waiting for the page's
+    // delayed acknowledgement of the one before (40 ms or more).
+    asio::error_code ignored;
+    connection->get_raw_socket().set_option(asio::ip::tcp::no_delay(true), ignored);
     if (!FromAllowedHost(connection, /*check_origin=*/true)) return false;
     if (static_cast<int>(clients.size() + opening.size()) >= options.max_clients) {
       Count(&ServerCounters::refused_full);
@@ -427,6 +438,7 @@ struct WebServer::Impl {
   }
 
   void TakePolicy(const policy_t& policy, double received_ms) {
+    const double taken_ms = WallMs();
     FrameHeader header;
     header.approach = policy.approach;
     header.step = policy.time_step;
@@ -452,8 +464,14 @@ struct WebServer::Impl {
     state.header = header;
     state.header.kind = FrameKind::kFull;
     state.cells = std::move(cells);
+    const double packed_ms = WallMs();
     ToPages(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
     ToFoxglove("/policy", received_ms, [&] { return PolicyFoxglove(policy); });
+    spdlog::debug(
+        "policy {} step {}: {} bytes to the pages; waited {:.1f} ms for the I/O thread, packed in "
+        "{:.1f} ms, sent in {:.1f} ms",
+        policy.approach, policy.time_step, frame.size(), taken_ms - received_ms,
+        packed_ms - taken_ms, WallMs() - packed_ms);
   }
 
   void TakePaths(const path_reply_t& reply, double received_ms) {
@@ -543,28 +561,37 @@ int WebServer::port() const { return impl_->bound_port.load(); }
 
 ServerCounters WebServer::counters() const { return impl_->Counters(); }
 
-void WebServer::Grid(const grid_t& grid, double received_ms) {
-  impl_->Post(grid.num_cells + 64,
-              [this, grid, received_ms] { impl_->TakeGrid(grid, received_ms); });
+void WebServer::Grid(grid_t grid, double received_ms) {
+  const int64_t bytes = grid.num_cells + 64;
+  impl_->Post(bytes,
+              [this, grid = std::move(grid), received_ms] { impl_->TakeGrid(grid, received_ms); });
 }
-void WebServer::Changes(const changes_t& changes, double received_ms) {
-  impl_->Post(int64_t{changes.num_changes} * 5 + 64,
-              [this, changes, received_ms] { impl_->TakeChanges(changes, received_ms); });
+void WebServer::Changes(changes_t changes, double received_ms) {
+  const int64_t bytes = int64_t{changes.num_changes} * 5 + 64;
+  impl_->Post(bytes, [this, changes = std::move(changes), received_ms] {
+    impl_->TakeChanges(changes, received_ms);
+  });
 }
 void WebServer::Report(const step_report_t& report, double received_ms) {
   impl_->Post(256, [this, report, received_ms] { impl_->TakeReport(report, received_ms); });
 }
-void WebServer::Policy(const policy_t& policy, double received_ms) {
-  impl_->Post(int64_t{policy.num_cells} * 3 + 64,
-              [this, policy, received_ms] { impl_->TakePolicy(policy, received_ms); });
+void WebServer::Policy(policy_t policy, double received_ms) {
+  const int64_t bytes = int64_t{policy.num_cells} * 3 + 64;
+  impl_->Post(bytes, [this, policy = std::move(policy), received_ms] {
+    impl_->TakePolicy(policy, received_ms);
+  });
 }
-void WebServer::Paths(const path_reply_t& reply, double received_ms) {
-  impl_->Post(int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64,
-              [this, reply, received_ms] { impl_->TakePaths(reply, received_ms); });
+void WebServer::Paths(path_reply_t reply, double received_ms) {
+  const int64_t bytes = int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64;
+  impl_->Post(bytes, [this, reply = std::move(reply), received_ms] {
+    impl_->TakePaths(reply, received_ms);
+  });
 }
-void WebServer::Updates(const obstacle_update_t& update, double received_ms) {
-  impl_->Post(int64_t{update.num_cells} * 9 + 64,
-              [this, update, received_ms] { impl_->TakeUpdates(update, received_ms); });
+void WebServer::Updates(obstacle_update_t update, double received_ms) {
+  const int64_t bytes = int64_t{update.num_cells} * 9 + 64;
+  impl_->Post(bytes, [this, update = std::move(update), received_ms] {
+    impl_->TakeUpdates(update, received_ms);
+  });
 }
 
 }  // namespace dynapath::web
