@@ -377,6 +377,42 @@ TEST(PageFrames, DeltaRebuildsThePolicy) {
   EXPECT_EQ(PackCell(2, -1, -1), 2 | (2 << 2) | (15 << 4));
 }
 
+TEST(PageFrames, RepackingInPlaceGivesTheSameDelta) {
+  // 37x29 cells (not a multiple of the 64-cell blocks); some cells change
+  // in every block, some blocks not at all.
+  policy_t before = Policy(37, 2);
+  before.rows = 37;
+  before.cols = 29;
+  before.num_cells = 37 * 29;
+  before.cells.resize(before.num_cells);
+  before.actions.resize(before.num_cells);
+  before.reaches.resize(before.num_cells);
+  policy_t after = before;
+  for (int i = 0; i < after.num_cells; i += (i % 200 < 100 ? 7 : 131)) {
+    after.actions[i] = static_cast<int8_t>((after.actions[i] + 1 + i) % 8);
+    if (i % 3 == 0) after.reaches[i] = 0;
+  }
+  after.cells[after.num_cells - 1] = 2;  // the last, partial block
+  FrameHeader header;
+  header.approach = "a";
+  header.rows = 37;
+  header.cols = 29;
+  const std::vector<uint8_t> old_cells = PackPolicy(before), new_cells = PackPolicy(after);
+  std::vector<uint8_t> cells = old_cells;
+  std::vector<uint32_t> changed = {99};  // cleared first
+  ASSERT_TRUE(RepackPolicy(after, cells, changed));
+  EXPECT_EQ(cells, new_cells);
+  EXPECT_FALSE(changed.empty());
+  EXPECT_EQ(DeltaFrame(header, changed, cells), DeltaFrame(header, old_cells, new_cells));
+  ASSERT_TRUE(RepackPolicy(after, cells, changed));  // nothing changed now
+  EXPECT_TRUE(changed.empty());
+  after.actions.pop_back();  // a policy of another size is refused, untouched
+  std::vector<uint8_t> small(10, 0);
+  EXPECT_FALSE(RepackPolicy(after, cells, changed));
+  EXPECT_FALSE(RepackPolicy(before, small, changed));
+  EXPECT_EQ(small, std::vector<uint8_t>(10, 0));
+}
+
 TEST(FoxgloveMessages, ParsesSubscribeAndRefusesMalformed) {
   ClientMessage m =
       ParseClientMessage(R"({"op":"subscribe","subscriptions":[{"id":7,"channelId":3}]})");

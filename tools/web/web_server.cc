@@ -66,6 +66,7 @@ struct WebServer::Impl {
   std::vector<std::string> approach_order;
   std::map<std::string, ApproachState> approaches;
   std::vector<std::string> reports;
+  std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
 
   mutable std::mutex counters_mutex;
   ServerCounters counters;
@@ -449,21 +450,24 @@ struct WebServer::Impl {
       header.regions.insert(header.regions.end(), {policy.region_row0[i], policy.region_col0[i],
                                                    policy.region_rows[i], policy.region_cols[i]});
     }
-    std::vector<uint8_t> cells = PackPolicy(policy);
     auto it = approaches.find(policy.approach);
     std::vector<uint8_t> frame;
-    if (it == approaches.end() || it->second.cells.size() != cells.size() ||
-        it->second.header.rows != header.rows) {
+    if (it != approaches.end() && it->second.header.rows == header.rows &&
+        it->second.header.cols == header.cols &&
+        RepackPolicy(policy, it->second.cells, changed_cells)) {
+      // The usual step: the approach's cells repacked in place, the
+      // changed ones sent.
+      frame = DeltaFrame(header, changed_cells, it->second.cells);
+    } else {
       if (it == approaches.end()) approach_order.push_back(policy.approach);
       header.kind = FrameKind::kFull;
+      std::vector<uint8_t> cells = PackPolicy(policy);
       frame = FullFrame(header, cells);
-    } else {
-      frame = DeltaFrame(header, it->second.cells, cells);
+      approaches[policy.approach].cells = std::move(cells);
     }
     ApproachState& state = approaches[policy.approach];
     state.header = header;
     state.header.kind = FrameKind::kFull;
-    state.cells = std::move(cells);
     const double packed_ms = WallMs();
     ToPages(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
     ToFoxglove("/policy", received_ms, [&] { return PolicyFoxglove(policy); });

@@ -121,12 +121,14 @@ function parseFrame(buffer) {
   return { kind, approach, step, rows, cols, rx, regions, view, at };
 }
 
+// Whole policies and the maze keep a view on their message's buffer (a
+// 1000x1000 one is 1 MB): never copied.
 function onFrame(buffer) {
   const f = parseFrame(buffer);
   state.framesReceived++;
   const total = f.rows * f.cols;
   if (f.kind === 3) {  // the maze
-    state.maze = { rows: f.rows, cols: f.cols, step: f.step, cells: new Uint8Array(buffer, f.at, total).slice(), regions: [], rx: f.rx };
+    state.maze = { rows: f.rows, cols: f.cols, step: f.step, cells: new Uint8Array(buffer, f.at, total), regions: [], rx: f.rx };
     if (!state.selected) { pendingFull = true; dirtyCells = dirtyOverlay = true; }
     return;
   }
@@ -134,7 +136,7 @@ function onFrame(buffer) {
   if (f.kind === 1) {
     if (!a) { state.order.push(f.approach); addOption(f.approach); }
     a = state.approaches[f.approach] = { rows: f.rows, cols: f.cols, step: f.step, regions: f.regions, rx: f.rx,
-                                         cells: new Uint8Array(buffer, f.at, total).slice() };
+                                         cells: new Uint8Array(buffer, f.at, total) };
     if (f.approach === state.selected) pendingFull = true;
   } else {
     if (!a) return;  // a delta before its whole policy: never sent so
