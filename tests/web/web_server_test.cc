@@ -329,8 +329,9 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 2; }));
   // 300x300 policies whose every cell changes each time: 450 KB deltas
   // against a 1 MB queue; `reader` reads, `slow` never does. The next
-  // policy waits until `reader` has 100 KB of the last one, so `reader` is
-  // never a queue behind, however slowly this machine (or a sanitizer) runs.
+  // policy waits until `reader` has 50 KB of the last one (the first, whole
+  // policy is 90 KB), so `reader` is never a queue behind, however slowly
+  // this machine (or a sanitizer) runs.
   std::atomic<bool> stop{false};
   std::atomic<size_t> read_bytes{0};
   std::thread drain([&] {
@@ -339,7 +340,7 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   for (int i = 0; i < 200 && server.counters().dropped_slow == 0; ++i) {
     const size_t before = read_bytes;
     server.Policy(Policy(300, i % 8), 0);
-    WaitFor([&] { return read_bytes >= before + 100'000 || server.counters().dropped_slow > 0; });
+    WaitFor([&] { return read_bytes >= before + 50'000 || server.counters().dropped_slow > 0; });
   }
   EXPECT_TRUE(WaitFor([&] { return server.counters().dropped_slow == 1; }));
   EXPECT_TRUE(slow.ClosedWithin(10));
