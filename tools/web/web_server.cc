@@ -94,8 +94,10 @@ struct WebServer::Impl {
 
   // Sends to one client unless its queue is above the cap; then it is
   // listed in `slow` (dropped after the loop).
+  // `prepared`, when given, is the whole frame already (see Prepare): sent
+  // as it is, not copied and framed again for this client.
   bool SendTo(const Handle& handle, const void* data, size_t size, Opcode opcode,
-              std::vector<Handle>& slow) {
+              std::vector<Handle>& slow, Server::message_ptr* prepared = nullptr) {
     websocketpp::lib::error_code ec;
     Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
     if (ec || !connection) return false;
@@ -106,10 +108,29 @@ struct WebServer::Impl {
       slow.push_back(handle);
       return false;
     }
-    ec = connection->send(data, size, opcode);
+    if (prepared != nullptr) {
+      if (!*prepared) *prepared = Prepare(*connection, data, size, opcode);
+      ec = connection->send(*prepared);
+    } else {
+      ec = connection->send(data, size, opcode);
+    }
     if (ec) return false;
     Count(&ServerCounters::frames_sent);
     return true;
+  }
+
+  // One server frame (unmasked, uncompressed: the same bytes for every
+  // client), marked prepared so that each connection queues this one
+  // message instead of copying and framing the payload again.
+  static Server::message_ptr Prepare(Server::connection_type& connection, const void* data,
+                                     size_t size, Opcode opcode) {
+    Server::message_ptr message = connection.get_message(opcode, size);
+    message->append_payload(data, size);
+    const websocketpp::frame::basic_header header(opcode, size, /*fin=*/true, /*mask=*/false);
+    message->set_header(
+        websocketpp::frame::prepare_header(header, websocketpp::frame::extended_header(size)));
+    message->set_prepared(true);
+    return message;
   }
 
   void DropSlow(const std::vector<Handle>& slow) {
@@ -126,10 +147,12 @@ struct WebServer::Impl {
     }
   }
 
+  // To every page client: one frame, made once.
   void ToPages(const void* data, size_t size, Opcode opcode) {
     std::vector<Handle> slow;
+    Server::message_ptr prepared;
     for (auto& [handle, client] : clients) {
-      if (!client.foxglove) SendTo(handle, data, size, opcode, slow);
+      if (!client.foxglove) SendTo(handle, data, size, opcode, slow, &prepared);
     }
     DropSlow(slow);
   }
