@@ -240,8 +240,8 @@ struct WebServer::Impl {
   bool OnValidate(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
     // No Nagle: a step's small messages (its report, its policy's few
-    // changed cells) leave at once instead of waiting for the page's
-    // delayed acknowledgement of the one before (40 ms or more).
+    // changed cells) leave at once instead of waiting until the one before
+    // is acknowledged (which a client may delay).
     asio::error_code ignored;
     connection->get_raw_socket().set_option(asio::ip::tcp::no_delay(true), ignored);
     if (!FromAllowedHost(connection, /*check_origin=*/true)) return false;
