@@ -1,12 +1,14 @@
 // libFuzzer: what `dynapath web` parses of outside bytes: a Foxglove
-// client's text message (tools/web/messages.h ParseClientMessage), and the
-// page's frame codec read back (ParseFrame, ApplyDelta) on any bytes.
+// client's text message (tools/web/messages.h ParseClientMessage), the
+// Host and Origin headers and --allow-host values (tools/web/host_check.h),
+// and the page's frame codec read back (ParseFrame, ApplyDelta) on any bytes.
 
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
+#include "tools/web/host_check.h"
 #include "tools/web/messages.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -15,6 +17,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (message.kind == dynapath::web::ClientMessage::kSubscribe && message.subscribe.size() > 16) {
     __builtin_trap();
   }
+  const dynapath::web::HostPolicy policy{"::1", 8080, {"runs.example.org", "[fe80::1]:80"}};
+  const bool host = dynapath::web::HostAllowed(text, policy);
+  dynapath::web::OriginAllowed(text, policy);
+  // What is allowed names this server or an allowed name, so it is itself
+  // a usable --allow-host value.
+  if (host && !dynapath::web::AllowHostError(text).empty()) __builtin_trap();
   dynapath::web::FrameHeader header;
   std::vector<uint32_t> indices;
   std::vector<uint8_t> cells;

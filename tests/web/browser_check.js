@@ -36,7 +36,9 @@ function fail(why) {
   console.log("browser_check: " + why);
   process.exit(1);
 }
-setTimeout(() => fail("timed out"), Number(process.env.BROWSER_CHECK_TIMEOUT || 120) * 1000);
+let lastState = "nothing read from the page";
+setTimeout(() => fail("timed out; the page's last state: " + lastState),
+           Number(process.env.BROWSER_CHECK_TIMEOUT || 120) * 1000);
 
 async function main() {
   let targets = null;
@@ -88,8 +90,9 @@ async function main() {
   }
   let summary = null;
   for (;;) {
-    summary = await evaluate(`window.dynapath && JSON.stringify({s: window.dynapath.summary(), d: window.dynapath.drawn})`);
+    summary = await evaluate(`window.dynapath && JSON.stringify({s: window.dynapath.summary(), d: window.dynapath.drawn, received: window.dynapath.framesReceived, drawn: window.dynapath.framesDrawn})`);
     if (summary) {
+      lastState = summary;
       const state = JSON.parse(summary);
       if (state.d && state.d.approach === approach && state.d.step >= step) break;
     }

@@ -5,6 +5,7 @@
 # the run's last POLICY gives (read from the run's log through log-to-mcap
 # and tests/web/mcap_check.py), and a screenshot is saved.
 # Usage: browser_test.sh DYNAPATH SOURCE_DIR WORK_DIR [SIZE STEPS MEASURE_SECONDS]
+# WEB_LOG_LEVEL=debug: dynapath web logs each policy's server-side times.
 # Exit 77 (skipped) without chromium, node or private networks.
 set -u
 dynapath=$1 source=$2 work=$3 size=${4:-20} steps=${5:-12} measure=${6:-0}
@@ -26,7 +27,8 @@ set -u
 dynapath=$1 source=$2 work=$3 size=$4 steps=$5 measure=$6
 URL='udpm://239.255.76.67:7667?ttl=0'
 approach=fedAsynQ_EqAvg
-"$dynapath" web --run-id browser --insecure --lcm-url "$URL" --port 8765 > "$work/web.log" 2>&1 &
+"$dynapath" web --run-id browser --insecure --lcm-url "$URL" --port 8765 \
+  --log-level "${WEB_LOG_LEVEL:-info}" > "$work/web.log" 2>&1 &
 web=$!
 chromium --headless --no-sandbox --disable-gpu --disable-background-networking \
   --disable-component-update --disable-sync --no-first-run --user-data-dir="$work/profile" \

@@ -69,6 +69,15 @@ uint8_t PackCell(int8_t code, int8_t reaches, int8_t action) {
 
 std::vector<uint8_t> PackPolicy(const policy_t& policy) {
   std::vector<uint8_t> cells(policy.cells.size());
+  if (policy.reaches.size() >= cells.size() && policy.actions.size() >= cells.size()) {
+    // A valid policy: one branch-free pass the compiler vectorizes (a
+    // 1000x1000 policy is packed at each step).
+    const int8_t* code = policy.cells.data();
+    const int8_t* reaches = policy.reaches.data();
+    const int8_t* action = policy.actions.data();
+    for (size_t i = 0; i < cells.size(); ++i) cells[i] = PackCell(code[i], reaches[i], action[i]);
+    return cells;
+  }
   for (size_t i = 0; i < cells.size(); ++i) {
     cells[i] = PackCell(policy.cells[i], i < policy.reaches.size() ? policy.reaches[i] : -1,
                         i < policy.actions.size() ? policy.actions[i] : -1);
@@ -94,9 +103,25 @@ std::vector<uint8_t> DeltaFrame(const FrameHeader& header, const std::vector<uin
                                 const std::vector<uint8_t>& now) {
   std::vector<uint32_t> indices;
   const size_t n = std::min(before.size(), now.size());
-  for (size_t i = 0; i < n; ++i) {
+  size_t i = 0;
+  // Eight cells at a time where nothing changed (most of a policy, most steps).
+  for (; i + 8 <= n; i += 8) {
+    uint64_t a, b;
+    std::memcpy(&a, before.data() + i, 8);
+    std::memcpy(&b, now.data() + i, 8);
+    if (a == b) continue;
+    for (size_t j = i; j < i + 8; ++j) {
+      if (before[j] != now[j]) indices.push_back(static_cast<uint32_t>(j));
+    }
+  }
+  for (; i < n; ++i) {
     if (before[i] != now[i]) indices.push_back(static_cast<uint32_t>(i));
   }
+  return DeltaFrame(header, indices, now);
+}
+
+std::vector<uint8_t> DeltaFrame(const FrameHeader& header, const std::vector<uint32_t>& indices,
+                                const std::vector<uint8_t>& cells) {
   std::vector<uint8_t> out;
   out.reserve(64 + header.approach.size() + header.regions.size() * 4 + indices.size() * 5);
   FrameHeader delta = header;
@@ -104,8 +129,37 @@ std::vector<uint8_t> DeltaFrame(const FrameHeader& header, const std::vector<uin
   PutHeader(out, delta);
   Put<uint32_t>(out, static_cast<uint32_t>(indices.size()));
   for (uint32_t index : indices) Put<uint32_t>(out, index);
-  for (uint32_t index : indices) out.push_back(now[index]);
+  for (uint32_t index : indices) out.push_back(index < cells.size() ? cells[index] : 0);
   return out;
+}
+
+bool RepackPolicy(const policy_t& policy, std::vector<uint8_t>& cells,
+                  std::vector<uint32_t>& changed) {
+  const size_t n = cells.size();
+  if (policy.cells.size() != n || policy.reaches.size() < n || policy.actions.size() < n) {
+    return false;
+  }
+  changed.clear();
+  const int8_t* code = policy.cells.data();
+  const int8_t* reaches = policy.reaches.data();
+  const int8_t* action = policy.actions.data();
+  // Blocks of 64 cells packed in one vectorized loop, compared at once.
+  constexpr size_t kBlock = 64;
+  uint8_t packed[kBlock];
+  for (size_t start = 0; start < n; start += kBlock) {
+    const size_t m = std::min(kBlock, n - start);
+    for (size_t j = 0; j < m; ++j) {
+      packed[j] = PackCell(code[start + j], reaches[start + j], action[start + j]);
+    }
+    if (std::memcmp(packed, cells.data() + start, m) == 0) continue;
+    for (size_t j = 0; j < m; ++j) {
+      if (packed[j] != cells[start + j]) {
+        cells[start + j] = packed[j];
+        changed.push_back(static_cast<uint32_t>(start + j));
+      }
+    }
+  }
+  return true;
 }
 
 bool ParseFrame(const uint8_t* data, size_t size, FrameHeader& header,

@@ -50,6 +50,15 @@ std::vector<uint8_t> FullFrame(const FrameHeader& header, const std::vector<uint
 // The cells of `now` that differ from `before` (same size).
 std::vector<uint8_t> DeltaFrame(const FrameHeader& header, const std::vector<uint8_t>& before,
                                 const std::vector<uint8_t>& now);
+// The listed cells of `cells`, as a kDelta frame.
+std::vector<uint8_t> DeltaFrame(const FrameHeader& header, const std::vector<uint32_t>& indices,
+                                const std::vector<uint8_t>& cells);
+// Packs `policy` into `cells` in place (PackPolicy's values), in one pass:
+// `changed` gets the indices of the cells whose value changed. False, and
+// nothing changed, unless the policy has exactly cells.size() cells (with
+// their actions and outcomes).
+bool RepackPolicy(const policy_t& policy, std::vector<uint8_t>& cells,
+                  std::vector<uint32_t>& changed);
 // Reads a frame back (tests, fuzzing): false when it is not one.
 bool ParseFrame(const uint8_t* data, size_t size, FrameHeader& header,
                 std::vector<uint32_t>& indices, std::vector<uint8_t>& cells);

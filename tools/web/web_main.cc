@@ -20,6 +20,7 @@
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/common/build_info.h"
+#include "tools/web/host_check.h"
 #include "tools/web/page_files.h"
 #include "tools/web/web_server.h"
 
@@ -63,7 +64,14 @@ int Run(const std::vector<std::string>& args) {
   std::string bind = "127.0.0.1";
   group.Option("--bind", bind, "ADDRESS",
                "the address to listen on (0.0.0.0: every interface; anyone who reaches it "
-               "sees the run)");
+               "sees the run; name the address it is reached by with --allow-host)");
+  std::vector<std::string> allow_hosts;
+  app.add_option("--allow-host", allow_hosts,
+                 "also answer requests for NAME (any port) or NAME:PORT, and WebSockets from "
+                 "its pages (repeat for more): a reverse proxy's or a LAN name; other names get "
+                 "HTTP 403 (DNS rebinding, other sites' pages)")
+      ->type_name("NAME")
+      ->allow_extra_args(false);
   long long max_clients_given = 32;
   group.Option("--max-clients", max_clients_given, "N",
                "WebSocket clients at once (1-1000); more are refused with HTTP 503");
@@ -93,6 +101,11 @@ int Run(const std::vector<std::string>& args) {
         kProgram, "option --bind needs an IPv4 or IPv6 address (127.0.0.1, ::1, 0.0.0.0), got '" +
                       bind + "'");
   }
+  for (const std::string& name : allow_hosts) {
+    if (std::string why = web::AllowHostError(name); !why.empty()) {
+      return runtime::ProcessError(kProgram, why);
+    }
+  }
   Result<long long> max_clients = runtime::InRange("max-clients", max_clients_given, 0, 1, 1000);
   if (!max_clients) return runtime::ProcessError(kProgram, max_clients.error().message);
   Result<long long> max_queue = runtime::InRange("max-queue", max_queue_given, 0, 1, 1024);
@@ -101,6 +114,7 @@ int Run(const std::vector<std::string>& args) {
   web::ServerOptions options;
   options.bind = bind;
   options.port = static_cast<int>(*port);
+  options.allowed_hosts = allow_hosts;
   options.max_clients = static_cast<int>(*max_clients);
   options.max_queue_bytes = *max_queue << 20;
   options.run_id = setup->run_id;
@@ -118,17 +132,23 @@ int Run(const std::vector<std::string>& args) {
     return runtime::ProcessError(kProgram, status.error().message, kExitFailure);
   }
   if (!IsLoopback(bind)) {
-    spdlog::warn("listening on {}: anyone who reaches this address sees the run", bind);
+    spdlog::warn(
+        "listening on {}: anyone who reaches this address sees the run (requests must name "
+        "{}localhost, 127.0.0.1, [::1]{})",
+        bind, bind == "0.0.0.0" || bind == "::" ? "" : "it, ",
+        allow_hosts.empty() ? "; --allow-host NAME adds a name" : " or an --allow-host name");
   }
   protocol::Bus bus(**lcm, setup->run_id, bus_options);
   namespace ch = protocol::channel;
-  bus.Subscribe<grid_t>(ch::kEnvGrid, [&](grid_t& m) { server.Grid(m, NowMs()); });
-  bus.Subscribe<changes_t>(ch::kEnvChanges, [&](changes_t& m) { server.Changes(m, NowMs()); });
+  bus.Subscribe<grid_t>(ch::kEnvGrid, [&](grid_t& m) { server.Grid(std::move(m), NowMs()); });
+  bus.Subscribe<changes_t>(ch::kEnvChanges,
+                           [&](changes_t& m) { server.Changes(std::move(m), NowMs()); });
   bus.Subscribe<step_report_t>(ch::kReport, [&](step_report_t& m) { server.Report(m, NowMs()); });
-  bus.Subscribe<policy_t>(ch::kPolicy, [&](policy_t& m) { server.Policy(m, NowMs()); });
-  bus.Subscribe<path_reply_t>(ch::kPathReply, [&](path_reply_t& m) { server.Paths(m, NowMs()); });
-  bus.Subscribe<obstacle_update_t>(ch::kMapUpdates,
-                                   [&](obstacle_update_t& m) { server.Updates(m, NowMs()); });
+  bus.Subscribe<policy_t>(ch::kPolicy, [&](policy_t& m) { server.Policy(std::move(m), NowMs()); });
+  bus.Subscribe<path_reply_t>(ch::kPathReply,
+                              [&](path_reply_t& m) { server.Paths(std::move(m), NowMs()); });
+  bus.Subscribe<obstacle_update_t>(
+      ch::kMapUpdates, [&](obstacle_update_t& m) { server.Updates(std::move(m), NowMs()); });
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   {
     protocol::Dispatcher dispatcher(**lcm);
@@ -141,8 +161,9 @@ int Run(const std::vector<std::string>& args) {
   const web::ServerCounters c = server.counters();
   spdlog::info(
       "stopped: {} messages taken ({} dropped while behind), {} clients served, {} refused "
-      "(full), {} dropped as slow, {} closed for bad input; {}",
-      c.messages_in, c.inputs_dropped, c.accepted, c.refused_full, c.dropped_slow,
+      "(full), {} refused (Host or Origin not this server), {} dropped as slow, {} closed for "
+      "bad input; {}",
+      c.messages_in, c.inputs_dropped, c.accepted, c.refused_full, c.refused_host, c.dropped_slow,
       c.closed_bad_input, bus.TrafficSummary());
   return 0;
 }

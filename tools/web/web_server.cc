@@ -12,6 +12,7 @@
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
+#include "tools/web/host_check.h"
 #include "tools/web/messages.h"
 
 namespace dynapath::web {
@@ -34,6 +35,12 @@ struct ApproachState {
   FrameHeader header;
   std::vector<uint8_t> cells;
 };
+
+double WallMs() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 
 }  // namespace
 
@@ -59,6 +66,7 @@ struct WebServer::Impl {
   std::vector<std::string> approach_order;
   std::map<std::string, ApproachState> approaches;
   std::vector<std::string> reports;
+  std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
 
   mutable std::mutex counters_mutex;
   ServerCounters counters;
@@ -86,8 +94,10 @@ struct WebServer::Impl {
 
   // Sends to one client unless its queue is above the cap; then it is
   // listed in `slow` (dropped after the loop).
+  // `prepared`, when given, is the whole frame already (see Prepare): sent
+  // as it is, not copied and framed again for this client.
   bool SendTo(const Handle& handle, const void* data, size_t size, Opcode opcode,
-              std::vector<Handle>& slow) {
+              std::vector<Handle>& slow, Server::message_ptr* prepared = nullptr) {
     websocketpp::lib::error_code ec;
     Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
     if (ec || !connection) return false;
@@ -98,10 +108,29 @@ struct WebServer::Impl {
       slow.push_back(handle);
       return false;
     }
-    ec = connection->send(data, size, opcode);
+    if (prepared != nullptr) {
+      if (!*prepared) *prepared = Prepare(*connection, data, size, opcode);
+      ec = connection->send(*prepared);
+    } else {
+      ec = connection->send(data, size, opcode);
+    }
     if (ec) return false;
     Count(&ServerCounters::frames_sent);
     return true;
+  }
+
+  // One server frame (unmasked, uncompressed: the same bytes for every
+  // client), marked prepared so that each connection queues this one
+  // message instead of copying and framing the payload again.
+  static Server::message_ptr Prepare(Server::connection_type& connection, const void* data,
+                                     size_t size, Opcode opcode) {
+    Server::message_ptr message = connection.get_message(opcode, size);
+    message->append_payload(data, size);
+    const websocketpp::frame::basic_header header(opcode, size, /*fin=*/true, /*mask=*/false);
+    message->set_header(
+        websocketpp::frame::prepare_header(header, websocketpp::frame::extended_header(size)));
+    message->set_prepared(true);
+    return message;
   }
 
   void DropSlow(const std::vector<Handle>& slow) {
@@ -118,10 +147,12 @@ struct WebServer::Impl {
     }
   }
 
+  // To every page client: one frame, made once.
   void ToPages(const void* data, size_t size, Opcode opcode) {
     std::vector<Handle> slow;
+    Server::message_ptr prepared;
     for (auto& [handle, client] : clients) {
-      if (!client.foxglove) SendTo(handle, data, size, opcode, slow);
+      if (!client.foxglove) SendTo(handle, data, size, opcode, slow, &prepared);
     }
     DropSlow(slow);
   }
@@ -171,8 +202,49 @@ struct WebServer::Impl {
 
   // --- handlers (I/O thread) ---
 
+  // False (and a 403 set on the connection) unless the request's Host
+  // header, and its Origin header when `check_origin` and it has one,
+  // name this server: DNS rebinding and other sites' pages are refused.
+  bool FromAllowedHost(const Server::connection_ptr& connection, bool check_origin) {
+    const HostPolicy policy{options.bind, bound_port.load(), options.allowed_hosts};
+    const std::string host = connection->get_request_header("Host");
+    const std::string origin = check_origin ? connection->get_request_header("Origin") : "";
+    const bool host_ok = HostAllowed(host, policy);
+    if (host_ok && (origin.empty() || OriginAllowed(origin, policy))) return true;
+    int64_t refused;
+    {
+      std::lock_guard lock(counters_mutex);
+      refused = ++counters.refused_host;
+    }
+    // Every refusal counted, the first ones logged (a hostile page may retry).
+    if (refused <= 10) {
+      std::string shown = host_ok ? "Origin " + origin : "Host " + host;
+      shown.resize(std::min<size_t>(shown.size(), 120));
+      for (char& c : shown) {
+        if (c < 0x20 || c > 0x7e) c = '?';
+      }
+      spdlog::warn("refused a request for {} (not this server; --allow-host NAME allows a name){}",
+                   shown, refused == 10 ? "; further refusals are counted, not logged" : "");
+    }
+    connection->set_status(websocketpp::http::status_code::forbidden);
+    connection->append_header("Content-Type", "text/plain");
+    connection->set_body(
+        host_ok ? "forbidden: a WebSocket from another site's page; start dynapath web with "
+                  "--allow-host NAME to allow that site\n"
+                : "forbidden: this server answers requests for localhost, 127.0.0.1, [::1] "
+                  "or its address on its port; start dynapath web with --allow-host NAME to "
+                  "allow another name\n");
+    return false;
+  }
+
   bool OnValidate(Handle handle) {
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    // No Nagle: a step's small messages (its report, its policy's few
+    // changed cells) leave at once instead of waiting until the one before
+    // is acknowledged (which a client may delay).
+    asio::error_code ignored;
+    connection->get_raw_socket().set_option(asio::ip::tcp::no_delay(true), ignored);
+    if (!FromAllowedHost(connection, /*check_origin=*/true)) return false;
     if (static_cast<int>(clients.size() + opening.size()) >= options.max_clients) {
       Count(&ServerCounters::refused_full);
       connection->set_status(websocketpp::http::status_code::service_unavailable);
@@ -303,6 +375,7 @@ struct WebServer::Impl {
   void OnHttp(Handle handle) {
     Count(&ServerCounters::http_requests);
     Server::connection_ptr connection = server.get_con_from_hdl(handle);
+    if (!FromAllowedHost(connection, /*check_origin=*/false)) return;
     const websocketpp::http::parser::request& request = connection->get_request();
     if (request.get_method() != "GET" && request.get_method() != "HEAD") {
       connection->set_status(websocketpp::http::status_code::method_not_allowed);
@@ -318,6 +391,7 @@ struct WebServer::Impl {
                               {"accepted", c.accepted},
                               {"refused_full", c.refused_full},
                               {"refused_handshake", c.refused_handshake},
+                              {"refused_host", c.refused_host},
                               {"dropped_slow", c.dropped_slow},
                               {"closed_bad_input", c.closed_bad_input},
                               {"messages_in", c.messages_in},
@@ -388,6 +462,7 @@ struct WebServer::Impl {
   }
 
   void TakePolicy(const policy_t& policy, double received_ms) {
+    const double taken_ms = WallMs();
     FrameHeader header;
     header.approach = policy.approach;
     header.step = policy.time_step;
@@ -398,23 +473,32 @@ struct WebServer::Impl {
       header.regions.insert(header.regions.end(), {policy.region_row0[i], policy.region_col0[i],
                                                    policy.region_rows[i], policy.region_cols[i]});
     }
-    std::vector<uint8_t> cells = PackPolicy(policy);
     auto it = approaches.find(policy.approach);
     std::vector<uint8_t> frame;
-    if (it == approaches.end() || it->second.cells.size() != cells.size() ||
-        it->second.header.rows != header.rows) {
+    if (it != approaches.end() && it->second.header.rows == header.rows &&
+        it->second.header.cols == header.cols &&
+        RepackPolicy(policy, it->second.cells, changed_cells)) {
+      // The usual step: the approach's cells repacked in place, the
+      // changed ones sent.
+      frame = DeltaFrame(header, changed_cells, it->second.cells);
+    } else {
       if (it == approaches.end()) approach_order.push_back(policy.approach);
       header.kind = FrameKind::kFull;
+      std::vector<uint8_t> cells = PackPolicy(policy);
       frame = FullFrame(header, cells);
-    } else {
-      frame = DeltaFrame(header, it->second.cells, cells);
+      approaches[policy.approach].cells = std::move(cells);
     }
     ApproachState& state = approaches[policy.approach];
     state.header = header;
     state.header.kind = FrameKind::kFull;
-    state.cells = std::move(cells);
+    const double packed_ms = WallMs();
     ToPages(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
     ToFoxglove("/policy", received_ms, [&] { return PolicyFoxglove(policy); });
+    spdlog::debug(
+        "policy {} step {}: {} bytes to the pages; waited {:.1f} ms for the I/O thread, packed in "
+        "{:.1f} ms, sent in {:.1f} ms",
+        policy.approach, policy.time_step, frame.size(), taken_ms - received_ms,
+        packed_ms - taken_ms, WallMs() - packed_ms);
   }
 
   void TakePaths(const path_reply_t& reply, double received_ms) {
@@ -504,28 +588,37 @@ int WebServer::port() const { return impl_->bound_port.load(); }
 
 ServerCounters WebServer::counters() const { return impl_->Counters(); }
 
-void WebServer::Grid(const grid_t& grid, double received_ms) {
-  impl_->Post(grid.num_cells + 64,
-              [this, grid, received_ms] { impl_->TakeGrid(grid, received_ms); });
+void WebServer::Grid(grid_t grid, double received_ms) {
+  const int64_t bytes = grid.num_cells + 64;
+  impl_->Post(bytes,
+              [this, grid = std::move(grid), received_ms] { impl_->TakeGrid(grid, received_ms); });
 }
-void WebServer::Changes(const changes_t& changes, double received_ms) {
-  impl_->Post(int64_t{changes.num_changes} * 5 + 64,
-              [this, changes, received_ms] { impl_->TakeChanges(changes, received_ms); });
+void WebServer::Changes(changes_t changes, double received_ms) {
+  const int64_t bytes = int64_t{changes.num_changes} * 5 + 64;
+  impl_->Post(bytes, [this, changes = std::move(changes), received_ms] {
+    impl_->TakeChanges(changes, received_ms);
+  });
 }
 void WebServer::Report(const step_report_t& report, double received_ms) {
   impl_->Post(256, [this, report, received_ms] { impl_->TakeReport(report, received_ms); });
 }
-void WebServer::Policy(const policy_t& policy, double received_ms) {
-  impl_->Post(int64_t{policy.num_cells} * 3 + 64,
-              [this, policy, received_ms] { impl_->TakePolicy(policy, received_ms); });
+void WebServer::Policy(policy_t policy, double received_ms) {
+  const int64_t bytes = int64_t{policy.num_cells} * 3 + 64;
+  impl_->Post(bytes, [this, policy = std::move(policy), received_ms] {
+    impl_->TakePolicy(policy, received_ms);
+  });
 }
-void WebServer::Paths(const path_reply_t& reply, double received_ms) {
-  impl_->Post(int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64,
-              [this, reply, received_ms] { impl_->TakePaths(reply, received_ms); });
+void WebServer::Paths(path_reply_t reply, double received_ms) {
+  const int64_t bytes = int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64;
+  impl_->Post(bytes, [this, reply = std::move(reply), received_ms] {
+    impl_->TakePaths(reply, received_ms);
+  });
 }
-void WebServer::Updates(const obstacle_update_t& update, double received_ms) {
-  impl_->Post(int64_t{update.num_cells} * 9 + 64,
-              [this, update, received_ms] { impl_->TakeUpdates(update, received_ms); });
+void WebServer::Updates(obstacle_update_t update, double received_ms) {
+  const int64_t bytes = int64_t{update.num_cells} * 9 + 64;
+  impl_->Post(bytes, [this, update = std::move(update), received_ms] {
+    impl_->TakeUpdates(update, received_ms);
+  });
 }
 
 }  // namespace dynapath::web

@@ -3,6 +3,9 @@
 // over standalone asio, one I/O thread):
 //
 //   * GET of the page's files (served from memory), and /stats.json;
+//   * only for requests whose Host header (and, on a WebSocket handshake,
+//     Origin header when there is one) names this server or an allowed
+//     name (tools/web/host_check.h): others get HTTP 403;
 //   * WebSocket connections of the page (no subprotocol: binary policy
 //     frames and JSON messages, tools/web/messages.h) and of Foxglove
 //     clients (subprotocol foxglove.websocket.v1: serverInfo, advertise,
@@ -26,6 +29,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
@@ -44,7 +48,8 @@ struct PageFile {
 
 struct ServerOptions {
   std::string bind = "127.0.0.1";
-  int port = 8080;  // 0: any free port (tests)
+  int port = 8080;                         // 0: any free port (tests)
+  std::vector<std::string> allowed_hosts;  // --allow-host: NAME or NAME:PORT
   int max_clients = 32;
   int64_t max_frame_bytes = 64 * 1024;
   int64_t max_queue_bytes = int64_t{32} << 20;
@@ -62,6 +67,7 @@ struct ServerCounters {
   int64_t accepted = 0;           // WebSocket connections opened so far
   int64_t refused_full = 0;       // refused: max_clients reached
   int64_t refused_handshake = 0;  // refused: an unknown subprotocol
+  int64_t refused_host = 0;       // refused (403): a Host or Origin that is not this server
   int64_t dropped_slow = 0;       // dropped: their queue passed max_queue_bytes
   int64_t closed_bad_input = 0;   // closed: a frame they must not send or a malformed one
   int64_t http_requests = 0;
@@ -85,12 +91,14 @@ class WebServer {
   ServerCounters counters() const;
 
   // received_ms: wall clock (ms since the epoch) when the message arrived.
-  void Grid(const grid_t& grid, double received_ms);
-  void Changes(const changes_t& changes, double received_ms);
+  // Taken by value: a caller done with a message moves it in (a 1000x1000
+  // policy is 3 MB).
+  void Grid(grid_t grid, double received_ms);
+  void Changes(changes_t changes, double received_ms);
   void Report(const step_report_t& report, double received_ms);
-  void Policy(const policy_t& policy, double received_ms);
-  void Paths(const path_reply_t& reply, double received_ms);
-  void Updates(const obstacle_update_t& update, double received_ms);
+  void Policy(policy_t policy, double received_ms);
+  void Paths(path_reply_t reply, double received_ms);
+  void Updates(obstacle_update_t update, double received_ms);
 
  private:
   struct Impl;

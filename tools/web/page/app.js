@@ -2,8 +2,8 @@
 // Binary frames carry policies (whole, or the cells that changed) and the
 // maze, packed one byte per cell (tools/web/messages.h); text frames carry
 // JSON reports, changes, paths and map updates. The maze is drawn one pixel
-// per cell into an ImageData (only changed cells are rewritten) and scaled
-// by CSS; arrows, regions, changes and robots go on an overlay canvas.
+// per cell into an ImageData (only changed cells are rewritten, and only
+// the rectangle around them is put on the canvas) and scaled by CSS; arrows, regions, changes and robots go on an overlay canvas.
 // window.dynapath holds the page's state for tests and measurements.
 "use strict";
 
@@ -63,10 +63,26 @@ function colour(packed, index) {
   return NONE;
 }
 
+// The pixel (RGBA as one 32-bit word of the ImageData) of every packed
+// cell, moved (bit 8) or not: drawing a cell is one table look-up.
+const PIXEL = new Uint32Array(512);
+{
+  const littleEndian = new Uint8Array(new Uint32Array([1]).buffer)[0] === 1;
+  const saved = state.moved;
+  state.moved = [0, 1];
+  for (let moved = 0; moved < 2; moved++) {
+    for (let packed = 0; packed < 256; packed++) {
+      const [r, g, b] = colour(packed, moved);
+      PIXEL[packed | (moved << 8)] = littleEndian ? ((255 << 24) | (b << 16) | (g << 8) | r) >>> 0
+                                                  : ((r << 24) | (g << 16) | (b << 8) | 255) >>> 0;
+    }
+  }
+  state.moved = saved;
+}
+let pixels = new Uint32Array(image.data.buffer);
+
 function paint(view, index) {
-  const c = colour(view.cells[index], index);
-  const i = index * 4;
-  image.data[i] = c[0]; image.data[i + 1] = c[1]; image.data[i + 2] = c[2]; image.data[i + 3] = 255;
+  pixels[index] = PIXEL[view.cells[index] | (state.moved[index] << 8)];
 }
 
 function layout(view) {
@@ -78,6 +94,7 @@ function layout(view) {
   cells.style.width = view.cols * scale + "px"; cells.style.height = view.rows * scale + "px";
   overlay.width = Math.round(view.cols * scale); overlay.height = Math.round(view.rows * scale);
   image = ctx.createImageData(view.cols, view.rows);
+  pixels = new Uint32Array(image.data.buffer);
   state.moved = new Uint8Array(view.rows * view.cols);
   pendingFull = true;
 }
@@ -104,12 +121,14 @@ function parseFrame(buffer) {
   return { kind, approach, step, rows, cols, rx, regions, view, at };
 }
 
+// Whole policies and the maze keep a view on their message's buffer (a
+// 1000x1000 one is 1 MB): never copied.
 function onFrame(buffer) {
   const f = parseFrame(buffer);
   state.framesReceived++;
   const total = f.rows * f.cols;
   if (f.kind === 3) {  // the maze
-    state.maze = { rows: f.rows, cols: f.cols, step: f.step, cells: new Uint8Array(buffer, f.at, total).slice(), regions: [], rx: f.rx };
+    state.maze = { rows: f.rows, cols: f.cols, step: f.step, cells: new Uint8Array(buffer, f.at, total), regions: [], rx: f.rx };
     if (!state.selected) { pendingFull = true; dirtyCells = dirtyOverlay = true; }
     return;
   }
@@ -117,7 +136,7 @@ function onFrame(buffer) {
   if (f.kind === 1) {
     if (!a) { state.order.push(f.approach); addOption(f.approach); }
     a = state.approaches[f.approach] = { rows: f.rows, cols: f.cols, step: f.step, regions: f.regions, rx: f.rx,
-                                         cells: new Uint8Array(buffer, f.at, total).slice() };
+                                         cells: new Uint8Array(buffer, f.at, total) };
     if (f.approach === state.selected) pendingFull = true;
   } else {
     if (!a) return;  // a delta before its whole policy: never sent so
@@ -136,6 +155,7 @@ function onFrame(buffer) {
   }
   if (!state.selected || (follow.checked && state.selected !== f.approach)) choose(f.approach);
   if (f.approach === state.selected) { dirtyCells = dirtyOverlay = true; a.pendingDraw = f.step; }
+  return a;
 }
 
 function addOption(name) {
@@ -209,14 +229,27 @@ function drawCells() {
   if (!view) return;
   layout(view);
   if (pendingFull) {
-    const total = view.rows * view.cols;
-    for (let i = 0; i < total; i++) paint(view, i);
+    const total = view.rows * view.cols, cellsOf = view.cells, moved = state.moved;
+    for (let i = 0; i < total; i++) pixels[i] = PIXEL[cellsOf[i] | (moved[i] << 8)];
     pendingFull = false;
-  } else {
-    for (const index of pendingIndices) if (index < view.cells.length) paint(view, index);
+    pendingIndices.length = 0;
+    ctx.putImageData(image, 0, 0);
+    return;
+  }
+  // Only the changed cells, and only the rectangle around them goes to the
+  // canvas (nothing when no cell changed).
+  let r0 = view.rows, r1 = -1, c0 = view.cols, c1 = -1;
+  for (const index of pendingIndices) {
+    if (index >= view.cells.length) continue;
+    paint(view, index);
+    const r = Math.floor(index / view.cols), c = index - r * view.cols;
+    if (r < r0) r0 = r;
+    if (r > r1) r1 = r;
+    if (c < c0) c0 = c;
+    if (c > c1) c1 = c;
   }
   pendingIndices.length = 0;
-  ctx.putImageData(image, 0, 0);
+  if (r1 >= 0) ctx.putImageData(image, 0, 0, c0, r0, c1 - c0 + 1, r1 - r0 + 1);
 }
 
 function drawOverlay(now) {
@@ -241,10 +274,13 @@ function drawOverlay(now) {
   }
   if (state.changes && state.changes.cells) {  // this step's changes
     octx.strokeStyle = "#f1c40f"; octx.lineWidth = 2;
-    for (const index of state.changes.cells.slice(0, 5000)) {
-      const r = Math.floor(index / view.cols), c = index % view.cols;
-      octx.strokeRect(c * s, r * s, Math.max(s, 2), Math.max(s, 2));
+    octx.beginPath();  // one path: one stroke for all of them
+    const changed = state.changes.cells, n = Math.min(changed.length, 5000);
+    for (let k = 0; k < n; k++) {
+      const r = Math.floor(changed[k] / view.cols), c = changed[k] % view.cols;
+      octx.rect(c * s, r * s, Math.max(s, 2), Math.max(s, 2));
     }
+    octx.stroke();
   }
   octx.strokeStyle = "#e67e22"; octx.lineWidth = 2;
   for (const [r0, c0, rows, cols] of view.regions || []) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
@@ -306,26 +342,38 @@ function drawKeys() {
 }
 
 let fpsCount = 0, fpsSince = performance.now();
+const stepLine = document.getElementById("step");
+let stepText = "";
 function frame(now) {
   requestAnimationFrame(frame);
   const view = shown();
   const drawing = dirtyCells;
+  const t0 = performance.now();
   if (dirtyCells) { drawCells(); dirtyCells = false; }
+  const t1 = performance.now();
   if (dirtyOverlay || state.paths.length) { drawOverlay(now); dirtyOverlay = false; }
+  const t2 = performance.now();
   if (dirtyPlots) { drawPlot("plot-success", "success"); drawPlot("plot-length", "length"); drawPlot("plot-adapt", "adapt"); drawKeys(); dirtyPlots = false; }
   state.framesDrawn++; fpsCount++;
   if (now - fpsSince >= 1000) { state.fps = fpsCount * 1000 / (now - fpsSince); fpsCount = 0; fpsSince = now; }
   if (view) {
-    document.getElementById("step").textContent =
-      `${state.run}  ${state.selected || "maze"}  step ${view.step}  ${view.rows}x${view.cols}`;
+    // Written only when it changes: a DOM write makes the browser lay out
+    // and paint the page again, which an idle frame must not cost.
+    const text = `${state.run}  ${state.selected || "maze"}  step ${view.step}  ${view.rows}x${view.cols}`;
+    if (text !== stepText) stepLine.textContent = stepText = text;
   }
   if (drawing && view && view.pendingDraw !== undefined) {
     // The page's own timer: drawn (wall clock) minus when the server got
     // the step's REPORT (and its POLICY).
     const drawnAt = Date.now();
     const reportRx = state.reportRx[state.selected + "/" + view.pendingDraw];
+    // Where the time went: the server's part (policy received to frame
+    // received here), decoding the frame, drawing the cells and the overlay.
     state.updates.push({ step: view.pendingDraw, afterReportMs: reportRx ? drawnAt - reportRx : null,
-                         afterPolicyMs: drawnAt - view.rx });
+                         afterPolicyMs: drawnAt - view.rx,
+                         policyAfterReportMs: reportRx ? view.rx - reportRx : null,
+                         serverMs: view.arrived ? view.arrived - view.rx : null,
+                         decodeMs: view.decodeMs, cellsMs: t1 - t0, overlayMs: t2 - t1 });
     if (state.updates.length > 10000) state.updates.splice(0, 5000);
     state.drawn = { approach: state.selected, step: view.pendingDraw };
     view.pendingDraw = undefined;
@@ -347,7 +395,10 @@ function connect() {
     setTimeout(connect, 1000);
   };
   ws.onmessage = (event) => {
-    if (typeof event.data === "string") onText(event.data); else onFrame(event.data);
+    if (typeof event.data === "string") return onText(event.data);
+    const arrived = Date.now(), start = performance.now();
+    const a = onFrame(event.data);
+    if (a) { a.arrived = arrived; a.decodeMs = performance.now() - start; }
   };
 }
 connect();
