@@ -4,7 +4,8 @@
 # network namespace): the file the same at 1 and 3 agents as the in-process
 # federated training's, equal and importance averaging different files, an
 # agent killed mid-training has its learners reassigned (the same file
-# again), bad options refused with one line and exit 2. Run inside
+# again), Ctrl-C ends it with exit 130 and no file, bad options refused with
+# one line and exit 2. Run inside
 # `dynapath netns`. Usage: tests/convq_federated_test.sh DYNAPATH
 set -uo pipefail
 dynapath=${1:?usage: convq_federated_test.sh PATH_TO_DYNAPATH}
@@ -66,6 +67,25 @@ fi
 wait $trainer || fail "training with a killed agent: $(tail -5 "$work/kill.log")"
 grep -q "reassigning their learners" "$work/kill.log" || fail "no reassignment: $(tail -5 "$work/kill.log")"
 cmp -s "$work/long.model" "$work/long-3.model" || fail "the file with a killed agent differs"
+
+# Ctrl-C during a training on agents: exit 130, no file, no agent left.
+"$dynapath" train-model "${long[@]}" --agents 2 --out "$work/stopped.model" 2>"$work/stop.log" &
+trainer=$!
+for _ in $(seq 1 100); do grep -q "round 1/" "$work/stop.log" && break; sleep 0.1; done
+agents=()
+for stat in /proc/[0-9]*/stat; do
+  read -r pid comm _ ppid _ <"$stat" 2>/dev/null || continue
+  [ "$ppid" = "$trainer" ] && [ "$comm" = "(dynapath-agent)" ] && agents+=("$pid")
+done
+[ ${#agents[@]} -eq 2 ] || fail "the trainer runs ${#agents[@]} agent processes, expected 2"
+kill -INT $trainer
+wait $trainer
+code=$?
+[ $code -eq 130 ] || fail "train-model --agents after Ctrl-C exited $code, expected 130"
+[ -e "$work/stopped.model" ] && fail "train-model --agents left a file after Ctrl-C"
+for pid in "${agents[@]}"; do
+  grep -qs dynapath-agent "/proc/$pid/comm" && fail "agent process $pid outlived the stopped trainer"
+done
 
 # Bad options: one line, exit 2, before any work.
 expect_usage_error "--learners" train-model --seed 1 --learners 9 --mazes 8 --out "$work/m.model"

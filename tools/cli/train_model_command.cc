@@ -109,7 +109,7 @@ int TrainModelCommand(const std::vector<std::string>& args) {
                "equal");
   group.Option("--agents", agents, "N",
                "federated: host the learners on N dynapath-agent processes over LCM, in a "
-               "private network namespace (1 to 256); the same file as without",
+               "private network namespace (1 to 256); the same file as in this process",
                "in this process");
   app.add_option("--out", out, "the model file to write")->type_name("FILE")->required();
 
