@@ -7,14 +7,18 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <lcm/lcm-cpp.hpp>
+#include <mutex>
 #include <optional>
 #include <thread>
 
 #include "coordinator/convq_trainer.h"
 #include "dynapath/convq_training.h"
 #include "launch/launcher.h"
+#include "protocol/auth.h"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "protocol/dispatcher.h"
 #include "protocol/liveness.h"
 
@@ -142,6 +146,117 @@ TEST(ConvQOnAgents, ASilentAgentsLearnersAreReassigned) {
   EXPECT_EQ(*model, *local);
   EXPECT_TRUE(ghost.vanished());
   EXPECT_GE(trainer.stats().epochs, 1);
+}
+
+// The only agent of a training, which sends, before its real shards of
+// every round, shards that must not count: one with a weight that is not
+// finite (Validate drops it), one of a learner the training does not have
+// (the trainer refuses it), and one of learner 0 with other weights under
+// another key (unauthenticated: dropped unread). memq:// delivers in order,
+// so all three reach the trainer while it still collects the round.
+class HostileAgent {
+ public:
+  HostileAgent(protocol::Bus& bus, protocol::Bus& forger) : bus_(bus), forger_(forger) {
+    bus.Subscribe<model_round_t>(protocol::channel::kModelRound, [this](model_round_t& m) {
+      std::lock_guard lock(mutex_);
+      if (!round_ || m.round > round_->round) round_ = m;
+    });
+    heartbeat_t base{};
+    base.role = heartbeat_t::ROLE_AGENT;
+    base.sender = kId;
+    base.threads = 1;
+    beat_.emplace(bus, base, 0.05, [](heartbeat_t&) {});
+    thread_ = std::thread([this] {
+      int sent = 0;
+      while (!done_) {
+        std::optional<model_round_t> round;
+        {
+          std::lock_guard lock(mutex_);
+          if (round_ && round_->round > sent) round = round_;
+        }
+        if (round) {
+          sent = round->round;
+          Answer(*round);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    });
+  }
+  ~HostileAgent() {
+    done_ = true;
+    thread_.join();
+  }
+
+ private:
+  static constexpr int kId = 66;
+
+  model_shards_t Message(const std::vector<ConvQShard>& shards, int round) {
+    model_shards_t message = protocol::ConvQShardsToMessage(shards);
+    message.run_id = bus_.run_id();
+    message.round = round;
+    message.agent = kId;
+    return message;
+  }
+
+  void Answer(const model_round_t& m) {
+    ConvQShard fake;
+    fake.model = ConvQModel{1, 2, 3, 0.5, 0.5};
+    fake.samples = 1000;
+    model_shards_t not_finite = Message({fake}, m.round);
+    not_finite.weights[1] = std::nan("");
+    bus_.Publish(protocol::channel::kModelShards, not_finite);
+    model_shards_t stranger = Message({fake}, m.round);
+    stranger.learner[0] = 99;
+    bus_.Publish(protocol::channel::kModelShards, stranger);
+    forger_.Publish(protocol::channel::kModelShards, Message({fake}, m.round));
+    const ConvQTrainingOptions options = protocol::ConvQOptionsFromRound(m);
+    std::vector<ConvQShard> real;
+    for (int k = 0; k < m.learners; ++k) {
+      real.push_back(TrainConvQLearner(options, protocol::ConvQModelFromRound(m), m.round, k));
+    }
+    bus_.Publish(protocol::channel::kModelShards, Message(real, m.round));
+  }
+
+  protocol::Bus& bus_;
+  protocol::Bus& forger_;
+  std::mutex mutex_;
+  std::optional<model_round_t> round_;
+  std::optional<protocol::HeartbeatSender> beat_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+TEST(ConvQOnAgents, BadAndForgedShardsAreDroppedAndCounted) {
+  const ConvQTrainingOptions options = FederatedOptions(ConvQAveraging::kImportance);
+  Result<ConvQModel> local = TrainConvQModel(options, nullptr, {});
+  ASSERT_TRUE(local.ok());
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  protocol::Bus bus(lcm, "convq-hostile", ConvQMemqBus());
+  protocol::Bus agent_bus(lcm, "convq-hostile", ConvQMemqBus());
+  protocol::BusOptions forged = ConvQMemqBus();
+  forged.key = *protocol::KeyFromSecretText("not the run's secret: 0123456789abcdef0123456789");
+  protocol::Bus forger_bus(lcm, "convq-hostile", forged);
+  coordinator::ConvQTrainerOptions trainer_options;
+  trainer_options.agent_wait_seconds = 120;
+  coordinator::ConvQTrainer trainer(bus, trainer_options);
+  Result<ConvQModel> model = Error::Internal("not run");
+  {
+    HostileAgent agent(agent_bus, forger_bus);
+    protocol::Dispatcher dispatcher(lcm);
+    trainer.Start();
+    model = TrainConvQFederated(
+        options, [&](int round, const ConvQModel& m) { return trainer.Round(options, round, m); },
+        {});
+    trainer.Finish();
+  }
+  ASSERT_TRUE(model.ok()) << model.error().message;
+  EXPECT_EQ(*model, *local);
+  const protocol::BusCounters counters = bus.counters();
+  EXPECT_GE(counters.unauthenticated, options.rounds);
+  EXPECT_GE(counters.dropped - counters.unauthenticated - counters.replayed, options.rounds);
+  EXPECT_EQ(trainer.stats().shards_refused, options.rounds);
+  EXPECT_EQ(trainer.stats().shards, options.rounds * options.learners);
 }
 
 TEST(ConvQOnAgents, WithNoAgentLeftTheTrainingFailsSayingSo) {
