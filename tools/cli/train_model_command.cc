@@ -13,11 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "app/resources.h"
-#include "coordinator/convq_trainer.h"
+#include "app/model_training.h"
 #include "dynapath/convq_training.h"
-#include "launch/launcher.h"
-#include "launch/private_network.h"
 #include "protocol/dispatcher.h"
 #include "runtime/model_file.h"
 #include "runtime/option_group.h"
@@ -25,54 +22,6 @@
 #include "tools/cli/commands.h"
 
 namespace dynapath::cli {
-
-namespace {
-
-// Federated training on `agents` dynapath-agent processes over LCM, in the
-// private network namespace this process has entered: the processes of the
-// training and nothing else are on it.
-Result<ConvQModel> TrainOnAgentProcesses(
-    const ConvQTrainingOptions& options, int agents, const std::atomic<bool>& stop,
-    const std::function<void(const ConvQTrainingRound&)>& progress) {
-  Result<runtime::ProcessSetup> setup =
-      runtime::ResolveProcessOptions(runtime::ProcessOptions{}, false);
-  if (!setup) return setup.error();
-  Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(setup->lcm_url);
-  if (!lcm) return Error::Unavailable(lcm.error().message);
-  protocol::Bus bus(**lcm, setup->run_id, setup->bus);
-  coordinator::ConvQTrainerOptions trainer_options;
-  trainer_options.min_agents = agents;
-  coordinator::ConvQTrainer trainer(bus, trainer_options);
-  trainer.set_stop(&stop);
-  protocol::Dispatcher dispatcher(**lcm);
-  trainer.Start();
-  launch::AgentLaunch launch;
-  launch.process = *setup;
-  launch.agents = agents;
-  launch.threads_per_agent = app::ThreadsPerAgent(options.threads, agents);
-  launch.log_level = "warn";
-  launch::AgentProcesses processes(launch);
-  if (!processes.Start()) {
-    trainer.Finish();
-    return Error::Unavailable("the agent processes could not be started");
-  }
-  spdlog::info("run {}: {} agent processes in a private network", setup->run_id, agents);
-  Result<ConvQModel> model = TrainConvQFederated(
-      options,
-      [&](int round, const ConvQModel& m) {
-        processes.Check();  // an agent that exited is logged; its learners are reassigned
-        return trainer.Round(options, round, m);
-      },
-      progress);
-  trainer.Finish();
-  processes.Stop();
-  const coordinator::ConvQTrainerStats& stats = trainer.stats();
-  spdlog::info("{} rounds on agents: {} shards, {} repeats, {} reassignments; messages: {}",
-               stats.rounds, stats.shards, stats.resends, stats.epochs, bus.TrafficSummary());
-  return model;
-}
-
-}  // namespace
 
 int TrainModelCommand(const std::vector<std::string>& args) {
   CLI::App app(
@@ -177,7 +126,7 @@ int TrainModelCommand(const std::vector<std::string>& args) {
 
   // Still single-threaded: a private network needs that.
   if (agent_count > 0) {
-    if (Status entered = launch::EnterPrivateNetwork(); !entered) {
+    if (Status entered = app::EnterModelTrainingNetwork(); !entered) {
       return usage_error("option --agents: no private network namespace can be made here (" +
                          entered.error().message + ")");
     }
@@ -205,9 +154,9 @@ int TrainModelCommand(const std::vector<std::string>& args) {
         round.round, options.rounds, round.td_rms, round.samples, m.station_reward, m.free_reward,
         m.blocked_reward, m.move_discount, m.bump_discount);
   };
-  Result<ConvQModel> model = agent_count > 0
-                                 ? TrainOnAgentProcesses(options, agent_count, stop, report)
-                                 : TrainConvQModel(options, &stop, report);
+  Result<ConvQModel> model =
+      agent_count > 0 ? app::TrainModelOnAgentProcesses(options, agent_count, stop, report)
+                      : TrainConvQModel(options, &stop, report);
   if (!model) {
     if (model.error().IsCancelled()) {
       spdlog::warn("interrupted: no model written");
