@@ -10,6 +10,7 @@
 #include <mutex>
 #include <random>
 
+#include "dynapath/convq_training.h"
 #include "dynapath/learners.h"
 #include "dynapath/single_agent_learner.h"
 #include "protocol/channels.h"
@@ -82,6 +83,9 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
   bus_.Subscribe<shards_t>(ch::kShards, [this](shards_t& shards) {
     if (shards.agent == options_.id) return;  // our own, looped back
     inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
+  });
+  bus_.Subscribe<model_round_t>(ch::kModelRound, [this](model_round_t& round) {
+    inbox_.Post([this, round = std::move(round)] { OnModelRound(round); });
   });
   if (options_.instance == 0) options_.instance = RandomInstance();
   bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
@@ -449,6 +453,49 @@ void Agent::NudgeIfStalled() {
   PublishShards(sent_.back(), combiner_->round());
   nudge_interval_ms_ = std::min(kNudgeCapMs, nudge_interval_ms_ * 2);
   next_nudge_ms_ = now + nudge_interval_ms_;
+}
+
+void Agent::OnModelRound(const model_round_t& m) {
+  if (m.round < model_round_ || (m.round == model_round_ && m.epoch < model_epoch_)) return;
+  if (m.round == model_round_ && m.epoch == model_epoch_) {
+    // A repeat: the trainer lacks what we sent.
+    if (model_sent_) bus_.Publish(protocol::channel::kModelShards, *model_sent_);
+    Beat();
+    return;
+  }
+  model_round_ = m.round;
+  model_epoch_ = m.epoch;
+  model_sent_.reset();
+  std::vector<int> learners;
+  for (int i = 0; i < m.num_items; ++i) {
+    if (m.item_agent[static_cast<size_t>(i)] == options_.id) {
+      learners.push_back(m.item_learner[static_cast<size_t>(i)]);
+    }
+  }
+  std::sort(learners.begin(), learners.end());
+  // The heartbeat tells the trainer where we are: this round and epoch,
+  // round -1 while computing it, the round once its shards are sent.
+  reported_batch_ = m.round;
+  reported_epoch_ = m.epoch;
+  reported_round_ = -1;
+  Beat();
+  if (learners.empty()) return;
+  const ConvQTrainingOptions options = protocol::ConvQOptionsFromRound(m);
+  const ConvQModel model = protocol::ConvQModelFromRound(m);
+  std::vector<ConvQShard> shards(learners.size());
+  pool_.ParallelFor(static_cast<int>(learners.size()), [&](int i) {
+    shards[static_cast<size_t>(i)] =
+        TrainConvQLearner(options, model, m.round, learners[static_cast<size_t>(i)]);
+  });
+  model_shards_t message = protocol::ConvQShardsToMessage(shards);
+  message.run_id = bus_.run_id();
+  message.epoch = m.epoch;
+  message.round = m.round;
+  message.agent = options_.id;
+  bus_.Publish(protocol::channel::kModelShards, message);
+  model_sent_ = std::move(message);
+  reported_round_ = m.round;
+  Beat();
 }
 
 void Agent::Beat() {

@@ -17,6 +17,8 @@
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
+#include "dynapath/model_round_t.hpp"
+#include "dynapath/model_shards_t.hpp"
 #include "dynapath/region_model.h"
 #include "dynapath/shards_t.hpp"
 #include "dynapath/thread_pool.h"
@@ -80,6 +82,10 @@ class Agent {
 
   void OnBatch(const job_batch_t& batch);
   void OnShards(const shards_t& shards);
+  // A round of a federated training of convQ's model: computes the shards
+  // of the learners it assigns here and publishes them (a repeat of the
+  // round in hand: re-sends them).
+  void OnModelRound(const model_round_t& round);
   void RunWholeJobs(const job_batch_t& batch, const std::vector<int>& jobs);
   // Computes this agent's shards of every round it can, combining each round
   // as soon as all agents' shards are there, until a round waits for others.
@@ -114,6 +120,11 @@ class Agent {
   int64_t nudge_interval_ms_ = 0;
   int64_t round_compute_ms_ = 0;       // how long computing our last round took
   std::vector<job_result_t> results_;  // whole jobs finished in this batch
+  // The convQ training round in hand (agent thread only): its round and
+  // epoch, and the shards sent for it (none: no learner of it here).
+  int32_t model_round_ = 0;
+  int32_t model_epoch_ = -1;
+  std::optional<model_shards_t> model_sent_;
 
   // What the heartbeat reports (written by the agent thread).
   std::atomic<int64_t> reported_batch_{-1};

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
       "returns Q-table shards per round (or final tables), sends heartbeats.\n"
+      "Also hosts the learners of convQ's model for `dynapath train-model\n"
+      "--agents` (one parameter shard per learner and round).\n"
       "Exits when the coordinator finishes, fails or is silent for --wait seconds.",
       "dynapath-agent");
   runtime::OptionGroup group(app);

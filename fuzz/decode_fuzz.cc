@@ -41,6 +41,11 @@ void ValidateAndConvert(const uint8_t* data, int size) {
     map.set(0, dynapath::Cell::kStation);
     dynapath::UpdateRefusal why{};
     (void)dynapath::protocol::UpdateFromOccupancyGrid(message, map, {}, &why);
+  } else if constexpr (std::is_same_v<T, dynapath::model_round_t>) {
+    (void)dynapath::protocol::ConvQOptionsFromRound(message);
+    (void)dynapath::protocol::ConvQModelFromRound(message);
+  } else if constexpr (std::is_same_v<T, dynapath::model_shards_t>) {
+    (void)dynapath::protocol::ConvQShardsFromMessage(message);
   } else if constexpr (std::is_same_v<T, dynapath::job_batch_t>) {
     for (int i = 0; i < message.num_jobs; ++i) (void)dynapath::protocol::JobFromBatch(message, i);
   }
@@ -78,6 +83,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ValidateAndConvert<dynapath::shards_t>(data, n);
   ValidateAndConvert<dynapath::job_result_t>(data, n);
   ValidateAndConvert<dynapath::fragment_t>(data, n);
+  ValidateAndConvert<dynapath::model_round_t>(data, n);
+  ValidateAndConvert<dynapath::model_shards_t>(data, n);
   ValidateAndConvert<dynapath::fragment_nack_t>(data, n);
   ValidateAndConvert<dynapath::step_report_t>(data, n);
   ValidateAndConvert<dynapath::policy_t>(data, n);

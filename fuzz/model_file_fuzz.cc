@@ -1,4 +1,4 @@
-// libFuzzer target: the model file reader (--model FILE). The first byte
+// libFuzzer target: the model file reader (--model FILE), versions 1 and 2. The first byte
 // chooses whether the checksum is checked: random bytes never carry a valid
 // BLAKE2b checksum, so half the inputs skip it to reach the field checks. A
 // decoded file is encoded again and must decode to the same model.

@@ -29,6 +29,10 @@ inline constexpr std::string_view kPathReply = "PATH_REPLY";
 // Goal requests in (goal_request_t) and their replies out (goal_reply_t).
 inline constexpr std::string_view kGoalRequest = "GOAL_REQUEST";
 inline constexpr std::string_view kGoalReply = "GOAL_REPLY";
+// Federated training of convQ's model (dynapath train-model --agents N):
+// rounds out (model_round_t), learners' parameter shards back (model_shards_t).
+inline constexpr std::string_view kModelRound = "MODEL_ROUND";
+inline constexpr std::string_view kModelShards = "MODEL_SHARDS";
 // Selective repair of fragmented messages (any channel's): fragment_nack_t.
 inline constexpr std::string_view kFragmentNack = "FRAGMENT_NACK";
 }  // namespace channel

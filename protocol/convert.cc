@@ -1,6 +1,7 @@
 #include "protocol/convert.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 
 #include "dynapath/learners.h"
@@ -420,6 +421,70 @@ path_reply_t ReplyToMessage(const std::string& client, int64_t request_id, int8_
   }
   m.num_path = static_cast<int32_t>(m.path_rows.size());
   return m;
+}
+
+model_round_t ModelRoundToMessage(const ConvQTrainingOptions& options, int round,
+                                  const ConvQModel& model) {
+  model_round_t m{};
+  m.round = round;
+  m.seed = static_cast<int64_t>(options.seed);
+  m.rounds = options.rounds;
+  m.mazes = options.mazes_per_round;
+  m.samples = options.samples_per_maze;
+  m.min_side = options.min_side;
+  m.max_side = options.max_side;
+  m.learners = options.learners;
+  const std::array<double, kConvQWeightCount> weights = ConvQWeights(model);
+  m.weights.assign(weights.begin(), weights.end());
+  m.num_weights = static_cast<int32_t>(m.weights.size());
+  return m;
+}
+
+ConvQTrainingOptions ConvQOptionsFromRound(const model_round_t& m) {
+  ConvQTrainingOptions options;
+  options.seed = static_cast<uint64_t>(m.seed);
+  options.threads = 1;
+  options.rounds = m.rounds;
+  options.mazes_per_round = m.mazes;
+  options.samples_per_maze = m.samples;
+  options.min_side = m.min_side;
+  options.max_side = m.max_side;
+  options.learners = m.learners;
+  return options;
+}
+
+ConvQModel ConvQModelFromRound(const model_round_t& m) {
+  std::array<double, kConvQWeightCount> weights{};
+  for (size_t i = 0; i < kConvQWeightCount; ++i) weights[i] = m.weights[i];
+  return ConvQModelFromWeights(weights);
+}
+
+model_shards_t ConvQShardsToMessage(const std::vector<ConvQShard>& shards) {
+  model_shards_t m{};
+  for (const ConvQShard& shard : shards) {
+    m.learner.push_back(shard.learner);
+    m.samples.push_back(shard.samples);
+    m.squared_error.push_back(shard.squared_error);
+    for (double weight : ConvQWeights(shard.model)) m.weights.push_back(weight);
+  }
+  m.num_shards = static_cast<int32_t>(shards.size());
+  m.num_weights = static_cast<int32_t>(m.weights.size());
+  return m;
+}
+
+std::vector<ConvQShard> ConvQShardsFromMessage(const model_shards_t& m) {
+  std::vector<ConvQShard> shards(m.learner.size());
+  for (size_t i = 0; i < shards.size(); ++i) {
+    shards[i].learner = m.learner[i];
+    shards[i].samples = m.samples[i];
+    shards[i].squared_error = m.squared_error[i];
+    std::array<double, kConvQWeightCount> weights{};
+    for (size_t w = 0; w < kConvQWeightCount; ++w) {
+      weights[w] = m.weights[i * kConvQWeightCount + w];
+    }
+    shards[i].model = ConvQModelFromWeights(weights);
+  }
+  return shards;
 }
 
 }  // namespace dynapath::protocol

@@ -9,6 +9,7 @@
 
 #include "dynapath/change_sequence.h"
 #include "dynapath/changes_t.hpp"
+#include "dynapath/convq_training.h"
 #include "dynapath/experiment.h"
 #include "dynapath/fedasynq.h"
 #include "dynapath/grid.h"
@@ -16,6 +17,8 @@
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/learner_shard_t.hpp"
 #include "dynapath/map_update.h"
+#include "dynapath/model_round_t.hpp"
+#include "dynapath/model_shards_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -100,6 +103,18 @@ std::optional<QTable> GetTable(const Message& m, int cells, QPrecision precision
 learner_shard_t ShardToMessage(const LearnerShard& shard, int job, bool with_visits);
 // Visits absent (equal averaging does not use them) become 1 each.
 LearnerShard ShardFromMessage(const learner_shard_t& message, int64_t round);
+
+// A round of a federated training of convQ's model (no items: the trainer
+// adds them), and back: the training options (threads 1, averaging unset:
+// the agents do not average) and the round's model. Messages validated.
+model_round_t ModelRoundToMessage(const ConvQTrainingOptions& options, int round,
+                                  const ConvQModel& model);
+ConvQTrainingOptions ConvQOptionsFromRound(const model_round_t& message);
+ConvQModel ConvQModelFromRound(const model_round_t& message);
+// Shards of one agent in one round (run id, epoch, round and agent left to
+// the caller), and back.
+model_shards_t ConvQShardsToMessage(const std::vector<ConvQShard>& shards);
+std::vector<ConvQShard> ConvQShardsFromMessage(const model_shards_t& message);
 
 grid_t GridToMessage(const Grid& grid);
 Grid GridFromMessage(const grid_t& message);  // message validated

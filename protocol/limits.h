@@ -22,6 +22,12 @@ inline constexpr int32_t kMaxUpdateCells = 65536;
 // its --max-starts of them and refuses larger requests with a status).
 inline constexpr int32_t kMaxRequestStarts = 65536;
 
+// Federated training of convQ's model (model_round_t, model_shards_t):
+// learners of a training and the largest maze side a round may ask for
+// (train-model's mazes are 16 to 48 cells a side).
+inline constexpr int32_t kMaxModelLearners = 256;
+inline constexpr int32_t kMaxModelMazeSide = 512;
+
 // An upper bound of the encoded size of any message of a run whose grid has
 // `cells` cells. The largest are job batches of warm-started nodes (per cell:
 // its code, 8 table values, two start counters: 41 bytes, 73 with the double

@@ -1,9 +1,11 @@
 #include "protocol/validate.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "dynapath/convq_model.h"
 #include "dynapath/learner_options.h"
 #include "dynapath/learners.h"
 #include "dynapath/mdp.h"
@@ -181,6 +183,74 @@ std::string Validate(const shards_t& m) {
       return "shard visit counts malformed";
     }
     if (!Finite(s.values) || !Finite(s.wide_values)) return "shard value not finite";
+  }
+  return {};
+}
+
+namespace {
+// "" when weights[first, first + kConvQWeightCount) are a model inside its bounds.
+std::string ModelWeights(const std::vector<double>& weights, size_t first) {
+  std::array<double, kConvQWeightCount> w{};
+  for (size_t i = 0; i < kConvQWeightCount; ++i) w[i] = weights[first + i];
+  if (Status checked = CheckConvQModel(ConvQModelFromWeights(w)); !checked) {
+    return checked.error().message;
+  }
+  return {};
+}
+}  // namespace
+
+std::string Validate(const model_round_t& m) {
+  if (m.epoch < 0 || m.round < 1 || m.round > m.rounds || m.seed < 0) {
+    return "epoch, round or seed out of range";
+  }
+  if (m.rounds > 10000 || m.mazes < 1 || m.mazes > 4096 || m.samples < 1 || m.samples > 1000000) {
+    return "training sizes out of range";
+  }
+  if (m.min_side < 2 || m.min_side > m.max_side || m.max_side > kMaxModelMazeSide) {
+    return "maze sides out of range";
+  }
+  if (m.learners < 1 || m.learners > kMaxModelLearners) return "learner count out of range";
+  if (!Count(m.num_weights, m.weights.size()) ||
+      m.num_weights != static_cast<int32_t>(kConvQWeightCount)) {
+    return "weight count mismatch";
+  }
+  if (std::string bad = ModelWeights(m.weights, 0); !bad.empty()) return "model: " + bad;
+  if (!Count(m.num_items, m.item_learner.size()) || !Count(m.num_items, m.item_agent.size()) ||
+      m.num_items > m.learners) {
+    return "item count mismatch";
+  }
+  std::vector<bool> seen(static_cast<size_t>(m.learners), false);
+  for (int i = 0; i < m.num_items; ++i) {
+    const int32_t learner = m.item_learner[static_cast<size_t>(i)];
+    if (learner < 0 || learner >= m.learners || seen[static_cast<size_t>(learner)]) {
+      return "item learner out of range or repeated";
+    }
+    seen[static_cast<size_t>(learner)] = true;
+    if (m.item_agent[static_cast<size_t>(i)] < 0) return "negative item agent";
+  }
+  return {};
+}
+
+std::string Validate(const model_shards_t& m) {
+  if (m.epoch < 0 || m.round < 1 || m.agent < 0) return "negative field";
+  if (m.num_shards < 1 || m.num_shards > kMaxModelLearners ||
+      !Count(m.num_shards, m.learner.size()) || !Count(m.num_shards, m.samples.size()) ||
+      !Count(m.num_shards, m.squared_error.size())) {
+    return "shard count mismatch";
+  }
+  if (!Count(m.num_weights, m.weights.size()) ||
+      Wide(m.num_weights) != Wide(m.num_shards) * static_cast<int64_t>(kConvQWeightCount)) {
+    return "weight count mismatch";
+  }
+  for (size_t i = 0; i < m.learner.size(); ++i) {
+    if (m.learner[i] < 0 || m.learner[i] >= kMaxModelLearners) return "learner out of range";
+    if (m.samples[i] < 0) return "negative sample count";
+    if (!std::isfinite(m.squared_error[i]) || m.squared_error[i] < 0) {
+      return "squared error not finite or negative";
+    }
+    if (std::string bad = ModelWeights(m.weights, i * kConvQWeightCount); !bad.empty()) {
+      return "shard of learner " + std::to_string(m.learner[i]) + ": " + bad;
+    }
   }
   return {};
 }

@@ -17,6 +17,8 @@
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/limits.h"
+#include "dynapath/model_round_t.hpp"
+#include "dynapath/model_shards_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -42,6 +44,11 @@ std::string Validate(const fragment_t& message);
 std::string Validate(const fragment_nack_t& message);
 std::string Validate(const step_report_t& message);
 std::string Validate(const policy_t& message);
+// A federated training of convQ's model: sizes within the training
+// command's bounds and kMaxModelLearners, every weight finite and inside
+// the model's bounds (CheckConvQModel), squared errors finite and >= 0.
+std::string Validate(const model_round_t& message);
+std::string Validate(const model_shards_t& message);
 // dynapath serve's messages: structure and the protocol's caps only; whether
 // the cells lie inside the service's grid and what they change is checked
 // against that grid (protocol/convert.h, ServiceUpdates), so that the

@@ -24,7 +24,8 @@ Result<std::vector<uint8_t>> EncodeModelFile(const ModelFile& file) {
   const ConvQTrainingOptions& t = file.training;
   ByteWriter out;
   out.PutBytes(kModelMagic, sizeof(kModelMagic));
-  out.Put<uint32_t>(kModelFormatVersion);
+  const bool federated = t.learners > 0;
+  out.Put<uint32_t>(federated ? 2u : 1u);
   out.Put<uint32_t>(kConvQKind);
   out.Put<uint64_t>(t.seed);
   out.Put<uint32_t>(static_cast<uint32_t>(t.rounds));
@@ -32,6 +33,10 @@ Result<std::vector<uint8_t>> EncodeModelFile(const ModelFile& file) {
   out.Put<uint32_t>(static_cast<uint32_t>(t.samples_per_maze));
   out.Put<uint32_t>(static_cast<uint32_t>(t.min_side));
   out.Put<uint32_t>(static_cast<uint32_t>(t.max_side));
+  if (federated) {
+    out.Put<uint32_t>(static_cast<uint32_t>(t.learners));
+    out.Put<uint32_t>(t.averaging == ConvQAveraging::kEqual ? 0u : 1u);
+  }
   out.Put<uint32_t>(static_cast<uint32_t>(kConvQWeightCount));
   for (double weight : ConvQWeights(file.model)) out.Put<double>(weight);
   AppendChecksum(out);
@@ -47,13 +52,15 @@ Result<ModelFile> DecodeModelFile(std::string_view bytes, bool verify_checksum) 
   }
   uint32_t version = 0, kind = 0;
   if (!in.Get(version)) return Error::Corrupt("truncated in the header");
-  if (version != kModelFormatVersion) {
-    return Error::Corrupt("format version " + std::to_string(version) + ", this build reads " +
-                          std::to_string(kModelFormatVersion));
+  if (version != 1 && version != 2) {
+    return Error::Corrupt("format version " + std::to_string(version) +
+                          ", this build reads 1 and " + std::to_string(kModelFormatVersion));
   }
-  if (bytes.size() != kModelFileBytes) {
-    return Error::Corrupt(std::to_string(bytes.size()) + " bytes, a version 1 model file has " +
-                          std::to_string(kModelFileBytes) + " (truncated or extended)");
+  const size_t expected = version == 1 ? kModelFileBytes : kFederatedModelFileBytes;
+  if (bytes.size() != expected) {
+    return Error::Corrupt(std::to_string(bytes.size()) + " bytes, a version " +
+                          std::to_string(version) + " model file has " + std::to_string(expected) +
+                          " (truncated or extended)");
   }
   if (verify_checksum && !ChecksumMatches(bytes)) return Error::Corrupt("checksum mismatch");
   if (!in.Get(kind) || kind != kConvQKind) {
@@ -62,9 +69,19 @@ Result<ModelFile> DecodeModelFile(std::string_view bytes, bool verify_checksum) 
   ModelFile file;
   uint32_t rounds = 0, mazes = 0, samples = 0, min_side = 0, max_side = 0, count = 0;
   if (!in.Get(file.training.seed) || !in.Get(rounds) || !in.Get(mazes) || !in.Get(samples) ||
-      !in.Get(min_side) || !in.Get(max_side) || !in.Get(count)) {
+      !in.Get(min_side) || !in.Get(max_side)) {
     return Error::Corrupt("truncated in the training record");
   }
+  uint32_t learners = 0, averaging = 0;
+  if (version == 2) {
+    if (!in.Get(learners) || !in.Get(averaging)) {
+      return Error::Corrupt("truncated in the training record");
+    }
+    if (learners < 1 || learners > static_cast<uint32_t>(kMaxConvQLearners) || averaging > 1) {
+      return Error::Corrupt("the federated training record is out of bounds");
+    }
+  }
+  if (!in.Get(count)) return Error::Corrupt("truncated in the training record");
   if (rounds > kMaxRecordedCount || mazes > kMaxRecordedCount || samples > kMaxRecordedCount ||
       min_side > kMaxRecordedCount || max_side > kMaxRecordedCount || min_side > max_side) {
     return Error::Corrupt("the training record is out of bounds");
@@ -79,6 +96,8 @@ Result<ModelFile> DecodeModelFile(std::string_view bytes, bool verify_checksum) 
   file.training.samples_per_maze = static_cast<int>(samples);
   file.training.min_side = static_cast<int>(min_side);
   file.training.max_side = static_cast<int>(max_side);
+  file.training.learners = static_cast<int>(learners);
+  file.training.averaging = averaging == 0 ? ConvQAveraging::kEqual : ConvQAveraging::kImportance;
   std::array<double, kConvQWeightCount> weights{};
   for (double& weight : weights) {
     if (!in.Get(weight)) return Error::Corrupt("truncated in the weights");

@@ -15,7 +15,10 @@
 
 namespace dynapath::runtime {
 
-inline constexpr uint32_t kModelFormatVersion = 1;
+// Version 1: a model trained in one process; version 2 adds the federated
+// training's learners and averaging. Written: version 1 when
+// training.learners is 0, else 2. Read: both.
+inline constexpr uint32_t kModelFormatVersion = 2;
 // Larger files are refused unread (a model file is kModelFileBytes).
 inline constexpr uint64_t kMaxModelFileBytes = 4096;
 
@@ -24,9 +27,10 @@ struct ModelFile {
   ConvQTrainingOptions training;  // threads is not recorded (0 when read)
 };
 
-// The file's size: header 16, training 28, weight count 4, weights 40,
-// checksum 32.
+// The file's size: header 16, training 28 (version 2: 36), weight count 4,
+// weights 40, checksum 32.
 inline constexpr size_t kModelFileBytes = 120;
+inline constexpr size_t kFederatedModelFileBytes = 128;
 
 Result<std::vector<uint8_t>> EncodeModelFile(const ModelFile& file);
 // kCorrupt saying what is wrong. `verify_checksum` false: fuzz target only.

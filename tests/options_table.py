@@ -29,7 +29,10 @@ HOMONYMS = {
                      "out a round's mazes"),
     "--approach": (2, "run's list of approaches to run; the one approach render and view show"),
     "--run-id": (2, "the run a process belongs to; the run render and view show"),
-    "--agents": (2, "how many agent processes to run (run, experiment); how many the coordinator waits for"),
+    "--agents": (3, "how many agent processes to run (run, experiment); how many the coordinator waits for; "
+                    "train-model's agent processes hosting the learners of a federated training"),
+    "--learners": (2, "FedAsynQ's learners per training job (run, experiment, the processes); "
+                      "train-model's learners of a federated training of convQ's model"),
     "--config": (2, "a CLI11 config file (run, the processes); experiment's TOML study file, read by toml++"),
     "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
     "--rate": (2, "query's requests per second; feed's time steps per second"),

@@ -114,6 +114,14 @@ std::array<double, kN> Solve(std::array<double, kN * kN> a, std::array<double, k
   return w;
 }
 
+// Adds `sums` into `total`.
+void Accumulate(const Sums& sums, Sums& total) {
+  for (size_t i = 0; i < kN * kN; ++i) total.a[i] += sums.a[i];
+  for (size_t i = 0; i < kN; ++i) total.b[i] += sums.b[i];
+  total.squared_error += sums.squared_error;
+  total.samples += sums.samples;
+}
+
 // Keeps a fitted model inside the bounds (the iteration must contract).
 ConvQModel Bounded(const std::array<double, kN>& w) {
   std::array<double, kN> out = w;
@@ -136,8 +144,10 @@ unsigned ConvQTrainingMazeSeed(uint64_t seed, int round, int index) {
 
 Result<ConvQModel> TrainConvQModel(const ConvQTrainingOptions& options, StopToken stop,
                                    const std::function<void(const ConvQTrainingRound&)>& progress) {
-  // The start: no reward known, half discounts.
-  ConvQModel model{0.0, 0.0, 0.0, 0.5, 0.5};
+  if (options.learners > 0) {
+    return TrainConvQFederated(options, LocalConvQShards(options, stop), progress);
+  }
+  ConvQModel model = InitialConvQModel();
   const int threads = std::max(1, options.threads);
   std::vector<Sums> per_maze(static_cast<size_t>(options.mazes_per_round));
   for (int round = 1; round <= options.rounds; ++round) {
@@ -157,18 +167,102 @@ Result<ConvQModel> TrainConvQModel(const ConvQTrainingOptions& options, StopToke
     for (std::thread& worker : workers) worker.join();
     if (StopRequested(stop)) return Error::Cancelled();
     Sums total;
-    for (const Sums& sums : per_maze) {
-      for (size_t i = 0; i < kN * kN; ++i) total.a[i] += sums.a[i];
-      for (size_t i = 0; i < kN; ++i) total.b[i] += sums.b[i];
-      total.squared_error += sums.squared_error;
-      total.samples += sums.samples;
-    }
+    for (const Sums& sums : per_maze) Accumulate(sums, total);
     model = Bounded(Solve(total.a, total.b));
     if (progress) {
       ConvQTrainingRound report;
       report.round = round;
       report.samples = total.samples;
       report.td_rms = total.samples == 0 ? 0.0 : std::sqrt(total.squared_error / total.samples);
+      report.model = model;
+      progress(report);
+    }
+  }
+  return model;
+}
+
+ConvQModel InitialConvQModel() { return ConvQModel{0.0, 0.0, 0.0, 0.5, 0.5}; }
+
+ConvQShard TrainConvQLearner(const ConvQTrainingOptions& options, const ConvQModel& model,
+                             int round, int learner) {
+  ConvQShard shard;
+  shard.learner = learner;
+  shard.model = model;
+  const int learners = std::max(1, options.learners);
+  Sums total;
+  for (int i = learner; i < options.mazes_per_round; i += learners) {
+    Accumulate(MazeSums(options, model, round, i), total);
+  }
+  shard.samples = total.samples;
+  shard.squared_error = total.squared_error;
+  if (total.samples > 0) shard.model = Bounded(Solve(total.a, total.b));
+  return shard;
+}
+
+ConvQModel AverageConvQShards(const std::vector<ConvQShard>& shards, ConvQAveraging averaging,
+                              const ConvQModel& round_model) {
+  std::array<double, kN> sum{};
+  double total_weight = 0;
+  for (const ConvQShard& shard : shards) {
+    const double weight =
+        averaging == ConvQAveraging::kEqual ? 1.0 : static_cast<double>(shard.samples);
+    const std::array<double, kN> w = ConvQWeights(shard.model);
+    for (size_t i = 0; i < kN; ++i) sum[i] += weight * w[i];
+    total_weight += weight;
+  }
+  if (total_weight <= 0) return round_model;
+  for (double& value : sum) value /= total_weight;
+  return Bounded(sum);
+}
+
+ConvQShardSource LocalConvQShards(const ConvQTrainingOptions& options, StopToken stop) {
+  return [options, stop](int round, const ConvQModel& model) -> Result<std::vector<ConvQShard>> {
+    const int learners = options.learners;
+    const int threads = std::clamp(options.threads, 1, std::max(1, learners));
+    std::vector<ConvQShard> shards(static_cast<size_t>(learners));
+    const auto work = [&](int first) {
+      for (int k = first; k < learners; k += threads) {
+        if (StopRequested(stop)) return;
+        shards[static_cast<size_t>(k)] = TrainConvQLearner(options, model, round, k);
+      }
+    };
+    std::vector<std::thread> workers;
+    for (int t = 1; t < threads; ++t) workers.emplace_back(work, t);
+    work(0);
+    for (std::thread& worker : workers) worker.join();
+    if (StopRequested(stop)) return Error::Cancelled();
+    return shards;
+  };
+}
+
+Result<ConvQModel> TrainConvQFederated(
+    const ConvQTrainingOptions& options, const ConvQShardSource& source,
+    const std::function<void(const ConvQTrainingRound&)>& progress) {
+  ConvQModel model = InitialConvQModel();
+  for (int round = 1; round <= options.rounds; ++round) {
+    Result<std::vector<ConvQShard>> shards = source(round, model);
+    if (!shards) return shards.error();
+    if (static_cast<int>(shards->size()) != options.learners) {
+      return Error::Internal("round " + std::to_string(round) + " has " +
+                             std::to_string(shards->size()) + " shards, expected " +
+                             std::to_string(options.learners));
+    }
+    int samples = 0;
+    double squared_error = 0;
+    for (size_t k = 0; k < shards->size(); ++k) {
+      if ((*shards)[k].learner != static_cast<int>(k)) {
+        return Error::Internal("round " + std::to_string(round) + ": shard " + std::to_string(k) +
+                               " is learner " + std::to_string((*shards)[k].learner) + "'s");
+      }
+      samples += (*shards)[k].samples;
+      squared_error += (*shards)[k].squared_error;
+    }
+    model = AverageConvQShards(*shards, options.averaging, model);
+    if (progress) {
+      ConvQTrainingRound report;
+      report.round = round;
+      report.samples = samples;
+      report.td_rms = samples == 0 ? 0.0 : std::sqrt(squared_error / samples);
       report.model = model;
       progress(report);
     }

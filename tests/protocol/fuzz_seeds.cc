@@ -87,6 +87,30 @@ int main(int argc, char** argv) {
   occupancy.num_cells = 12;
   occupancy.data = {0, 100, -1, 50, 0, 0, 0, 100, 100, 0, -1, 0};
   ok = ok && Write(dir + "/decode_fuzz/occupancy_grid_valid", Encoded(occupancy));
+  // A round of a federated training of convQ's model and an agent's shards
+  // of it, valid.
+  {
+    ConvQTrainingOptions training;
+    training.rounds = 3;
+    training.mazes_per_round = 3;
+    training.samples_per_maze = 16;
+    training.min_side = 8;
+    training.max_side = 10;
+    training.learners = 3;
+    model_round_t round = protocol::ModelRoundToMessage(training, 1, InitialConvQModel());
+    round.run_id = "r1";
+    round.num_items = 3;
+    round.item_learner = {0, 1, 2};
+    round.item_agent = {1, 1, 2};
+    ok = ok && Write(dir + "/decode_fuzz/model_round_valid", Encoded(round));
+    model_shards_t shards =
+        protocol::ConvQShardsToMessage({TrainConvQLearner(training, InitialConvQModel(), 1, 0),
+                                        TrainConvQLearner(training, InitialConvQModel(), 1, 1)});
+    shards.run_id = "r1";
+    shards.round = 1;
+    shards.agent = 1;
+    ok = ok && Write(dir + "/decode_fuzz/model_shards_valid", Encoded(shards));
+  }
   path_request_t request{};
   request.run_id = "r1";
   request.client = "robot-7";

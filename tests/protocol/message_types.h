@@ -20,6 +20,8 @@
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/job_t.hpp"
 #include "dynapath/learner_shard_t.hpp"
+#include "dynapath/model_round_t.hpp"
+#include "dynapath/model_shards_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -74,7 +76,8 @@ inline const std::vector<MessageType>& AllMessageTypes() {
       MakeMessageType<step_request_t>(),   MakeMessageType<obstacle_update_t>(),
       MakeMessageType<occupancy_grid_t>(), MakeMessageType<path_request_t>(),
       MakeMessageType<path_reply_t>(),     MakeMessageType<goal_request_t>(),
-      MakeMessageType<goal_reply_t>(),
+      MakeMessageType<goal_reply_t>(),     MakeMessageType<model_round_t>(),
+      MakeMessageType<model_shards_t>(),
   };
   return types;
 }

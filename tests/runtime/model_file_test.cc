@@ -43,6 +43,37 @@ TEST(ModelFileTest, RoundTrip) {
   EXPECT_EQ(back->training.max_side, 12);
 }
 
+TEST(ModelFileTest, AFederatedTrainingIsVersionTwoWithItsLearnersAndAveraging) {
+  ModelFile file = SomeFile();
+  file.training.learners = 3;
+  file.training.averaging = ConvQAveraging::kImportance;
+  Result<std::vector<uint8_t>> bytes = EncodeModelFile(file);
+  ASSERT_TRUE(bytes.ok());
+  EXPECT_EQ(bytes->size(), kFederatedModelFileBytes);
+  EXPECT_EQ((*bytes)[8], 2);  // the version
+  Result<ModelFile> back = DecodeModelFile(ModelView(*bytes));
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->model, file.model);
+  EXPECT_EQ(back->training.learners, 3);
+  EXPECT_EQ(back->training.averaging, ConvQAveraging::kImportance);
+  EXPECT_EQ(back->training.max_side, 12);
+  for (size_t i = 0; i < bytes->size(); ++i) {
+    std::vector<uint8_t> flipped = *bytes;
+    flipped[i] ^= 0x01;
+    EXPECT_FALSE(DecodeModelFile(ModelView(flipped)).ok()) << "byte " << i;
+  }
+  // Learners out of bounds, checksum not checked: the bound refuses.
+  std::vector<uint8_t> zero = *bytes;
+  std::memset(zero.data() + 44, 0, 4);
+  Result<ModelFile> read = DecodeModelFile(ModelView(zero), /*verify_checksum=*/false);
+  ASSERT_FALSE(read.ok());
+  EXPECT_NE(read.error().message.find("federated"), std::string::npos);
+  // A version 1 file stays version 1.
+  Result<std::vector<uint8_t>> plain = EncodeModelFile(SomeFile());
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ((*plain)[8], 1);
+}
+
 TEST(ModelFileTest, EveryFlippedByteTruncationAndExtensionIsRefused) {
   Result<std::vector<uint8_t>> bytes = EncodeModelFile(SomeFile());
   ASSERT_TRUE(bytes.ok());

@@ -7,13 +7,18 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "app/model_training.h"
 #include "dynapath/convq_training.h"
 #include "protocol/dispatcher.h"
 #include "runtime/model_file.h"
 #include "runtime/option_group.h"
+#include "runtime/process_options.h"
 #include "tools/cli/commands.h"
 
 namespace dynapath::cli {
@@ -25,12 +30,17 @@ int TrainModelCommand(const std::vector<std::string>& args) {
       "difficulty whose seeds are 2^31 and above, disjoint from every evaluation\n"
       "seed) and writes it to FILE. The file is a function of the seed and the\n"
       "training sizes: the same at any --threads. Ctrl-C stops it (exit 130)\n"
-      "without writing FILE.",
+      "without writing FILE. With --learners K the training is federated: K\n"
+      "learners fit their share of each round's mazes and their fits are\n"
+      "averaged; --agents N hosts them on N agent processes over LCM, with\n"
+      "the same file.",
       "dynapath train-model");
   const ConvQTrainingOptions defaults;
   long long seed = static_cast<long long>(defaults.seed);
   long long threads = 1, rounds = defaults.rounds, mazes = defaults.mazes_per_round;
   long long samples = defaults.samples_per_maze;
+  std::optional<long long> learners, agents;
+  std::optional<std::string> average;
   std::string out;
   runtime::OptionGroup group(app);
   group.Option("--seed", seed, "S", "the training seed (0 to 2^53 - 1)");
@@ -38,7 +48,20 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   group.Option("--rounds", rounds, "N", "fitting rounds (1 to 10000)");
   group.Option("--mazes", mazes, "N", "mazes per round (1 to 4096)");
   group.Option("--samples", samples, "N", "sampled transitions per maze (1 to 1000000)");
+  group.Option("--learners", learners, "K",
+               "federated: K learners (1 to 256, at most --mazes), learner k fitting mazes "
+               "k, k + K, ... of every round; their fits averaged by --average",
+               "not federated");
+  group.Option("--average", average, "equal|importance",
+               "federated: the plain mean of the learners' weights, or each weighted by the "
+               "transitions it was fitted on",
+               "equal");
+  group.Option("--agents", agents, "N",
+               "federated: host the learners on N dynapath-agent processes over LCM, in a "
+               "private network namespace (1 to 256); the same file as in this process",
+               "in this process");
   app.add_option("--out", out, "the model file to write")->type_name("FILE")->required();
+
   if (int code = runtime::ParseCommandLine(app, args, "dynapath train-model"); code >= 0) {
     return code;
   }
@@ -63,6 +86,37 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   Result<long long> checked_seed = runtime::InRange("seed", seed, 0, 0, (1LL << 53) - 1);
   if (!checked_seed) return usage_error(checked_seed.error().message);
   options.seed = static_cast<uint64_t>(*checked_seed);
+  if (!learners && (average || agents)) {
+    return usage_error(std::string("option --") + (average ? "average" : "agents") +
+                       " needs --learners K (a federated training)");
+  }
+  if (learners) {
+    const long long most = std::min<long long>(kMaxConvQLearners, options.mazes_per_round);
+    Result<long long> k = runtime::InRange("learners", learners, 0, 1, most);
+    if (!k) {
+      return usage_error(
+          k.error().message +
+          (*learners > options.mazes_per_round
+               ? " (every learner fits at least one maze of a round: at most --mazes)"
+               : ""));
+    }
+    options.learners = static_cast<int>(*k);
+  }
+  if (average) {
+    if (*average == "equal") {
+      options.averaging = ConvQAveraging::kEqual;
+    } else if (*average == "importance") {
+      options.averaging = ConvQAveraging::kImportance;
+    } else {
+      return usage_error("option --average must be equal or importance, got '" + *average + "'");
+    }
+  }
+  int agent_count = 0;
+  if (agents) {
+    Result<long long> n = runtime::InRange("agents", agents, 1, 1, runtime::kMaxAgents);
+    if (!n) return usage_error(n.error().message);
+    agent_count = static_cast<int>(*n);
+  }
   const std::filesystem::path parent = std::filesystem::path(out).parent_path();
   std::error_code error;
   if (out.empty() || std::filesystem::is_directory(out, error) ||
@@ -70,6 +124,13 @@ int TrainModelCommand(const std::vector<std::string>& args) {
     return usage_error("option --out must name a file in an existing directory, got '" + out + "'");
   }
 
+  // Still single-threaded: a private network needs that.
+  if (agent_count > 0) {
+    if (Status entered = app::EnterModelTrainingNetwork(); !entered) {
+      return usage_error("option --agents: no private network namespace can be made here (" +
+                         entered.error().message + ")");
+    }
+  }
   const std::atomic<bool>& stop =
       protocol::StopOnSignals("\ndynapath train-model: stopping (Ctrl-C again: at once)\n",
                               "\ndynapath train-model: stopped at once\n");
@@ -78,15 +139,24 @@ int TrainModelCommand(const std::vector<std::string>& args) {
       "transitions each, {} threads",
       options.seed, options.rounds, options.mazes_per_round, options.min_side, options.max_side,
       options.samples_per_maze, options.threads);
+  if (options.learners > 0) {
+    spdlog::info("federated: {} learners, {} averaging, {}", options.learners,
+                 options.averaging == ConvQAveraging::kEqual ? "equal" : "importance",
+                 agent_count > 0 ? fmt::format("on {} agent processes", agent_count)
+                                 : std::string("in this process"));
+  }
   const auto start = std::chrono::steady_clock::now();
-  Result<ConvQModel> model = TrainConvQModel(options, &stop, [&](const ConvQTrainingRound& round) {
+  const auto report = [&](const ConvQTrainingRound& round) {
     const ConvQModel& m = round.model;
     spdlog::info(
         "round {}/{}: TD error {:.3g} (rms over {} transitions); rewards {:.6g} station, "
         "{:.6g} free, {:.6g} blocked; discounts {:.6g} move, {:.6g} bump",
         round.round, options.rounds, round.td_rms, round.samples, m.station_reward, m.free_reward,
         m.blocked_reward, m.move_discount, m.bump_discount);
-  });
+  };
+  Result<ConvQModel> model =
+      agent_count > 0 ? app::TrainModelOnAgentProcesses(options, agent_count, stop, report)
+                      : TrainConvQModel(options, &stop, report);
   if (!model) {
     if (model.error().IsCancelled()) {
       spdlog::warn("interrupted: no model written");
