@@ -78,14 +78,17 @@ Agent::Agent(protocol::Bus& bus, AgentOptions options)
       pool_(std::max(1, options.threads)) {
   namespace ch = protocol::channel;
   bus_.Subscribe<job_batch_t>(ch::kJobs, [this](job_batch_t& batch) {
-    inbox_.Post([this, batch = std::move(batch)] { OnBatch(batch); });
+    const int64_t bytes = batch.getEncodedSize();
+    inbox_.Post([this, batch = std::move(batch)] { OnBatch(batch); }, bytes);
   });
   bus_.Subscribe<shards_t>(ch::kShards, [this](shards_t& shards) {
     if (shards.agent == options_.id) return;  // our own, looped back
-    inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
+    const int64_t bytes = shards.getEncodedSize();
+    inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); }, bytes);
   });
   bus_.Subscribe<model_round_t>(ch::kModelRound, [this](model_round_t& round) {
-    inbox_.Post([this, round = std::move(round)] { OnModelRound(round); });
+    const int64_t bytes = round.getEncodedSize();
+    inbox_.Post([this, round = std::move(round)] { OnModelRound(round); }, bytes);
   });
   if (options_.instance == 0) options_.instance = RandomInstance();
   bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
@@ -172,7 +175,9 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
     }
     switch (verdict) {
       case Verdict::kFinished:
-        spdlog::debug("agent {}: {} round(s) re-sent on request", options_.id, shard_resends_);
+        spdlog::debug("agent {}: {} round(s) re-sent on request, {} message(s) dropped at the "
+                      "inbox's bound",
+                      options_.id, shard_resends_, inbox_.dropped());
         return AgentExit::kCoordinatorFinished;
       case Verdict::kFailed:
         return AgentExit::kCoordinatorFailed;

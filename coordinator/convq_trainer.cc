@@ -18,7 +18,8 @@ ConvQTrainer::ConvQTrainer(protocol::Bus& bus, ConvQTrainerOptions options)
     if (agents_.OnHeartbeat(beat)) inbox_.Wake();
   });
   bus_.Subscribe<model_shards_t>(protocol::channel::kModelShards, [this](model_shards_t& shards) {
-    inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); });
+    const int64_t bytes = shards.getEncodedSize();
+    inbox_.Post([this, shards = std::move(shards)] { OnShards(shards); }, bytes);
   });
 }
 

@@ -147,11 +147,11 @@ DistributedTrainer::DistributedTrainer(protocol::Bus& bus, protocol::Inbox& inbo
   namespace ch = protocol::channel;
   bus_.Subscribe<shards_t>(ch::kShards, [this](shards_t& message) {
     const int64_t bytes = message.getEncodedSize();
-    inbox_.Post([this, message = std::move(message), bytes] { OnShards(message, bytes); });
+    inbox_.Post([this, message = std::move(message), bytes] { OnShards(message, bytes); }, bytes);
   });
   bus_.Subscribe<job_result_t>(ch::kResults, [this](job_result_t& message) {
     const int64_t bytes = message.getEncodedSize();
-    inbox_.Post([this, message = std::move(message), bytes] { OnResult(message, bytes); });
+    inbox_.Post([this, message = std::move(message), bytes] { OnResult(message, bytes); }, bytes);
   });
 }
 

@@ -25,15 +25,23 @@ EnvSimClient::EnvSimClient(protocol::Bus& bus, protocol::Inbox& inbox, double ti
   // first may come after its first answer).
   bus_.Subscribe<grid_t>(ch::kEnvGrid, [this](grid_t& grid) {
     envsim_seen_ms_ = protocol::SteadyMs();
-    inbox_.Post([this, grid = std::move(grid)] {
-      if (grid.pass == want_pass_ && want_step_ == 0) grid_answer_ = grid;
-    });
+    const int64_t bytes = grid.getEncodedSize();
+    inbox_.Post(
+        [this, grid = std::move(grid)] {
+          if (grid.pass == want_pass_ && want_step_ == 0) grid_answer_ = grid;
+        },
+        bytes);
   });
   bus_.Subscribe<changes_t>(ch::kEnvChanges, [this](changes_t& changes) {
     envsim_seen_ms_ = protocol::SteadyMs();
-    inbox_.Post([this, changes = std::move(changes)] {
-      if (changes.pass == want_pass_ && changes.time_step == want_step_) changes_answer_ = changes;
-    });
+    const int64_t bytes = changes.getEncodedSize();
+    inbox_.Post(
+        [this, changes = std::move(changes)] {
+          if (changes.pass == want_pass_ && changes.time_step == want_step_) {
+            changes_answer_ = changes;
+          }
+        },
+        bytes);
   });
   bus_.Subscribe<heartbeat_t>(ch::kHeartbeat, [this](heartbeat_t& beat) {
     if (beat.role == heartbeat_t::ROLE_ENVSIM) envsim_seen_ms_ = protocol::SteadyMs();

@@ -13,7 +13,7 @@ namespace dynapath::envsim {
 EnvSim::EnvSim(protocol::Bus& bus, ScenarioInfo info, EnvSimOptions options)
     : bus_(bus), info_(std::move(info)), options_(options), coordinator_(bus, &inbox_) {
   bus_.Subscribe<step_request_t>(protocol::channel::kEnvRequest, [this](step_request_t& request) {
-    inbox_.Post([this, request] { OnRequest(request); });
+    inbox_.Post([this, request] { OnRequest(request); }, request.getEncodedSize());
   });
 }
 

@@ -135,6 +135,7 @@ struct WebServer::Impl {
 
   void DropSlow(const std::vector<Handle>& slow) {
     for (const Handle& handle : slow) {
+      if (clients.find(handle) == clients.end()) continue;  // dropped already
       websocketpp::lib::error_code ec;
       Server::connection_ptr connection = server.get_con_from_hdl(handle, ec);
       if (ec || !connection) continue;
@@ -144,6 +145,10 @@ struct WebServer::Impl {
       asio::error_code ignored;
       connection->get_raw_socket().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
       connection->get_raw_socket().close(ignored);
+      // Gone now, not when websocketpp's close handler runs later: until
+      // then the next message would find it slow again, count it again
+      // and queue more for it.
+      OnClose(handle);
     }
   }
 
