@@ -329,18 +329,33 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 2; }));
   // 300x300 policies whose every cell changes each time: 450 KB deltas
   // against a 1 MB queue; `reader` reads, `slow` never does. The next
-  // policy waits until `reader` has 50 KB of the last one (the first, whole
-  // policy is 90 KB), so `reader` is never a queue behind, however slowly
-  // this machine (or a sanitizer) runs.
+  // policy waits until `reader` has drained what was sent (it has 50 KB of
+  // the last one, the first, whole policy being 90 KB, and then reads
+  // nothing more for 200 ms), so `reader` never holds more than one
+  // policy's delta in its queue, however slowly this machine (or a
+  // sanitizer) runs: waiting for 50 KB alone let it fall 400 KB further
+  // behind with each policy under ASan.
   std::atomic<bool> stop{false};
   std::atomic<size_t> read_bytes{0};
   std::thread drain([&] {
     while (!stop) read_bytes += reader.Read(50).size();
   });
+  const auto drained = [&](size_t before) {
+    if (!WaitFor([&] {
+          return read_bytes >= before + 50'000 || server.counters().dropped_slow > 0;
+        })) {
+      return;
+    }
+    for (int quiet = 0; quiet < 4 && server.counters().dropped_slow == 0;) {
+      const size_t seen = read_bytes;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      quiet = read_bytes == seen ? quiet + 1 : 0;
+    }
+  };
   for (int i = 0; i < 200 && server.counters().dropped_slow == 0; ++i) {
     const size_t before = read_bytes;
     server.Policy(Policy(300, i % 8), 0);
-    WaitFor([&] { return read_bytes >= before + 50'000 || server.counters().dropped_slow > 0; });
+    drained(before);
   }
   EXPECT_TRUE(WaitFor([&] { return server.counters().dropped_slow == 1; }));
   EXPECT_TRUE(slow.ClosedWithin(10));
