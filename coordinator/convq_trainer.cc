@@ -25,24 +25,9 @@ ConvQTrainer::ConvQTrainer(protocol::Bus& bus, ConvQTrainerOptions options)
 
 ConvQTrainer::~ConvQTrainer() { Finish(); }
 
-void ConvQTrainer::Start() {
-  if (heartbeat_) return;
-  heartbeat_t base{};
-  base.role = heartbeat_t::ROLE_COORDINATOR;
-  base.batch_id = -1;
-  base.round = -1;
-  heartbeat_.emplace(bus_, base, 0.1, [this](heartbeat_t& beat) {
-    beat.state = static_cast<int8_t>(state_.load());
-  });
-}
+void ConvQTrainer::Start() { heartbeat_.Start(); }
 
-void ConvQTrainer::Finish() {
-  if (!heartbeat_) return;
-  state_ = status_ || status_.error().IsCancelled() ? heartbeat_t::STATE_FINISHED
-                                                    : heartbeat_t::STATE_FAILED;
-  heartbeat_->SendFinal();
-  heartbeat_.reset();
-}
+void ConvQTrainer::Finish() { heartbeat_.Finish(status_); }
 
 std::vector<int> ConvQTrainer::LiveAgents(int min) {
   Result<std::string> ids = WaitForAgents(agents_, inbox_, min, options_.agent_wait_seconds, stop_);

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "coordinator/agent_registry.h"
+#include "coordinator/coordinator_heartbeat.h"
 #include "dynapath/convq_training.h"
 #include "dynapath/model_round_t.hpp"
 #include "dynapath/model_shards_t.hpp"
@@ -87,8 +88,7 @@ class ConvQTrainer {
   const std::atomic<bool>* stop_ = nullptr;
   protocol::Inbox inbox_;
   AgentRegistry agents_;
-  std::atomic<int> state_{heartbeat_t::STATE_RUNNING};
-  std::optional<protocol::HeartbeatSender> heartbeat_;
+  CoordinatorHeartbeat heartbeat_{bus_};
   bool waited_ = false;
   Status status_ = Ok{};
   ConvQTrainerStats stats_;

@@ -22,16 +22,7 @@ TrainingSession::TrainingSession(protocol::Bus& bus, TrainingSessionOptions opti
 
 TrainingSession::~TrainingSession() { Finish(); }
 
-void TrainingSession::Start() {
-  if (heartbeat_) return;
-  heartbeat_t base{};
-  base.role = heartbeat_t::ROLE_COORDINATOR;
-  base.batch_id = -1;
-  base.round = -1;
-  heartbeat_.emplace(bus_, base, 0.1, [this](heartbeat_t& beat) {
-    beat.state = static_cast<int8_t>(state_.load());
-  });
-}
+void TrainingSession::Start() { heartbeat_.Start(); }
 
 void TrainingSession::set_stop(const std::atomic<bool>* stop) {
   stop_ = stop;
@@ -39,13 +30,8 @@ void TrainingSession::set_stop(const std::atomic<bool>* stop) {
 }
 
 void TrainingSession::Finish() {
-  if (!heartbeat_) return;
-  const Status ended = status();
-  state_ = ended || ended.error().IsCancelled() ? heartbeat_t::STATE_FINISHED
-                                                : heartbeat_t::STATE_FAILED;
   // A launcher stops its agent processes anyway.
-  heartbeat_->SendFinal();
-  heartbeat_.reset();
+  if (heartbeat_.beating()) heartbeat_.Finish(status());
 }
 
 Status TrainingSession::WaitForAgents() {

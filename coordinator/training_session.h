@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "coordinator/agent_registry.h"
+#include "coordinator/coordinator_heartbeat.h"
 #include "coordinator/distributed_trainer.h"
 #include "dynapath/trainer.h"
 #include "protocol/bus.h"
@@ -64,8 +65,7 @@ class TrainingSession : public Trainer {
   DistributedTrainer trainer_;
   bool waited_ = false;
   Status wait_status_ = Ok{};
-  std::atomic<int> state_{heartbeat_t::STATE_RUNNING};
-  std::optional<protocol::HeartbeatSender> heartbeat_;
+  CoordinatorHeartbeat heartbeat_{bus_};
 };
 
 }  // namespace dynapath::coordinator
