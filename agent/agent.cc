@@ -34,9 +34,8 @@ using Ms = std::chrono::milliseconds;
 // while it waits on, up to the cap), or twice our own compute time if longer.
 constexpr int64_t kNudgeMs = 10;
 constexpr int64_t kNudgeCapMs = 250;
-// The longest a round's re-send answers later requests for it (and the
-// interval before a repair round trip is measured).
-constexpr int64_t kResendMs = 20;
+// The longest a round's re-send answers later requests for it.
+constexpr int64_t kResendCapMs = 20;
 // Rounds of our own shards kept for re-sending (at most kKeptBytes of them,
 // at least two): the coordinator asks for a round it lacks as soon as it
 // sees a later one, by which time the agents may be a few rounds further
@@ -125,9 +124,8 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
                                                options_.coordinator_timeout_seconds + 0.5);
     // Said here too: the agent thread may be inside a long job.
     if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
-      spdlog::warn(
-          "agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
-          options_.id, silent, options_.coordinator_timeout_seconds);
+      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+                   options_.id, silent, options_.coordinator_timeout_seconds);
     }
     if (verdict == Verdict::kGone) {
       spdlog::error("agent {}: the coordinator is gone; exiting", options_.id);
@@ -166,12 +164,11 @@ AgentExit Agent::Run(const std::atomic<bool>& stop) {
       announced = true;
     }
     // Checked first: a pause of our own resets the coordinator's silence.
-    const Verdict verdict =
-        coordinator_.Check(options_.startup_timeout_seconds, options_.coordinator_timeout_seconds);
+    const Verdict verdict = coordinator_.Check(options_.startup_timeout_seconds,
+                                               options_.coordinator_timeout_seconds);
     if (const double silent = coordinator_.SilenceToReport(); silent > 0) {
-      spdlog::warn(
-          "agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
-          options_.id, silent, options_.coordinator_timeout_seconds);
+      spdlog::warn("agent {}: the coordinator has been silent for {:.0f} s (waiting up to {:.0f} s)",
+                   options_.id, silent, options_.coordinator_timeout_seconds);
     }
     switch (verdict) {
       case Verdict::kFinished:
@@ -263,8 +260,8 @@ void Agent::OnBatch(const job_batch_t& batch) {
             : FederatedState::Resume(job, *hosted->model, hosted->received.attempts,
                                      hosted->received.successes);
     hosted->rounds = state.rounds;
-    hosted->learners = std::make_unique<FederatedLearners>(job, *hosted->model, split_learners[j],
-                                                           state.shared, pool_.threads());
+    hosted->learners = std::make_unique<FederatedLearners>(
+        job, *hosted->model, split_learners[j], state.shared, pool_.threads());
     combined.emplace_back(j, std::move(state));
     start_round = std::max(start_round, hosted->received.start_round);
     split_jobs_.push_back(std::move(hosted));
@@ -431,9 +428,7 @@ void Agent::OnShards(const shards_t& shards) {
   // re-send is multicast, so it answers every request for that round.
   if (shards.needs_round < combiner_->round()) {
     const int64_t oldest_kept = sent_.empty() ? combiner_->round() : sent_.front().round;
-    const double rtt = bus_.RepairRoundTripMs();
-    const int64_t interval =
-        rtt < 0 ? kResendMs : std::clamp<int64_t>(static_cast<int64_t>(2 * rtt) + 5, 5, kResendMs);
+    const int64_t interval = protocol::RepeatIntervalMs(bus_.RepairRoundTripMs(), kResendCapMs);
     for (const shards_t& sent : sent_) {
       if (sent.round == shards.needs_round &&
           resend_gate_.Allow(sent.round, oldest_kept, protocol::SteadyMs(), interval)) {

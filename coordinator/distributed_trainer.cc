@@ -11,6 +11,7 @@
 #include "dynapath/learners.h"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
+#include "protocol/resend_gate.h"
 #include "protocol/round_combiner.h"
 
 namespace dynapath::coordinator {
@@ -412,8 +413,7 @@ void DistributedTrainer::RequestRound() {
   const int64_t round = batch.combiner->round();
   // Once per round, and again after two round trips (the request or its
   // answer was lost: agents run on meanwhile, past what they keep).
-  const int64_t retry = static_cast<int64_t>(
-      round_trip_ms_ < 0 ? 20.0 : std::clamp(2 * round_trip_ms_ + 5, 5.0, 200.0));
+  const int64_t retry = protocol::RepeatIntervalMs(round_trip_ms_, 200);
   if (round == batch.requested_round && now - batch.requested_ms < retry) return;
   batch.requested_round = round;
   batch.requested_ms = now;

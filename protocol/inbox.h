@@ -24,7 +24,7 @@ namespace dynapath::protocol {
 class Inbox {
  public:
   using Clock = std::chrono::steady_clock;
-  // The default bound: 256 MiB of waiting messages (InboxBytes for a run).
+  // The bound of every component's mailbox: 256 MiB of waiting messages.
   static constexpr int64_t kDefaultMaxBytes = int64_t{256} << 20;
 
   explicit Inbox(int64_t max_bytes = kDefaultMaxBytes) : max_bytes_(max_bytes) {}

@@ -12,10 +12,20 @@
 // With it, what a process sends in answer is at most one message per round
 // per interval, however many requests arrive.
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 
 namespace dynapath::protocol {
+
+// How long to wait before repeating a request, or for a re-send to answer
+// later requests, from the measured round trip (ms; negative: none yet):
+// two round trips and 5 ms, from 5 ms to `cap_ms`; 20 ms until one is
+// measured.
+inline int64_t RepeatIntervalMs(double round_trip_ms, int64_t cap_ms) {
+  if (round_trip_ms < 0) return 20;
+  return std::clamp<int64_t>(static_cast<int64_t>(2 * round_trip_ms + 5), 5, cap_ms);
+}
 
 class ResendGate {
  public:

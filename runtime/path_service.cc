@@ -268,8 +268,8 @@ Answer PathService::Ask(const std::vector<QueryStart>& starts, size_t announced)
   answer.snapshot = Current();
   if (answer.snapshot == nullptr) {
     answer.refused = Answer::kNotReady;
-  } else if (announced > static_cast<size_t>(std::max(0, config_.max_starts)) ||
-             starts.size() > static_cast<size_t>(std::max(0, config_.max_starts))) {
+  } else if (std::max(announced, starts.size()) >
+             static_cast<size_t>(std::max(0, config_.max_starts))) {
     answer.refused = Answer::kTooManyStarts;
   } else {
     size_t budget = config_.reply_budget;

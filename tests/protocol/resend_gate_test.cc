@@ -35,3 +35,18 @@ TEST(ResendGateTest, ForgetsRoundsNoLongerKeptAndResets) {
 
 }  // namespace
 }  // namespace dynapath::protocol
+
+namespace dynapath::protocol {
+namespace {
+
+TEST(RepeatIntervalTest, TwoRoundTripsAndFiveMsWithinItsBounds) {
+  EXPECT_EQ(RepeatIntervalMs(-1, 200), 20);  // no round trip measured yet
+  EXPECT_EQ(RepeatIntervalMs(0, 200), 5);
+  EXPECT_EQ(RepeatIntervalMs(1.6, 200), 8);
+  EXPECT_EQ(RepeatIntervalMs(7.4, 20), 19);
+  EXPECT_EQ(RepeatIntervalMs(50, 20), 20);
+  EXPECT_EQ(RepeatIntervalMs(500, 200), 200);
+}
+
+}  // namespace
+}  // namespace dynapath::protocol
