@@ -5,7 +5,6 @@
 #include <cstdlib>
 
 #include "dynapath/learners.h"
-#include "dynapath/region_model.h"
 #include "protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -169,8 +168,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   received.attempts.assign(m.attempts.begin(), m.attempts.end());
   received.successes.assign(m.successes.begin(), m.successes.end());
   if (m.num_starts > 0) {
-    const RegionModel model(job);
-    if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
+    if (static_cast<size_t>(m.num_starts) != StartCellCount(job)) {
       return Error::Corrupt("job " + std::to_string(index) +
                             ": start statistics do not match the region's start cells");
     }

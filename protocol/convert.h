@@ -11,7 +11,7 @@
 #include "dynapath/changes_t.hpp"
 #include "dynapath/convq_training.h"
 #include "dynapath/experiment.h"
-#include "dynapath/fedasynq.h"
+#include "dynapath/federated_job.h"
 #include "dynapath/grid.h"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/job_batch_t.hpp"
