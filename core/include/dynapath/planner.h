@@ -11,10 +11,10 @@
 #include "dynapath/approach.h"
 #include "dynapath/convq_model.h"
 #include "dynapath/grid.h"
+#include "dynapath/learner_options.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/quadtree.h"
 #include "dynapath/result.h"
-#include "dynapath/retraining_strategy.h"
 #include "dynapath/stop_token.h"
 #include "dynapath/trainer.h"
 
