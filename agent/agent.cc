@@ -12,7 +12,6 @@
 
 #include "dynapath/convq_training.h"
 #include "dynapath/learners.h"
-#include "dynapath/single_agent_learner.h"
 #include "protocol/channels.h"
 
 namespace dynapath::agent {
@@ -23,7 +22,6 @@ namespace dynapath::agent {
 struct Agent::HostedJob {
   int index = 0;  // in the batch
   protocol::ReceivedJob received;
-  std::unique_ptr<RegionModel> model;
   std::unique_ptr<FederatedLearners> learners;
   int64_t rounds = 0;
 };
@@ -252,16 +250,14 @@ void Agent::OnBatch(const job_batch_t& batch) {
     auto hosted = std::make_unique<HostedJob>();
     hosted->index = j;
     hosted->received = std::move(*received);
-    hosted->model = std::make_unique<RegionModel>(hosted->received.job);  // checked by JobFromBatch
-    const TrainingJob& job = hosted->received.job;
+    const TrainingJob& job = hosted->received.job;  // checked by JobFromBatch
     FederatedState state =
         hosted->received.attempts.empty()
-            ? FederatedState::Start(job, *hosted->model)
-            : FederatedState::Resume(job, *hosted->model, hosted->received.attempts,
-                                     hosted->received.successes);
+            ? FederatedState::Start(job)
+            : FederatedState::Resume(job, hosted->received.attempts, hosted->received.successes);
     hosted->rounds = state.rounds;
-    hosted->learners = std::make_unique<FederatedLearners>(
-        job, *hosted->model, split_learners[j], state.shared, pool_.threads());
+    hosted->learners =
+        std::make_unique<FederatedLearners>(job, split_learners[j], state.shared, pool_.threads());
     combined.emplace_back(j, std::move(state));
     start_round = std::max(start_round, hosted->received.start_round);
     split_jobs_.push_back(std::move(hosted));

@@ -13,13 +13,11 @@
 #include <thread>
 #include <vector>
 
-#include "dynapath/fedasynq.h"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
 #include "dynapath/model_round_t.hpp"
 #include "dynapath/model_shards_t.hpp"
-#include "dynapath/region_model.h"
 #include "dynapath/shards_t.hpp"
 #include "dynapath/thread_pool.h"
 #include "protocol/bus.h"

@@ -7,9 +7,10 @@
 #include <cstdlib>
 #include <vector>
 
+#include "core/learn/fedasynq.h"
+#include "core/learn/single_agent_learner.h"
 #include "dynapath/federated_job.h"
 #include "dynapath/scenario.h"
-#include "dynapath/single_agent_learner.h"
 #include "dynapath/training_job.h"
 
 namespace dynapath {

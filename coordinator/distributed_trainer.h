@@ -13,7 +13,7 @@
 // splits rounds shorter than a round trip), or when placement is kSplit, every job's
 // learners are split over the agents instead, which publish
 // their shards each round; the agents and the coordinator all combine them in
-// learner order (protocol::RoundCombiner: FederatedAverager, exactly as
+// learner order (protocol::RoundCombiner: RoundAverager, exactly as
 // in-process), the coordinator's tables being the authoritative ones.
 //
 // Faults: an agent that falls silent is dropped; the batch gets a new epoch
@@ -41,10 +41,8 @@
 #include <vector>
 
 #include "coordinator/agent_registry.h"
-#include "dynapath/fedasynq.h"
 #include "dynapath/job_batch_t.hpp"
 #include "dynapath/job_result_t.hpp"
-#include "dynapath/region_model.h"
 #include "dynapath/shards_t.hpp"
 #include "dynapath/trainer.h"
 #include "protocol/bus.h"

@@ -2,9 +2,9 @@
 // The federated job of fuzz/round_combiner_fuzz.cc (and of its seeds,
 // tests/protocol/fuzz_seeds.cc): a 10x10 map, 4 learners, two agents.
 
-#include "dynapath/fedasynq.h"
+#include "core/learn/fedasynq.h"
+#include "core/learn/region_model.h"
 #include "dynapath/grid.h"
-#include "dynapath/region_model.h"
 #include "protocol/round_combiner.h"
 
 namespace dynapath::fuzz {

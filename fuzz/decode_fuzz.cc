@@ -24,23 +24,21 @@ void ValidateAndConvert(const uint8_t* data, int size) {
   T message;
   if (!dynapath::protocol::DecodeExactly(data, size, message)) return;
   if constexpr (requires { dynapath::protocol::Validate(message); }) {
-    if (!dynapath::protocol::Validate(message).empty()) return;
+    if (!dynapath::protocol::Validate(message).ok()) return;
   }
   if constexpr (std::is_same_v<T, dynapath::grid_t>) {
     (void)dynapath::protocol::GridFromMessage(message);
   } else if constexpr (std::is_same_v<T, dynapath::changes_t>) {
     (void)dynapath::protocol::ChangesFromMessage(message, 64, 64);
   } else if constexpr (std::is_same_v<T, dynapath::obstacle_update_t>) {
-    dynapath::UpdateRefusal why{};
     // The message's own maze, so that its cells are read too.
-    (void)dynapath::protocol::UpdateFromMessage(
-        message, 64, 64, static_cast<uint64_t>(message.maze_fingerprint), &why);
+    (void)dynapath::protocol::UpdateFromMessage(message, 64, 64,
+                                                static_cast<uint64_t>(message.maze_fingerprint));
   } else if constexpr (std::is_same_v<T, dynapath::occupancy_grid_t>) {
     // A map of the message's own size (the grid's), stations in one corner.
     dynapath::Grid map(message.rows, message.cols);
     map.set(0, dynapath::Cell::kStation);
-    dynapath::UpdateRefusal why{};
-    (void)dynapath::protocol::UpdateFromOccupancyGrid(message, map, {}, &why);
+    (void)dynapath::protocol::UpdateFromOccupancyGrid(message, map, {});
   } else if constexpr (std::is_same_v<T, dynapath::model_round_t>) {
     (void)dynapath::protocol::ConvQOptionsFromRound(message);
     (void)dynapath::protocol::ConvQModelFromRound(message);

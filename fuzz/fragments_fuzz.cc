@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fragment.size = piece;
     fragment.data.assign(p, p + piece);
     p += piece;
-    if (!dynapath::protocol::Validate(fragment).empty()) continue;
+    if (!dynapath::protocol::Validate(fragment).ok()) continue;
     const auto outcome = assembler.Add("C", fragment, now);
     if (assembler.buffered_bytes() > limits.max_buffered_bytes || assembler.buffered_bytes() < 0 ||
         assembler.pending() > limits.max_partials) {

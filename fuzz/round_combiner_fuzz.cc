@@ -25,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (length > size - pos) break;
     dynapath::shards_t message;
     if (dynapath::protocol::DecodeExactly(data + pos, static_cast<int>(length), message) &&
-        dynapath::protocol::Validate(message).empty()) {
+        dynapath::protocol::Validate(message).ok()) {
       std::string why;
       combiner.Add(message, &why);
       if (combiner.RoundComplete()) combiner.Combine();

@@ -47,8 +47,8 @@ Bus::Bus(lcm::LCM& lcm, std::string run_id, BusOptions options)
                if (!DecodeExactly(data, size, nack))
                  return Drop(where, "undecodable fragment_nack_t");
                if (nack.run_id != run_id_) return Drop(where, "message of another run");
-               if (std::string error = Validate(nack); !error.empty()) {
-                 return Drop(where, "fragment_nack_t: " + error);
+               if (Status valid = Validate(nack); !valid) {
+                 return Drop(where, "fragment_nack_t: " + valid.error().message);
                }
                OnNack(nack);
              });
@@ -351,8 +351,8 @@ void Bus::OnFragment(const std::string& channel, const uint8_t* data, int size) 
   fragment_t fragment{};
   if (!DecodeExactly(data, size, fragment)) return Drop(channel, "undecodable fragment_t");
   if (fragment.run_id != run_id_) return Drop(channel, "fragment of another run");
-  if (std::string error = Validate(fragment); !error.empty()) {
-    return Drop(channel, "fragment_t: " + error);
+  if (Status valid = Validate(fragment); !valid) {
+    return Drop(channel, "fragment_t: " + valid.error().message);
   }
   ++counters_fragments_;
   FragmentAssembler::Outcome outcome;

@@ -147,8 +147,8 @@ class Bus {
                  return Drop(where, "undecodable " + TypeName<T>());
                }
                if (message.run_id != run_id_) return Drop(where, "message of another run");
-               if (std::string error = Validate(message); !error.empty()) {
-                 return Drop(where, TypeName<T>() + ": " + error);
+               if (Status valid = Validate(message); !valid) {
+                 return Drop(where, TypeName<T>() + ": " + valid.error().message);
                }
                counters_received_.fetch_add(1, std::memory_order_relaxed);
                handler(message);

@@ -5,7 +5,6 @@
 #include <cstdlib>
 
 #include "dynapath/learners.h"
-#include "dynapath/region_model.h"
 #include "protocol/varint.h"
 
 namespace dynapath::protocol {
@@ -169,8 +168,7 @@ Result<ReceivedJob> JobFromBatch(const job_batch_t& batch, int index) {
   received.attempts.assign(m.attempts.begin(), m.attempts.end());
   received.successes.assign(m.successes.begin(), m.successes.end());
   if (m.num_starts > 0) {
-    const RegionModel model(job);
-    if (static_cast<size_t>(m.num_starts) != model.start_cells().size()) {
+    if (static_cast<size_t>(m.num_starts) != StartCellCount(job)) {
       return Error::Corrupt("job " + std::to_string(index) +
                             ": start statistics do not match the region's start cells");
     }
@@ -327,13 +325,13 @@ obstacle_update_t UpdateToMessage(const ChangeStep& step, int cols, const std::s
   return m;
 }
 
-Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols, uint64_t maze,
-                                    UpdateRefusal* why) {
+Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
+                                                 uint64_t maze) {
   if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
-    *why = UpdateRefusal::kOtherMaze;
-    return Error("an update for the maze of fingerprint " +
-                 FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
-                 FingerprintText(maze));
+    return UpdateError{UpdateRefusal::kOtherMaze,
+                       Error("an update for the maze of fingerprint " +
+                             FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
+                             FingerprintText(maze))};
   }
   MapUpdate update;
   update.source = m.source;
@@ -343,13 +341,14 @@ Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int co
   for (int i = 0; i < m.num_cells; ++i) {
     const int32_t row = m.rows[i], col = m.cols[i];
     if (row < 0 || row >= rows || col < 0 || col >= cols) {
-      *why = UpdateRefusal::kOutsideGrid;
-      return Error("cell (" + std::to_string(row) + ", " + std::to_string(col) + ") outside the " +
-                   std::to_string(rows) + "x" + std::to_string(cols) + " grid");
+      return UpdateError{
+          UpdateRefusal::kOutsideGrid,
+          Error("cell (" + std::to_string(row) + ", " + std::to_string(col) + ") outside the " +
+                std::to_string(rows) + "x" + std::to_string(cols) + " grid")};
     }
     if (m.states[i] != obstacle_update_t::OBSTACLE && m.states[i] != obstacle_update_t::FREE) {
-      *why = UpdateRefusal::kUnknownState;
-      return Error("unknown state " + std::to_string(m.states[i]));
+      return UpdateError{UpdateRefusal::kUnknownState,
+                         Error("unknown state " + std::to_string(m.states[i]))};
     }
     const Cell code = m.states[i] == obstacle_update_t::FREE ? Cell::kFree : Cell::kObstacle;
     update.changes.push_back(CellChange{row * cols + col, code});
@@ -357,14 +356,13 @@ Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& m, int rows, int co
   return update;
 }
 
-Result<MapUpdate> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
-                                          const OccupancyThresholds& thresholds,
-                                          UpdateRefusal* why) {
+Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
+                                                       const OccupancyThresholds& thresholds) {
   if (m.rows != map.rows() || m.cols != map.cols()) {
-    *why = UpdateRefusal::kGridShape;
-    return Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
-                 " cells for a " + std::to_string(map.rows()) + "x" + std::to_string(map.cols()) +
-                 " map");
+    return UpdateError{UpdateRefusal::kGridShape,
+                       Error("occupancy grid of " + std::to_string(m.rows) + "x" +
+                             std::to_string(m.cols) + " cells for a " + std::to_string(map.rows()) +
+                             "x" + std::to_string(map.cols()) + " map")};
   }
   MapUpdate update;
   update.source = m.source;

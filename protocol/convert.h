@@ -11,7 +11,7 @@
 #include "dynapath/changes_t.hpp"
 #include "dynapath/convq_training.h"
 #include "dynapath/experiment.h"
-#include "dynapath/fedasynq.h"
+#include "dynapath/federated_job.h"
 #include "dynapath/grid.h"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/job_batch_t.hpp"
@@ -136,11 +136,12 @@ policy_t PolicyToMessage(const std::string& run_id, const std::string& approach,
                          const std::vector<Region>& trained_regions);
 
 // A (validated) obstacle update for a rows x cols grid whose maze at step 0
-// has fingerprint `maze` (MazeFingerprint). Fails, with `*why` set, when
-// the update names another maze, a cell lies outside the grid or a state
-// is neither OBSTACLE nor FREE; the update is then refused whole.
-Result<MapUpdate> UpdateFromMessage(const obstacle_update_t& message, int rows, int cols,
-                                    uint64_t maze, UpdateRefusal* why);
+// has fingerprint `maze` (MazeFingerprint). Fails, saying why (the refusal
+// counted and the error told), when the update names another maze, a cell
+// lies outside the grid or a state is neither OBSTACLE nor FREE; the update
+// is then refused whole.
+Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& message, int rows,
+                                                 int cols, uint64_t maze);
 // One time step's changes of a `cols`-wide grid as the obstacle update
 // that `source` sends as its `sequence`-th, made for the maze of
 // fingerprint `maze` (the service's, from its replies); run_id and utime
@@ -159,9 +160,9 @@ struct OccupancyThresholds {
 // free or occupied, stations left out (they never change). Data row 0 is
 // the map's bottom row (ROS's origin, see occupancy_grid_t.lcm). Fails
 // with kGridShape when the sizes differ.
-Result<MapUpdate> UpdateFromOccupancyGrid(const occupancy_grid_t& message, const Grid& map,
-                                          const OccupancyThresholds& thresholds,
-                                          UpdateRefusal* why);
+Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& message,
+                                                       const Grid& map,
+                                                       const OccupancyThresholds& thresholds);
 
 // The reply to request (`client`, `request_id`): `refused` one of
 // path_reply_t's ACCEPTED, TOO_MANY_STARTS, NOT_READY; `snapshot` (null

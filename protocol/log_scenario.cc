@@ -21,7 +21,7 @@ namespace {
 template <class T>
 bool Decode(const LogEvent& event, T& message) {
   const int size = PayloadSize(event.data.data(), static_cast<int>(event.data.size()));
-  return DecodeExactly(event.data.data(), size, message) && Validate(message).empty();
+  return DecodeExactly(event.data.data(), size, message) && Validate(message).ok();
 }
 
 bool EndsWith(const std::string& text, const std::string& suffix) {

@@ -10,7 +10,7 @@
 namespace dynapath::protocol {
 
 RoundCombiner::Job RoundCombiner::Job::From(int batch_index, const TrainingJob& job) {
-  return Job(batch_index, FederatedState::Start(job, RegionModel(job)));
+  return Job(batch_index, FederatedState::Start(job));
 }
 
 Status RoundCombiner::CheckItems(const std::vector<Job>& jobs, const Items& items) {
@@ -49,8 +49,7 @@ RoundCombiner::RoundCombiner(std::vector<Job> jobs, Items items, int64_t start_r
   assert(CheckItems(jobs_, items_).ok());
   for (size_t i = 0; i < jobs_.size(); ++i) {
     position_[jobs_[i].index] = i;
-    averagers_.push_back(std::make_unique<FederatedAverager>(
-        static_cast<int>(jobs_[i].shared.size()), jobs_[i].averaging));
+    averagers_.emplace_back(jobs_[i]);
   }
   for (auto& [agent, owned] : items_) std::sort(owned.begin(), owned.end());
 }
@@ -163,7 +162,7 @@ std::vector<RoundCombiner::JobRound> RoundCombiner::Combine() {
     // Add() kept only messages whose shards fit the job (Mismatch: learners,
     // entries, start cells; the Bus validated sizes and finiteness), one per
     // learner, so the averager finds nothing malformed.
-    [[maybe_unused]] const Status combined = CombineRound(shards, *averagers_[j], job, job_round);
+    [[maybe_unused]] const Status combined = averagers_[j].Combine(shards, job, job_round);
     assert(combined.ok());
     result.push_back(std::move(job_round));
   }

@@ -3,8 +3,8 @@
 // over several agents). Every agent publishes one shards_t per round with the
 // shards of the learners it hosts; the combiner collects the round's messages
 // of all agents and, once all are there, combines each job's shards in
-// learner order (FederatedAverager, exactly as in-process training) into the
-// job's shared table and start statistics (CombineRound, core/include/dynapath/federated_job.h).
+// learner order (RoundAverager, exactly as in-process training) into the
+// job's shared table and start statistics (dynapath/federated_job.h).
 //
 // The coordinator and every agent hosting learners of the batch run the same
 // combiner on the same messages, so all hold identical tables after every
@@ -73,7 +73,7 @@ class RoundCombiner {
   // Agents whose shards of round() are missing.
   std::vector<int> Missing() const;
 
-  // What a round changed in job `index` (CombineRound's average).
+  // What a round changed in job `index` (RoundAverager::Combine's average).
   struct JobRound : RoundAverage {
     int index = 0;
   };
@@ -93,7 +93,7 @@ class RoundCombiner {
 
   std::vector<Job> jobs_;
   std::map<int, size_t> position_;  // batch index -> position in jobs_
-  std::vector<std::unique_ptr<FederatedAverager>> averagers_;
+  std::vector<RoundAverager> averagers_;
   Items items_;
   int64_t round_ = 0;
   int rounds_ahead_;

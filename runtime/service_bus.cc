@@ -1,5 +1,7 @@
 #include "runtime/service_bus.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <utility>
@@ -31,17 +33,15 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
   bus_.Subscribe<obstacle_update_t>(
       protocol::channel::kMapUpdates,
       [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
-        UpdateRefusal why{};
-        Result<MapUpdate> update =
-            protocol::UpdateFromMessage(message, rows, cols, service_.maze_fingerprint(), &why);
-        if (!update) return service_.Refuse(why);
+        Result<MapUpdate, UpdateError> update =
+            protocol::UpdateFromMessage(message, rows, cols, service_.maze_fingerprint());
+        if (!update) return RefuseUpdate(protocol::channel::kMapUpdates, update.error());
         (void)service_.Submit(*update);
       });
   bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
-    UpdateRefusal why{};
-    Result<MapUpdate> update =
-        protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds, &why);
-    if (!update) return service_.Refuse(why);
+    Result<MapUpdate, UpdateError> update =
+        protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds);
+    if (!update) return RefuseUpdate(protocol::channel::kMapGrid, update.error());
     (void)service_.Submit(*update);
   });
   // A recorded run's environment changes (lcm-logplayer of a run's log,
@@ -51,7 +51,10 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
     if (message.pass != 0) return;  // the same sequence again for another approach
     const Grid& grid = service_.maze();
     Result<ChangeStep> step = protocol::ChangesFromMessage(message, grid.rows(), grid.cols());
-    if (!step) return service_.Refuse(UpdateRefusal::kOutsideGrid);
+    if (!step) {
+      return RefuseUpdate(protocol::channel::kEnvChanges,
+                          UpdateError{UpdateRefusal::kOutsideGrid, step.error()});
+    }
     MapUpdate update;
     update.source = "envsim";
     update.sequence = message.time_step;
@@ -74,6 +77,24 @@ ServiceBus::~ServiceBus() {
   }
   policy_waiting_.notify_all();
   if (publisher_.joinable()) publisher_.join();
+}
+
+void ServiceBus::RefuseUpdate(std::string_view channel, const UpdateError& refused) {
+  service_.Refuse(refused.why);
+  const int64_t now_ms = NowMicros() / 1000;
+  std::lock_guard lock(refusal_mutex_);
+  if (last_refusal_warning_ms_ >= 0 && now_ms - last_refusal_warning_ms_ < 1000) {
+    ++refusal_warnings_suppressed_;
+    return;
+  }
+  spdlog::warn("refused an update on {} ({}): {}{}", channel, UpdateRefusalName(refused.why),
+               refused.error.message,
+               refusal_warnings_suppressed_ > 0
+                   ? " (" + std::to_string(refusal_warnings_suppressed_) +
+                         " refusals not logged since the last)"
+                   : std::string());
+  last_refusal_warning_ms_ = now_ms;
+  refusal_warnings_suppressed_ = 0;
 }
 
 void ServiceBus::OnRequest(const path_request_t& request) {

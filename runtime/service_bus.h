@@ -21,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -72,6 +73,11 @@ class ServiceBus {
   void OnRequest(const path_request_t& request);
   void OnGoalRequest(const goal_request_t& request);
   void PublishPolicies();  // the publisher thread
+  // An update refused by its conversion: counted by its reason, as the
+  // service counts its own refusals, and what was wrong logged with its
+  // channel, at most once a second (a flood of bad updates must not flood
+  // the log).
+  void RefuseUpdate(std::string_view channel, const UpdateError& refused);
 
   protocol::Bus& bus_;
   PathService& service_;
@@ -84,6 +90,9 @@ class ServiceBus {
   std::shared_ptr<const policy_t> last_policy_;  // the last one sent
   int64_t policies_published_ = 0;
   std::thread publisher_;
+  std::mutex refusal_mutex_;  // guards the two below
+  int64_t last_refusal_warning_ms_ = -1;
+  int64_t refusal_warnings_suppressed_ = 0;
 };
 
 }  // namespace dynapath::runtime

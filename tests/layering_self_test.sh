@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # The layering check itself: on a small tree of the project's shape it passes
 # what is allowed and fails, naming the file, on a process that includes a
-# header private to core, a face header that includes a private one, a
-# lower layer that includes a higher one, and the Python module including
-# the CLI's own code (it may include the study library tools/common/).
+# header private to core (however the include is spelled: quoted, in angle
+# brackets, "# include", or by its bare name), a header in core's face that
+# core/include/face.txt does not list (and a listed one that is missing), a
+# face header that includes a private one, a lower layer that includes a
+# higher one, and the Python module including the CLI's own code (it may
+# include the study library tools/common/).
 # Usage: tests/layering_self_test.sh LAYERING_TEST_SCRIPT
 set -uo pipefail
 check=${1:?usage: layering_self_test.sh LAYERING_TEST_SCRIPT}
@@ -14,8 +17,10 @@ mkdir -p "$tree"/core/include/dynapath "$tree"/core/learn "$tree"/protocol "$tre
 echo '#pragma once' >"$tree/core/learn/hidden.h"
 echo '#include "core/learn/hidden.h"' >"$tree/core/learn/hidden.cc"
 echo '#pragma once' >"$tree/core/include/dynapath/shown.h"
+printf '# the face\nshown.h\n' >"$tree/core/include/face.txt"
+echo '#pragma once' >"$tree/agent/own.h"
 printf '#include "dynapath/shown.h"\n#include "dynapath/shards_t.hpp"\n' >"$tree/protocol/bus.h"
-printf '#include "dynapath/shown.h"\n#include "protocol/bus.h"\n' >"$tree/agent/agent.cc"
+printf '#include "dynapath/shown.h"\n#include "protocol/bus.h"\n#include "own.h"\n' >"$tree/agent/agent.cc"
 printf '#include "protocol/bus.h"\n#include "tools/common/study_plan.h"\n' >"$tree/python/src/module.cc"
 failed=0
 expect() {  # expect PASS|FAIL [FILE]: the check's verdict, and the file it names
@@ -29,9 +34,21 @@ expect() {  # expect PASS|FAIL [FILE]: the check's verdict, and the file it name
   fi
 }
 expect PASS
-echo '#include "core/learn/hidden.h"' >>"$tree/agent/agent.cc"
-expect FAIL agent/agent.cc
-sed -i '$d' "$tree/agent/agent.cc"
+# A process including a learner internal of core, in every spelling.
+for spelling in '#include "core/learn/hidden.h"' '#include <core/learn/hidden.h>' \
+  '#  include "core/learn/hidden.h"' '#include "hidden.h"'; do
+  echo "$spelling" >>"$tree/agent/agent.cc"
+  expect FAIL agent/agent.cc
+  sed -i '$d' "$tree/agent/agent.cc"
+done
+# The face grows only by its list.
+echo '#pragma once' >"$tree/core/include/dynapath/internal.h"
+expect FAIL core/include/dynapath/internal.h
+echo 'internal.h' >>"$tree/core/include/face.txt"
+expect PASS
+rm "$tree/core/include/dynapath/internal.h"
+expect FAIL core/include/face.txt
+sed -i '$d' "$tree/core/include/face.txt"
 echo '#include "core/learn/hidden.h"' >>"$tree/core/include/dynapath/shown.h"
 expect FAIL core/include/dynapath/shown.h
 sed -i '$d' "$tree/core/include/dynapath/shown.h"

@@ -9,8 +9,12 @@
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
 # aside) includes a header private to core (core/<room>/<name>.h, anything
-# not in its face core/include/dynapath/); when a header of the face includes
-# a private one; when anything below tools/ includes a study-only library
+# not in its face core/include/dynapath/), however the include is spelled
+# ("core/learn/x.h", <core/learn/x.h>, "# include", or "x.h" by its bare
+# name through an include path that reaches core's rooms); when the face
+# holds a header that core/include/face.txt does not list, or lists one it
+# lacks; when a header of the face includes a private one; when anything
+# below tools/ includes a study-only library
 # (JSON, TOML, PNG, SFML); or when a process executable links a library
 # above the processes (the study and CLI code of tools/, app/, the launcher, the
 # view).
@@ -40,11 +44,13 @@ allowed_for() {
 }
 
 # The kind of header an include line names, into $kind (empty: not the
-# project's). Pure bash, no subshell: the tree has thousands of include
-# lines, and a fork for each made this check a minute long on a busy machine.
+# project's), for "..." and <...> alike. Pure bash, no subshell: the tree has
+# thousands of include lines, and a fork for each made this check a minute
+# long on a busy machine.
+include_pattern='^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"]([^>"]*)[>"]'
 kind_of() {
   kind=""
-  [[ $1 =~ ^#include\ *\"([^\"]*)\" ]] || return 0
+  [[ $1 =~ $include_pattern ]] || return 0
   local path=${BASH_REMATCH[1]}
   case $path in
     dynapath/*)
@@ -54,9 +60,45 @@ kind_of() {
       local dir=${path%%/*}
       [ -d "$src/$dir" ] && kind=$dir
       ;;
+    *)
+      # A bare name: the file's own neighbour, or (when no neighbour has
+      # that name) one of core's private headers reached by an include path.
+      [ -n "${private_names[$path]:-}" ] && [ ! -f "$dir_of_file/$path" ] && kind=core
+      ;;
   esac
   return 0
 }
+
+# The names of core's private headers (core/<room>/.../<name>.h).
+declare -A private_names=()
+if [ -d "$src/core" ]; then
+  while IFS= read -r header; do
+    private_names[${header##*/}]=1
+  done < <(find "$src/core" -path "$src/core/include" -prune -o -type f -name '*.h' -print)
+fi
+
+# The face is what core/include/face.txt lists, no more and no less.
+if [ -d "$src/core/include/dynapath" ]; then
+  face_list=$src/core/include/face.txt
+  if [ ! -f "$face_list" ]; then
+    fail "core/include/face.txt is missing: it lists the headers of core's face"
+  else
+    declare -A listed=()
+    while IFS= read -r name; do
+      name=${name%%#*}
+      name=${name//[[:space:]]/}
+      [ -n "$name" ] || continue
+      listed[$name]=1
+      [ -f "$src/core/include/dynapath/$name" ] ||
+        fail "core/include/face.txt lists $name, which core/include/dynapath/ does not hold"
+    done <"$face_list"
+    for header in "$src"/core/include/dynapath/*; do
+      [ -e "$header" ] || continue
+      [ -n "${listed[${header##*/}]:-}" ] ||
+        fail "core/include/dynapath/${header##*/} is in core's face but not listed in core/include/face.txt (a private header belongs in core/<room>/)"
+    done
+  fi
+fi
 
 # Libraries only the applications may use (header-only ones cannot be seen
 # at link time, so their headers are checked).
@@ -67,6 +109,7 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
   [ -d "$src/$layer" ] || continue
   while IFS= read -r file; do
     [ "$layer" = core ] && [[ $file == "$src/core/include/"* ]] && continue  # checked as core/include
+    dir_of_file=${file%/*}
     while IFS= read -r line; do
       kind_of "$line"
       [ -n "$kind" ] || continue
@@ -74,9 +117,9 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
         *" $kind "*) ;;
         *) fail "${file#"$src"/} ($layer) includes a header of $kind: $line" ;;
       esac
-    done < <(grep -h '^#include *"' "$file")
-    if [ "$layer" = python ] && grep -Eq '^#include *"tools/' "$file" &&
-      grep -E '^#include *"tools/' "$file" | grep -vq '"tools/common/'; then
+    done < <(grep -hE '^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"]' "$file")
+    if [ "$layer" = python ] && grep -Eq '^#include *["<]tools/' "$file" &&
+      grep -E '^#include *["<]tools/' "$file" | grep -vq '["<]tools/common/'; then
       fail "${file#"$src"/} (python) includes a header of tools/ other than the study library tools/common/"
     fi
     if [ "$layer" != tools ] && grep -Eq "$forbidden_headers" "$file"; then

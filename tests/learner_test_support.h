@@ -8,11 +8,11 @@
 #include <cstring>
 #include <vector>
 
+#include "core/learn/region_model.h"
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/grid.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/q_table.h"
-#include "dynapath/region_model.h"
 #include "dynapath/scenario.h"
 #include "dynapath/training_job.h"
 #include "tests/grid_test_support.h"

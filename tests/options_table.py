@@ -119,8 +119,7 @@ def declarations(source):
 # The parameters' options are declared by their lines in these lists
 # (runtime/parameter_options.cc declares one option per line): "--" and the
 # member with '_' as '-'.
-PARAMETER_LISTS = ["core/include/dynapath/learner_options.h",
-                   "core/include/dynapath/retraining_strategy.h"]
+PARAMETER_LISTS = ["core/include/dynapath/learner_options.h"]
 PARAMETER_LINE = re.compile(r"^\s*X\((\w+),")
 
 

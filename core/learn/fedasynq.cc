@@ -1,4 +1,4 @@
-#include "dynapath/fedasynq.h"
+#include "core/learn/fedasynq.h"
 
 #include <algorithm>
 #include <bit>

@@ -5,9 +5,13 @@
 #include <cassert>
 #include <utility>
 
+#include "core/learn/fedasynq.h"
+#include "core/learn/region_model.h"
+
 namespace dynapath {
 
-FederatedState FederatedState::Start(const TrainingJob& job, const RegionModel& model) {
+namespace {
+FederatedState StartOn(const TrainingJob& job, const RegionModel& model) {
   FederatedState state;
   state.learners = job.federated.learners;
   state.rounds = FederatedRounds(job.region, job.federated);
@@ -16,21 +20,35 @@ FederatedState FederatedState::Start(const TrainingJob& job, const RegionModel& 
   state.stats = StartStatistics(model.start_cells());
   return state;
 }
+}  // namespace
 
-FederatedState FederatedState::Resume(const TrainingJob& job, const RegionModel& model,
-                                      std::vector<uint32_t> attempts,
+FederatedState FederatedState::Start(const TrainingJob& job) {
+  return StartOn(job, RegionModel(job));
+}
+
+FederatedState FederatedState::Resume(const TrainingJob& job, std::vector<uint32_t> attempts,
                                       std::vector<uint32_t> successes) {
-  FederatedState state = Start(job, model);
+  const RegionModel model(job);
+  FederatedState state = StartOn(job, model);
   state.stats = StartStatistics(model.start_cells(), std::move(attempts), std::move(successes));
   return state;
 }
 
-Status CombineRound(const std::vector<LearnerShard>& shards, FederatedAverager& averager,
-                    FederatedState& state, RoundAverage& average) {
+size_t StartCellCount(const TrainingJob& job) { return RegionModel(job).start_cells().size(); }
+
+RoundAverager::RoundAverager(const FederatedState& state)
+    : averager_(std::make_unique<FederatedAverager>(static_cast<int>(state.shared.size()),
+                                                    state.averaging)) {}
+RoundAverager::~RoundAverager() = default;
+RoundAverager::RoundAverager(RoundAverager&&) noexcept = default;
+RoundAverager& RoundAverager::operator=(RoundAverager&&) noexcept = default;
+
+Status RoundAverager::Combine(const std::vector<LearnerShard>& shards, FederatedState& state,
+                              RoundAverage& average) {
   Status combined = Ok{};
   WithValueType(state.shared.precision(), [&]<typename V>(V*) {
-    combined = averager.Combine(shards, state.shared, state.stats, average.entries,
-                                OfValueType<V>(average.values, average.wide_values));
+    combined = averager_->Combine(shards, state.shared, state.stats, average.entries,
+                                  OfValueType<V>(average.values, average.wide_values));
   });
   if (!combined) return combined;
   average.steps = 0;
@@ -38,19 +56,27 @@ Status CombineRound(const std::vector<LearnerShard>& shards, FederatedAverager& 
   return Ok{};
 }
 
-FederatedLearners::FederatedLearners(const TrainingJob& job, const RegionModel& model,
+FederatedLearners::FederatedLearners(const TrainingJob& job, std::vector<int> learners,
+                                     const QTable& shared, int workers)
+    : FederatedLearners(job, std::make_shared<const RegionModel>(job), std::move(learners), shared,
+                        workers) {}
+
+FederatedLearners::FederatedLearners(const TrainingJob& job,
+                                     std::shared_ptr<const RegionModel> model,
                                      std::vector<int> learners, const QTable& shared, int workers)
-    : job_(job), learners_(std::move(learners)) {
+    : job_(job), model_(std::move(model)), learners_(std::move(learners)) {
   const int count = static_cast<int>(learners_.size());
   workers = std::max(1, std::min(workers, count));
   for (int w = 0; w <= workers; ++w) first_.push_back(w * count / workers);
   for (int w = 0; w < workers; ++w) {
     // The index given here is only RunRound's; workers play theirs by index.
-    workers_.push_back(std::make_unique<FedAsynQLearner>(model, learners_[first_[w]]));
+    workers_.push_back(std::make_unique<FedAsynQLearner>(*model_, learners_[first_[w]]));
     workers_.back()->set_count_visits(job.federated.averaging != Averaging::kEqual);
     workers_.back()->Reset(shared);
   }
 }
+
+FederatedLearners::~FederatedLearners() = default;
 
 void FederatedLearners::RunRound(int worker, const StartStatistics& stats, int64_t round,
                                  LearnerShard* shards) {
@@ -77,18 +103,19 @@ std::vector<int> AllLearners(const TrainingJob& job) {
 }  // namespace
 
 FederatedRun::FederatedRun(const TrainingJob& job, int workers) : job_(job) {
-  model_ = std::make_unique<RegionModel>(job);
-  state_ = FederatedState::Start(job, *model_);
-  learners_ =
-      std::make_unique<FederatedLearners>(job, *model_, AllLearners(job), state_.shared, workers);
-  averager_ =
-      std::make_unique<FederatedAverager>(static_cast<int>(state_.shared.size()), state_.averaging);
+  auto model = std::make_shared<const RegionModel>(job);
+  state_ = StartOn(job, *model);
+  learners_ = std::make_unique<FederatedLearners>(job, std::move(model), AllLearners(job),
+                                                  state_.shared, workers);
+  averager_ = std::make_unique<RoundAverager>(state_);
   shards_.resize(learners_->learners().size());
 }
 
+FederatedRun::~FederatedRun() = default;
+
 void FederatedRun::FinishRound() {
   // The shards of our own learners on this job's model are well formed.
-  [[maybe_unused]] const Status combined = CombineRound(shards_, *averager_, state_, average_);
+  [[maybe_unused]] const Status combined = averager_->Combine(shards_, state_, average_);
   assert(combined.ok());
   learners_->Apply(average_);
   steps_ += average_.steps;

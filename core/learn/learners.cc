@@ -2,8 +2,8 @@
 
 #include <cstdlib>
 
+#include "core/learn/single_agent_learner.h"
 #include "dynapath/federated_job.h"
-#include "dynapath/single_agent_learner.h"
 
 namespace dynapath {
 

@@ -5,8 +5,8 @@
 #include <cassert>
 #include <memory>
 
+#include "core/learn/single_agent_learner.h"
 #include "dynapath/federated_job.h"
-#include "dynapath/single_agent_learner.h"
 
 namespace dynapath {
 

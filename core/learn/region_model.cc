@@ -1,4 +1,4 @@
-#include "dynapath/region_model.h"
+#include "core/learn/region_model.h"
 
 #include <cassert>
 #include <stdexcept>

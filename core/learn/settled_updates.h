@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dynapath/region_model.h"
+#include "core/learn/region_model.h"
 
 namespace dynapath {
 

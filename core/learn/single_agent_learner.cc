@@ -1,4 +1,4 @@
-#include "dynapath/single_agent_learner.h"
+#include "core/learn/single_agent_learner.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "dynapath/rng.h"
 #include "core/learn/rng_skip.h"
 #include "core/learn/settled_updates.h"
+#include "dynapath/rng.h"
 #include "dynapath/start_statistics.h"
 
 namespace dynapath {

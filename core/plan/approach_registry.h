@@ -8,9 +8,9 @@
 #include <optional>
 #include <vector>
 
+#include "core/plan/retraining_strategy.h"
 #include "dynapath/approach.h"
 #include "dynapath/planner.h"
-#include "dynapath/retraining_strategy.h"
 #include "dynapath/training_job.h"
 
 namespace dynapath {

@@ -1,4 +1,4 @@
-#include "dynapath/retraining_strategy.h"
+#include "core/plan/retraining_strategy.h"
 
 #include <algorithm>
 

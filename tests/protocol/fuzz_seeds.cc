@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/learn/fedasynq.h"
+#include "core/learn/region_model.h"
 #include "dynapath/bfs_oracle.h"
-#include "dynapath/fedasynq.h"
-#include "dynapath/region_model.h"
 #include "dynapath/routes.h"
 #include "fuzz/combiner_job.h"
 #include "protocol/convert.h"

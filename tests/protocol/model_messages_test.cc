@@ -10,6 +10,7 @@
 
 #include "protocol/convert.h"
 #include "protocol/validate.h"
+#include "tests/protocol/validation_problem.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -48,7 +49,7 @@ model_shards_t Shards() {
 
 TEST(ModelMessages, ConversionsAreExact) {
   const model_round_t round = Round();
-  EXPECT_EQ(Validate(round), "");
+  EXPECT_EQ(ValidationProblem(round), "");
   const ConvQTrainingOptions back = ConvQOptionsFromRound(round);
   EXPECT_EQ(back.seed, 9u);
   EXPECT_EQ(back.rounds, 4);
@@ -62,7 +63,7 @@ TEST(ModelMessages, ConversionsAreExact) {
   const std::vector<ConvQShard> sent = {TrainConvQLearner(training, InitialConvQModel(), 1, 0),
                                         TrainConvQLearner(training, InitialConvQModel(), 1, 2)};
   const model_shards_t shards = Shards();
-  EXPECT_EQ(Validate(shards), "");
+  EXPECT_EQ(ValidationProblem(shards), "");
   EXPECT_EQ(ConvQShardsFromMessage(shards), sent);
 }
 
@@ -70,7 +71,7 @@ TEST(ModelMessages, BadRoundsAreRefused) {
   const auto refused = [](auto change) {
     model_round_t round = Round();
     change(round);
-    return !Validate(round).empty();
+    return !ValidationProblem(round).empty();
   };
   EXPECT_TRUE(refused([](model_round_t& m) { m.round = 0; }));
   EXPECT_TRUE(refused([](model_round_t& m) { m.round = m.rounds + 1; }));
@@ -97,7 +98,7 @@ TEST(ModelMessages, BadShardsAreRefused) {
   const auto refused = [](auto change) {
     model_shards_t shards = Shards();
     change(shards);
-    return !Validate(shards).empty();
+    return !ValidationProblem(shards).empty();
   };
   EXPECT_TRUE(refused([](model_shards_t& m) { m.round = 0; }));
   EXPECT_TRUE(refused([](model_shards_t& m) { m.num_shards = 3; }));

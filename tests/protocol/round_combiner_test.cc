@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "dynapath/region_model.h"
+#include "core/learn/fedasynq.h"
 #include "protocol/convert.h"
 #include "tests/learner_test_support.h"
 

@@ -13,6 +13,7 @@
 #include "protocol/decode.h"
 #include "protocol/limits.h"
 #include "protocol/validate.h"
+#include "tests/protocol/validation_problem.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -32,9 +33,8 @@ obstacle_update_t Update() {
 
 TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
   obstacle_update_t m = Update();
-  EXPECT_EQ(Validate(m), "");
-  UpdateRefusal why{};
-  Result<MapUpdate> update = UpdateFromMessage(m, 3, 4, 77, &why);
+  EXPECT_EQ(ValidationProblem(m), "");
+  Result<MapUpdate, UpdateError> update = UpdateFromMessage(m, 3, 4, 77);
   ASSERT_TRUE(update.ok());
   ASSERT_EQ(update->changes.size(), 2u);
   EXPECT_EQ(update->changes[0], (CellChange{1, Cell::kObstacle}));
@@ -43,41 +43,45 @@ TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
 
   obstacle_update_t outside = m;
   outside.cols[1] = 4;
-  EXPECT_FALSE(UpdateFromMessage(outside, 3, 4, 77, &why).ok());
-  EXPECT_EQ(why, UpdateRefusal::kOutsideGrid);
+  Result<MapUpdate, UpdateError> refused = UpdateFromMessage(outside, 3, 4, 77);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kOutsideGrid);
+  EXPECT_EQ(refused.error().error.message, "cell (2, 4) outside the 3x4 grid");
   obstacle_update_t unknown = m;
   unknown.states[0] = 2;
-  EXPECT_FALSE(UpdateFromMessage(unknown, 3, 4, 77, &why).ok());
-  EXPECT_EQ(why, UpdateRefusal::kUnknownState);
+  refused = UpdateFromMessage(unknown, 3, 4, 77);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kUnknownState);
+  EXPECT_EQ(refused.error().error.message, "unknown state 2");
   // Made for another maze: refused whole, whatever its cells.
-  Result<MapUpdate> foreign = UpdateFromMessage(m, 3, 4, 78, &why);
+  Result<MapUpdate, UpdateError> foreign = UpdateFromMessage(m, 3, 4, 78);
   ASSERT_FALSE(foreign.ok());
-  EXPECT_EQ(why, UpdateRefusal::kOtherMaze);
-  EXPECT_NE(foreign.error().message.find(FingerprintText(77)), std::string::npos);
+  EXPECT_EQ(foreign.error().why, UpdateRefusal::kOtherMaze);
+  EXPECT_NE(foreign.error().error.message.find(FingerprintText(77)), std::string::npos);
   // A step's changes as an update, and back.
   const ChangeStep step{0, {{1, Cell::kObstacle}, {11, Cell::kFree}}};
   const obstacle_update_t sent = UpdateToMessage(step, 4, "feed", 3, 77);
-  EXPECT_EQ(Validate(sent), "");
+  EXPECT_EQ(ValidationProblem(sent), "");
   EXPECT_EQ(sent.sequence, 3);
-  Result<MapUpdate> back = UpdateFromMessage(sent, 3, 4, 77, &why);
+  Result<MapUpdate, UpdateError> back = UpdateFromMessage(sent, 3, 4, 77);
   ASSERT_TRUE(back.ok());
   EXPECT_EQ(back->changes, step.changes);
 
   obstacle_update_t bad = m;
   bad.sequence = 0;
-  EXPECT_NE(Validate(bad), "");
+  EXPECT_NE(ValidationProblem(bad), "");
   bad = m;
   bad.source = std::string(65, 'x');
-  EXPECT_NE(Validate(bad), "");
+  EXPECT_NE(ValidationProblem(bad), "");
   bad = m;
   bad.num_cells = 3;
-  EXPECT_NE(Validate(bad), "");
+  EXPECT_NE(ValidationProblem(bad), "");
   bad = m;
   bad.num_cells = kMaxUpdateCells + 1;
   bad.rows.resize(static_cast<size_t>(bad.num_cells));
   bad.cols.resize(bad.rows.size());
   bad.states.resize(bad.rows.size());
-  EXPECT_NE(Validate(bad), "");
+  EXPECT_NE(ValidationProblem(bad), "");
 }
 
 TEST(ServiceMessages, OccupancyGridIsRosLayoutWithThresholds) {
@@ -92,9 +96,8 @@ TEST(ServiceMessages, OccupancyGridIsRosLayoutWithThresholds) {
   m.num_cells = 6;
   // Data row 0 is the map's bottom row (row 1), row 1 its top (row 0).
   m.data = {100, 10, 30, /*top:*/ 100, -1, 66};
-  ASSERT_EQ(Validate(m), "");
-  UpdateRefusal why{};
-  Result<MapUpdate> update = UpdateFromOccupancyGrid(m, map, {}, &why);
+  ASSERT_EQ(ValidationProblem(m), "");
+  Result<MapUpdate, UpdateError> update = UpdateFromOccupancyGrid(m, map, {});
   ASSERT_TRUE(update.ok());
   // (1,0) obstacle, (1,1) free, (1,2) 0.30 unchanged; (0,0) a station left
   // out, (0,1) unknown, (0,2) 0.66 obstacle.
@@ -104,8 +107,10 @@ TEST(ServiceMessages, OccupancyGridIsRosLayoutWithThresholds) {
   m.cols = 2;
   m.num_cells = 4;
   m.data.resize(4);
-  EXPECT_FALSE(UpdateFromOccupancyGrid(m, map, {}, &why).ok());
-  EXPECT_EQ(why, UpdateRefusal::kGridShape);
+  Result<MapUpdate, UpdateError> refused = UpdateFromOccupancyGrid(m, map, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kGridShape);
+  EXPECT_EQ(refused.error().error.message, "occupancy grid of 2x2 cells for a 2x3 map");
 }
 
 TEST(ServiceMessages, RequestsAndReplies) {
@@ -115,13 +120,13 @@ TEST(ServiceMessages, RequestsAndReplies) {
   request.num_starts = 1;
   request.start_rows = {0};
   request.start_cols = {0};
-  EXPECT_EQ(Validate(request), "");
+  EXPECT_EQ(ValidationProblem(request), "");
   request.num_starts = 0;  // a probe
   request.start_rows.clear();
   request.start_cols.clear();
-  EXPECT_EQ(Validate(request), "");
+  EXPECT_EQ(ValidationProblem(request), "");
   request.num_starts = -1;
-  EXPECT_NE(Validate(request), "");
+  EXPECT_NE(ValidationProblem(request), "");
 
   const Grid grid = *GridFromText("C..\n.#.\n...\n");
   RouteSnapshot snapshot;
@@ -136,7 +141,7 @@ TEST(ServiceMessages, RequestsAndReplies) {
     routes.push_back(AnswerRoute(snapshot, r, c, AnswerMode::kExact, 99));
   const path_reply_t reply =
       ReplyToMessage("robot", 9, path_reply_t::ACCEPTED, "x", &snapshot, starts, routes);
-  EXPECT_EQ(Validate(reply), "");
+  EXPECT_EQ(ValidationProblem(reply), "");
   EXPECT_EQ(reply.version, 4);
   EXPECT_EQ(reply.time_step, 3);
   ASSERT_EQ(reply.num_starts, 3);
@@ -155,10 +160,10 @@ TEST(ServiceMessages, RequestsAndReplies) {
   const path_reply_t refused =
       ReplyToMessage("robot", 9, path_reply_t::TOO_MANY_STARTS, "x", &snapshot, starts, routes);
   EXPECT_EQ(refused.num_starts, 0);
-  EXPECT_EQ(Validate(refused), "");
+  EXPECT_EQ(ValidationProblem(refused), "");
   path_reply_t broken = reply;
   broken.path_offset[0] = reply.num_path;
-  EXPECT_NE(Validate(broken), "");
+  EXPECT_NE(ValidationProblem(broken), "");
 }
 
 TEST(ServiceMessages, BusDeliversAuthenticatedUpdatesAndDropsOthers) {

@@ -7,6 +7,7 @@
 
 #include "protocol/convert.h"
 #include "protocol/validate.h"
+#include "tests/protocol/validation_problem.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -36,7 +37,7 @@ TEST(ShardEncodingTest, RoundTripsWithVisits) {
   const LearnerShard shard = Shard();
   const learner_shard_t m = ShardToMessage(shard, 3, true);
   EXPECT_EQ(m.job, 3);
-  EXPECT_EQ(Validate(Wrap(m)), "");
+  EXPECT_EQ(ValidationProblem(Wrap(m)), "");
   const LearnerShard back = ShardFromMessage(m, 9);
   EXPECT_EQ(back.learner, shard.learner);
   EXPECT_EQ(back.round, 9);
@@ -55,7 +56,7 @@ TEST(ShardEncodingTest, DoubleValuesRoundTripBitForBit) {
   const learner_shard_t m = ShardToMessage(shard, 3, true);
   EXPECT_EQ(m.num_values, 0);
   EXPECT_EQ(m.num_wide_values, 7);
-  EXPECT_EQ(Validate(Wrap(m)), "");
+  EXPECT_EQ(ValidationProblem(Wrap(m)), "");
   const LearnerShard back = ShardFromMessage(m, 9);
   EXPECT_TRUE(back.values.empty());
   ASSERT_EQ(back.wide_values.size(), 7u);
@@ -64,14 +65,14 @@ TEST(ShardEncodingTest, DoubleValuesRoundTripBitForBit) {
   learner_shard_t both = m;
   both.values = {1.0f};
   both.num_values = 1;
-  EXPECT_NE(Validate(Wrap(both)), "");
+  EXPECT_NE(ValidationProblem(Wrap(both)), "");
   learner_shard_t short_of_one = m;
   short_of_one.wide_values.pop_back();
   short_of_one.num_wide_values = 6;
-  EXPECT_NE(Validate(Wrap(short_of_one)), "");
+  EXPECT_NE(ValidationProblem(Wrap(short_of_one)), "");
   learner_shard_t nan = m;
   nan.wide_values[1] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(Validate(Wrap(nan)), "");
+  EXPECT_NE(ValidationProblem(Wrap(nan)), "");
 }
 
 TEST(ShardEncodingTest, EqualAveragingOmitsVisits) {
@@ -87,26 +88,26 @@ TEST(ShardEncodingTest, ValidateRejectsBrokenEncodings) {
   const learner_shard_t good = ShardToMessage(Shard(), 0, true);
   learner_shard_t m = good;
   m.num_entries = 6;  // values say 7
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   m = good;
   m.entry_gaps.push_back(0);  // entry_bytes no longer matches
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   m = good;
   m.entry_gaps.back() |= 0x80;  // truncated varint
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   m = good;
   m.visits.pop_back();
   m.visit_bytes = static_cast<int32_t>(m.visits.size());
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   m = good;
   m.values[2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   m = good;
   m.start_cell = -2;
-  EXPECT_NE(Validate(Wrap(m)), "");
+  EXPECT_NE(ValidationProblem(Wrap(m)), "");
   shards_t wrapped = Wrap(good);
   wrapped.needs_round = -1;
-  EXPECT_NE(Validate(wrapped), "");
+  EXPECT_NE(ValidationProblem(wrapped), "");
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "dynapath/learners.h"
 #include "protocol/convert.h"
+#include "tests/protocol/validation_problem.h"
 
 namespace dynapath::protocol {
 namespace {
@@ -35,17 +36,17 @@ job_batch_t BatchWithJob(int32_t row0, int32_t rows, int32_t col0, int32_t cols)
 }
 
 TEST(Validate, JobRegionsDoNotWrap) {
-  EXPECT_EQ(Validate(BatchWithJob(0, 2, 0, 1)), "");
-  EXPECT_EQ(Validate(BatchWithJob(8, 2, 9, 1)), "");
-  EXPECT_NE(Validate(BatchWithJob(INT_MAX, 2, 0, 1)), "");
-  EXPECT_NE(Validate(BatchWithJob(0, 2, INT_MAX, 1)), "");
-  EXPECT_NE(Validate(BatchWithJob(INT_MAX - 1, 2, 0, 1)), "");
-  EXPECT_NE(Validate(BatchWithJob(9, 2, 0, 1)), "");
+  EXPECT_EQ(ValidationProblem(BatchWithJob(0, 2, 0, 1)), "");
+  EXPECT_EQ(ValidationProblem(BatchWithJob(8, 2, 9, 1)), "");
+  EXPECT_NE(ValidationProblem(BatchWithJob(INT_MAX, 2, 0, 1)), "");
+  EXPECT_NE(ValidationProblem(BatchWithJob(0, 2, INT_MAX, 1)), "");
+  EXPECT_NE(ValidationProblem(BatchWithJob(INT_MAX - 1, 2, 0, 1)), "");
+  EXPECT_NE(ValidationProblem(BatchWithJob(9, 2, 0, 1)), "");
   // rows * cols wrapping to the cell count.
   job_batch_t batch = BatchWithJob(0, 65536, 0, 65536);
   batch.jobs[0].num_cells = 0;
   batch.jobs[0].codes.clear();
-  EXPECT_NE(Validate(batch), "");
+  EXPECT_NE(ValidationProblem(batch), "");
 }
 
 TEST(Validate, PolicyRegionsDoNotWrap) {
@@ -60,23 +61,23 @@ TEST(Validate, PolicyRegionsDoNotWrap) {
   policy.region_col0 = {0};
   policy.region_rows = {2};
   policy.region_cols = {1};
-  EXPECT_EQ(Validate(policy), "");
+  EXPECT_EQ(ValidationProblem(policy), "");
   policy.region_row0 = {INT_MAX};
-  EXPECT_NE(Validate(policy), "");
+  EXPECT_NE(ValidationProblem(policy), "");
   policy.region_row0 = {0};
   policy.region_col0 = {INT_MAX};
-  EXPECT_NE(Validate(policy), "");
+  EXPECT_NE(ValidationProblem(policy), "");
 }
 
 TEST(Validate, GridCellCountInSixtyFourBits) {
   grid_t grid{};
   grid.rows = grid.cols = 65536;  // above the limit anyway
   grid.num_cells = 0;
-  EXPECT_NE(Validate(grid), "");
+  EXPECT_NE(ValidationProblem(grid), "");
   grid.rows = grid.cols = 2;
   grid.num_cells = 4;
   grid.cells = {1, 1, 1, 2};
-  EXPECT_EQ(Validate(grid), "");
+  EXPECT_EQ(ValidationProblem(grid), "");
 }
 
 TEST(Validate, EveryLearnerKindTravelsAndNoOtherIsAccepted) {
@@ -84,12 +85,12 @@ TEST(Validate, EveryLearnerKindTravelsAndNoOtherIsAccepted) {
   for (LearnerKind kind : kAllLearnerKinds) {
     batch.kind = LearnerKindToWire(kind);
     EXPECT_EQ(LearnerKindFromWire(batch.kind), kind);
-    EXPECT_EQ(Validate(batch), "");
+    EXPECT_EQ(ValidationProblem(batch), "");
   }
   batch.kind = 2;
-  EXPECT_EQ(Validate(batch), "unknown learner kind");
+  EXPECT_EQ(ValidationProblem(batch), "unknown learner kind");
   batch.kind = -1;
-  EXPECT_EQ(Validate(batch), "unknown learner kind");
+  EXPECT_EQ(ValidationProblem(batch), "unknown learner kind");
 }
 
 TEST(Validate, EveryBootstrapAndAveragingTravelsAndNoOtherIsAccepted) {
@@ -100,7 +101,7 @@ TEST(Validate, EveryBootstrapAndAveragingTravelsAndNoOtherIsAccepted) {
       config.bootstrap = bootstrap;
       config.federated.averaging = averaging;
       SetBatchOptions(config, batch);
-      ASSERT_EQ(Validate(batch), "");
+      ASSERT_EQ(ValidationProblem(batch), "");
       Result<ReceivedJob> received = JobFromBatch(batch, 0);
       ASSERT_TRUE(received.ok()) << received.error().message;
       EXPECT_EQ(received->job.bootstrap, bootstrap);
@@ -109,10 +110,10 @@ TEST(Validate, EveryBootstrapAndAveragingTravelsAndNoOtherIsAccepted) {
   }
   job_batch_t bad = batch;
   bad.bootstrap = 3;
-  EXPECT_EQ(Validate(bad), "bad bootstrap or averaging");
+  EXPECT_EQ(ValidationProblem(bad), "bad bootstrap or averaging");
   bad = batch;
   bad.averaging = 2;
-  EXPECT_EQ(Validate(bad), "bad bootstrap or averaging");
+  EXPECT_EQ(ValidationProblem(bad), "bad bootstrap or averaging");
 }
 
 TEST(Validate, UnvalidatedHeaderEnumsAreAnErrorNotADefault) {
@@ -123,7 +124,7 @@ TEST(Validate, UnvalidatedHeaderEnumsAreAnErrorNotADefault) {
         +[](job_batch_t& b) { b.averaging = 7; }, +[](job_batch_t& b) { b.precision = 5; }}) {
     job_batch_t batch = BatchWithJob(0, 1, 0, 2);
     spoil(batch);
-    EXPECT_NE(Validate(batch), "");
+    EXPECT_NE(ValidationProblem(batch), "");
     EXPECT_FALSE(JobFromBatch(batch, 0).ok());
   }
 }
@@ -135,47 +136,47 @@ TEST(Validate, OnlyALearnerThatTrainsInRoundsIsSplit) {
   batch.item_learner = {0};  // learner 0 of job 0: a split item
   batch.item_agent = {1};
   batch.kind = LearnerKindToWire(LearnerKind::kFedAsynQ);
-  EXPECT_EQ(Validate(batch), "");
+  EXPECT_EQ(ValidationProblem(batch), "");
   batch.kind = LearnerKindToWire(LearnerKind::kSingleAgent);
-  EXPECT_EQ(Validate(batch), "split item of a whole-job learner");
+  EXPECT_EQ(ValidationProblem(batch), "split item of a whole-job learner");
   batch.item_learner = {-1};  // the whole job
-  EXPECT_EQ(Validate(batch), "");
+  EXPECT_EQ(ValidationProblem(batch), "");
 }
 
 TEST(Validate, EveryLearnerOptionOutsideItsRangeIsNamed) {
   job_batch_t good = BatchWithJob(0, 1, 0, 2);
   SetBatchOptions(LearnerConfig{}, good);  // the defaults are in range
-  ASSERT_EQ(Validate(good), "");
+  ASSERT_EQ(ValidationProblem(good), "");
   job_batch_t batch = good;
   batch.learners = learner_option::kMaxLearners + 1;
-  EXPECT_EQ(Validate(batch), "bad federated option learners");
+  EXPECT_EQ(ValidationProblem(batch), "bad federated option learners");
   batch = good;
   batch.sync_period = 0;
-  EXPECT_EQ(Validate(batch), "bad federated option sync_period");
+  EXPECT_EQ(ValidationProblem(batch), "bad federated option sync_period");
   batch = good;
   batch.replay_batch = -1;
-  EXPECT_EQ(Validate(batch), "bad single-agent option replay_batch");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option replay_batch");
   batch = good;
   batch.epsilon_decay = std::nan("");
-  EXPECT_EQ(Validate(batch), "bad single-agent option epsilon_decay");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option epsilon_decay");
   batch = good;
   batch.convergence_threshold = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(Validate(batch), "bad single-agent option convergence_threshold");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option convergence_threshold");
   // The parameters' ranges (dynapath/parameters.h), the same as on the
   // command line.
   batch = good;
   batch.replay_start_episode = -5;
-  EXPECT_EQ(Validate(batch), "bad single-agent option replay_start_episode");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option replay_start_episode");
   batch = good;
   batch.epsilon_start = 1.5;
-  EXPECT_EQ(Validate(batch), "bad single-agent option epsilon_start");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option epsilon_start");
   batch = good;
   batch.replay_capacity = 10000001;  // bounds the buffer an agent allocates
-  EXPECT_EQ(Validate(batch), "bad single-agent option replay_capacity");
+  EXPECT_EQ(ValidationProblem(batch), "bad single-agent option replay_capacity");
   batch = good;
   batch.epsilon_start = 0.0;  // the ends of a range are in it
   batch.replay_batch = 10000;
-  EXPECT_EQ(Validate(batch), "");
+  EXPECT_EQ(ValidationProblem(batch), "");
 }
 
 TEST(Validate, LearnerOptionsRoundTripThroughTheWire) {
@@ -188,7 +189,7 @@ TEST(Validate, LearnerOptionsRoundTripThroughTheWire) {
   config.federated.iterations_per_cell = 9;
   job_batch_t batch = BatchWithJob(0, 1, 0, 2);
   SetBatchOptions(config, batch);
-  ASSERT_EQ(Validate(batch), "");
+  ASSERT_EQ(ValidationProblem(batch), "");
   Result<ReceivedJob> received = JobFromBatch(batch, 0);
   ASSERT_TRUE(received.ok()) << received.error().message;
   const TrainingJob& job = received->job;
@@ -222,7 +223,7 @@ TEST(Validate, TablesTravelInTheBatchPrecision) {
     job_batch_t batch{};
     SetBatchOptions(LearnerConfig{}, batch);
     AddJob(job, JobProgress{}, batch);
-    ASSERT_EQ(Validate(batch), "");
+    ASSERT_EQ(ValidationProblem(batch), "");
     Result<ReceivedJob> received = JobFromBatch(batch, 0);
     ASSERT_TRUE(received.ok()) << received.error().message;
     EXPECT_EQ(received->job.precision, precision);
@@ -232,9 +233,9 @@ TEST(Validate, TablesTravelInTheBatchPrecision) {
     job_batch_t wrong = batch;
     wrong.precision = precision == QPrecision::kFloat ? job_batch_t::PRECISION_DOUBLE
                                                       : job_batch_t::PRECISION_FLOAT;
-    EXPECT_EQ(Validate(wrong), "job table size mismatch");
+    EXPECT_EQ(ValidationProblem(wrong), "job table size mismatch");
     wrong.precision = 2;
-    EXPECT_EQ(Validate(wrong), "unknown table precision");
+    EXPECT_EQ(ValidationProblem(wrong), "unknown table precision");
   }
 }
 

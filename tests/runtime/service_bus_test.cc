@@ -1,9 +1,12 @@
 #include "runtime/service_bus.h"
 
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -208,11 +211,36 @@ struct BusService {
   ServiceBus service_bus;
 };
 
+// The default logger's messages while it lives (set up before any thread
+// of the test logs, restored after the last one stopped).
+class LogCapture {
+ public:
+  LogCapture()
+      : sink_(std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(64)),
+        previous_(spdlog::default_logger()) {
+    sink_->set_pattern("%v");
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink_));
+  }
+  ~LogCapture() { spdlog::set_default_logger(previous_); }
+  bool Contains(const std::string& text) const {
+    for (const std::string& line : sink_->last_formatted()) {
+      if (line.find(text) != std::string::npos) return true;
+    }
+    return false;
+  }
+
+ private:
+  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> sink_;
+  std::shared_ptr<spdlog::logger> previous_;
+};
+
 // Every reply names the service's maze; an update made for another maze
-// (its fingerprint) is dropped and counted, one for this maze is taken.
+// (its fingerprint) is dropped, counted and logged with what was wrong, one
+// for this maze is taken.
 TEST(ServiceBus, RepliesNameTheMazeAndForeignUpdatesAreDropped) {
   const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 2);
   const Scenario other = GenerateScenario(16, 16, Difficulty::kHard, 99, 2);
+  const LogCapture captured;
   lcm::LCM lcm("memq://");
   ASSERT_TRUE(lcm.good());
   ReplyListener client(lcm, "service-bus");
@@ -239,6 +267,10 @@ TEST(ServiceBus, RepliesNameTheMazeAndForeignUpdatesAreDropped) {
   EXPECT_EQ(stats.updates.cells_changed,
             static_cast<int64_t>(scenario.changes.steps[0].changes.size()));
   EXPECT_NE(PathService::Summary(stats).find("1 other_maze"), std::string::npos);
+  EXPECT_TRUE(
+      captured.Contains("refused an update on MAP_UPDATES (other_maze): an update for the "
+                        "maze of fingerprint " +
+                        FingerprintText(foreign)));
   EXPECT_TRUE(served.service.Stop().ok());
 }
 

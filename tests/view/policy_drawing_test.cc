@@ -42,7 +42,7 @@ Rgb Near(const RgbImage& image, const PolicyLayout& layout, int row, int col, in
   return image.At(x, y);
 }
 
-TEST(PolicyDrawing, TheTestPolicyIsValid) { EXPECT_EQ(protocol::Validate(SmallPolicy()), ""); }
+TEST(PolicyDrawing, TheTestPolicyIsValid) { EXPECT_TRUE(protocol::Validate(SmallPolicy()).ok()); }
 
 TEST(PolicyDrawing, AutoCellSize) {
   EXPECT_EQ(AutoCellSize(5, 5), 16);
@@ -253,7 +253,7 @@ TEST(PolicyDrawing, OnlyPaletteColours) {
   }
   AddRegion(policy, 0, 0, 12, 9);
   AddRegion(policy, 3, 4, 5, 2);
-  ASSERT_EQ(protocol::Validate(policy), "");
+  ASSERT_TRUE(protocol::Validate(policy).ok());
   const std::vector<Rgb>& palette = DrawingPalette();
   std::vector<uint8_t> moving(static_cast<size_t>(policy.num_cells), 0);
   moving[0] = 1;

@@ -59,8 +59,8 @@ std::optional<policy_t> PolicyAssembler::DecodePolicy(const std::string& run, co
   policy_t policy{};
   if (!protocol::DecodeExactly(data, size, policy)) return Drop("undecodable policy_t");
   if (policy.run_id != run) return Drop("policy_t of run '" + policy.run_id + "' on run " + run);
-  if (std::string error = protocol::Validate(policy); !error.empty()) {
-    return Drop("policy_t: " + error);
+  if (Status valid = protocol::Validate(policy); !valid) {
+    return Drop("policy_t: " + valid.error().message);
   }
   ++counters_.policies;
   return policy;
@@ -90,8 +90,8 @@ std::optional<policy_t> PolicyAssembler::FeedFragment(const std::string& channel
   fragment_t fragment{};
   if (!protocol::DecodeExactly(data, size, fragment)) return Drop("undecodable fragment_t");
   if (fragment.run_id != run) return Drop("fragment of another run");
-  if (std::string error = protocol::Validate(fragment); !error.empty()) {
-    return Drop("fragment_t: " + error);
+  if (Status valid = protocol::Validate(fragment); !valid) {
+    return Drop("fragment_t: " + valid.error().message);
   }
   if (fragment.fingerprint != static_cast<int64_t>(policy_t::getHash())) {
     return Drop("fragment of a message that is no policy_t");

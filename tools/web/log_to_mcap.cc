@@ -41,7 +41,7 @@ std::optional<std::string> Convert(const std::vector<uint8_t>& bytes, const std:
                                    bool& dropped, F to_json) {
   T message;
   if (!protocol::DecodeExactly(bytes.data(), static_cast<int>(bytes.size()), message) ||
-      message.run_id != run || !protocol::Validate(message).empty()) {
+      message.run_id != run || !protocol::Validate(message).ok()) {
     dropped = true;
     return std::nullopt;
   }
@@ -95,7 +95,7 @@ Result<McapExport> LogToMcap(const std::string& in, const std::string& out) {
     if (Fingerprint(bytes.data(), bytes.size()) == static_cast<int64_t>(fragment_t::getHash())) {
       fragment_t fragment;
       if (!protocol::DecodeExactly(bytes.data(), static_cast<int>(bytes.size()), fragment) ||
-          fragment.run_id != run || !protocol::Validate(fragment).empty()) {
+          fragment.run_id != run || !protocol::Validate(fragment).ok()) {
         ++result.dropped;
         continue;
       }

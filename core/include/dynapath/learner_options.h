@@ -47,3 +47,21 @@ constexpr bool InRange(T value, T min, T max) {
 // Declares a member with its default (for the options structs).
 #define DYNAPATH_DECLARE_LEARNER_OPTION(member, type, default_value, ...) \
   type member = default_value;
+
+// THE list of the tree strategy's thresholds (SPEC 5), in the same columns:
+// the planner's options carry them (RetrainingThresholds, below), the
+// strategy (core/plan/retraining_strategy.h) applies them, and the
+// parameters (dynapath/parameters.h) are expanded from the list. The
+// coordinator applies them; they never travel.
+// clang-format off
+#define DYNAPATH_RETRAINING_THRESHOLDS(X)                                                                \
+  X(max_drop,         double, 0.01, 0.01, 0.0, 1.0, "retrain a changed node whose success rate fell by more than this")  \
+  X(min_success_rate, double, 0.9,  0.9,  0.0, 1.0, "retrain a changed node whose success rate is below this")         \
+  X(escalate_below,   double, 0.9,  0.9,  0.0, 1.0, "escalation: a trained node still below this makes its parent a candidate (0: never)")
+// clang-format on
+
+namespace dynapath {
+struct RetrainingThresholds {
+  DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_DECLARE_LEARNER_OPTION)
+};
+}  // namespace dynapath

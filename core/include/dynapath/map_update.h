@@ -14,6 +14,7 @@
 
 #include "dynapath/change_sequence.h"
 #include "dynapath/grid.h"
+#include "dynapath/result.h"
 
 namespace dynapath {
 
@@ -37,6 +38,13 @@ enum class UpdateRefusal {
 };
 inline constexpr size_t kUpdateRefusalCount = 6;
 const char* UpdateRefusalName(UpdateRefusal why);  // "stale", "outside_grid", ...
+
+// An update refused before it reached the queue (its conversion from a
+// message): the reason counted, and what exactly was wrong.
+struct UpdateError {
+  UpdateRefusal why = UpdateRefusal::kOutsideGrid;
+  Error error;
+};
 
 struct UpdateCounts {
   int64_t received = 0;

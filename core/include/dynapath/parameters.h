@@ -1,8 +1,8 @@
 #pragma once
 // The learners' and the retraining strategy's parameters by name, as one
 // table: every line of DYNAPATH_SINGLE_AGENT_OPTIONS, DYNAPATH_FEDASYNQ_OPTIONS
-// (core/include/dynapath/learner_options.h) and DYNAPATH_RETRAINING_THRESHOLDS
-// (core/include/dynapath/retraining_strategy.h), with its name, default,
+// and DYNAPATH_RETRAINING_THRESHOLDS (core/include/dynapath/learner_options.h),
+// with its name, default,
 // the report's value, range, help and the approaches that read it. The
 // command line, config and study files, `dynapath params`, params.toml and
 // the study manifest all read this table, so a parameter added to a list is

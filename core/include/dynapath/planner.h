@@ -11,10 +11,10 @@
 #include "dynapath/approach.h"
 #include "dynapath/convq_model.h"
 #include "dynapath/grid.h"
+#include "dynapath/learner_options.h"
 #include "dynapath/policy_evaluation.h"
 #include "dynapath/quadtree.h"
 #include "dynapath/result.h"
-#include "dynapath/retraining_strategy.h"
 #include "dynapath/stop_token.h"
 #include "dynapath/trainer.h"
 
@@ -28,7 +28,7 @@ struct PolicyState;  // dynapath/policy_state.h
 // (Bootstrap::kAllStored), a node other than the root trained for the first
 // time with no trained ancestor starts from zeros instead of the root table
 // cut to its region, the report code's single-agent learner
-// (SingleAgentRules, dynapath/single_agent_learner.h), and the Q-tables hold
+// (SingleAgentRules, core/learn/single_agent_learner.h), and the Q-tables hold
 // doubles instead of floats.
 enum class Semantics { kOurs, kReport };
 

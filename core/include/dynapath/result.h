@@ -95,13 +95,15 @@ inline const char* CodeName(Error::Code code) {
   return "?";
 }
 
-// Either a value or an Error. A minimal stand-in for C++23 std::expected;
-// [[nodiscard]]: ignoring a returned Result (an unchecked failure) warns.
-template <class T>
+// Either a value or an Error (or another error type E that says more, such
+// as a reason the caller counts beside the Error). A minimal stand-in for
+// C++23 std::expected; [[nodiscard]]: ignoring a returned Result (an
+// unchecked failure) warns.
+template <class T, class E = Error>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : state_(std::move(value)) {}      // NOLINT: implicit by design
-  Result(Error error) : state_(std::move(error)) {}  // NOLINT
+  Result(T value) : state_(std::move(value)) {}  // NOLINT: implicit by design
+  Result(E error) : state_(std::move(error)) {}  // NOLINT
 
   bool ok() const { return std::holds_alternative<T>(state_); }
   explicit operator bool() const { return ok(); }
@@ -114,10 +116,10 @@ class [[nodiscard]] Result {
   const T* operator->() const { return &value(); }
   T* operator->() { return &value(); }
 
-  const Error& error() const { return std::get<Error>(state_); }
+  const E& error() const { return std::get<E>(state_); }
 
  private:
-  std::variant<T, Error> state_;
+  std::variant<T, E> state_;
 };
 
 // For operations that return nothing but may fail.

@@ -4,9 +4,9 @@
 
 #include <atomic>
 
+#include "core/learn/single_agent_learner.h"
 #include "dynapath/federated_job.h"
 #include "dynapath/scenario.h"
-#include "dynapath/single_agent_learner.h"
 
 namespace dynapath {
 namespace {

@@ -14,12 +14,12 @@
 #include <map>
 #include <vector>
 
+#include "core/learn/region_model.h"
+#include "core/learn/single_agent_learner.h"
 #include "core/plan/learning_planner.h"
-#include "dynapath/parameters.h"
-#include "dynapath/region_model.h"
-#include "dynapath/single_agent_learner.h"
-#include "tests/grid_test_support.h"
 #include "dynapath/mdp.h"
+#include "dynapath/parameters.h"
+#include "tests/grid_test_support.h"
 
 namespace dynapath {
 namespace {

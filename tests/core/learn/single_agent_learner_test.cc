@@ -1,4 +1,4 @@
-#include "dynapath/single_agent_learner.h"
+#include "core/learn/single_agent_learner.h"
 
 #include <gtest/gtest.h>
 

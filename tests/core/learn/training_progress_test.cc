@@ -6,8 +6,8 @@
 #include <chrono>
 #include <thread>
 
+#include "core/learn/single_agent_learner.h"
 #include "dynapath/federated_job.h"
-#include "dynapath/single_agent_learner.h"
 #include "tests/learner_test_support.h"
 
 namespace dynapath {

@@ -8,9 +8,9 @@
 #include <map>
 #include <set>
 
+#include "core/learn/region_model.h"
+#include "core/plan/retraining_strategy.h"
 #include "dynapath/learners.h"
-#include "dynapath/region_model.h"
-#include "dynapath/retraining_strategy.h"
 #include "tests/learner_test_support.h"
 
 namespace dynapath {

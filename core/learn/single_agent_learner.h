@@ -7,7 +7,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "dynapath/region_model.h"
+#include "core/learn/region_model.h"
 #include "dynapath/stop_token.h"
 #include "dynapath/training_job.h"
 

@@ -1,16 +1,17 @@
 #pragma once
 // Federated asynchronous Q-learning (FedAsynQ) of SPEC section 7, split into
-// the pieces a distributed run needs:
+// the pieces a distributed run needs (private to core: other layers use
+// them through dynapath/federated_job.h):
 //
 //   * FedAsynQLearner: one of the K learners. A round is a pure function of
 //     (the round's starting table, the shared start statistics, job seed,
 //     learner index, round index): the learner draws its start, takes tau
 //     random in-region steps updating its own table, and reports what it
-//     changed as a sparse LearnerShard.
+//     changed as a sparse LearnerShard (dynapath/federated_job.h).
 //   * FederatedAverager: combines the K shards of a round, in learner order,
 //     into the new shared table (EqAvg or ImAvg, log-space weights) and merges
 //     the learners' start outcomes into the shared statistics.
-//   * core/include/dynapath/federated_job.h runs rounds of these learners and averager, in
+//   * dynapath/federated_job.h runs rounds of these learners and averager, in
 //     this process (TrainFedAsynQ, LocalTrainer) or on agents.
 //
 // Sparse shards: all learners start a round from the same table, so the
@@ -23,38 +24,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/learn/region_model.h"
+#include "dynapath/federated_job.h"
 #include "dynapath/q_table.h"
-#include "dynapath/region_model.h"
 #include "dynapath/rng.h"
 #include "dynapath/start_statistics.h"
 #include "dynapath/training_job.h"
 
 namespace dynapath {
-
-// What one learner changed in one round.
-struct LearnerShard {
-  int learner = 0;
-  int64_t round = 0;
-  std::vector<uint32_t> entries;  // table indices (cell * 8 + action), ascending
-  // The learner's value of each entry at round end, in the table's
-  // precision: `values` for float tables, `wide_values` for double tables.
-  std::vector<float> values;
-  std::vector<double> wide_values;
-  std::vector<uint32_t> visits;   // N_k(s, a) of each entry in this round (>= 1)
-  int start_cell = -1;            // region-local start of the round (-1: none)
-  bool reached_station = false;   // the round visited a station
-  int64_t steps = 0;              // Q-learning steps taken
-};
-
-// The values of a shard in value type V.
-template <typename V>
-std::vector<V>& ShardValues(LearnerShard& shard) {
-  return OfValueType<V>(shard.values, shard.wide_values);
-}
-template <typename V>
-const std::vector<V>& ShardValues(const LearnerShard& shard) {
-  return OfValueType<V>(shard.values, shard.wide_values);
-}
 
 // A set of table entries kept as a bitmap with one summary bit per 64-bit
 // word: marking is O(1), and listing the marked entries in ascending order

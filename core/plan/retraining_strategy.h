@@ -2,7 +2,8 @@
 // When to (re)train which quadtree node (SPEC section 5). The strategies see
 // the world only through TrainingContext, so the decisions can be tested with
 // scripted success rates and a fake trainer, and run unchanged over a local
-// or a distributed trainer.
+// or a distributed trainer. Private to core: the planner's options carry
+// their thresholds (RetrainingThresholds, dynapath/learner_options.h).
 
 #include <memory>
 #include <vector>
@@ -11,22 +12,6 @@
 #include "dynapath/quadtree.h"
 
 namespace dynapath {
-
-// THE list of the tree strategy's thresholds (SPEC 5), in the columns of
-// core/include/dynapath/learner_options.h: member (the parameter's name with
-// '_' as '-'), type, default, the report's value, smallest and largest value,
-// help. RetrainingThresholds and the parameters (dynapath/parameters.h) are
-// expanded from it. The coordinator applies them; they never travel.
-// clang-format off
-#define DYNAPATH_RETRAINING_THRESHOLDS(X)                                                                \
-  X(max_drop,         double, 0.01, 0.01, 0.0, 1.0, "retrain a changed node whose success rate fell by more than this")  \
-  X(min_success_rate, double, 0.9,  0.9,  0.0, 1.0, "retrain a changed node whose success rate is below this")         \
-  X(escalate_below,   double, 0.9,  0.9,  0.0, 1.0, "escalation: a trained node still below this makes its parent a candidate (0: never)")
-// clang-format on
-
-struct RetrainingThresholds {
-  DYNAPATH_RETRAINING_THRESHOLDS(DYNAPATH_DECLARE_LEARNER_OPTION)
-};
 
 // What a strategy needs from the world.
 class TrainingContext {
