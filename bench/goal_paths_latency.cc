@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
   int hot_goals = 1000, check = 10000, astar_queries = 10000;
   double cache_mb = 256;
   unsigned seed = 1;
-  int background = 1, settle = 0;
+  int background = 1, settle = 0, hot_after = 2;
+  double repair_budget = 0;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
@@ -96,6 +97,10 @@ int main(int argc, char** argv) {
       astar_queries = static_cast<int>(v);
     else if (o == "--background")
       background = static_cast<int>(v);
+    else if (o == "--repair-budget")
+      repair_budget = v;
+    else if (o == "--hot-after")
+      hot_after = static_cast<int>(v);
     else if (o == "--settle")
       settle = static_cast<int>(v);
     else if (o == "--seed")
@@ -132,6 +137,8 @@ int main(int argc, char** argv) {
   GoalPlannerOptions options;
   options.cache_bytes = static_cast<size_t>(cache_mb * 1024 * 1024);
   options.background_builds = background != 0;
+  options.hot_after = hot_after;
+  options.repair_budget = static_cast<int64_t>(repair_budget);
   GoalPlanner planner(options);
   GoalPlannerOptions no_fields;
   no_fields.cache_bytes = 0;
@@ -148,6 +155,7 @@ int main(int argc, char** argv) {
   const int64_t per_update = std::max<int64_t>(1, static_cast<int64_t>(rate / updates_per_second));
   std::vector<double> hot_us, other_us, all_us, astar_hot_us, astar_other_us, update_us;
   std::vector<bool> by_field;
+  std::vector<double> expanded_per_search, search_repairing_us, search_plain_us;
   int64_t checked = 0, wrong = 0, reached = 0;
   double busy_us = 0;
   std::vector<int> obstacles;
@@ -193,6 +201,8 @@ int main(int argc, char** argv) {
     if (grid.at(goal) == Cell::kObstacle) goal = free_cell();  // a mover covered it
     const int sr = grid.RowOf(start), sc = grid.ColOf(start);
     const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
+    const int64_t expanded_before = planner.stats().expanded;
+    const int64_t repairs_before = planner.stats().repairs;
     const auto t0 = Clock::now();
     const GoalPath path = planner.Plan(sr, sc, gr, gc);
     const double us = micros(Clock::now() - t0);
@@ -201,6 +211,12 @@ int main(int argc, char** argv) {
     (hot ? hot_us : other_us).push_back(us);
     all_us.push_back(us);
     by_field.push_back(path.source == dynapath::GoalSource::kField);
+    if (path.source == dynapath::GoalSource::kSearch) {
+      expanded_per_search.push_back(
+          static_cast<double>(planner.stats().expanded - expanded_before) * 1000);
+      (planner.stats().repairs != repairs_before ? search_repairing_us : search_plain_us)
+          .push_back(us);
+    }
     if (path.status == dynapath::GoalStatus::kReached) ++reached;
     if (q < astar_queries) {
       const auto t1 = Clock::now();
@@ -227,6 +243,13 @@ int main(int argc, char** argv) {
   Print("goal planner, every query", all_us);
   Print("goal planner, answered by a field", field_us);
   Print("goal planner, answered by search", search_us);
+  Print("  searches that repaired landmarks", search_repairing_us);
+  Print("  searches that did not", search_plain_us);
+  std::printf("cells expanded per search (in thousands): p50 %.1f, p99 %.1f, max %.1f\n",
+              Percentile(expanded_per_search, 0.5) / 1e6, Percentile(expanded_per_search, 0.99) / 1e6,
+              expanded_per_search.empty() ? 0.0
+                                          : *std::max_element(expanded_per_search.begin(),
+                                                              expanded_per_search.end()) / 1e6);
   Print("A* from scratch, the hot goals", astar_hot_us);
   Print("A* from scratch, other goals", astar_other_us);
   Print("goal planner Update (log a batch)", update_us);
@@ -234,13 +257,13 @@ int main(int argc, char** argv) {
               busy_us / (seconds * 1e6) * 100, seconds);
   std::printf(
       "cache: %lld hits, %lld misses, %lld builds (%lld on the builder thread, %lld wide), "
-      "%lld evictions, %lld repairs, "
+      "%lld evictions, %lld repairs (%lld over the budget), "
       "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
       "%lld proved unreachable\n",
       static_cast<long long>(s.hits), static_cast<long long>(s.misses),
       static_cast<long long>(s.builds), static_cast<long long>(s.queued),
       static_cast<long long>(s.widened), static_cast<long long>(s.evictions),
-      static_cast<long long>(s.repairs), static_cast<long long>(s.rebuilds),
+      static_cast<long long>(s.repairs), static_cast<long long>(s.repairs_over_budget), static_cast<long long>(s.rebuilds),
       static_cast<long long>(s.searches),
       s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
       static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <queue>
@@ -11,6 +12,39 @@
 
 namespace dynapath {
 int64_t DebugPuts();
+
+// A queue of cells by integer level for searches whose levels never go
+// below the last one taken (each repair phase): one list per level.
+class GoalPlanner::LevelQueue {
+ public:
+  bool empty() const { return size_ == 0; }
+  void push(int32_t level, int v) {
+    if (static_cast<size_t>(level) >= lists_.size()) lists_.resize(static_cast<size_t>(level) + 1);
+    lists_[static_cast<size_t>(level)].push_back(v);
+    if (size_ == 0 || level < at_) at_ = level;
+    ++size_;
+  }
+  // The cell of the smallest level (the last pushed of that level).
+  std::pair<int32_t, int> pop() {
+    while (lists_[static_cast<size_t>(at_)].empty()) ++at_;
+    std::vector<int>& list = lists_[static_cast<size_t>(at_)];
+    const int v = list.back();
+    list.pop_back();
+    --size_;
+    return {at_, v};
+  }
+  void clear() {
+    for (auto& list : lists_) list.clear();
+    size_ = 0;
+    at_ = 0;
+  }
+
+ private:
+  std::vector<std::vector<int>> lists_;
+  size_t size_ = 0;
+  int32_t at_ = 0;
+};
+
 namespace {
 
 constexpr int kDr[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
@@ -124,21 +158,23 @@ bool BuildValues(const Grid& grid, const int32_t* slot, size_t slots, int goal, 
   return fits;
 }
 
+int64_t g_puts = 0;
+enum class RepairEnd { kExact, kOverflow, kOverBudget };
+
 // Restores exact distances to `goal` after the cells `changed` changed
 // (DynamicDistances::Repair's two phases, over the free-cell index; every
-// cell free now has a slot below values.size()). False when a distance
-// exceeds `limit` (the values are then unusable).
-int64_t g_puts = 0;
-template <class T>
-bool RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit,
-                  std::vector<T>& values, const std::vector<int>& changed,
-                  std::priority_queue<std::pair<int32_t, int>, std::vector<std::pair<int32_t, int>>,
-                                      std::greater<std::pair<int32_t, int>>>& heap,
-                  std::vector<int>& withdrawn) {
+// cell free now has a slot below values.size()). kOverflow when a distance
+// exceeds `limit`, kOverBudget when more than `budget` values were written
+// (budget <= 0: no bound); the values are then unusable.
+template <class T, class Queue>
+RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit,
+                       int64_t budget, std::vector<T>& values, const std::vector<int>& changed,
+                       Queue& queue, std::vector<int>& withdrawn) {
   constexpr T kNone = std::numeric_limits<T>::max();
   const int rows = grid.rows(), cols = grid.cols();
   const uint8_t* cells = grid.codes().data();
   constexpr auto kObstacle = static_cast<uint8_t>(Cell::kObstacle);
+  int64_t writes = 0;
   const auto get = [&](int v) -> int32_t {
     const int32_t s = slot[v];
     if (s < 0) return -1;
@@ -147,17 +183,19 @@ bool RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit
   };
   const auto put = [&](int v, int32_t x) {
     ++g_puts;
+    ++writes;
     values[static_cast<size_t>(slot[v])] = x < 0 ? kNone : static_cast<T>(x);
   };
   const auto blocked = [&](int v) { return cells[v] == kObstacle; };
+  const auto over = [&] { return budget > 0 && writes > budget; };
+  queue.clear();
+  withdrawn.clear();
   // Phase 1: withdraw unsupported values, lowest old value first.
   for (int v : changed) {
-    if (get(v) >= 0) heap.push({get(v), v});
+    if (get(v) >= 0) queue.push(get(v), v);
   }
-  while (!heap.empty()) {
-    const int32_t level = heap.top().first;
-    const int v = heap.top().second;
-    heap.pop();
+  while (!queue.empty()) {
+    const auto [level, v] = queue.pop();
     if (get(v) != level) continue;
     bool supported = !blocked(v) && v == goal;
     if (!blocked(v) && !supported) {
@@ -167,14 +205,15 @@ bool RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit
     }
     if (supported) continue;
     put(v, -1);
+    if (over()) return RepairEnd::kOverBudget;
     withdrawn.push_back(v);
     ForEachNeighbour(rows, cols, v, [&](int p) {
-      if (get(p) == level + 1) heap.push({level + 1, p});
+      if (get(p) == level + 1) queue.push(level + 1, p);
     });
   }
   // Phase 2: the best value of every withdrawn or changed cell from its
   // neighbours, then relax outwards in increasing order of value.
-  bool fits = true;
+  RepairEnd end = RepairEnd::kExact;
   const auto seed = [&](int v) {
     if (blocked(v)) {
       if (get(v) >= 0) put(v, -1);
@@ -190,18 +229,17 @@ bool RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit
       });
     }
     if (best > limit) {
-      fits = false;
+      end = RepairEnd::kOverflow;
       return;
     }
     if (best >= 0 && best != get(v)) put(v, best);
-    if (best >= 0) heap.push({best, v});
+    if (best >= 0) queue.push(best, v);
   };
   for (int v : withdrawn) seed(v);
   for (int v : changed) seed(v);
   withdrawn.clear();
-  while (!heap.empty() && fits) {
-    const auto [level, u] = heap.top();
-    heap.pop();
+  while (!queue.empty() && end == RepairEnd::kExact) {
+    const auto [level, u] = queue.pop();
     if (get(u) != level) continue;
     const int32_t next = level + 1;
     ForEachNeighbour(rows, cols, u, [&](int p) {
@@ -209,20 +247,22 @@ bool RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit
       const int32_t d = get(p);
       if (d >= 0 && d <= next) return;
       if (next > limit) {
-        fits = false;
+        end = RepairEnd::kOverflow;
         return;
       }
       put(p, next);
-      heap.push({next, p});
+      queue.push(next, p);
     });
+    if (end == RepairEnd::kExact && over()) end = RepairEnd::kOverBudget;
   }
-  while (!heap.empty()) heap.pop();
-  return fits;
+  queue.clear();
+  return end;
 }
 
 }  // namespace
 
-int64_t DebugPuts() { return g_puts; }
+int64_t DebugPuts() {
+  return g_puts; }
 struct GoalPlanner::Field {
   int goal = 0;
   int64_t update = 0;  // the grid update its distances are exact for
@@ -238,7 +278,8 @@ struct GoalPlanner::Field {
   size_t Bytes() const { return BytesFor(slots(), wide); }
 };
 
-GoalPlanner::GoalPlanner(GoalPlannerOptions options) : options_(options) {
+GoalPlanner::GoalPlanner(GoalPlannerOptions options)
+    : options_(options), levels_(std::make_unique<LevelQueue>()) {
   options_.hot_after = std::max(1, options_.hot_after);
   options_.log_batches = std::max<size_t>(1, options_.log_batches);
   options_.narrow_limit = std::clamp<int32_t>(options_.narrow_limit, 1, 65534);
@@ -340,9 +381,19 @@ void GoalPlanner::Adopt() {
     ++stats_.builds;
     if (field->wide) ++stats_.widened;
     const size_t bytes = field->Bytes();
+    auto old = fields_.find(field->goal);
+    if (old != fields_.end()) {  // made again: replaces the older one
+      if (old->second->update >= field->update) continue;
+      field->used = old->second->used;
+      field->asks = old->second->asks;
+      stats_.bytes -= old->second->Bytes();
+      fields_.erase(old);
+      --stats_.fields;
+    } else {
+      field->used = clock_;
+      field->asks = options_.hot_after;
+    }
     if (!Evict(bytes)) continue;  // no room after all: the goal stays cold
-    field->used = clock_;
-    field->asks = options_.hot_after;
     stats_.bytes += bytes;
     stats_.peak_bytes = std::max(stats_.peak_bytes, stats_.bytes);
     ++stats_.fields;
@@ -477,12 +528,19 @@ bool GoalPlanner::Bring(Field& field, bool landmark) {
         changed.insert(changed.end(), batch.cells.begin(), batch.cells.end());
       }
     }
-    kept = field.wide ? RepairValues(grid, slot_.data(), field.goal, std::numeric_limits<int32_t>::max() - 1,
-                                     field.wide_values, changed, heap_, withdrawn_)
-                      : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit,
-                                     field.narrow, changed, heap_, withdrawn_);
-    withdrawn_.clear();
+    const int64_t budget = landmark ? 0 : options_.repair_budget;
+    const RepairEnd end =
+        field.wide ? RepairValues(grid, slot_.data(), field.goal,
+                                  std::numeric_limits<int32_t>::max() - 1, budget,
+                                  field.wide_values, changed, *levels_, withdrawn_)
+                   : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit, budget,
+                                  field.narrow, changed, *levels_, withdrawn_);
     ++stats_.repairs;
+    if (end == RepairEnd::kOverBudget) {
+      ++stats_.repairs_over_budget;
+      return false;
+    }
+    kept = end == RepairEnd::kExact;
   }
   if (!kept) {
     // Behind the log, or a distance above the narrow limit: made again.
@@ -528,14 +586,12 @@ GoalPlanner::Field* GoalPlanner::HotField(int goal) {
       ++stats_.hits;
       return &field;
     }
-    // Dropped: made again on the builder thread, the goal searched meanwhile.
-    const int64_t asks = field.asks;
+    // Dropped (it could not be kept): made again after `hot_after` more
+    // misses.
     stats_.bytes -= field.Bytes();
     fields_.erase(it);
     --stats_.fields;
     ++stats_.misses;
-    if (slots_ > 0 && Evict(Field::BytesFor(slots_, false))) Request(goal);
-    (void)asks;
     return nullptr;
   }
   ++stats_.misses;
@@ -617,48 +673,29 @@ GoalPath GoalPlanner::FromField(const Field& field, int start, size_t budget) co
   return path;
 }
 
-GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
-  ++stats_.searches;
+template <class H>
+GoalPath GoalPlanner::AStar(int start, int goal, size_t budget, H h) {
   const Grid& grid = *grid_;
   if (++epoch_ == 0) {
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     epoch_ = 1;
   }
-  const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
   GoalPath path;
   path.source = GoalSource::kSearch;
-  landmark_goal_.clear();
-  std::vector<const Field*> marks;
-  for (const auto& landmark : landmarks_) {
-    Bring(*landmark, /*landmark=*/true);
-    const int32_t at_goal = Value(*landmark, goal);
-    const int32_t at_start = Value(*landmark, start);
-    if ((at_goal < 0) != (at_start < 0)) {
-      ++stats_.proved_unreachable;  // one of them is in the landmark's component
-      path.status = GoalStatus::kNoRoute;
-      return path;
-    }
-    if (at_goal < 0) continue;
-    marks.push_back(landmark.get());
-    landmark_goal_.push_back(at_goal);
-  }
-  const auto h = [&](int v, int r, int c) {
-    int32_t best = Chebyshev(r, c, gr, gc);
-    for (size_t i = 0; i < marks.size(); ++i) {
-      const int32_t d = Value(*marks[i], v);
-      // Not reached by a landmark that reaches the goal: no path from v.
-      if (d < 0) return int32_t{-1};
-      best = std::max(best, std::abs(d - landmark_goal_[i]));
-    }
-    return best;
-  };
   // (f, -g, cell): smallest f first, then the deepest (ties to larger g).
+  // A node is expanded again when a shorter way to it is found, so an
+  // admissible heuristic that is not consistent still gives exact costs.
   using Entry = std::tuple<int32_t, int32_t, int32_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  const int32_t h_start = h(start, grid.RowOf(start), grid.ColOf(start));
+  if (h_start < 0) {
+    path.status = GoalStatus::kNoRoute;
+    return path;
+  }
   stamp_[start] = epoch_;
   g_[start] = 0;
   parent_[start] = -1;
-  open.emplace(h(start, grid.RowOf(start), grid.ColOf(start)), 0, start);
+  open.emplace(h_start, 0, start);
   while (!open.empty()) {
     const auto [f, neg_g, v] = open.top();
     open.pop();
@@ -697,6 +734,39 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   }
   path.status = GoalStatus::kNoRoute;
   return path;
+}
+
+GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
+  ++stats_.searches;
+  const Grid& grid = *grid_;
+  const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
+  landmark_goal_.clear();
+  std::vector<const Field*> marks;
+  for (const auto& landmark : landmarks_) {
+    Bring(*landmark, /*landmark=*/true);
+    const int32_t at_goal = Value(*landmark, goal);
+    const int32_t at_start = Value(*landmark, start);
+    if ((at_goal < 0) != (at_start < 0)) {
+      ++stats_.proved_unreachable;  // one of them is in the landmark's component
+      GoalPath path;
+      path.source = GoalSource::kSearch;
+      path.status = GoalStatus::kNoRoute;
+      return path;
+    }
+    if (at_goal < 0) continue;
+    marks.push_back(landmark.get());
+    landmark_goal_.push_back(at_goal);
+  }
+  return AStar(start, goal, budget, [&](int v, int r, int c) {
+    int32_t best = Chebyshev(r, c, gr, gc);
+    for (size_t i = 0; i < marks.size(); ++i) {
+      const int32_t d = Value(*marks[i], v);
+      // Not reached by a landmark that reaches the goal: no path from v.
+      if (d < 0) return int32_t{-1};
+      best = std::max(best, std::abs(d - landmark_goal_[i]));
+    }
+    return best;
+  });
 }
 
 GoalPath GoalPlanner::Plan(int start_row, int start_col, int goal_row, int goal_col,

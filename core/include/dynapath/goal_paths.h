@@ -127,6 +127,11 @@ struct GoalPlannerOptions {
   // The largest distance a 2-byte field holds (a field with a larger one
   // is made 4 bytes a cell); below 65,534 only to test the wide fields.
   int32_t narrow_limit = 65534;
+  // A hot goal's field whose repair would write more than this many
+  // distances is dropped and its goal searched (made again after
+  // `hot_after` more misses): a query never waits for a long repair. 0: no
+  // bound. Landmarks are always repaired.
+  int64_t repair_budget = 0;
 };
 
 struct GoalCacheStats {
@@ -137,6 +142,7 @@ struct GoalCacheStats {
   int64_t widened = 0;    // fields made 4 bytes a cell (a distance above narrow_limit)
   int64_t evictions = 0;  // fields dropped for room
   int64_t repairs = 0;    // fields repaired from changed cells
+  int64_t repairs_over_budget = 0;  // of those, stopped at repair_budget (field dropped)
   int64_t rebuilds = 0;   // fields behind the log (or widened), made again
   int64_t searches = 0;   // A* searches (cold goals)
   int64_t expanded = 0;   // their expanded cells
@@ -180,6 +186,7 @@ class GoalPlanner {
 
  private:
   struct Field;
+  class LevelQueue;
   struct Batch {
     int64_t update;
     std::vector<int> cells;
@@ -205,6 +212,8 @@ class GoalPlanner {
   int32_t Value(const Field& field, int cell) const;
   GoalPath FromField(const Field& field, int start, size_t budget) const;
   GoalPath Search(int start, int goal, size_t budget);
+  template <class H>
+  GoalPath AStar(int start, int goal, size_t budget, H h);
   void PlaceLandmarks();
 
   GoalPlannerOptions options_;
@@ -230,9 +239,7 @@ class GoalPlanner {
   std::vector<uint32_t> stamp_;
   uint32_t epoch_ = 0;
   // Repair scratch.
-  std::priority_queue<std::pair<int32_t, int>, std::vector<std::pair<int32_t, int>>,
-                      std::greater<std::pair<int32_t, int>>>
-      heap_;
+  std::unique_ptr<LevelQueue> levels_;
   std::vector<int> withdrawn_;
   mutable std::vector<int32_t> queue_;  // breadth-first search scratch (caller's thread)
   // The builder thread (started at the first queued build).
