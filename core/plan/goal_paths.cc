@@ -13,37 +13,43 @@
 namespace dynapath {
 int64_t DebugPuts();
 
-// A queue of cells by integer level for searches whose levels never go
-// below the last one taken (each repair phase): one list per level.
-class GoalPlanner::LevelQueue {
+// A queue by integer level, smallest first; among equal levels the last
+// pushed first (in A*, the deepest of equal f). Cheapest when the levels
+// taken never go down (each repair phase; A* with a consistent heuristic).
+template <class Item>
+class LevelLists {
  public:
   bool empty() const { return size_ == 0; }
-  void push(int32_t level, int v) {
+  void push(int32_t level, Item item) {
     if (static_cast<size_t>(level) >= lists_.size()) lists_.resize(static_cast<size_t>(level) + 1);
-    lists_[static_cast<size_t>(level)].push_back(v);
+    lists_[static_cast<size_t>(level)].push_back(item);
     if (size_ == 0 || level < at_) at_ = level;
     ++size_;
   }
-  // The cell of the smallest level (the last pushed of that level).
-  std::pair<int32_t, int> pop() {
+  std::pair<int32_t, Item> pop() {
     while (lists_[static_cast<size_t>(at_)].empty()) ++at_;
-    std::vector<int>& list = lists_[static_cast<size_t>(at_)];
-    const int v = list.back();
+    std::vector<Item>& list = lists_[static_cast<size_t>(at_)];
+    const Item item = list.back();
     list.pop_back();
     --size_;
-    return {at_, v};
+    return {at_, item};
   }
   void clear() {
-    for (auto& list : lists_) list.clear();
+    if (size_ > 0) {
+      for (auto& list : lists_) list.clear();
+    }
     size_ = 0;
     at_ = 0;
   }
 
  private:
-  std::vector<std::vector<int>> lists_;
+  std::vector<std::vector<Item>> lists_;
   size_t size_ = 0;
   int32_t at_ = 0;
 };
+
+class GoalPlanner::LevelQueue : public LevelLists<int> {};
+class GoalPlanner::OpenList : public LevelLists<std::pair<int32_t, int32_t>> {};
 
 namespace {
 
@@ -279,7 +285,9 @@ struct GoalPlanner::Field {
 };
 
 GoalPlanner::GoalPlanner(GoalPlannerOptions options)
-    : options_(options), levels_(std::make_unique<LevelQueue>()) {
+    : options_(options),
+      levels_(std::make_unique<LevelQueue>()),
+      open_(std::make_unique<OpenList>()) {
   options_.hot_after = std::max(1, options_.hot_after);
   options_.log_batches = std::max<size_t>(1, options_.log_batches);
   options_.narrow_limit = std::clamp<int32_t>(options_.narrow_limit, 1, 65534);
@@ -682,11 +690,9 @@ GoalPath GoalPlanner::AStar(int start, int goal, size_t budget, H h) {
   }
   GoalPath path;
   path.source = GoalSource::kSearch;
-  // (f, -g, cell): smallest f first, then the deepest (ties to larger g).
-  // A node is expanded again when a shorter way to it is found, so an
-  // admissible heuristic that is not consistent still gives exact costs.
-  using Entry = std::tuple<int32_t, int32_t, int32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  // Smallest f first, then the last pushed (the deepest of equal f).
+  OpenList& open = *open_;
+  open.clear();
   const int32_t h_start = h(start, grid.RowOf(start), grid.ColOf(start));
   if (h_start < 0) {
     path.status = GoalStatus::kNoRoute;
@@ -695,14 +701,13 @@ GoalPath GoalPlanner::AStar(int start, int goal, size_t budget, H h) {
   stamp_[start] = epoch_;
   g_[start] = 0;
   parent_[start] = -1;
-  open.emplace(h_start, 0, start);
+  open.push(h_start, {0, start});
   while (!open.empty()) {
-    const auto [f, neg_g, v] = open.top();
-    open.pop();
-    const int32_t g = -neg_g;
+    const auto [g, v] = open.pop().second;
     if (g != g_[v]) continue;  // a stale entry
     ++stats_.expanded;
     if (v == goal) {
+      open.clear();
       if (static_cast<size_t>(g) + 1 > budget) {
         path.status = GoalStatus::kOverBudget;
         return path;
@@ -729,7 +734,7 @@ GoalPath GoalPlanner::AStar(int start, int goal, size_t budget, H h) {
       stamp_[w] = epoch_;
       g_[w] = g + 1;
       parent_[w] = v;
-      open.emplace(g + 1 + hw, -(g + 1), w);
+      open.push(g + 1 + hw, {g + 1, w});
     }
   }
   path.status = GoalStatus::kNoRoute;

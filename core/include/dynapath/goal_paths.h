@@ -187,6 +187,7 @@ class GoalPlanner {
  private:
   struct Field;
   class LevelQueue;
+  class OpenList;
   struct Batch {
     int64_t update;
     std::vector<int> cells;
@@ -240,6 +241,7 @@ class GoalPlanner {
   uint32_t epoch_ = 0;
   // Repair scratch.
   std::unique_ptr<LevelQueue> levels_;
+  std::unique_ptr<OpenList> open_;  // A*'s
   std::vector<int> withdrawn_;
   mutable std::vector<int32_t> queue_;  // breadth-first search scratch (caller's thread)
   // The builder thread (started at the first queued build).
