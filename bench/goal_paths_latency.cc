@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int background = 1, settle = 0, hot_after = 2;
   double repair_budget = 0;
+  int landmarks = 8, active_landmarks = 4;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
@@ -99,6 +100,10 @@ int main(int argc, char** argv) {
       background = static_cast<int>(v);
     else if (o == "--repair-budget")
       repair_budget = v;
+    else if (o == "--landmarks")
+      landmarks = static_cast<int>(v);
+    else if (o == "--active-landmarks")
+      active_landmarks = static_cast<int>(v);
     else if (o == "--hot-after")
       hot_after = static_cast<int>(v);
     else if (o == "--settle")
@@ -138,6 +143,8 @@ int main(int argc, char** argv) {
   options.cache_bytes = static_cast<size_t>(cache_mb * 1024 * 1024);
   options.background_builds = background != 0;
   options.hot_after = hot_after;
+  options.landmarks = landmarks;
+  options.active_landmarks = active_landmarks;
   options.repair_budget = static_cast<int64_t>(repair_budget);
   GoalPlanner planner(options);
   GoalPlannerOptions no_fields;

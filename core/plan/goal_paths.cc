@@ -746,6 +746,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   const Grid& grid = *grid_;
   const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
   landmark_goal_.clear();
+  landmark_start_.clear();
   std::vector<const Field*> marks;
   for (const auto& landmark : landmarks_) {
     Bring(*landmark, /*landmark=*/true);
@@ -761,7 +762,29 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     if (at_goal < 0) continue;
     marks.push_back(landmark.get());
     landmark_goal_.push_back(at_goal);
+    landmark_start_.push_back(std::abs(at_start - at_goal));
   }
+  // The landmarks that bound the start's distance best (ties to the first
+  // placed), at most `active_landmarks`.
+  const size_t active = options_.active_landmarks > 0
+                            ? std::min(marks.size(), static_cast<size_t>(options_.active_landmarks))
+                            : marks.size();
+  if (active < marks.size()) {
+    std::vector<size_t> order(marks.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+      return landmark_start_[x] > landmark_start_[y];
+    });
+    std::vector<const Field*> best_marks;
+    std::vector<int32_t> best_goal;
+    for (size_t k = 0; k < active; ++k) {
+      best_marks.push_back(marks[order[k]]);
+      best_goal.push_back(landmark_goal_[order[k]]);
+    }
+    marks.swap(best_marks);
+    landmark_goal_.swap(best_goal);
+  }
+  landmark_start_.clear();
   return AStar(start, goal, budget, [&](int v, int r, int c) {
     int32_t best = Chebyshev(r, c, gr, gc);
     for (size_t i = 0; i < marks.size(); ++i) {

@@ -120,6 +120,9 @@ struct GoalPlannerOptions {
   // Landmark fields for A*'s heuristic (fewer when half the cache cannot
   // hold them).
   int landmarks = 8;
+  // A search's heuristic uses the landmarks that bound its start's distance
+  // best, at most this many (0: all).
+  int active_landmarks = 4;
   // Make hot goals' fields on a builder thread (their goals searched
   // meanwhile); false: on the caller's thread, at the miss that made the
   // goal hot (deterministic sources).
@@ -232,6 +235,7 @@ class GoalPlanner {
   std::unordered_map<int, size_t> pending_;        // goal -> bytes held for its build
   std::vector<std::unique_ptr<Field>> landmarks_;  // never evicted
   std::vector<int32_t> landmark_goal_;             // A* scratch: d_L(goal)
+  std::vector<int32_t> landmark_start_;            // A* scratch: the bound at the start
   std::unordered_map<int, int> misses_;            // per cold goal (bounded: cleared when large)
   uint64_t clock_ = 0;
   GoalCacheStats stats_;
