@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int background = 1, settle = 0, hot_after = 2;
   double repair_budget = 0;
-  int landmarks = 8, active_landmarks = 4;
+  int landmarks = 8, active_landmarks = 4, drop_costly = 1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
@@ -100,6 +100,8 @@ int main(int argc, char** argv) {
       background = static_cast<int>(v);
     else if (o == "--repair-budget")
       repair_budget = v;
+    else if (o == "--drop-costly")
+      drop_costly = static_cast<int>(v);
     else if (o == "--landmarks")
       landmarks = static_cast<int>(v);
     else if (o == "--active-landmarks")
@@ -144,6 +146,7 @@ int main(int argc, char** argv) {
   options.background_builds = background != 0;
   options.hot_after = hot_after;
   options.landmarks = landmarks;
+  options.drop_costly_fields = drop_costly != 0;
   options.active_landmarks = active_landmarks;
   options.repair_budget = static_cast<int64_t>(repair_budget);
   GoalPlanner planner(options);
@@ -264,13 +267,13 @@ int main(int argc, char** argv) {
               busy_us / (seconds * 1e6) * 100, seconds);
   std::printf(
       "cache: %lld hits, %lld misses, %lld builds (%lld on the builder thread, %lld wide), "
-      "%lld evictions, %lld repairs (%lld over the budget), "
+      "%lld evictions, %lld repairs (%lld over the budget), %lld dropped as dearer than searching (%lld not made), "
       "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
       "%lld proved unreachable\n",
       static_cast<long long>(s.hits), static_cast<long long>(s.misses),
       static_cast<long long>(s.builds), static_cast<long long>(s.queued),
       static_cast<long long>(s.widened), static_cast<long long>(s.evictions),
-      static_cast<long long>(s.repairs), static_cast<long long>(s.repairs_over_budget), static_cast<long long>(s.rebuilds),
+      static_cast<long long>(s.repairs), static_cast<long long>(s.repairs_over_budget), static_cast<long long>(s.dropped_costly), static_cast<long long>(s.not_made_costly), static_cast<long long>(s.rebuilds),
       static_cast<long long>(s.searches),
       s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
       static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));

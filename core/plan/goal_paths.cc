@@ -175,7 +175,7 @@ enum class RepairEnd { kExact, kOverflow, kOverBudget };
 template <class T, class Queue>
 RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit,
                        int64_t budget, std::vector<T>& values, const std::vector<int>& changed,
-                       Queue& queue, std::vector<int>& withdrawn) {
+                       Queue& queue, std::vector<int>& withdrawn, int64_t* written) {
   constexpr T kNone = std::numeric_limits<T>::max();
   const int rows = grid.rows(), cols = grid.cols();
   const uint8_t* cells = grid.codes().data();
@@ -211,7 +211,10 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
     }
     if (supported) continue;
     put(v, -1);
-    if (over()) return RepairEnd::kOverBudget;
+    if (over()) {
+      *written = writes;
+      return RepairEnd::kOverBudget;
+    }
     withdrawn.push_back(v);
     ForEachNeighbour(rows, cols, v, [&](int p) {
       if (get(p) == level + 1) queue.push(level + 1, p);
@@ -262,6 +265,7 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
     if (end == RepairEnd::kExact && over()) end = RepairEnd::kOverBudget;
   }
   queue.clear();
+  *written = writes;
   return end;
 }
 
@@ -275,6 +279,7 @@ struct GoalPlanner::Field {
   uint64_t used = 0;   // clock_ at the last use
   int64_t asks = 0;    // since it was made (halved with the miss counts)
   bool wide = false;   // 4 bytes a cell (a distance above narrow_limit)
+  double repair_cost = -1;  // distances written per repair (a moving average)
   std::vector<uint16_t> narrow;
   std::vector<uint32_t> wide_values;
   size_t slots() const { return wide ? wide_values.size() : narrow.size(); }
@@ -537,13 +542,19 @@ bool GoalPlanner::Bring(Field& field, bool landmark) {
       }
     }
     const int64_t budget = landmark ? 0 : options_.repair_budget;
+    int64_t written = 0;
     const RepairEnd end =
         field.wide ? RepairValues(grid, slot_.data(), field.goal,
                                   std::numeric_limits<int32_t>::max() - 1, budget,
-                                  field.wide_values, changed, *levels_, withdrawn_)
+                                  field.wide_values, changed, *levels_, withdrawn_, &written)
                    : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit, budget,
-                                  field.narrow, changed, *levels_, withdrawn_);
+                                  field.narrow, changed, *levels_, withdrawn_, &written);
     ++stats_.repairs;
+    if (!landmark) {
+      const double w = static_cast<double>(written);
+      field.repair_cost = field.repair_cost < 0 ? w : 0.75 * field.repair_cost + 0.25 * w;
+      repair_cost_ = field_repairs_++ == 0 ? w : 0.99 * repair_cost_ + 0.01 * w;
+    }
     if (end == RepairEnd::kOverBudget) {
       ++stats_.repairs_over_budget;
       return false;
@@ -592,6 +603,11 @@ GoalPlanner::Field* GoalPlanner::HotField(int goal) {
     ++field.asks;
     if (Bring(field, /*landmark=*/false)) {
       ++stats_.hits;
+      // Dearer to keep than its searches: dropped after this answer, and
+      // not made again before many more misses (the count recovers as
+      // popularity is halved).
+      drop_after_answer_ = options_.drop_costly_fields && searches_ >= 16 &&
+                           field.repair_cost > search_cost_;
       return &field;
     }
     // Dropped (it could not be kept): made again after `hot_after` more
@@ -624,6 +640,14 @@ GoalPlanner::Field* GoalPlanner::HotField(int goal) {
     if (!Evict(bytes)) return nullptr;
   }
   misses_.erase(goal);
+  // Repairs on this map dearer than searches: no field, but one in 64 as a
+  // probe that keeps the estimate current.
+  if (options_.drop_costly_fields && field_repairs_ >= 16 && searches_ >= 16 &&
+      repair_cost_ > search_cost_ && ++probe_ % 64 != 0) {
+    ++stats_.not_made_costly;
+    misses_[goal] = -1024;
+    return nullptr;
+  }
   if (options_.background_builds) {
     Request(goal);
     return nullptr;
@@ -785,7 +809,8 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     landmark_goal_.swap(best_goal);
   }
   landmark_start_.clear();
-  return AStar(start, goal, budget, [&](int v, int r, int c) {
+  const int64_t expanded_before = stats_.expanded;
+  GoalPath path = AStar(start, goal, budget, [&](int v, int r, int c) {
     int32_t best = Chebyshev(r, c, gr, gc);
     for (size_t i = 0; i < marks.size(); ++i) {
       const int32_t d = Value(*marks[i], v);
@@ -795,6 +820,10 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     }
     return best;
   });
+  ++searches_;
+  const double expanded = static_cast<double>(stats_.expanded - expanded_before);
+  search_cost_ = searches_ == 1 ? expanded : 0.99 * search_cost_ + 0.01 * expanded;
+  return path;
 }
 
 GoalPath GoalPlanner::Plan(int start_row, int start_col, int goal_row, int goal_col,
@@ -811,7 +840,18 @@ GoalPath GoalPlanner::Plan(int start_row, int start_col, int goal_row, int goal_
   if (CheckGoal(goal_row, goal_col) != GoalCheck::kOk) return path;  // kUnreachable
   const int start = grid_->Index(start_row, start_col);
   const int goal = grid_->Index(goal_row, goal_col);
-  if (Field* field = HotField(goal)) return FromField(*field, start, budget);
+  if (Field* field = HotField(goal)) {
+    GoalPath answer = FromField(*field, start, budget);
+    if (drop_after_answer_) {
+      drop_after_answer_ = false;
+      ++stats_.dropped_costly;
+      stats_.bytes -= field->Bytes();
+      fields_.erase(goal);
+      --stats_.fields;
+      misses_[goal] = -1024;
+    }
+    return answer;
+  }
   return Search(start, goal, budget);
 }
 

@@ -135,6 +135,12 @@ struct GoalPlannerOptions {
   // `hot_after` more misses): a query never waits for a long repair. 0: no
   // bound. Landmarks are always repaired.
   int64_t repair_budget = 0;
+  // Drop a hot goal's field whose repairs write more distances, on average,
+  // than a search expands cells (the map changes too much for it to pay);
+  // its goal is searched and needs 1,024 more misses before a field again.
+  // While the fields' repairs on average cost more than searches, a goal
+  // that turns hot gets no field either (but one in 64, to measure again).
+  bool drop_costly_fields = true;
 };
 
 struct GoalCacheStats {
@@ -146,6 +152,8 @@ struct GoalCacheStats {
   int64_t evictions = 0;  // fields dropped for room
   int64_t repairs = 0;    // fields repaired from changed cells
   int64_t repairs_over_budget = 0;  // of those, stopped at repair_budget (field dropped)
+  int64_t dropped_costly = 0;  // fields dropped as dearer to repair than to search
+  int64_t not_made_costly = 0;  // hot goals given no field for the same reason
   int64_t rebuilds = 0;   // fields behind the log (or widened), made again
   int64_t searches = 0;   // A* searches (cold goals)
   int64_t expanded = 0;   // their expanded cells
@@ -246,6 +254,12 @@ class GoalPlanner {
   // Repair scratch.
   std::unique_ptr<LevelQueue> levels_;
   std::unique_ptr<OpenList> open_;  // A*'s
+  int64_t searches_ = 0;            // landmark searches, and their cells expanded
+  double search_cost_ = 0;          // (a moving average)
+  bool drop_after_answer_ = false;  // HotField's field is dropped once it answered
+  int64_t field_repairs_ = 0;       // hot fields' repairs, and distances written
+  double repair_cost_ = 0;          // (a moving average)
+  uint64_t probe_ = 0;
   std::vector<int> withdrawn_;
   mutable std::vector<int32_t> queue_;  // breadth-first search scratch (caller's thread)
   // The builder thread (started at the first queued build).
