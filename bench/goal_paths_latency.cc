@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int background = 1, settle = 0, hot_after = 2;
   double repair_budget = 0;
-  int landmarks = 8, active_landmarks = 4, drop_costly = 1;
+  int landmarks = 8, active_landmarks = 4, drop_costly = 1, bidirectional = 0;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
@@ -100,6 +100,8 @@ int main(int argc, char** argv) {
       background = static_cast<int>(v);
     else if (o == "--repair-budget")
       repair_budget = v;
+    else if (o == "--bidirectional")
+      bidirectional = static_cast<int>(v);
     else if (o == "--drop-costly")
       drop_costly = static_cast<int>(v);
     else if (o == "--landmarks")
@@ -147,6 +149,7 @@ int main(int argc, char** argv) {
   options.hot_after = hot_after;
   options.landmarks = landmarks;
   options.drop_costly_fields = drop_costly != 0;
+  options.bidirectional = bidirectional != 0;
   options.active_landmarks = active_landmarks;
   options.repair_budget = static_cast<int64_t>(repair_budget);
   GoalPlanner planner(options);

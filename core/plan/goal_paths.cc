@@ -771,6 +771,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
   landmark_goal_.clear();
   landmark_start_.clear();
+  landmark_at_start_.clear();
   std::vector<const Field*> marks;
   for (const auto& landmark : landmarks_) {
     Bring(*landmark, /*landmark=*/true);
@@ -778,6 +779,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     const int32_t at_start = Value(*landmark, start);
     if ((at_goal < 0) != (at_start < 0)) {
       ++stats_.proved_unreachable;  // one of them is in the landmark's component
+      landmark_at_start_.clear();
       GoalPath path;
       path.source = GoalSource::kSearch;
       path.status = GoalStatus::kNoRoute;
@@ -787,6 +789,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     marks.push_back(landmark.get());
     landmark_goal_.push_back(at_goal);
     landmark_start_.push_back(std::abs(at_start - at_goal));
+    landmark_at_start_.push_back(at_start);
   }
   // The landmarks that bound the start's distance best (ties to the first
   // placed), at most `active_landmarks`.
@@ -800,14 +803,22 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
       return landmark_start_[x] > landmark_start_[y];
     });
     std::vector<const Field*> best_marks;
-    std::vector<int32_t> best_goal;
+    std::vector<int32_t> best_goal, best_start;
     for (size_t k = 0; k < active; ++k) {
       best_marks.push_back(marks[order[k]]);
       best_goal.push_back(landmark_goal_[order[k]]);
+      best_start.push_back(landmark_at_start_[order[k]]);
     }
     marks.swap(best_marks);
     landmark_goal_.swap(best_goal);
+    landmark_at_start_.swap(best_start);
   }
+  if (options_.bidirectional) {
+    GoalPath path = Bidirectional(start, goal, budget, marks);
+    landmark_at_start_.clear();
+    return path;
+  }
+  landmark_at_start_.clear();
   landmark_start_.clear();
   const int64_t expanded_before = stats_.expanded;
   GoalPath path = AStar(start, goal, budget, [&](int v, int r, int c) {
@@ -823,6 +834,119 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   ++searches_;
   const double expanded = static_cast<double>(stats_.expanded - expanded_before);
   search_cost_ = searches_ == 1 ? expanded : 0.99 * search_cost_ + 0.01 * expanded;
+  return path;
+}
+
+// Bidirectional A* with the average of the two ALT potentials (Goldberg and
+// Harrelson): pi_t(v) and pi_s(v) bound the distances from v to the goal
+// and to the start (Chebyshev or landmarks, the larger); the forward search
+// orders by 2 g_f(v) + pi_t(v) - pi_s(v), the backward one by
+// 2 g_b(v) + pi_s(v) - pi_t(v) (consistent: each move costs 2 and changes
+// the potential difference by at most 2). It stops when the two smallest
+// keys add up to at least twice the best meeting found.
+GoalPath GoalPlanner::Bidirectional(int start, int goal, size_t budget,
+                                    const std::vector<const Field*>& marks) {
+  const Grid& grid = *grid_;
+  const size_t n = static_cast<size_t>(grid.size());
+  if (g_back_.size() != n) {
+    g_back_.assign(n, 0);
+    parent_back_.assign(n, -1);
+    stamp_back_.assign(n, 0u);
+  }
+  if (++epoch_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0u);
+    std::fill(stamp_back_.begin(), stamp_back_.end(), 0u);
+    epoch_ = 1;
+  }
+  GoalPath path;
+  path.source = GoalSource::kSearch;
+  const int sr = grid.RowOf(start), sc = grid.ColOf(start);
+  const int tr = grid.RowOf(goal), tc = grid.ColOf(goal);
+  // pi_t(v) - pi_s(v); -1 << 30 marks a cell with no path to either.
+  constexpr int32_t kCut = -(1 << 30);
+  const auto diff = [&](int v) {
+    const int r = grid.RowOf(v), c = grid.ColOf(v);
+    int32_t to_goal = Chebyshev(r, c, tr, tc), to_start = Chebyshev(r, c, sr, sc);
+    for (size_t i = 0; i < marks.size(); ++i) {
+      const int32_t d = Value(*marks[i], v);
+      if (d < 0) return kCut;
+      to_goal = std::max(to_goal, std::abs(d - landmark_goal_[i]));
+      to_start = std::max(to_start, std::abs(d - landmark_at_start_[i]));
+    }
+    return to_goal - to_start;
+  };
+  // (key, -g, cell), smallest first.
+  using Entry = std::tuple<int32_t, int32_t, int32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> forward, backward;
+  stamp_[start] = epoch_;
+  g_[start] = 0;
+  parent_[start] = -1;
+  stamp_back_[goal] = epoch_;
+  g_back_[goal] = 0;
+  parent_back_[goal] = -1;
+  forward.emplace(diff(start), 0, start);
+  backward.emplace(-diff(goal), 0, goal);
+  int32_t best = -1;
+  int meet = -1;
+  if (start == goal) {
+    best = 0;
+    meet = start;
+  }
+  const auto top = [](auto& open, std::vector<int32_t>& g) {
+    while (!open.empty()) {
+      const auto [key, neg_g, v] = open.top();
+      if (-neg_g == g[v]) return key;
+      open.pop();  // stale
+    }
+    return std::numeric_limits<int32_t>::max() / 2;
+  };
+  for (;;) {
+    const int32_t top_f = top(forward, g_), top_b = top(backward, g_back_);
+    if (forward.empty() || backward.empty()) break;
+    if (best >= 0 && top_f + top_b >= 2 * best) break;
+    const bool go_forward = forward.size() <= backward.size();
+    auto& open = go_forward ? forward : backward;
+    std::vector<int32_t>& g_this = go_forward ? g_ : g_back_;
+    std::vector<int32_t>& parent_this = go_forward ? parent_ : parent_back_;
+    std::vector<uint32_t>& stamp_this = go_forward ? stamp_ : stamp_back_;
+    const std::vector<int32_t>& g_other = go_forward ? g_back_ : g_;
+    const std::vector<uint32_t>& stamp_other = go_forward ? stamp_back_ : stamp_;
+    const int v = std::get<2>(open.top());
+    const int32_t g = g_this[v];
+    open.pop();
+    ++stats_.expanded;
+    const int row = grid.RowOf(v), col = grid.ColOf(v);
+    for (int a = 0; a < 8; ++a) {
+      const int r = row + kDr[a], c = col + kDc[a];
+      if (!grid.InBounds(r, c)) continue;
+      const int w = grid.Index(r, c);
+      if (grid.at(w) == Cell::kObstacle) continue;
+      if (stamp_this[w] == epoch_ && g_this[w] <= g + 1) continue;
+      const int32_t d = diff(w);
+      if (d == kCut) continue;
+      stamp_this[w] = epoch_;
+      g_this[w] = g + 1;
+      parent_this[w] = v;
+      open.emplace(2 * (g + 1) + (go_forward ? d : -d), -(g + 1), w);
+      if (stamp_other[w] == epoch_ && (best < 0 || g + 1 + g_other[w] < best)) {
+        best = g + 1 + g_other[w];
+        meet = w;
+      }
+    }
+  }
+  if (best < 0) {
+    path.status = GoalStatus::kNoRoute;
+    return path;
+  }
+  if (static_cast<size_t>(best) + 1 > budget) {
+    path.status = GoalStatus::kOverBudget;
+    return path;
+  }
+  for (int u = meet; u != -1; u = parent_[u]) path.cells.push_back(u);
+  std::reverse(path.cells.begin(), path.cells.end());
+  for (int u = parent_back_[meet]; u != -1; u = parent_back_[u]) path.cells.push_back(u);
+  path.status = GoalStatus::kReached;
+  path.cost = best;
   return path;
 }
 

@@ -123,6 +123,9 @@ struct GoalPlannerOptions {
   // A search's heuristic uses the landmarks that bound its start's distance
   // best, at most this many (0: all).
   int active_landmarks = 4;
+  // Cold goals by bidirectional A* (the average of the forward and backward
+  // landmark potentials) instead of A* from the start.
+  bool bidirectional = false;
   // Make hot goals' fields on a builder thread (their goals searched
   // meanwhile); false: on the caller's thread, at the miss that made the
   // goal hot (deterministic sources).
@@ -222,6 +225,8 @@ class GoalPlanner {
   void BuilderLoop();
   void MakeField(Field& field, const Grid& grid, size_t slots) const;
   int32_t Value(const Field& field, int cell) const;
+  GoalPath Bidirectional(int start, int goal, size_t budget,
+                         const std::vector<const Field*>& marks);
   GoalPath FromField(const Field& field, int start, size_t budget) const;
   GoalPath Search(int start, int goal, size_t budget);
   template <class H>
@@ -244,6 +249,9 @@ class GoalPlanner {
   std::vector<std::unique_ptr<Field>> landmarks_;  // never evicted
   std::vector<int32_t> landmark_goal_;             // A* scratch: d_L(goal)
   std::vector<int32_t> landmark_start_;            // A* scratch: the bound at the start
+  std::vector<int32_t> landmark_at_start_;         // A* scratch: d_L(start)
+  std::vector<int32_t> g_back_, parent_back_;      // the backward search's (bidirectional)
+  std::vector<uint32_t> stamp_back_;
   std::unordered_map<int, int> misses_;            // per cold goal (bounded: cleared when large)
   uint64_t clock_ = 0;
   GoalCacheStats stats_;
