@@ -37,7 +37,6 @@
 #include "dynapath/goal_paths.h"
 #include "dynapath/movingai_map.h"
 
-namespace dynapath { int64_t DebugPuts(); }
 namespace {
 
 using dynapath::Cell;
@@ -71,8 +70,7 @@ int main(int argc, char** argv) {
   double cache_mb = 256;
   unsigned seed = 1;
   int background = 1, settle = 0, hot_after = 2;
-  double repair_budget = 0;
-  int landmarks = 8, active_landmarks = 4, drop_costly = 1, bidirectional = 0;
+  int landmarks = 8, active_landmarks = 4, drop_costly = 1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string o = argv[i];
     const double v = std::atof(argv[i + 1]);
@@ -98,10 +96,6 @@ int main(int argc, char** argv) {
       astar_queries = static_cast<int>(v);
     else if (o == "--background")
       background = static_cast<int>(v);
-    else if (o == "--repair-budget")
-      repair_budget = v;
-    else if (o == "--bidirectional")
-      bidirectional = static_cast<int>(v);
     else if (o == "--drop-costly")
       drop_costly = static_cast<int>(v);
     else if (o == "--landmarks")
@@ -149,9 +143,7 @@ int main(int argc, char** argv) {
   options.hot_after = hot_after;
   options.landmarks = landmarks;
   options.drop_costly_fields = drop_costly != 0;
-  options.bidirectional = bidirectional != 0;
   options.active_landmarks = active_landmarks;
-  options.repair_budget = static_cast<int64_t>(repair_budget);
   GoalPlanner planner(options);
   GoalPlannerOptions no_fields;
   no_fields.cache_bytes = 0;
@@ -270,17 +262,16 @@ int main(int argc, char** argv) {
               busy_us / (seconds * 1e6) * 100, seconds);
   std::printf(
       "cache: %lld hits, %lld misses, %lld builds (%lld on the builder thread, %lld wide), "
-      "%lld evictions, %lld repairs (%lld over the budget), %lld dropped as dearer than searching (%lld not made), "
+      "%lld evictions, %lld repairs, %lld dropped as dearer than searching (%lld not made), "
       "%lld rebuilds; %lld A* searches (%.0f cells expanded each), %lld landmarks, "
       "%lld proved unreachable\n",
       static_cast<long long>(s.hits), static_cast<long long>(s.misses),
       static_cast<long long>(s.builds), static_cast<long long>(s.queued),
       static_cast<long long>(s.widened), static_cast<long long>(s.evictions),
-      static_cast<long long>(s.repairs), static_cast<long long>(s.repairs_over_budget), static_cast<long long>(s.dropped_costly), static_cast<long long>(s.not_made_costly), static_cast<long long>(s.rebuilds),
+      static_cast<long long>(s.repairs), static_cast<long long>(s.dropped_costly), static_cast<long long>(s.not_made_costly), static_cast<long long>(s.rebuilds),
       static_cast<long long>(s.searches),
       s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
       static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));
-  std::printf("DEBUG puts %lld per repair %.0f\n", (long long)dynapath::DebugPuts(), (double)dynapath::DebugPuts()/s.repairs);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf(

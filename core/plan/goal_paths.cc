@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <queue>
@@ -11,8 +10,6 @@
 #include <utility>
 
 namespace dynapath {
-int64_t DebugPuts();
-
 // A queue by integer level, smallest first; among equal levels the last
 // pushed first (in A*, the deepest of equal f). Cheapest when the levels
 // taken never go down (each repair phase; A* with a consistent heuristic).
@@ -164,17 +161,16 @@ bool BuildValues(const Grid& grid, const int32_t* slot, size_t slots, int goal, 
   return fits;
 }
 
-int64_t g_puts = 0;
-enum class RepairEnd { kExact, kOverflow, kOverBudget };
+enum class RepairEnd { kExact, kOverflow };
 
 // Restores exact distances to `goal` after the cells `changed` changed
 // (DynamicDistances::Repair's two phases, over the free-cell index; every
 // cell free now has a slot below values.size()). kOverflow when a distance
-// exceeds `limit`, kOverBudget when more than `budget` values were written
-// (budget <= 0: no bound); the values are then unusable.
+// exceeds `limit` (the values are then unusable); `written`: the values
+// written.
 template <class T, class Queue>
 RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit,
-                       int64_t budget, std::vector<T>& values, const std::vector<int>& changed,
+                       std::vector<T>& values, const std::vector<int>& changed,
                        Queue& queue, std::vector<int>& withdrawn, int64_t* written) {
   constexpr T kNone = std::numeric_limits<T>::max();
   const int rows = grid.rows(), cols = grid.cols();
@@ -188,12 +184,10 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
     return x == kNone ? -1 : static_cast<int32_t>(x);
   };
   const auto put = [&](int v, int32_t x) {
-    ++g_puts;
     ++writes;
     values[static_cast<size_t>(slot[v])] = x < 0 ? kNone : static_cast<T>(x);
   };
   const auto blocked = [&](int v) { return cells[v] == kObstacle; };
-  const auto over = [&] { return budget > 0 && writes > budget; };
   queue.clear();
   withdrawn.clear();
   // Phase 1: withdraw unsupported values, lowest old value first.
@@ -211,10 +205,6 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
     }
     if (supported) continue;
     put(v, -1);
-    if (over()) {
-      *written = writes;
-      return RepairEnd::kOverBudget;
-    }
     withdrawn.push_back(v);
     ForEachNeighbour(rows, cols, v, [&](int p) {
       if (get(p) == level + 1) queue.push(level + 1, p);
@@ -262,7 +252,6 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
       put(p, next);
       queue.push(next, p);
     });
-    if (end == RepairEnd::kExact && over()) end = RepairEnd::kOverBudget;
   }
   queue.clear();
   *written = writes;
@@ -271,8 +260,6 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
 
 }  // namespace
 
-int64_t DebugPuts() {
-  return g_puts; }
 struct GoalPlanner::Field {
   int goal = 0;
   int64_t update = 0;  // the grid update its distances are exact for
@@ -541,23 +528,18 @@ bool GoalPlanner::Bring(Field& field, bool landmark) {
         changed.insert(changed.end(), batch.cells.begin(), batch.cells.end());
       }
     }
-    const int64_t budget = landmark ? 0 : options_.repair_budget;
     int64_t written = 0;
     const RepairEnd end =
         field.wide ? RepairValues(grid, slot_.data(), field.goal,
-                                  std::numeric_limits<int32_t>::max() - 1, budget,
+                                  std::numeric_limits<int32_t>::max() - 1,
                                   field.wide_values, changed, *levels_, withdrawn_, &written)
-                   : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit, budget,
+                   : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit,
                                   field.narrow, changed, *levels_, withdrawn_, &written);
     ++stats_.repairs;
     if (!landmark) {
       const double w = static_cast<double>(written);
       field.repair_cost = field.repair_cost < 0 ? w : 0.75 * field.repair_cost + 0.25 * w;
       repair_cost_ = field_repairs_++ == 0 ? w : 0.99 * repair_cost_ + 0.01 * w;
-    }
-    if (end == RepairEnd::kOverBudget) {
-      ++stats_.repairs_over_budget;
-      return false;
     }
     kept = end == RepairEnd::kExact;
   }
@@ -771,7 +753,6 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   const int gr = grid.RowOf(goal), gc = grid.ColOf(goal);
   landmark_goal_.clear();
   landmark_start_.clear();
-  landmark_at_start_.clear();
   std::vector<const Field*> marks;
   for (const auto& landmark : landmarks_) {
     Bring(*landmark, /*landmark=*/true);
@@ -779,8 +760,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     const int32_t at_start = Value(*landmark, start);
     if ((at_goal < 0) != (at_start < 0)) {
       ++stats_.proved_unreachable;  // one of them is in the landmark's component
-      landmark_at_start_.clear();
-      GoalPath path;
+          GoalPath path;
       path.source = GoalSource::kSearch;
       path.status = GoalStatus::kNoRoute;
       return path;
@@ -789,7 +769,6 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     marks.push_back(landmark.get());
     landmark_goal_.push_back(at_goal);
     landmark_start_.push_back(std::abs(at_start - at_goal));
-    landmark_at_start_.push_back(at_start);
   }
   // The landmarks that bound the start's distance best (ties to the first
   // placed), at most `active_landmarks`.
@@ -803,22 +782,15 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
       return landmark_start_[x] > landmark_start_[y];
     });
     std::vector<const Field*> best_marks;
-    std::vector<int32_t> best_goal, best_start;
+    std::vector<int32_t> best_goal;
     for (size_t k = 0; k < active; ++k) {
       best_marks.push_back(marks[order[k]]);
       best_goal.push_back(landmark_goal_[order[k]]);
-      best_start.push_back(landmark_at_start_[order[k]]);
     }
     marks.swap(best_marks);
     landmark_goal_.swap(best_goal);
-    landmark_at_start_.swap(best_start);
   }
-  if (options_.bidirectional) {
-    GoalPath path = Bidirectional(start, goal, budget, marks);
-    landmark_at_start_.clear();
-    return path;
-  }
-  landmark_at_start_.clear();
+
   landmark_start_.clear();
   const int64_t expanded_before = stats_.expanded;
   GoalPath path = AStar(start, goal, budget, [&](int v, int r, int c) {
@@ -834,119 +806,6 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   ++searches_;
   const double expanded = static_cast<double>(stats_.expanded - expanded_before);
   search_cost_ = searches_ == 1 ? expanded : 0.99 * search_cost_ + 0.01 * expanded;
-  return path;
-}
-
-// Bidirectional A* with the average of the two ALT potentials (Goldberg and
-// Harrelson): pi_t(v) and pi_s(v) bound the distances from v to the goal
-// and to the start (Chebyshev or landmarks, the larger); the forward search
-// orders by 2 g_f(v) + pi_t(v) - pi_s(v), the backward one by
-// 2 g_b(v) + pi_s(v) - pi_t(v) (consistent: each move costs 2 and changes
-// the potential difference by at most 2). It stops when the two smallest
-// keys add up to at least twice the best meeting found.
-GoalPath GoalPlanner::Bidirectional(int start, int goal, size_t budget,
-                                    const std::vector<const Field*>& marks) {
-  const Grid& grid = *grid_;
-  const size_t n = static_cast<size_t>(grid.size());
-  if (g_back_.size() != n) {
-    g_back_.assign(n, 0);
-    parent_back_.assign(n, -1);
-    stamp_back_.assign(n, 0u);
-  }
-  if (++epoch_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0u);
-    std::fill(stamp_back_.begin(), stamp_back_.end(), 0u);
-    epoch_ = 1;
-  }
-  GoalPath path;
-  path.source = GoalSource::kSearch;
-  const int sr = grid.RowOf(start), sc = grid.ColOf(start);
-  const int tr = grid.RowOf(goal), tc = grid.ColOf(goal);
-  // pi_t(v) - pi_s(v); -1 << 30 marks a cell with no path to either.
-  constexpr int32_t kCut = -(1 << 30);
-  const auto diff = [&](int v) {
-    const int r = grid.RowOf(v), c = grid.ColOf(v);
-    int32_t to_goal = Chebyshev(r, c, tr, tc), to_start = Chebyshev(r, c, sr, sc);
-    for (size_t i = 0; i < marks.size(); ++i) {
-      const int32_t d = Value(*marks[i], v);
-      if (d < 0) return kCut;
-      to_goal = std::max(to_goal, std::abs(d - landmark_goal_[i]));
-      to_start = std::max(to_start, std::abs(d - landmark_at_start_[i]));
-    }
-    return to_goal - to_start;
-  };
-  // (key, -g, cell), smallest first.
-  using Entry = std::tuple<int32_t, int32_t, int32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> forward, backward;
-  stamp_[start] = epoch_;
-  g_[start] = 0;
-  parent_[start] = -1;
-  stamp_back_[goal] = epoch_;
-  g_back_[goal] = 0;
-  parent_back_[goal] = -1;
-  forward.emplace(diff(start), 0, start);
-  backward.emplace(-diff(goal), 0, goal);
-  int32_t best = -1;
-  int meet = -1;
-  if (start == goal) {
-    best = 0;
-    meet = start;
-  }
-  const auto top = [](auto& open, std::vector<int32_t>& g) {
-    while (!open.empty()) {
-      const auto [key, neg_g, v] = open.top();
-      if (-neg_g == g[v]) return key;
-      open.pop();  // stale
-    }
-    return std::numeric_limits<int32_t>::max() / 2;
-  };
-  for (;;) {
-    const int32_t top_f = top(forward, g_), top_b = top(backward, g_back_);
-    if (forward.empty() || backward.empty()) break;
-    if (best >= 0 && top_f + top_b >= 2 * best) break;
-    const bool go_forward = forward.size() <= backward.size();
-    auto& open = go_forward ? forward : backward;
-    std::vector<int32_t>& g_this = go_forward ? g_ : g_back_;
-    std::vector<int32_t>& parent_this = go_forward ? parent_ : parent_back_;
-    std::vector<uint32_t>& stamp_this = go_forward ? stamp_ : stamp_back_;
-    const std::vector<int32_t>& g_other = go_forward ? g_back_ : g_;
-    const std::vector<uint32_t>& stamp_other = go_forward ? stamp_back_ : stamp_;
-    const int v = std::get<2>(open.top());
-    const int32_t g = g_this[v];
-    open.pop();
-    ++stats_.expanded;
-    const int row = grid.RowOf(v), col = grid.ColOf(v);
-    for (int a = 0; a < 8; ++a) {
-      const int r = row + kDr[a], c = col + kDc[a];
-      if (!grid.InBounds(r, c)) continue;
-      const int w = grid.Index(r, c);
-      if (grid.at(w) == Cell::kObstacle) continue;
-      if (stamp_this[w] == epoch_ && g_this[w] <= g + 1) continue;
-      const int32_t d = diff(w);
-      if (d == kCut) continue;
-      stamp_this[w] = epoch_;
-      g_this[w] = g + 1;
-      parent_this[w] = v;
-      open.emplace(2 * (g + 1) + (go_forward ? d : -d), -(g + 1), w);
-      if (stamp_other[w] == epoch_ && (best < 0 || g + 1 + g_other[w] < best)) {
-        best = g + 1 + g_other[w];
-        meet = w;
-      }
-    }
-  }
-  if (best < 0) {
-    path.status = GoalStatus::kNoRoute;
-    return path;
-  }
-  if (static_cast<size_t>(best) + 1 > budget) {
-    path.status = GoalStatus::kOverBudget;
-    return path;
-  }
-  for (int u = meet; u != -1; u = parent_[u]) path.cells.push_back(u);
-  std::reverse(path.cells.begin(), path.cells.end());
-  for (int u = parent_back_[meet]; u != -1; u = parent_back_[u]) path.cells.push_back(u);
-  path.status = GoalStatus::kReached;
-  path.cost = best;
   return path;
 }
 

@@ -123,9 +123,6 @@ struct GoalPlannerOptions {
   // A search's heuristic uses the landmarks that bound its start's distance
   // best, at most this many (0: all).
   int active_landmarks = 4;
-  // Cold goals by bidirectional A* (the average of the forward and backward
-  // landmark potentials) instead of A* from the start.
-  bool bidirectional = false;
   // Make hot goals' fields on a builder thread (their goals searched
   // meanwhile); false: on the caller's thread, at the miss that made the
   // goal hot (deterministic sources).
@@ -133,11 +130,6 @@ struct GoalPlannerOptions {
   // The largest distance a 2-byte field holds (a field with a larger one
   // is made 4 bytes a cell); below 65,534 only to test the wide fields.
   int32_t narrow_limit = 65534;
-  // A hot goal's field whose repair would write more than this many
-  // distances is dropped and its goal searched (made again after
-  // `hot_after` more misses): a query never waits for a long repair. 0: no
-  // bound. Landmarks are always repaired.
-  int64_t repair_budget = 0;
   // Drop a hot goal's field whose repairs write more distances, on average,
   // than a search expands cells (the map changes too much for it to pay);
   // its goal is searched and needs 1,024 more misses before a field again.
@@ -154,7 +146,6 @@ struct GoalCacheStats {
   int64_t widened = 0;    // fields made 4 bytes a cell (a distance above narrow_limit)
   int64_t evictions = 0;  // fields dropped for room
   int64_t repairs = 0;    // fields repaired from changed cells
-  int64_t repairs_over_budget = 0;  // of those, stopped at repair_budget (field dropped)
   int64_t dropped_costly = 0;  // fields dropped as dearer to repair than to search
   int64_t not_made_costly = 0;  // hot goals given no field for the same reason
   int64_t rebuilds = 0;   // fields behind the log (or widened), made again
@@ -225,8 +216,6 @@ class GoalPlanner {
   void BuilderLoop();
   void MakeField(Field& field, const Grid& grid, size_t slots) const;
   int32_t Value(const Field& field, int cell) const;
-  GoalPath Bidirectional(int start, int goal, size_t budget,
-                         const std::vector<const Field*>& marks);
   GoalPath FromField(const Field& field, int start, size_t budget) const;
   GoalPath Search(int start, int goal, size_t budget);
   template <class H>
@@ -249,9 +238,6 @@ class GoalPlanner {
   std::vector<std::unique_ptr<Field>> landmarks_;  // never evicted
   std::vector<int32_t> landmark_goal_;             // A* scratch: d_L(goal)
   std::vector<int32_t> landmark_start_;            // A* scratch: the bound at the start
-  std::vector<int32_t> landmark_at_start_;         // A* scratch: d_L(start)
-  std::vector<int32_t> g_back_, parent_back_;      // the backward search's (bidirectional)
-  std::vector<uint32_t> stamp_back_;
   std::unordered_map<int, int> misses_;            // per cold goal (bounded: cleared when large)
   uint64_t clock_ = 0;
   GoalCacheStats stats_;
