@@ -5,7 +5,8 @@
 //   goal_paths_latency MAP [--warmup W] [--seconds S] [--rate Q] [--updates U]
 //                      [--change-permille P] [--hot-goals H] [--hot-share F]
 //                      [--cache-mb M] [--check N] [--astar-queries K] [--seed X]
-//                      [--background B] [--settle 0|1]
+//                      [--background B] [--settle 0|1] [--hot-after A]
+//                      [--landmarks L] [--active-landmarks AL] [--drop-costly 0|1]
 //
 // Simulated time: S seconds of Q queries a second with U map updates a
 // second, each moving obstacles (SPEC's movers: an obstacle to a free
@@ -18,7 +19,9 @@
 // builder thread's queued fields are then waited for, so the measured part
 // starts with the fields it was asked for). B: 1 (the default) makes fields on
 // the planner's builder thread, 0 on the query thread, at the miss that
-// makes a goal hot. The first N answers are checked against a fresh
+// makes a goal hot. A, L, AL and --drop-costly set GoalPlannerOptions'
+// hot_after, landmarks, active_landmarks and drop_costly_fields (defaults
+// 2, 8, 4, 1). The first N answers are checked against a fresh
 // search on that update's grid; K queries are answered again by a planner without fields (A* from
 // scratch every time).
 
