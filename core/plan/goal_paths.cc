@@ -4,9 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <queue>
 #include <set>
-#include <tuple>
 #include <utility>
 
 namespace dynapath {

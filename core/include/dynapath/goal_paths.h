@@ -22,11 +22,17 @@
 //    to the current grid) at a later call; its goal is searched meanwhile.
 //    The answer's cost is exact either way; which of field and search
 //    answered depends on the builder's progress (GoalPath::source).
-//  * cold goals: A* from the start, ties to the larger g, with the larger of
-//    the Chebyshev distance (the octile distance when a diagonal costs 1)
-//    and the ALT bound max |d_L(v) - d_L(goal)| over a few landmark fields
-//    (exact fields of cells spread over the map by farthest-point
-//    selection, repaired like the others, held within half the cache). A
+//    A field whose repairs write more distances than a search expands
+//    cells (on average) is dropped after its answer: where the map changes
+//    much between asks, hot goals are searched (drop_costly_fields).
+//  * cold goals: A* from the start (open list bucketed by f, ties to the
+//    last pushed, the deepest), with the larger of the Chebyshev distance
+//    (the octile distance when a diagonal costs 1) and the ALT bound
+//    max |d_L(v) - d_L(goal)| over the landmark fields that bound the
+//    start best (`active_landmarks` of `landmarks`: exact fields of cells
+//    spread over the map by farthest-point selection, repaired like the
+//    others at the first search after an update, held within half the
+//    cache). A
 //    landmark that reaches one of start and goal but not the other proves
 //    there is no path without any search.
 // A path is walked down the field (or back along A*'s parents), neighbours
@@ -44,7 +50,6 @@
 #include <deque>
 #include <memory>
 #include <mutex>
-#include <queue>
 #include <string>
 #include <thread>
 #include <unordered_map>
