@@ -176,8 +176,7 @@ int main(int argc, char** argv) {
       const auto s0 = Clock::now();
       planner.WaitForBuilds();
       std::printf("settled: waited %.1f s for the builder's %lld queued fields\n",
-                  micros(Clock::now() - s0) / 1e6,
-                  static_cast<long long>(planner.stats().queued));
+                  micros(Clock::now() - s0) / 1e6, static_cast<long long>(planner.stats().queued));
     }
     if (i > 0 && i % per_update == 0) {
       // Movers: an obstacle to a free neighbour, until enough cells changed.
@@ -245,7 +244,8 @@ int main(int argc, char** argv) {
       static_cast<long long>(queries - warm), static_cast<long long>(reached), update_us.size(),
       static_cast<long long>(checked), static_cast<long long>(wrong));
   std::vector<double> field_us, search_us;
-  for (size_t k = 0; k < all_us.size(); ++k) (by_field[k] ? field_us : search_us).push_back(all_us[k]);
+  for (size_t k = 0; k < all_us.size(); ++k)
+    (by_field[k] ? field_us : search_us).push_back(all_us[k]);
   Print("goal planner, the hot goals", hot_us);
   Print("goal planner, other goals", other_us);
   Print("goal planner, every query", all_us);
@@ -253,11 +253,12 @@ int main(int argc, char** argv) {
   Print("goal planner, answered by search", search_us);
   Print("  searches that repaired landmarks", search_repairing_us);
   Print("  searches that did not", search_plain_us);
-  std::printf("cells expanded per search (in thousands): p50 %.1f, p99 %.1f, max %.1f\n",
-              Percentile(expanded_per_search, 0.5) / 1e6, Percentile(expanded_per_search, 0.99) / 1e6,
-              expanded_per_search.empty() ? 0.0
-                                          : *std::max_element(expanded_per_search.begin(),
-                                                              expanded_per_search.end()) / 1e6);
+  std::printf(
+      "cells expanded per search (in thousands): p50 %.1f, p99 %.1f, max %.1f\n",
+      Percentile(expanded_per_search, 0.5) / 1e6, Percentile(expanded_per_search, 0.99) / 1e6,
+      expanded_per_search.empty()
+          ? 0.0
+          : *std::max_element(expanded_per_search.begin(), expanded_per_search.end()) / 1e6);
   Print("A* from scratch, the hot goals", astar_hot_us);
   Print("A* from scratch, other goals", astar_other_us);
   Print("goal planner Update (log a batch)", update_us);
@@ -271,7 +272,8 @@ int main(int argc, char** argv) {
       static_cast<long long>(s.hits), static_cast<long long>(s.misses),
       static_cast<long long>(s.builds), static_cast<long long>(s.queued),
       static_cast<long long>(s.widened), static_cast<long long>(s.evictions),
-      static_cast<long long>(s.repairs), static_cast<long long>(s.dropped_costly), static_cast<long long>(s.not_made_costly), static_cast<long long>(s.rebuilds),
+      static_cast<long long>(s.repairs), static_cast<long long>(s.dropped_costly),
+      static_cast<long long>(s.not_made_costly), static_cast<long long>(s.rebuilds),
       static_cast<long long>(s.searches),
       s.searches ? static_cast<double>(s.expanded) / static_cast<double>(s.searches) : 0.0,
       static_cast<long long>(s.landmarks), static_cast<long long>(s.proved_unreachable));
@@ -282,8 +284,7 @@ int main(int argc, char** argv) {
       "%.1f MB; process max RSS %.1f MB\n",
       static_cast<long long>(s.fields), static_cast<long long>(s.pending),
       static_cast<long long>(s.indexed_cells), static_cast<double>(s.bytes) / 1048576.0,
-              static_cast<double>(s.peak_bytes) / 1048576.0,
-              static_cast<double>(s.cap_bytes) / 1048576.0,
-              static_cast<double>(usage.ru_maxrss) / 1024.0);
+      static_cast<double>(s.peak_bytes) / 1048576.0, static_cast<double>(s.cap_bytes) / 1048576.0,
+      static_cast<double>(usage.ru_maxrss) / 1024.0);
   return wrong == 0 ? 0 : 1;
 }

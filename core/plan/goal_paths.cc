@@ -168,8 +168,8 @@ enum class RepairEnd { kExact, kOverflow };
 // written.
 template <class T, class Queue>
 RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t limit,
-                       std::vector<T>& values, const std::vector<int>& changed,
-                       Queue& queue, std::vector<int>& withdrawn, int64_t* written) {
+                       std::vector<T>& values, const std::vector<int>& changed, Queue& queue,
+                       std::vector<int>& withdrawn, int64_t* written) {
   constexpr T kNone = std::numeric_limits<T>::max();
   const int rows = grid.rows(), cols = grid.cols();
   const uint8_t* cells = grid.codes().data();
@@ -268,9 +268,7 @@ struct GoalPlanner::Field {
   std::vector<uint16_t> narrow;
   std::vector<uint32_t> wide_values;
   size_t slots() const { return wide ? wide_values.size() : narrow.size(); }
-  static size_t BytesFor(size_t slots, bool wide) {
-    return sizeof(Field) + (wide ? 4 : 2) * slots;
-  }
+  static size_t BytesFor(size_t slots, bool wide) { return sizeof(Field) + (wide ? 4 : 2) * slots; }
   size_t Bytes() const { return BytesFor(slots(), wide); }
 };
 
@@ -429,7 +427,8 @@ void GoalPlanner::Update(std::shared_ptr<const Grid> grid, const std::vector<int
     slot_.assign(n, -1);
     slots_ = 0;
     for (int v = 0; v < grid_->size(); ++v) {
-      if (grid_->at(v) != Cell::kObstacle) slot_[static_cast<size_t>(v)] = static_cast<int32_t>(slots_++);
+      if (grid_->at(v) != Cell::kObstacle)
+        slot_[static_cast<size_t>(v)] = static_cast<int32_t>(slots_++);
     }
     stats_.indexed_cells = static_cast<int64_t>(slots_);
     g_.assign(n, 0);
@@ -528,11 +527,11 @@ bool GoalPlanner::Bring(Field& field, bool landmark) {
     }
     int64_t written = 0;
     const RepairEnd end =
-        field.wide ? RepairValues(grid, slot_.data(), field.goal,
-                                  std::numeric_limits<int32_t>::max() - 1,
-                                  field.wide_values, changed, *levels_, withdrawn_, &written)
-                   : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit,
-                                  field.narrow, changed, *levels_, withdrawn_, &written);
+        field.wide
+            ? RepairValues(grid, slot_.data(), field.goal, std::numeric_limits<int32_t>::max() - 1,
+                           field.wide_values, changed, *levels_, withdrawn_, &written)
+            : RepairValues(grid, slot_.data(), field.goal, options_.narrow_limit, field.narrow,
+                           changed, *levels_, withdrawn_, &written);
     ++stats_.repairs;
     if (!landmark) {
       const double w = static_cast<double>(written);
@@ -586,8 +585,8 @@ GoalPlanner::Field* GoalPlanner::HotField(int goal) {
       // Dearer to keep than its searches: dropped after this answer, and
       // not made again before many more misses (the count recovers as
       // popularity is halved).
-      drop_after_answer_ = options_.drop_costly_fields && searches_ >= 16 &&
-                           field.repair_cost > search_cost_;
+      drop_after_answer_ =
+          options_.drop_costly_fields && searches_ >= 16 && field.repair_cost > search_cost_;
       return &field;
     }
     // Dropped (it could not be kept): made again after `hot_after` more
@@ -758,7 +757,7 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
     const int32_t at_start = Value(*landmark, start);
     if ((at_goal < 0) != (at_start < 0)) {
       ++stats_.proved_unreachable;  // one of them is in the landmark's component
-          GoalPath path;
+      GoalPath path;
       path.source = GoalSource::kSearch;
       path.status = GoalStatus::kNoRoute;
       return path;
@@ -776,9 +775,8 @@ GoalPath GoalPlanner::Search(int start, int goal, size_t budget) {
   if (active < marks.size()) {
     std::vector<size_t> order(marks.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
-      return landmark_start_[x] > landmark_start_[y];
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t x, size_t y) { return landmark_start_[x] > landmark_start_[y]; });
     std::vector<const Field*> best_marks;
     std::vector<int32_t> best_goal;
     for (size_t k = 0; k < active; ++k) {

@@ -151,16 +151,16 @@ struct GoalCacheStats {
   int64_t widened = 0;    // fields made 4 bytes a cell (a distance above narrow_limit)
   int64_t evictions = 0;  // fields dropped for room
   int64_t repairs = 0;    // fields repaired from changed cells
-  int64_t dropped_costly = 0;  // fields dropped as dearer to repair than to search
+  int64_t dropped_costly = 0;   // fields dropped as dearer to repair than to search
   int64_t not_made_costly = 0;  // hot goals given no field for the same reason
-  int64_t rebuilds = 0;   // fields behind the log (or widened), made again
+  int64_t rebuilds = 0;         // fields behind the log (or widened), made again
   int64_t searches = 0;   // A* searches (cold goals)
   int64_t expanded = 0;   // their expanded cells
   size_t bytes = 0;       // the fields' bytes now (those being made included)
   size_t peak_bytes = 0;
   size_t cap_bytes = 0;
   int64_t fields = 0;
-  int64_t pending = 0;  // fields being made now
+  int64_t pending = 0;        // fields being made now
   int64_t indexed_cells = 0;  // the free-cell index's size (cells free at some update)
   int64_t landmarks = 0;
   int64_t proved_unreachable = 0;  // no path, told by a landmark without a search
@@ -215,9 +215,9 @@ class GoalPlanner {
   // Makes room for `need` more bytes by dropping least recently used fields
   // other than `keep`; false when it cannot.
   bool Evict(size_t need, const Field* keep = nullptr);
-  void Request(int goal);    // hands a build to the builder thread
-  void Adopt();              // takes the builder's finished fields
-  void StopBuilder();        // drops queued builds, waits for the current one
+  void Request(int goal);  // hands a build to the builder thread
+  void Adopt();            // takes the builder's finished fields
+  void StopBuilder();      // drops queued builds, waits for the current one
   void BuilderLoop();
   void MakeField(Field& field, const Grid& grid, size_t slots) const;
   int32_t Value(const Field& field, int cell) const;

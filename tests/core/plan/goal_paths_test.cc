@@ -121,7 +121,7 @@ TEST(GoalPaths, CacheCountsAndBounds) {
   const size_t one = probe.stats().bytes;
   EXPECT_GE(one, 2 * 100u);
   EXPECT_LT(one, 2 * 100u + 256);
-  options.landmarks = 8;           // none fit in half the cache
+  options.landmarks = 8;              // none fit in half the cache
   options.cache_bytes = one * 3 / 2;  // one field, not two
   options.log_batches = 2;
   GoalPlanner planner(options);
