@@ -193,7 +193,11 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
     if (get(v) >= 0) queue.push(get(v), v);
   }
   while (!queue.empty()) {
-    const auto [level, v] = queue.pop();
+    // Not structured bindings: clang 14 (the fuzz build) cannot capture
+    // one in a lambda.
+    const std::pair<int32_t, int> top = queue.pop();
+    const int32_t level = top.first;
+    const int v = top.second;
     if (get(v) != level) continue;
     bool supported = !blocked(v) && v == goal;
     if (!blocked(v) && !supported) {
@@ -236,7 +240,9 @@ RepairEnd RepairValues(const Grid& grid, const int32_t* slot, int goal, int32_t 
   for (int v : changed) seed(v);
   withdrawn.clear();
   while (!queue.empty() && end == RepairEnd::kExact) {
-    const auto [level, u] = queue.pop();
+    const std::pair<int32_t, int> top = queue.pop();
+    const int32_t level = top.first;
+    const int u = top.second;
     if (get(u) != level) continue;
     const int32_t next = level + 1;
     ForEachNeighbour(rows, cols, u, [&](int p) {
@@ -706,7 +712,9 @@ GoalPath GoalPlanner::AStar(int start, int goal, size_t budget, H h) {
   parent_[start] = -1;
   open.push(h_start, {0, start});
   while (!open.empty()) {
-    const auto [g, v] = open.pop().second;
+    const std::pair<int32_t, int32_t> entry = open.pop().second;
+    const int32_t g = entry.first;
+    const int v = entry.second;
     if (g != g_[v]) continue;  // a stale entry
     ++stats_.expanded;
     if (v == goal) {
