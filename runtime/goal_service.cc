@@ -167,14 +167,16 @@ std::string GoalService::Summary(const GoalServiceStats& s) {
   text += "; reached from a field " + std::to_string(s.by_field) + ", by search " +
           std::to_string(s.by_search) + ")\n";
   const GoalCacheStats& c = s.cache;
-  char line[400];
+  char line[640];
   std::snprintf(line, sizeof line,
-                "goal cache: %lld hits, %lld misses, %lld evictions, %lld fields built, %lld "
-                "repaired, %lld rebuilt; %lld fields and %lld landmarks in %.1f MB (peak %.1f, "
+                "goal cache: %lld hits, %lld misses, %lld evictions, %lld fields built (%lld "
+                "being built), %lld repaired, %lld rebuilt, %lld dropped as dearer to repair "
+                "than to search; %lld fields and %lld landmarks in %.1f MB (peak %.1f, "
                 "cap %.1f); %lld searches, %lld proved unreachable\n",
                 static_cast<long long>(c.hits), static_cast<long long>(c.misses),
                 static_cast<long long>(c.evictions), static_cast<long long>(c.builds),
-                static_cast<long long>(c.repairs), static_cast<long long>(c.rebuilds),
+                static_cast<long long>(c.pending), static_cast<long long>(c.repairs),
+                static_cast<long long>(c.rebuilds), static_cast<long long>(c.dropped_costly),
                 static_cast<long long>(c.fields), static_cast<long long>(c.landmarks),
                 static_cast<double>(c.bytes) / 1048576.0,
                 static_cast<double>(c.peak_bytes) / 1048576.0,
@@ -248,8 +250,8 @@ void DeclareGoalOptions(OptionGroup& group, GoalOptions& options) {
                "named goals for goal requests, one per line: NAME ROW,COL (a cell) or NAME X,Y "
                "(metres, numbers with a point)");
   group.Option("--goal-cache-mb", options.cache_mb, "MB",
-               "memory of the goal distance fields (8 bytes a cell each; 0-65536, 0: every goal "
-               "searched)",
+               "memory of the goal distance fields, landmarks and fields being built included "
+               "(2 bytes a free cell each; 0-65536, 0: every goal searched)",
                "256");
   group.Option("--resolution", options.resolution, "METRES",
                "metres per cell of a map without a frame (a ROS map's YAML has its own)", "1");
