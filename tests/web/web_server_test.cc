@@ -22,6 +22,7 @@
 
 #include "tools/web/host_check.h"
 #include "tools/web/messages.h"
+#include "tools/web/service_latency.h"
 
 namespace dynapath::web {
 namespace {
@@ -366,6 +367,102 @@ TEST(WebServer, DropsAClientThatDoesNotRead) {
   EXPECT_EQ(server.counters().dropped_slow, 1);  // the reader is still served
   stop = true;
   drain.join();
+}
+
+TEST(ServiceLatency, TimesEachReplyFromItsRequestInOneSecondWindows) {
+  ServiceLatency latency;
+  const double t = 1'000'000.0;  // ms: the start of a window
+  // Window 1: three requests answered 2, 4 and 10 ms later; a reply whose
+  // request was never seen.
+  EXPECT_FALSE(latency.Request("robot", 1, t + 100));
+  EXPECT_FALSE(latency.Request("robot", 2, t + 100));
+  EXPECT_FALSE(latency.Request("fleet", 1, t + 200));  // another client, the same id
+  EXPECT_FALSE(latency.Reply("robot", 1, t + 102));
+  EXPECT_FALSE(latency.Reply("fleet", 1, t + 210));
+  EXPECT_FALSE(latency.Reply("robot", 2, t + 104));
+  EXPECT_FALSE(latency.Reply("robot", 99, t + 300));
+  EXPECT_EQ(latency.pending(), 0u);
+  // A request in the next window closes the first.
+  const std::optional<ServiceWindow> w = latency.Request("robot", 3, t + 1'000);
+  ASSERT_TRUE(w);
+  EXPECT_EQ(w->end_ms, t + 1'000);
+  EXPECT_EQ(w->replies, 3);
+  EXPECT_EQ(w->unmatched, 1);
+  EXPECT_EQ(w->per_second, 4.0);  // every reply, matched or not
+  // Percentiles are the upper edge of a histogram bucket (1/64 of an octave
+  // above 1 ms); the maximum is exact.
+  EXPECT_GE(w->p50_ms, 4.0);
+  EXPECT_LE(w->p50_ms, 4.0 * 1.011);
+  EXPECT_GE(w->p99_ms, 10.0);
+  EXPECT_LE(w->p99_ms, 10.0 * 1.011);
+  EXPECT_EQ(w->max_ms, 10.0);
+  // A window without replies is not returned; the next one with replies is.
+  EXPECT_FALSE(latency.Request("robot", 4, t + 2'500));
+  EXPECT_FALSE(latency.Request("robot", 5, t + 3'100));
+  EXPECT_FALSE(latency.Reply("robot", 5, t + 3'101));
+  const std::optional<ServiceWindow> next = latency.Reply("robot", 4, t + 4'000);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->end_ms, t + 4'000);
+  EXPECT_EQ(next->replies, 1);
+  EXPECT_EQ(next->max_ms, 1.0);
+}
+
+TEST(ServiceLatency, ForgetsTheOldestRequestsBeyondItsCap) {
+  ServiceLatency latency(/*max_pending=*/200);
+  // 100 requests wait; 1000 more are answered at once (the order of keys
+  // is compacted on the way): none of the 100 is lost.
+  for (int64_t id = 0; id < 100; ++id) (void)latency.Request("robot", id, 5.0);
+  for (int64_t id = 1000; id < 2000; ++id) {
+    (void)latency.Request("fleet", id, 5.0);
+    (void)latency.Reply("fleet", id, 6.0);
+  }
+  EXPECT_EQ(latency.pending(), 100u);
+  EXPECT_EQ(latency.forgotten(), 0);
+  // 150 more unanswered: the cap keeps the latest 200 waiting.
+  for (int64_t id = 100; id < 250; ++id) (void)latency.Request("robot", id, 7.0);
+  EXPECT_EQ(latency.pending(), 200u);
+  EXPECT_EQ(latency.forgotten(), 50);
+  (void)latency.Reply("robot", 49, 9.0);   // forgotten
+  (void)latency.Reply("robot", 50, 9.0);   // still waiting: 4 ms
+  (void)latency.Reply("robot", 249, 9.0);  // 2 ms
+  const std::optional<ServiceWindow> w = latency.Request("robot", 1000, 1'000.0);
+  ASSERT_TRUE(w);
+  EXPECT_EQ(w->replies, 1002);  // the 1000 answered at once, 50 and 249
+  EXPECT_EQ(w->unmatched, 1);
+  EXPECT_EQ(w->max_ms, 4.0);
+}
+
+TEST(WebServer, SendsTheServiceLatencyToThePage) {
+  WebServer server(TestOptions());
+  ASSERT_TRUE(server.Start());
+  RawClient page(server.port());
+  ASSERT_EQ(page.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 1; }));
+  path_request_t request{};
+  request.client = "robot";
+  request.request_id = 7;
+  path_reply_t reply{};
+  reply.client = "robot";
+  reply.request_id = 7;
+  server.Request(request, 5'000.0);
+  server.Paths(reply, 5'003.0);
+  request.request_id = 8;
+  server.Request(request, 6'000.0);  // closes the window of 5 s
+  std::string received;
+  ASSERT_TRUE(WaitFor([&] {
+    received += page.Read(50);
+    return received.find("\"t\":\"service\"") != std::string::npos;
+  }));
+  EXPECT_NE(received.find("\"max\":3.0"), std::string::npos) << received;
+  EXPECT_NE(received.find("\"replies\":1"), std::string::npos) << received;
+  // A client that connects later gets the windows so far.
+  RawClient late(server.port());
+  ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  std::string history;
+  ASSERT_TRUE(WaitFor([&] {
+    history += late.Read(50);
+    return history.find("\"t\":\"service_history\"") != std::string::npos;
+  }));
 }
 
 TEST(PageFrames, DeltaRebuildsThePolicy) {

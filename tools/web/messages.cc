@@ -234,6 +234,13 @@ std::string ReportJson(const step_report_t& r, double received_ms) {
   return message.dump();
 }
 
+std::string ServiceJson(const ServiceWindow& w) {
+  json message = {{"t", "service"},          {"end", w.end_ms},   {"replies", w.replies},
+                  {"rate", w.per_second},    {"p50", w.p50_ms},   {"p99", w.p99_ms},
+                  {"max", w.max_ms},         {"unmatched", w.unmatched}};
+  return message.dump();
+}
+
 std::string ChangesJson(const changes_t& c, double received_ms) {
   json message = {{"t", "changes"},   {"step", c.time_step}, {"steps", c.total_steps},
                   {"cells", c.cells}, {"codes", c.codes},    {"rx", received_ms}};

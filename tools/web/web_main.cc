@@ -145,6 +145,8 @@ int Run(const std::vector<std::string>& args) {
                            [&](changes_t& m) { server.Changes(std::move(m), NowMs()); });
   bus.Subscribe<step_report_t>(ch::kReport, [&](step_report_t& m) { server.Report(m, NowMs()); });
   bus.Subscribe<policy_t>(ch::kPolicy, [&](policy_t& m) { server.Policy(std::move(m), NowMs()); });
+  bus.Subscribe<path_request_t>(ch::kPathRequest,
+                                [&](path_request_t& m) { server.Request(m, NowMs()); });
   bus.Subscribe<path_reply_t>(ch::kPathReply,
                               [&](path_reply_t& m) { server.Paths(std::move(m), NowMs()); });
   bus.Subscribe<obstacle_update_t>(

@@ -66,6 +66,8 @@ struct WebServer::Impl {
   std::vector<std::string> approach_order;
   std::map<std::string, ApproachState> approaches;
   std::vector<std::string> reports;
+  ServiceLatency service_latency;
+  std::vector<std::string> service_windows;  // ServiceJson texts, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
 
   mutable std::mutex counters_mutex;
@@ -320,6 +322,15 @@ struct WebServer::Impl {
       history += "]}";
       SendText(handle, history);
     }
+    if (!service_windows.empty()) {
+      std::string history = "{\"t\":\"service_history\",\"windows\":[";
+      for (size_t i = 0; i < service_windows.size(); ++i) {
+        if (i > 0) history += ',';
+        history += service_windows[i];
+      }
+      history += "]}";
+      SendText(handle, history);
+    }
   }
 
   void OnClose(Handle handle) {
@@ -506,7 +517,23 @@ struct WebServer::Impl {
         packed_ms - taken_ms, WallMs() - packed_ms);
   }
 
+  void TakeServiceWindow(const std::optional<ServiceWindow>& window) {
+    if (!window) return;
+    std::string text = ServiceJson(*window);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    if (static_cast<int>(service_windows.size()) >= options.max_service_windows) {
+      service_windows.erase(service_windows.begin(),
+                            service_windows.begin() + service_windows.size() / 2);
+    }
+    service_windows.push_back(std::move(text));
+  }
+
+  void TakeRequest(const std::string& client, int64_t request_id, double received_ms) {
+    TakeServiceWindow(service_latency.Request(client, request_id, received_ms));
+  }
+
   void TakePaths(const path_reply_t& reply, double received_ms) {
+    TakeServiceWindow(service_latency.Reply(reply.client, reply.request_id, received_ms));
     const std::string text = PathsJson(reply, received_ms, options.max_paths);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
     ToFoxglove("/paths", received_ms, [&] { return PathsFoxglove(reply); });
@@ -617,6 +644,12 @@ void WebServer::Paths(path_reply_t reply, double received_ms) {
   const int64_t bytes = int64_t{reply.num_path} * 8 + int64_t{reply.num_starts} * 24 + 64;
   impl_->Post(bytes, [this, reply = std::move(reply), received_ms] {
     impl_->TakePaths(reply, received_ms);
+  });
+}
+void WebServer::Request(const path_request_t& request, double received_ms) {
+  const int64_t bytes = static_cast<int64_t>(request.client.size()) + 64;
+  impl_->Post(bytes, [this, client = request.client, id = request.request_id, received_ms] {
+    impl_->TakeRequest(client, id, received_ms);
   });
 }
 void WebServer::Updates(obstacle_update_t update, double received_ms) {

@@ -35,6 +35,7 @@
 #include "dynapath/grid_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/path_reply_t.hpp"
+#include "dynapath/path_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/result.h"
 #include "dynapath/step_report_t.hpp"
@@ -56,6 +57,7 @@ struct ServerOptions {
   int64_t max_pending_bytes = int64_t{256} << 20;
   int max_reports = 20000;  // kept for new clients' plots
   int max_paths = 1000;     // paths of one PATH_REPLY sent to the page
+  int max_service_windows = 3600;  // service latency windows kept for new clients
   std::string run_id;
   std::string version;
   std::map<std::string, PageFile> files;  // "/" and "/app.js", ...
@@ -97,6 +99,8 @@ class WebServer {
   void Changes(changes_t changes, double received_ms);
   void Report(const step_report_t& report, double received_ms);
   void Policy(policy_t policy, double received_ms);
+  // A request only times its reply (ServiceLatency): it is not sent on.
+  void Request(const path_request_t& request, double received_ms);
   void Paths(path_reply_t reply, double received_ms);
   void Updates(obstacle_update_t update, double received_ms);
 

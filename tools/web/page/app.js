@@ -24,6 +24,9 @@ const state = {
   connected: false, run: "", approaches: {}, order: [], maze: null, selected: "",
   reports: {}, reportRx: {}, changes: null, moved: null, paths: [], pathStep: -1,
   framesReceived: 0, framesDrawn: 0, fps: 0, updates: [], drawn: null,
+  // A planning service's latency and throughput, one entry per second
+  // with replies (the server times request to reply on the bus).
+  service: [],
   // Pixel colour [r, g, b] drawn at (row, col) of the shown grid.
   pixel(row, col) {
     const view = shown();
@@ -178,12 +181,23 @@ function onReport(r) {
   dirtyPlots = true;
 }
 
+const MAX_SERVICE = 3600;
+let dirtyService = false;
+function onService(w) {
+  state.service.push(w);
+  if (state.service.length > MAX_SERVICE) state.service.splice(0, MAX_SERVICE / 2);
+  document.getElementById("service").hidden = false;
+  dirtyService = true;
+}
+
 function onText(text) {
   const m = JSON.parse(text);
   switch (m.t) {
     case "hello": state.run = m.run; break;
     case "history": for (const r of m.reports) onReport(r); break;
     case "report": onReport(m); break;
+    case "service_history": for (const w of m.windows) onService(w); break;
+    case "service": onService(m); break;
     case "changes": {
       state.changes = m;
       const view = shown();
@@ -336,6 +350,33 @@ function drawPlot(id, field) {
   });
 }
 
+// Lines over wall-clock time (seconds before the latest window):
+// series [{name, field, colour}] of state.service.
+function drawService(id, series) {
+  const canvas = document.getElementById(id);
+  const g = canvas.getContext("2d");
+  g.clearRect(0, 0, canvas.width, canvas.height);
+  const w = state.service;
+  if (!w.length) return;
+  const t0 = w[0].end, t1 = Math.max(w[w.length - 1].end, t0 + 1000);
+  let hi = 0;
+  for (const x of w) for (const s of series) hi = Math.max(hi, x[s.field]);
+  if (!(hi > 0)) hi = 1;
+  const W = canvas.width, H = canvas.height, pad = 28;
+  g.fillStyle = "#555"; g.font = "10px sans-serif";
+  g.fillText(hi.toPrecision(3), 2, 10); g.fillText("0", 2, H - pad + 10);
+  g.fillText(((t1 - t0) / 1000).toFixed(0) + " s", W - 40, H - 4);
+  series.forEach((s, n) => {
+    g.strokeStyle = s.colour; g.lineWidth = 1.5; g.beginPath();
+    w.forEach((x, i) => {
+      const px = pad + (W - pad - 4) * (x.end - t0) / (t1 - t0), py = 4 + (H - pad - 4) * (1 - x[s.field] / hi);
+      if (i === 0) g.moveTo(px, py); else g.lineTo(px, py);
+    });
+    g.stroke();
+    g.fillStyle = s.colour; g.fillText(s.name, pad + 4 + 40 * n, H - 4);
+  });
+}
+
 function drawKeys() {
   document.getElementById("keys").innerHTML = Object.keys(state.reports)
     .map((name, n) => `<span><i style="background:${LINE[n % LINE.length]}"></i>${name.replace(/[<&>]/g, "")}</span>`).join("");
@@ -353,6 +394,11 @@ function frame(now) {
   const t1 = performance.now();
   if (dirtyOverlay || state.paths.length) { drawOverlay(now); dirtyOverlay = false; }
   const t2 = performance.now();
+  if (dirtyService) {
+    drawService("plot-latency", [{ name: "p50", field: "p50", colour: LINE[0] }, { name: "p99", field: "p99", colour: LINE[1] }]);
+    drawService("plot-rate", [{ name: "replies/s", field: "rate", colour: LINE[2] }]);
+    dirtyService = false;
+  }
   if (dirtyPlots) { drawPlot("plot-success", "success"); drawPlot("plot-length", "length"); drawPlot("plot-adapt", "adapt"); drawKeys(); dirtyPlots = false; }
   state.framesDrawn++; fpsCount++;
   if (now - fpsSince >= 1000) { state.fps = fpsCount * 1000 / (now - fpsSince); fpsCount = 0; fpsSince = now; }
