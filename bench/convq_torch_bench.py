@@ -112,6 +112,25 @@ class DenseConvQ:
             u = new
 
 
+def greedy(grid, u, w):
+    """Each free cell's first best action under the shifted values `u` (in
+    u's dtype), as ConvQValues::ActionValues ranks them; -1 off free cells."""
+    dt = u.dtype.type
+    shift = w["free_reward"] / (1.0 - w["move_discount"])
+    station = dt(w["station_reward"] - shift)
+    base = dt(w["blocked_reward"] - shift + w["bump_discount"] * shift)
+    rows, cols = grid.shape
+    kind = np.pad(grid, 1, constant_values=0)
+    up = np.pad(u, 1)
+    stay = base + dt(w["bump_discount"]) * u
+    q = np.empty((8, rows, cols), dtype=u.dtype)
+    for a, (dr, dc) in enumerate(OFFSETS):
+        k = kind[1 + dr : 1 + dr + rows, 1 + dc : 1 + dc + cols]
+        v = up[1 + dr : 1 + dr + rows, 1 + dc : 1 + dc + cols]
+        q[a] = np.where(k == 1, dt(w["move_discount"]) * v, np.where(k == 2, station, stay))
+    return np.where(grid == 1, np.argmax(q, axis=0), -1)
+
+
 def c_kernel(kernel, grids, repeats):
     """The C++ kernel's (solve seconds, repair (changed, seconds), U0, U_last)."""
     rows, cols = grids[0].shape
@@ -162,10 +181,12 @@ def main():
           f"{span([s for _, s in repair], 1e6, 'us')}")
 
     free0 = grids[0] == 1
+    c_greedy = greedy(grids[0], c_u0, w)
     for dtype in (torch.float64, torch.float32):
         for variant in ("maxpool", "shifts"):
             dense = DenseConvQ(w, dtype, variant)
             u0, iters = dense.settle(grids[0])
+            flips = int(np.sum(greedy(grids[0], u0.numpy(), w) != c_greedy))
             u0 = u0.double().numpy()
             diff = np.abs(u0 - c_u0)
             rel = float(np.max(diff[free0] / np.maximum(np.abs(c_u0[free0]), 1e-300)))
@@ -175,7 +196,7 @@ def main():
             print(f"{variant:>7} {str(dtype)[6:]}: {iters} iterations; values vs C++: "
                   f"{'bit-identical' if np.array_equal(u0, c_u0) else 'differ'} "
                   f"(max rel. error {rel:.3g}, {int(np.sum(diff > 0))} cells differ, "
-                  f"{lost} positive values lost to 0); after step {a.steps}: "
+                  f"{lost} positive values lost to 0, {flips} greedy actions differ); after step {a.steps}: "
                   f"{'bit-identical' if same_last else 'differ'}")
             for threads in (1, 2):
                 torch.set_num_threads(threads)
