@@ -21,6 +21,7 @@ locally from a warm start).
 Usage (the maze from the Python module, Debian's python3-torch):
   PYTHONPATH=build/python /usr/bin/python3 bench/convq_torch_bench.py \
       build/bench/convq_kernel SIZE SEED [--steps N] [--repeats R]
+  ... build/bench/convq_kernel 0 SEED --map MAP --stations 0.5% --movers 2%
 """
 
 import argparse
@@ -160,18 +161,27 @@ def main():
     p.add_argument("size", type=int)
     p.add_argument("seed", type=int)
     p.add_argument("--difficulty", default="hard")
+    p.add_argument("--map", help="a map file instead of a generated maze (size 0)")
+    p.add_argument("--stations", default="0.5%", help="with --map, as `--stations`")
+    p.add_argument("--movers", default="2%", help="with --map, as `--movers`")
     p.add_argument("--steps", type=int, default=10, help="time steps of adaptation timed")
     p.add_argument("--repeats", type=int, default=5, help="whole-map settles timed")
     a = p.parse_args()
-    if a.size < 2 or a.steps < 1 or a.repeats < 1:
-        print("size >= 2, steps >= 1, repeats >= 1", file=sys.stderr)
+    if (a.size < 2 and not a.map) or a.steps < 1 or a.repeats < 1:
+        print("size >= 2 (or --map), steps >= 1, repeats >= 1", file=sys.stderr)
         return 2
 
     w = read_model(MODEL)
-    maze = dynapath.Maze.generate(size=a.size, difficulty=a.difficulty, seed=a.seed,
+    if a.map:
+        maze = dynapath.Maze.load(a.map, stations=a.stations, movers=a.movers, seed=a.seed,
                                   steps=a.steps)
+        name = f"{os.path.basename(a.map)} (stations {a.stations}, movers {a.movers})"
+    else:
+        maze = dynapath.Maze.generate(size=a.size, difficulty=a.difficulty, seed=a.seed,
+                                      steps=a.steps)
+        name = f"{a.difficulty} {a.size}x{a.size}"
     grids = [np.array(maze.grid_at(k)) for k in range(a.steps + 1)]
-    print(f"# {a.difficulty} {a.size}x{a.size} seed {a.seed}, {a.steps} steps, torch "
+    print(f"# {name} seed {a.seed}, {a.steps} steps, torch "
           f"{torch.__version__}, model {dict((k, float(v)) for k, v in w.items())}")
 
     solve, repair, c_u0, c_ul = c_kernel(a.kernel, grids, a.repeats)
