@@ -45,10 +45,15 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::ifstream in(argv[1], std::ios::binary);
+  if (!in) {
+    std::fprintf(stderr, "convq_kernel: cannot open %s\n", argv[1]);
+    return 2;
+  }
   int rows = 0, cols = 0, steps = -1;
   std::string header;
-  if (!std::getline(in, header) || std::sscanf(header.c_str(), "%d %d %d", &rows, &cols, &steps) != 3 ||
-      rows < 1 || cols < 1 || rows > 8192 || cols > 8192 || steps < 0 || steps > 100000) {
+  if (!std::getline(in, header) ||
+      std::sscanf(header.c_str(), "%d %d %d", &rows, &cols, &steps) != 3 || rows < 1 || cols < 1 ||
+      rows > 8192 || cols > 8192 || steps < 0 || steps > 100000) {
     std::fprintf(stderr, "convq_kernel: %s: bad header\n", argv[1]);
     return 2;
   }
