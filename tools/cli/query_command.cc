@@ -247,14 +247,12 @@ int QueryCommand(const std::vector<std::string>& args) {
                  "instead of asking: publish that the cell at X,Y metres is free (repeat for more)")
       ->type_name("X,Y");
   std::optional<std::string> source_given;
-  group.Option("--source", source_given, "NAME",
-               "the update's source name (1-64 characters; sequence numbers count per source)",
-               "query-PID");
+  DeclareUpdateSourceOption(group, source_given, "query-PID");
   std::optional<long long> sequence_given;
   group.Option("--sequence", sequence_given, "N",
                "the update's sequence number (>= 1; the default grows with the clock, so a "
                "later call of one --source is taken)",
-               "microseconds since the epoch");
+               "the clock in microseconds");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kQueryProgram); code >= 0) return code;
