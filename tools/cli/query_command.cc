@@ -193,8 +193,11 @@ int PublishPoints(const runtime::ProcessSetup& process, const std::string& clien
                      .count();
   points.num_points = static_cast<int32_t>(points.x.size());
   (*opened)->bus().Publish(protocol::channel::kMapPoints, points);
-  std::printf("published %d points as update %lld of source %s\n", points.num_points,
-              static_cast<long long>(points.sequence), points.source.c_str());
+  int obstacles = 0;
+  for (int8_t state : points.states) obstacles += state == obstacle_points_t::OBSTACLE ? 1 : 0;
+  std::printf("published update %lld of source %s: %d obstacle, %d free points\n",
+              static_cast<long long>(points.sequence), points.source.c_str(), obstacles,
+              points.num_points - obstacles);
   std::fflush(stdout);
   return 0;
 }
