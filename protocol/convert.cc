@@ -375,8 +375,9 @@ Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& m, cons
     int row = 0, col = 0;
     if (!frame.CellAt(m.x[i], m.y[i], &row, &col)) {
       char text[160];
-      std::snprintf(text, sizeof text, "point (%g, %g) m outside the map (%g m a cell, origin %g, %g)",
-                    m.x[i], m.y[i], frame.resolution, frame.origin_x, frame.origin_y);
+      std::snprintf(text, sizeof text,
+                    "point (%g, %g) m outside the map (%g m a cell, origin %g, %g)", m.x[i], m.y[i],
+                    frame.resolution, frame.origin_x, frame.origin_y);
       return UpdateError{UpdateRefusal::kOutsideGrid, Error(text)};
     }
     if (m.states[i] != obstacle_points_t::OBSTACLE && m.states[i] != obstacle_points_t::FREE) {
@@ -411,15 +412,13 @@ Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m
                   m.origin_x, m.origin_y, frame.origin_x, frame.origin_y, resolution);
     return UpdateError{UpdateRefusal::kOffLattice, Error(text)};
   }
-  if (col0 >= map.cols() || col0 + m.cols <= 0 || bottom0 >= map.rows() ||
-      bottom0 + m.rows <= 0) {
-    return UpdateError{UpdateRefusal::kGridShape,
-                       Error("occupancy grid of " + std::to_string(m.rows) + "x" +
-                             std::to_string(m.cols) +
-                             " cells covers no cell of the map (its origin is cell (" +
-                             std::to_string(static_cast<int64_t>(bottom0)) + ", " +
-                             std::to_string(static_cast<int64_t>(col0)) +
-                             ") from the map's bottom-left)")};
+  if (col0 >= map.cols() || col0 + m.cols <= 0 || bottom0 >= map.rows() || bottom0 + m.rows <= 0) {
+    return UpdateError{
+        UpdateRefusal::kGridShape,
+        Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+              " cells covers no cell of the map (its origin is cell (" +
+              std::to_string(static_cast<int64_t>(bottom0)) + ", " +
+              std::to_string(static_cast<int64_t>(col0)) + ") from the map's bottom-left)")};
   }
   // Now within (-grid side, map side): the overlap in the grid's own cells.
   const int c0 = static_cast<int>(col0), b0 = static_cast<int>(bottom0);
@@ -432,8 +431,8 @@ Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m
   for (int j = first_row; j < end_row; ++j) {
     const int row = map.rows() - 1 - (b0 + j);  // ROS: data row 0 at the bottom
     for (int i = first_col; i < end_col; ++i) {
-      const int8_t value = m.data[static_cast<size_t>(j) * static_cast<size_t>(m.cols) +
-                                  static_cast<size_t>(i)];
+      const int8_t value =
+          m.data[static_cast<size_t>(j) * static_cast<size_t>(m.cols) + static_cast<size_t>(i)];
       if (value < 0 || value > 100) continue;  // unknown
       const double p = value / 100.0;
       const int cell = map.Index(row, c0 + i);

@@ -44,12 +44,13 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
         if (!update) return RefuseUpdate(protocol::channel::kMapUpdates, update.error());
         (void)service_.Submit(*update);
       });
-  bus_.Subscribe<obstacle_points_t>(protocol::channel::kMapPoints, [this](obstacle_points_t& message) {
-    Result<MapUpdate, UpdateError> update =
-        protocol::UpdateFromPoints(message, frame_, service_.maze_fingerprint());
-    if (!update) return RefuseUpdate(protocol::channel::kMapPoints, update.error());
-    (void)service_.Submit(*update);
-  });
+  bus_.Subscribe<obstacle_points_t>(
+      protocol::channel::kMapPoints, [this](obstacle_points_t& message) {
+        Result<MapUpdate, UpdateError> update =
+            protocol::UpdateFromPoints(message, frame_, service_.maze_fingerprint());
+        if (!update) return RefuseUpdate(protocol::channel::kMapPoints, update.error());
+        (void)service_.Submit(*update);
+      });
   bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
     Result<MapUpdate, UpdateError> update =
         protocol::UpdateFromOccupancyGrid(message, service_.maze(), frame_, options_.thresholds);

@@ -86,7 +86,7 @@ class ServiceBus {
   PathService& service_;
   ServiceBusOptions options_;
   std::string approach_;
-  MapFrame frame_;  // metres of obstacle points and occupancy grids
+  MapFrame frame_;                   // metres of obstacle points and occupancy grids
   mutable std::mutex policy_mutex_;  // guards the five below
   std::condition_variable policy_waiting_;
   std::optional<PendingPolicy> pending_;  // the latest commit's, not yet sent

@@ -289,10 +289,10 @@ int QueryCommand(const std::vector<std::string>& args) {
     if (sequence_given && *sequence_given < 1) {
       return runtime::ProcessError(kQueryProgram, "--sequence must be at least 1");
     }
-    points.sequence = sequence_given.value_or(
-        std::chrono::duration_cast<std::chrono::microseconds>(
-            std::chrono::system_clock::now().time_since_epoch())
-            .count());
+    points.sequence =
+        sequence_given.value_or(std::chrono::duration_cast<std::chrono::microseconds>(
+                                    std::chrono::system_clock::now().time_since_epoch())
+                                    .count());
     for (const auto& [texts, option, state] :
          {std::tuple{&obstacle_xy, "obstacle-xy", obstacle_points_t::OBSTACLE},
           std::tuple{&free_xy, "free-xy", obstacle_points_t::FREE}}) {
@@ -307,7 +307,8 @@ int QueryCommand(const std::vector<std::string>& args) {
     return PublishPoints(*process, client, std::move(points), timeout);
   }
   if (source_given || sequence_given) {
-    return runtime::ProcessError(kQueryProgram, "--source and --sequence need --obstacle-xy or --free-xy");
+    return runtime::ProcessError(kQueryProgram,
+                                 "--source and --sequence need --obstacle-xy or --free-xy");
   }
   if (goals_given > 1) {
     return runtime::ProcessError(kQueryProgram, "give one goal: --to, --to-xy or --goal");
