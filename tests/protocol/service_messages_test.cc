@@ -348,6 +348,9 @@ TEST(ServiceMessages, BusDeliversAuthenticatedUpdatesAndDropsOthers) {
   int received = 0;
   service.Subscribe<obstacle_update_t>(channel::kMapUpdates,
                                        [&](obstacle_update_t&) { ++received; });
+  int points_received = 0;
+  service.Subscribe<obstacle_points_t>(channel::kMapPoints,
+                                       [&](obstacle_points_t&) { ++points_received; });
   BusOptions other;
   other.key = *KeyFromSecretText(std::string(40, 'b'));
   Bus good(lcm, "r", secure), forger(lcm, "r", other);
@@ -356,6 +359,20 @@ TEST(ServiceMessages, BusDeliversAuthenticatedUpdatesAndDropsOthers) {
   for (int i = 0; i < 4; ++i) lcm.handleTimeout(10);
   EXPECT_EQ(received, 1);
   EXPECT_EQ(service.counters().unauthenticated, 1);
+  // Points in metres likewise.
+  obstacle_points_t points{};
+  points.run_id = "r";
+  points.source = "lidar";
+  points.sequence = 1;
+  points.num_points = 1;
+  points.x = {0.5};
+  points.y = {0.5};
+  points.states = {obstacle_points_t::OBSTACLE};
+  good.Publish(channel::kMapPoints, points);
+  forger.Publish(channel::kMapPoints, points);
+  for (int i = 0; i < 4; ++i) lcm.handleTimeout(10);
+  EXPECT_EQ(points_received, 1);
+  EXPECT_EQ(service.counters().unauthenticated, 2);
 }
 
 }  // namespace
