@@ -38,7 +38,20 @@ void ValidateAndConvert(const uint8_t* data, int size) {
     // A map of the message's own size (the grid's), stations in one corner.
     dynapath::Grid map(message.rows, message.cols);
     map.set(0, dynapath::Cell::kStation);
-    (void)dynapath::protocol::UpdateFromOccupancyGrid(message, map, {});
+    // The whole map in its own frame, then as a window of a map of 40 x 50
+    // cells of 0.05 m from (-0.16, 0) m (the seeds' frame).
+    (void)dynapath::protocol::UpdateFromOccupancyGrid(
+        message, map,
+        dynapath::MapFrame{message.resolution, message.origin_x, message.origin_y, message.rows,
+                           message.cols},
+        {});
+    dynapath::Grid other(40, 50);
+    other.set(7, dynapath::Cell::kStation);
+    (void)dynapath::protocol::UpdateFromOccupancyGrid(
+        message, other, dynapath::MapFrame{0.05, -0.16, 0.0, 40, 50}, {});
+  } else if constexpr (std::is_same_v<T, dynapath::obstacle_points_t>) {
+    (void)dynapath::protocol::UpdateFromPoints(message, dynapath::MapFrame{0.05, -1.0, 2.0, 64, 64},
+                                               static_cast<uint64_t>(message.maze_fingerprint));
   } else if constexpr (std::is_same_v<T, dynapath::model_round_t>) {
     (void)dynapath::protocol::ConvQOptionsFromRound(message);
     (void)dynapath::protocol::ConvQModelFromRound(message);
@@ -88,6 +101,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ValidateAndConvert<dynapath::policy_t>(data, n);
   ValidateAndConvert<dynapath::obstacle_update_t>(data, n);
   ValidateAndConvert<dynapath::occupancy_grid_t>(data, n);
+  ValidateAndConvert<dynapath::obstacle_points_t>(data, n);
   ValidateAndConvert<dynapath::path_request_t>(data, n);
   ValidateAndConvert<dynapath::path_reply_t>(data, n);
   ValidateAndConvert<dynapath::goal_request_t>(data, n);

@@ -20,9 +20,10 @@ inline constexpr std::string_view kShards = "SHARDS";
 inline constexpr std::string_view kResults = "RESULTS";
 inline constexpr std::string_view kReport = "REPORT";
 inline constexpr std::string_view kPolicy = "POLICY";
-// dynapath serve (docs/howto/SERVICE.md): obstacle updates and occupancy
-// grids in, path requests in and replies out.
+// dynapath serve (docs/howto/SERVICE.md): obstacle updates (cells, or
+// points in metres) and occupancy grids in, path requests in and replies out.
 inline constexpr std::string_view kMapUpdates = "MAP_UPDATES";
+inline constexpr std::string_view kMapPoints = "MAP_POINTS";
 inline constexpr std::string_view kMapGrid = "MAP_GRID";
 inline constexpr std::string_view kPathRequest = "PATH_REQUEST";
 inline constexpr std::string_view kPathReply = "PATH_REPLY";

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "dynapath/learners.h"
@@ -356,29 +358,90 @@ Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int
   return update;
 }
 
-Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
-                                                       const OccupancyThresholds& thresholds) {
-  if (m.rows != map.rows() || m.cols != map.cols()) {
-    return UpdateError{UpdateRefusal::kGridShape,
-                       Error("occupancy grid of " + std::to_string(m.rows) + "x" +
-                             std::to_string(m.cols) + " cells for a " + std::to_string(map.rows()) +
-                             "x" + std::to_string(map.cols()) + " map")};
+Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& m, const MapFrame& frame,
+                                                uint64_t maze) {
+  if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
+    return UpdateError{UpdateRefusal::kOtherMaze,
+                       Error("an update for the maze of fingerprint " +
+                             FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
+                             FingerprintText(maze))};
   }
   MapUpdate update;
   update.source = m.source;
   update.sequence = m.sequence;
   update.utime = m.utime;
-  for (int i = 0; i < m.num_cells; ++i) {
-    const int8_t value = m.data[static_cast<size_t>(i)];
-    if (value < 0 || value > 100) continue;  // unknown
-    const double p = value / 100.0;
-    const int row = map.rows() - 1 - i / m.cols;  // ROS: data row 0 at the bottom
-    const int cell = map.Index(row, i % m.cols);
-    if (map.at(cell) == Cell::kStation) continue;
-    if (p > thresholds.occupied) {
-      update.changes.push_back(CellChange{cell, Cell::kObstacle});
-    } else if (p < thresholds.free) {
-      update.changes.push_back(CellChange{cell, Cell::kFree});
+  update.changes.reserve(static_cast<size_t>(m.num_points));
+  for (int i = 0; i < m.num_points; ++i) {
+    int row = 0, col = 0;
+    if (!frame.CellAt(m.x[i], m.y[i], &row, &col)) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "point (%g, %g) m outside the map (%g m a cell, origin %g, %g)", m.x[i], m.y[i],
+                    frame.resolution, frame.origin_x, frame.origin_y);
+      return UpdateError{UpdateRefusal::kOutsideGrid, Error(text)};
+    }
+    if (m.states[i] != obstacle_points_t::OBSTACLE && m.states[i] != obstacle_points_t::FREE) {
+      return UpdateError{UpdateRefusal::kUnknownState,
+                         Error("unknown state " + std::to_string(m.states[i]))};
+    }
+    const Cell code = m.states[i] == obstacle_points_t::FREE ? Cell::kFree : Cell::kObstacle;
+    update.changes.push_back(CellChange{row * frame.cols + col, code});
+  }
+  return update;
+}
+
+Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
+                                                       const MapFrame& frame,
+                                                       const OccupancyThresholds& thresholds) {
+  const double resolution = frame.resolution;
+  if (!(std::abs(static_cast<double>(m.resolution) - resolution) <= 1e-6 * resolution)) {
+    char text[120];
+    std::snprintf(text, sizeof text, "occupancy grid of %g m a cell for a map of %g m a cell",
+                  static_cast<double>(m.resolution), resolution);
+    return UpdateError{UpdateRefusal::kResolution, Error(text)};
+  }
+  // The grid's origin in cells of the map from the map's origin.
+  const double dx = (m.origin_x - frame.origin_x) / resolution;
+  const double dy = (m.origin_y - frame.origin_y) / resolution;
+  const double col0 = std::round(dx), bottom0 = std::round(dy);
+  if (!(std::abs(dx - col0) <= 1e-3 && std::abs(dy - bottom0) <= 1e-3)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "occupancy grid origin (%g, %g) m is not on the map's cell corners "
+                  "(origin %g, %g, %g m a cell)",
+                  m.origin_x, m.origin_y, frame.origin_x, frame.origin_y, resolution);
+    return UpdateError{UpdateRefusal::kOffLattice, Error(text)};
+  }
+  if (col0 >= map.cols() || col0 + m.cols <= 0 || bottom0 >= map.rows() || bottom0 + m.rows <= 0) {
+    return UpdateError{
+        UpdateRefusal::kGridShape,
+        Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+              " cells covers no cell of the map (its origin is cell (" +
+              std::to_string(static_cast<int64_t>(bottom0)) + ", " +
+              std::to_string(static_cast<int64_t>(col0)) + ") from the map's bottom-left)")};
+  }
+  // Now within (-grid side, map side): the overlap in the grid's own cells.
+  const int c0 = static_cast<int>(col0), b0 = static_cast<int>(bottom0);
+  const int first_col = std::max(0, -c0), end_col = std::min(m.cols, map.cols() - c0);
+  const int first_row = std::max(0, -b0), end_row = std::min(m.rows, map.rows() - b0);
+  MapUpdate update;
+  update.source = m.source;
+  update.sequence = m.sequence;
+  update.utime = m.utime;
+  for (int j = first_row; j < end_row; ++j) {
+    const int row = map.rows() - 1 - (b0 + j);  // ROS: data row 0 at the bottom
+    for (int i = first_col; i < end_col; ++i) {
+      const int8_t value =
+          m.data[static_cast<size_t>(j) * static_cast<size_t>(m.cols) + static_cast<size_t>(i)];
+      if (value < 0 || value > 100) continue;  // unknown
+      const double p = value / 100.0;
+      const int cell = map.Index(row, c0 + i);
+      if (map.at(cell) == Cell::kStation) continue;
+      if (p > thresholds.occupied) {
+        update.changes.push_back(CellChange{cell, Cell::kObstacle});
+      } else if (p < thresholds.free) {
+        update.changes.push_back(CellChange{cell, Cell::kFree});
+      }
     }
   }
   return update;

@@ -12,6 +12,7 @@
 #include "dynapath/convq_training.h"
 #include "dynapath/experiment.h"
 #include "dynapath/federated_job.h"
+#include "dynapath/goal_paths.h"
 #include "dynapath/grid.h"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/job_batch_t.hpp"
@@ -19,6 +20,7 @@
 #include "dynapath/map_update.h"
 #include "dynapath/model_round_t.hpp"
 #include "dynapath/model_shards_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -156,13 +158,24 @@ struct OccupancyThresholds {
   double free = 0.196;
 };
 // A (validated) occupancy grid as an update of `map` (the service's grid:
-// its size and stations): one change per cell whose value is decidedly
-// free or occupied, stations left out (they never change). Data row 0 is
-// the map's bottom row (ROS's origin, see occupancy_grid_t.lcm). Fails
-// with kGridShape when the sizes differ.
+// its size and stations) in the map's `frame`: one change per map cell
+// under a grid cell whose value is decidedly free or occupied, stations
+// left out (they never change). The grid may be a window of the map: data
+// row 0 is the grid's bottom row (ROS's origin, see occupancy_grid_t.lcm),
+// its bottom-left cell the map cell holding its origin; its cells outside
+// the map are ignored (not counted). Fails with kResolution when its
+// resolution is not the frame's (within 1e-6 relative), kOffLattice when
+// its origin is more than a thousandth of a cell off the map's cell
+// corners, kGridShape when it covers no cell of the map.
 Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& message,
-                                                       const Grid& map,
+                                                       const Grid& map, const MapFrame& frame,
                                                        const OccupancyThresholds& thresholds);
+// A (validated) obstacle update in metres for the map of `frame` whose
+// maze at step 0 has fingerprint `maze`: each point becomes the cell
+// holding it (MapFrame::CellAt). Fails as UpdateFromMessage does: a point
+// outside the map is kOutsideGrid, and the update is then refused whole.
+Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& message,
+                                                const MapFrame& frame, uint64_t maze);
 
 // The reply to request (`client`, `request_id`): `refused` one of
 // path_reply_t's ACCEPTED, TOO_MANY_STARTS, NOT_READY; `snapshot` (null

@@ -16,7 +16,8 @@ inline constexpr int64_t kMaxGridCells = static_cast<int64_t>(kMaxGridSide) * kM
 // dynapath serve's messages. Names of sources and clients (what the
 // service keeps per source: its last sequence number).
 inline constexpr size_t kMaxPeerNameChars = 64;
-// Cells of one obstacle update (a whole map travels as an occupancy grid).
+// Cells of one obstacle update, points of one obstacle_points_t (a whole
+// map travels as an occupancy grid).
 inline constexpr int32_t kMaxUpdateCells = 65536;
 // Starts of one path request the wire accepts (the service answers at most
 // its --max-starts of them and refuses larger requests with a status).

@@ -362,9 +362,31 @@ Status Validate(const obstacle_update_t& m) {
   return Ok{};
 }
 
+Status Validate(const obstacle_points_t& m) {
+  if (!PeerName(m.source)) return Error::Corrupt("source name must have 1-64 characters");
+  if (m.sequence < 1) return Error::Corrupt("sequence numbers start at 1");
+  if (m.num_points < 0 || m.num_points > kMaxUpdateCells) return Error::Corrupt("too many points");
+  if (!Count(m.num_points, m.x.size()) || m.y.size() != m.x.size() ||
+      m.states.size() != m.x.size()) {
+    return Error::Corrupt("point count mismatch");
+  }
+  for (size_t i = 0; i < m.x.size(); ++i) {
+    if (!std::isfinite(m.x[i]) || !std::isfinite(m.y[i])) {
+      return Error::Corrupt("non-finite coordinate");
+    }
+  }
+  return Ok{};
+}
+
 Status Validate(const occupancy_grid_t& m) {
   if (!PeerName(m.source)) return Error::Corrupt("source name must have 1-64 characters");
   if (m.sequence < 1) return Error::Corrupt("sequence numbers start at 1");
+  if (!std::isfinite(m.resolution) || !(m.resolution > 0)) {
+    return Error::Corrupt("resolution must be finite and above 0");
+  }
+  if (!std::isfinite(m.origin_x) || !std::isfinite(m.origin_y)) {
+    return Error::Corrupt("non-finite origin");
+  }
   if (!GridSize(m.rows, m.cols)) return Error::Corrupt("bad grid size");
   if (Wide(m.num_cells) != Wide(m.rows) * Wide(m.cols) || !Count(m.num_cells, m.data.size())) {
     return Error::Corrupt("cell count does not match rows x cols");

@@ -18,6 +18,7 @@
 #include "dynapath/limits.h"
 #include "dynapath/model_round_t.hpp"
 #include "dynapath/model_shards_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -52,8 +53,10 @@ Status Validate(const model_shards_t& message);
 // dynapath serve's messages: structure and the protocol's caps only; whether
 // the cells lie inside the service's grid and what they change is checked
 // against that grid (protocol/convert.h, ServiceUpdates), so that the
-// service counts each refusal by its reason.
+// service counts each refusal by its reason. Coordinates, resolutions and
+// origins must be finite (a resolution > 0).
 Status Validate(const obstacle_update_t& message);
+Status Validate(const obstacle_points_t& message);
 Status Validate(const occupancy_grid_t& message);
 Status Validate(const path_request_t& message);
 Status Validate(const path_reply_t& message);

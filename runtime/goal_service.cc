@@ -254,7 +254,9 @@ void DeclareGoalOptions(OptionGroup& group, GoalOptions& options) {
                "(2 bytes a free cell each; 0-65536, 0: every goal searched)",
                "256");
   group.Option("--resolution", options.resolution, "METRES",
-               "metres per cell of a map without a frame (a ROS map's YAML has its own)", "1");
+               "metres per cell of a map without a frame, for poses, obstacle points and "
+               "occupancy grids (a ROS map's YAML has its own)",
+               "1");
   group.Option("--origin", options.origin, "X,Y",
                "metres of the bottom-left corner of the map's bottom-left cell (maps without a "
                "frame)",

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "dynapath/changes_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_request_t.hpp"
@@ -30,6 +31,11 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
       options_(options),
       approach_(ApproachName(service.config().approach)) {
   const Grid& maze = service_.maze();
+  if (options_.goals != nullptr) {
+    frame_ = options_.goals->frame();
+  } else {
+    frame_ = MapFrame{1.0, 0.0, 0.0, maze.rows(), maze.cols()};
+  }
   bus_.Subscribe<obstacle_update_t>(
       protocol::channel::kMapUpdates,
       [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
@@ -38,9 +44,16 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
         if (!update) return RefuseUpdate(protocol::channel::kMapUpdates, update.error());
         (void)service_.Submit(*update);
       });
+  bus_.Subscribe<obstacle_points_t>(
+      protocol::channel::kMapPoints, [this](obstacle_points_t& message) {
+        Result<MapUpdate, UpdateError> update =
+            protocol::UpdateFromPoints(message, frame_, service_.maze_fingerprint());
+        if (!update) return RefuseUpdate(protocol::channel::kMapPoints, update.error());
+        (void)service_.Submit(*update);
+      });
   bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
     Result<MapUpdate, UpdateError> update =
-        protocol::UpdateFromOccupancyGrid(message, service_.maze(), options_.thresholds);
+        protocol::UpdateFromOccupancyGrid(message, service_.maze(), frame_, options_.thresholds);
     if (!update) return RefuseUpdate(protocol::channel::kMapGrid, update.error());
     (void)service_.Submit(*update);
   });

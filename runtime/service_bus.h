@@ -1,7 +1,9 @@
 #pragma once
 // dynapath serve on the bus: the PathService's messages
 // (docs/howto/SERVICE.md). Updates (obstacle_update_t on MAP_UPDATES,
-// occupancy_grid_t on MAP_GRID, and a recorded run's changes_t on
+// obstacle_points_t on MAP_POINTS and occupancy_grid_t on MAP_GRID, both
+// in metres in the map's frame: the goal service's, else 1 m cells from
+// (0, 0); and a recorded run's changes_t on
 // ENV_CHANGES replayed by lcm-logplayer) are converted and submitted; requests
 // (path_request_t on PATH_REQUEST) are answered on the dispatch thread
 // itself from the committed snapshot (a few microseconds of work: no queue
@@ -47,7 +49,8 @@ struct ServiceBusOptions {
   // Requests of this client are not answered: the service's own probe for
   // another service of its run (dynapath serve asks before it starts).
   std::string own_probe_client;
-  // Answers goal_request_t on GOAL_REQUEST (null: not subscribed).
+  // Answers goal_request_t on GOAL_REQUEST (null: not subscribed). Its
+  // frame is also the one of obstacle points and occupancy grids.
   GoalService* goals = nullptr;
 };
 
@@ -83,6 +86,7 @@ class ServiceBus {
   PathService& service_;
   ServiceBusOptions options_;
   std::string approach_;
+  MapFrame frame_;                   // metres of obstacle points and occupancy grids
   mutable std::mutex policy_mutex_;  // guards the five below
   std::condition_variable policy_waiting_;
   std::optional<PendingPolicy> pending_;  // the latest commit's, not yet sent

@@ -18,6 +18,10 @@ const char* UpdateRefusalName(UpdateRefusal why) {
       return "grid_shape";
     case UpdateRefusal::kOtherMaze:
       return "other_maze";
+    case UpdateRefusal::kResolution:
+      return "resolution";
+    case UpdateRefusal::kOffLattice:
+      return "off_lattice";
   }
   return "unknown";
 }

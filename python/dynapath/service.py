@@ -1,4 +1,4 @@
-"""A client of a running ``dynapath serve``: paths, probes and obstacle updates.
+"""A client of a running ``dynapath serve``: paths, probes and obstacle updates (cells or metres).
 
 :class:`ServiceClient` is the C++ client the CLI's ``query`` and ``feed``
 use (runtime/service_client.h), bound here: LCM (liblcm, linked into the
@@ -19,6 +19,14 @@ def _cells(cells, what):
     for pair in pairs:
         if len(pair) != 2:
             raise ValueError(f"{what}: each cell is (row, col), got {pair}")
+    return pairs
+
+
+def _points(points, what):
+    pairs = [tuple(float(v) for v in point) for point in points]
+    for pair in pairs:
+        if len(pair) != 2:
+            raise ValueError(f"{what}: each point is (x, y) in metres, got {pair}")
     return pairs
 
 
@@ -118,6 +126,27 @@ class ServiceClient:
         """
         return self._core.update(_cells(blocked, "blocked"), _cells(freed, "freed"),
                                  self._timeout(timeout))
+
+    def update_xy(self, blocked=(), freed=(), timeout=None):
+        """Publish one obstacle update in metres: positions that became obstacles or free.
+
+        Positions are (x, y) in the map's frame (a ROS map's resolution and
+        origin, else the service's --resolution and --origin); the service
+        turns each into the cell holding it and refuses the whole update
+        when one lies outside the map. Sequence numbers are shared with
+        :meth:`update`.
+
+        Parameters
+        ----------
+        blocked, freed : sequence of (x, y) in metres
+
+        Returns
+        -------
+        int
+            The update's sequence number.
+        """
+        return self._core.update_xy(_points(blocked, "blocked"), _points(freed, "freed"),
+                                    self._timeout(timeout))
 
     def wait_for_step(self, step, timeout=None):
         """Wait until the service's policy is of time step `step` or later; returns its step."""

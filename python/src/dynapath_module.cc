@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstring>
 #include <exception>
@@ -34,6 +35,7 @@
 #include "dynapath/grid.h"
 #include "dynapath/limits.h"
 #include "dynapath/mdp.h"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/path_reply_t.hpp"
 #include "dynapath/policy_evaluation.h"
@@ -957,6 +959,44 @@ class PythonServiceClient {
     return update.sequence;
   }
 
+  // The same in metres in the map's frame (obstacle_points_t on
+  // MAP_POINTS): the service turns each point into the cell holding it.
+  // Its sequence numbers are the same counter as Update's.
+  int64_t UpdateXy(const std::vector<std::pair<double, double>>& blocked,
+                   const std::vector<std::pair<double, double>>& freed, double timeout) {
+    if (blocked.empty() && freed.empty()) throw std::invalid_argument("an update changes no cell");
+    if (blocked.size() + freed.size() > static_cast<size_t>(protocol::kMaxUpdateCells)) {
+      throw std::invalid_argument("too many points in one update");
+    }
+    for (const auto* points : {&blocked, &freed}) {
+      for (const auto& [x, y] : *points) {
+        if (!std::isfinite(x) || !std::isfinite(y)) {
+          throw std::invalid_argument("a point's x and y must be finite metres");
+        }
+      }
+    }
+    if (!fingerprint_) fingerprint_ = static_cast<uint64_t>(Ask({}, timeout).maze_fingerprint);
+    obstacle_points_t update{};
+    update.run_id = process_.run_id;
+    update.source = source_;
+    update.sequence = ++sequence_;
+    update.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
+    update.maze_fingerprint = static_cast<int64_t>(*fingerprint_);
+    for (const auto& [points, state] : {std::pair{&blocked, obstacle_points_t::OBSTACLE},
+                                        std::pair{&freed, obstacle_points_t::FREE}}) {
+      for (const auto& [x, y] : *points) {
+        update.x.push_back(x);
+        update.y.push_back(y);
+        update.states.push_back(state);
+      }
+    }
+    update.num_points = static_cast<int32_t>(update.x.size());
+    client_->bus().Publish(protocol::channel::kMapPoints, update);
+    return update.sequence;
+  }
+
   // Probes until the service's policy is of time step `step` or later;
   // returns the step.
   int WaitForStep(int step, double timeout) {
@@ -1265,6 +1305,8 @@ baselines : numpy.ndarray of float64
       .def("query", &PythonServiceClient::Query, py::arg("starts"), py::arg("timeout"))
       .def("probe", &PythonServiceClient::Probe, py::arg("timeout"))
       .def("update", &PythonServiceClient::Update, py::arg("blocked"), py::arg("freed"),
+           py::arg("timeout"))
+      .def("update_xy", &PythonServiceClient::UpdateXy, py::arg("blocked"), py::arg("freed"),
            py::arg("timeout"))
       .def("wait_for_step", &PythonServiceClient::WaitForStep, py::arg("step"), py::arg("timeout"));
   m.def("_evaluation_seconds", &EvaluationSeconds, py::arg("maze"), py::arg("actions"),

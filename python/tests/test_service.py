@@ -57,6 +57,13 @@ SESSION = textwrap.dedent("""
                 bad.append(str(path))
         out["paths"] = len(paths)
         out["bad"] = bad[:3]
+        # An obstacle named in metres (the service's frame: 1 m cells from
+        # (0, 0)): the cell holding it is blocked from the next step on.
+        row, col = [tuple(int(v) for v in c) for c in np.argwhere(grid == dynapath.FREE)][0]
+        sequence = client.update_xy(blocked=[(col + 0.3, grid.shape[0] - 1 - row + 0.9)])
+        client.wait_for_step(info["step"] + 1)
+        out["xy_sequence"] = sequence
+        out["xy_status"] = client.query([(row, col)])[0]["status"]
         stranger = dynapath.ServiceClient(run_id="py", lcm_url=url, secret_file="other.key",
                                           timeout=1)
         try:
@@ -93,6 +100,7 @@ def test_client_of_a_real_service(netns, tmp_path):
     assert lines[0].startswith("service: Incremental Oracle on maze "), lines
     assert lines[0].split()[5].rstrip(",") == dynapath.Maze.generate(size=20,
                                                                      difficulty="easy").fingerprint
+    assert out["xy_status"] == "start_obstacle", out
     answers = lines[1:]
     assert len(answers) == 10 and {a.split()[1] for a in answers} == {"0", "2"}, answers
     for answer in answers:  # "step S (r, c): reached, N moves (exact N), by exact"

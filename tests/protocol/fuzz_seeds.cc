@@ -86,7 +86,24 @@ int main(int argc, char** argv) {
   occupancy.cols = 4;
   occupancy.num_cells = 12;
   occupancy.data = {0, 100, -1, 50, 0, 0, 0, 100, 100, 0, -1, 0};
+  occupancy.resolution = 0.05F;
+  occupancy.origin_x = -0.16;
+  occupancy.origin_y = 0.0;
   ok = ok && Write(dir + "/decode_fuzz/occupancy_grid_valid", Encoded(occupancy));
+  // A window of the fuzzer's 40 x 50 map, 3 cells from its origin.
+  occupancy.origin_x = -0.01;
+  ok = ok && Write(dir + "/decode_fuzz/occupancy_grid_window", Encoded(occupancy));
+  obstacle_points_t points{};
+  points.run_id = "r1";
+  points.source = "lidar";
+  points.sequence = 1;
+  points.maze_fingerprint = static_cast<int64_t>(MazeFingerprint(grid));
+  points.num_points = 3;
+  points.x = {-1.0, 0.5, 2.2};  // the fuzzer's frame: 0.05 m cells from (-1, 2)
+  points.y = {2.0, 3.0, 5.2};
+  points.states = {obstacle_points_t::OBSTACLE, obstacle_points_t::FREE,
+                   obstacle_points_t::OBSTACLE};
+  ok = ok && Write(dir + "/decode_fuzz/obstacle_points_valid", Encoded(points));
   // A round of a federated training of convQ's model and an agent's shards
   // of it, valid.
   {

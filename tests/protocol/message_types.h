@@ -22,6 +22,7 @@
 #include "dynapath/learner_shard_t.hpp"
 #include "dynapath/model_round_t.hpp"
 #include "dynapath/model_shards_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -77,7 +78,7 @@ inline const std::vector<MessageType>& AllMessageTypes() {
       MakeMessageType<occupancy_grid_t>(), MakeMessageType<path_request_t>(),
       MakeMessageType<path_reply_t>(),     MakeMessageType<goal_request_t>(),
       MakeMessageType<goal_reply_t>(),     MakeMessageType<model_round_t>(),
-      MakeMessageType<model_shards_t>(),
+      MakeMessageType<model_shards_t>(),   MakeMessageType<obstacle_points_t>(),
   };
   return types;
 }

@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <lcm/lcm-cpp.hpp>
+#include <limits>
+#include <utility>
+#include <vector>
 
 #include "dynapath/bfs_oracle.h"
 #include "protocol/bus.h"
@@ -87,30 +90,200 @@ TEST(ServiceMessages, ObstacleUpdateValidationAndConversion) {
 TEST(ServiceMessages, OccupancyGridIsRosLayoutWithThresholds) {
   Grid map(2, 3);
   map.set(0, 0, Cell::kStation);
+  const MapFrame frame{0.5, -1.0, 2.0, 2, 3};
   occupancy_grid_t m{};
   m.run_id = "r";
   m.source = "map";
   m.sequence = 1;
+  m.resolution = 0.5F;
+  m.origin_x = -1.0;
+  m.origin_y = 2.0;
   m.rows = 2;
   m.cols = 3;
   m.num_cells = 6;
   // Data row 0 is the map's bottom row (row 1), row 1 its top (row 0).
   m.data = {100, 10, 30, /*top:*/ 100, -1, 66};
   ASSERT_EQ(ValidationProblem(m), "");
-  Result<MapUpdate, UpdateError> update = UpdateFromOccupancyGrid(m, map, {});
+  Result<MapUpdate, UpdateError> update = UpdateFromOccupancyGrid(m, map, frame, {});
   ASSERT_TRUE(update.ok());
   // (1,0) obstacle, (1,1) free, (1,2) 0.30 unchanged; (0,0) a station left
   // out, (0,1) unknown, (0,2) 0.66 obstacle.
   const std::vector<CellChange> expected = {
       {3, Cell::kObstacle}, {4, Cell::kFree}, {2, Cell::kObstacle}};
   EXPECT_EQ(update->changes, expected);
-  m.cols = 2;
-  m.num_cells = 4;
-  m.data.resize(4);
-  Result<MapUpdate, UpdateError> refused = UpdateFromOccupancyGrid(m, map, {});
+  // Another resolution, an origin between the map's cell corners.
+  occupancy_grid_t other = m;
+  other.resolution = 0.25F;
+  Result<MapUpdate, UpdateError> refused = UpdateFromOccupancyGrid(other, map, frame, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kResolution);
+  EXPECT_EQ(refused.error().error.message,
+            "occupancy grid of 0.25 m a cell for a map of 0.5 m a cell");
+  other = m;
+  other.origin_x = -0.75;
+  refused = UpdateFromOccupancyGrid(other, map, frame, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kOffLattice);
+  other = m;
+  other.origin_y = 2.0 + 1e-9;  // rounding of a publisher's arithmetic: on the lattice
+  EXPECT_TRUE(UpdateFromOccupancyGrid(other, map, frame, {}).ok());
+  // Wholly beside the map (right of it, then below it).
+  other = m;
+  other.origin_x = -1.0 + 3 * 0.5;
+  refused = UpdateFromOccupancyGrid(other, map, frame, {});
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().why, UpdateRefusal::kGridShape);
-  EXPECT_EQ(refused.error().error.message, "occupancy grid of 2x2 cells for a 2x3 map");
+  other = m;
+  other.origin_y = 2.0 - 2 * 0.5;
+  refused = UpdateFromOccupancyGrid(other, map, frame, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kGridShape);
+  // Validation: a resolution must be above 0, the origin finite.
+  other = m;
+  other.resolution = 0;
+  EXPECT_NE(ValidationProblem(other), "");
+  other = m;
+  other.origin_x = std::numeric_limits<double>::infinity();
+  EXPECT_NE(ValidationProblem(other), "");
+}
+
+TEST(ServiceMessages, OccupancyGridWindowsUpdateTheCellsTheyCover) {
+  // A 4 x 5 map of 0.1 m cells whose bottom-left corner is at (2, -3) m.
+  const Grid map(4, 5);
+  const MapFrame frame{0.1, 2.0, -3.0, 4, 5};
+  occupancy_grid_t m{};
+  m.source = "costmap";
+  m.sequence = 1;
+  m.resolution = 0.1F;
+  m.rows = 2;
+  m.cols = 2;
+  m.num_cells = 4;
+  m.data = {100, 0, /*its top row:*/ 0, 100};
+  // Its origin 3 cells right of and 1 cell above the map's: data (0,0) is
+  // map column 3 of the row above the bottom (row 2), data (1,1) is
+  // column 4 of row 1.
+  m.origin_x = 2.0 + 3 * 0.1;
+  m.origin_y = -3.0 + 1 * 0.1;
+  Result<MapUpdate, UpdateError> update = UpdateFromOccupancyGrid(m, map, frame, {});
+  ASSERT_TRUE(update.ok());
+  std::vector<CellChange> expected = {{map.Index(2, 3), Cell::kObstacle},
+                                      {map.Index(2, 4), Cell::kFree},
+                                      {map.Index(1, 3), Cell::kFree},
+                                      {map.Index(1, 4), Cell::kObstacle}};
+  EXPECT_EQ(update->changes, expected);
+  // Over the map's top-right corner: only data (0,0) is on the map (row 0,
+  // column 4); the rest is ignored.
+  m.origin_x = 2.0 + 4 * 0.1;
+  m.origin_y = -3.0 + 3 * 0.1;
+  update = UpdateFromOccupancyGrid(m, map, frame, {});
+  ASSERT_TRUE(update.ok());
+  expected = {{map.Index(0, 4), Cell::kObstacle}};
+  EXPECT_EQ(update->changes, expected);
+  // Over the bottom-left corner: only data (1,1) is on the map (row 3,
+  // column 0).
+  m.origin_x = 2.0 - 0.1;
+  m.origin_y = -3.0 - 0.1;
+  update = UpdateFromOccupancyGrid(m, map, frame, {});
+  ASSERT_TRUE(update.ok());
+  expected = {{map.Index(3, 0), Cell::kObstacle}};
+  EXPECT_EQ(update->changes, expected);
+  // Larger than the map on every side, at an offset: the map's cells only,
+  // in the order of the grid's data.
+  occupancy_grid_t big = m;
+  big.rows = 8;
+  big.cols = 9;
+  big.num_cells = 72;
+  big.data.assign(72, 0);
+  big.data[static_cast<size_t>(2 * 9 + 3)] = 100;  // grid row 2 from the bottom, column 3
+  big.origin_x = 2.0 - 2 * 0.1;
+  big.origin_y = -3.0 - 1 * 0.1;
+  update = UpdateFromOccupancyGrid(big, map, frame, {});
+  ASSERT_TRUE(update.ok());
+  ASSERT_EQ(update->changes.size(), 20u);
+  // Map row 2 (second from the bottom), column 1.
+  int obstacles = 0;
+  for (const CellChange& change : update->changes) {
+    if (change.code == Cell::kObstacle) {
+      ++obstacles;
+      EXPECT_EQ(change.cell, map.Index(2, 1));
+    }
+  }
+  EXPECT_EQ(obstacles, 1);
+  EXPECT_EQ(update->changes.front().cell, map.Index(3, 0));
+  EXPECT_EQ(update->changes.back().cell, map.Index(0, 4));
+}
+
+TEST(ServiceMessages, ObstaclePointsBecomeTheCellsHoldingThem) {
+  // A 3 x 4 map of 0.5 m cells whose bottom-left corner is at (-1, 2) m:
+  // x from -1 to 1, y from 2 to 3.5.
+  const MapFrame frame{0.5, -1.0, 2.0, 3, 4};
+  obstacle_points_t m{};
+  m.run_id = "r";
+  m.source = "lidar";
+  m.sequence = 1;
+  m.maze_fingerprint = 77;
+  m.num_points = 4;
+  // The bottom-left corner itself; a point on a border between columns 1
+  // and 2 (the right one's); the top-right cell just inside; a cell centre.
+  m.x = {-1.0, 0.0, 0.999, -0.75};
+  m.y = {2.0, 2.75, 3.499, 3.25};
+  m.states = {obstacle_points_t::OBSTACLE, obstacle_points_t::FREE, obstacle_points_t::OBSTACLE,
+              obstacle_points_t::FREE};
+  ASSERT_EQ(ValidationProblem(m), "");
+  Result<MapUpdate, UpdateError> update = UpdateFromPoints(m, frame, 77);
+  ASSERT_TRUE(update.ok());
+  const std::vector<CellChange> expected = {{2 * 4 + 0, Cell::kObstacle},
+                                            {1 * 4 + 2, Cell::kFree},
+                                            {0 * 4 + 3, Cell::kObstacle},
+                                            {0 * 4 + 0, Cell::kFree}};
+  EXPECT_EQ(update->changes, expected);
+  EXPECT_EQ(update->source, "lidar");
+  EXPECT_EQ(update->sequence, 1);
+  // The top and right borders of the map are outside it; so is anything
+  // below or left of the origin.
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {1.0, 2.5}, {0.0, 3.5}, {-1.0001, 2.5}, {0.0, 1.9999}}) {
+    obstacle_points_t outside = m;
+    outside.x[1] = x;
+    outside.y[1] = y;
+    Result<MapUpdate, UpdateError> refused = UpdateFromPoints(outside, frame, 77);
+    ASSERT_FALSE(refused.ok()) << x << "," << y;
+    EXPECT_EQ(refused.error().why, UpdateRefusal::kOutsideGrid);
+  }
+  obstacle_points_t outside = m;
+  outside.x[1] = 1.0;
+  EXPECT_EQ(UpdateFromPoints(outside, frame, 77).error().error.message,
+            "point (1, 2.75) m outside the map (0.5 m a cell, origin -1, 2)");
+  obstacle_points_t unknown = m;
+  unknown.states[0] = 2;
+  Result<MapUpdate, UpdateError> refused = UpdateFromPoints(unknown, frame, 77);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kUnknownState);
+  refused = UpdateFromPoints(m, frame, 78);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kOtherMaze);
+
+  obstacle_points_t bad = m;
+  bad.sequence = 0;
+  EXPECT_NE(ValidationProblem(bad), "");
+  bad = m;
+  bad.source = "";
+  EXPECT_NE(ValidationProblem(bad), "");
+  bad = m;
+  bad.num_points = 5;
+  EXPECT_NE(ValidationProblem(bad), "");
+  bad = m;
+  bad.y.pop_back();
+  EXPECT_NE(ValidationProblem(bad), "");
+  bad = m;
+  bad.x[2] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(ValidationProblem(bad), "");
+  bad = m;
+  bad.num_points = kMaxUpdateCells + 1;
+  bad.x.resize(static_cast<size_t>(bad.num_points));
+  bad.y.resize(bad.x.size());
+  bad.states.resize(bad.x.size());
+  EXPECT_NE(ValidationProblem(bad), "");
 }
 
 TEST(ServiceMessages, RequestsAndReplies) {
@@ -175,6 +348,9 @@ TEST(ServiceMessages, BusDeliversAuthenticatedUpdatesAndDropsOthers) {
   int received = 0;
   service.Subscribe<obstacle_update_t>(channel::kMapUpdates,
                                        [&](obstacle_update_t&) { ++received; });
+  int points_received = 0;
+  service.Subscribe<obstacle_points_t>(channel::kMapPoints,
+                                       [&](obstacle_points_t&) { ++points_received; });
   BusOptions other;
   other.key = *KeyFromSecretText(std::string(40, 'b'));
   Bus good(lcm, "r", secure), forger(lcm, "r", other);
@@ -183,6 +359,20 @@ TEST(ServiceMessages, BusDeliversAuthenticatedUpdatesAndDropsOthers) {
   for (int i = 0; i < 4; ++i) lcm.handleTimeout(10);
   EXPECT_EQ(received, 1);
   EXPECT_EQ(service.counters().unauthenticated, 1);
+  // Points in metres likewise.
+  obstacle_points_t points{};
+  points.run_id = "r";
+  points.source = "lidar";
+  points.sequence = 1;
+  points.num_points = 1;
+  points.x = {0.5};
+  points.y = {0.5};
+  points.states = {obstacle_points_t::OBSTACLE};
+  good.Publish(channel::kMapPoints, points);
+  forger.Publish(channel::kMapPoints, points);
+  for (int i = 0; i < 4; ++i) lcm.handleTimeout(10);
+  EXPECT_EQ(points_received, 1);
+  EXPECT_EQ(service.counters().unauthenticated, 2);
 }
 
 }  // namespace

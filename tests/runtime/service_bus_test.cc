@@ -13,7 +13,9 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
+#include "dynapath/occupancy_grid_t.hpp"
 #include "dynapath/path_request_t.hpp"
 #include "dynapath/policy_t.hpp"
 #include "dynapath/scenario.h"
@@ -271,6 +273,73 @@ TEST(ServiceBus, RepliesNameTheMazeAndForeignUpdatesAreDropped) {
       captured.Contains("refused an update on MAP_UPDATES (other_maze): an update for the "
                         "maze of fingerprint " +
                         FingerprintText(foreign)));
+  EXPECT_TRUE(served.service.Stop().ok());
+}
+
+// Obstacles named in metres (the service's frame without a goal service:
+// 1 m cells from (0, 0)) become the cells holding them; a point outside the
+// map and an occupancy grid of another resolution are refused and counted
+// by their reasons; a source's sequence numbers are shared between its
+// points and its cell updates.
+TEST(ServiceBus, ObstaclePointsAndGridsAreInTheMapsFrame) {
+  const Scenario scenario = GenerateScenario(16, 16, Difficulty::kHard, 3, 2);
+  const uint64_t maze = MazeFingerprint(scenario.grid);
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  ReplyListener client(lcm, "service-bus");
+  BusService served(lcm, scenario);
+  protocol::Dispatcher dispatcher(lcm);
+  served.service.Start();
+  ASSERT_TRUE(served.service.WaitForStep(0, kBusWait));
+
+  obstacle_points_t points{};
+  points.run_id = "service-bus";
+  points.source = "test";
+  points.sequence = 1;
+  points.maze_fingerprint = static_cast<int64_t>(maze);
+  points.num_points = 1;
+  points.x = {16.0};  // the right border of the map: outside
+  points.y = {3.0};
+  points.states = {obstacle_points_t::OBSTACLE};
+  client.bus().Publish(protocol::channel::kMapPoints, points);
+  occupancy_grid_t grid{};
+  grid.run_id = "service-bus";
+  grid.source = "test";
+  grid.sequence = 2;
+  grid.resolution = 0.5F;
+  grid.rows = 16;
+  grid.cols = 16;
+  grid.num_cells = 256;
+  grid.data.assign(256, -1);
+  client.bus().Publish(protocol::channel::kMapGrid, grid);
+  // Step 0's changes at their cells' centres, then a cell update of the
+  // same source with a lower number: stale.
+  const ChangeStep& step = scenario.changes.steps[0];
+  ASSERT_FALSE(step.changes.empty());
+  points.sequence = 5;
+  points.x.clear();
+  points.y.clear();
+  points.states.clear();
+  for (const CellChange& change : step.changes) {
+    points.x.push_back(scenario.grid.ColOf(change.cell) + 0.5);
+    points.y.push_back(scenario.grid.rows() - 1 - scenario.grid.RowOf(change.cell) + 0.5);
+    points.states.push_back(change.code == Cell::kObstacle ? obstacle_points_t::OBSTACLE
+                                                           : obstacle_points_t::FREE);
+  }
+  points.num_points = static_cast<int32_t>(points.x.size());
+  client.bus().Publish(protocol::channel::kMapPoints, points);
+  client.bus().Publish(protocol::channel::kMapUpdates, UpdateMessage(step, scenario.grid, maze, 4));
+  // A request after them: its reply means all of them were handled.
+  client.Ask(1);
+  ASSERT_TRUE(client.WaitFor(1));
+  ASSERT_TRUE(served.service.WaitForStep(1, kBusWait));
+  const ServiceStats stats = served.service.stats();
+  EXPECT_EQ(stats.updates.refused[static_cast<size_t>(UpdateRefusal::kOutsideGrid)], 1);
+  EXPECT_EQ(stats.updates.refused[static_cast<size_t>(UpdateRefusal::kResolution)], 1);
+  EXPECT_EQ(stats.updates.refused[static_cast<size_t>(UpdateRefusal::kStale)], 1);
+  EXPECT_EQ(stats.updates.accepted, 1);
+  EXPECT_EQ(stats.updates.cells_changed, static_cast<int64_t>(step.changes.size()));
+  EXPECT_NE(PathService::Summary(stats).find("1 resolution"), std::string::npos);
   EXPECT_TRUE(served.service.Stop().ok());
 }
 

@@ -59,9 +59,7 @@ int FeedCommand(const std::vector<std::string>& args) {
   group.Option("--rate", rate, "R", "time steps per second (0.01-100000) instead of lock step",
                "lock step with the service's commits");
   std::optional<std::string> source_given;
-  group.Option("--source", source_given, "NAME",
-               "the updates' source name (1-64 characters; sequence numbers count per source)",
-               "feed-PID");
+  DeclareUpdateSourceOption(group, source_given, "feed-PID");
   std::optional<long long> max_steps;
   group.Option("--max-steps", max_steps, "N",
                "send at most N steps (1-10000000) after the service's current one", "all");

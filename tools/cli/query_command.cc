@@ -10,10 +10,13 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "dynapath/latency_histogram.h"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/routes.h"
+#include "protocol/channels.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -167,6 +170,38 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
   return answered_count.load() > 0 ? 0 : kExitFailure;
 }
 
+// --obstacle-xy / --free-xy: one obstacle_points_t for the service's maze
+// (from a probe), published on MAP_POINTS.
+int PublishPoints(const runtime::ProcessSetup& process, const std::string& client,
+                  obstacle_points_t points, double timeout) {
+  Result<std::unique_ptr<ServiceClient>> opened =
+      ServiceClient::Open(process, client, ServiceClient::kRepliesOnly);
+  if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
+  std::optional<path_reply_t> probe = (*opened)->Ask({}, timeout);
+  if (!probe) {
+    return runtime::ProcessError(
+        kQueryProgram, "no reply from a service of run " + process.run_id + " within --timeout",
+        kExitFailure);
+  }
+  if (std::optional<std::string> two = (*opened)->SecondService()) {
+    return runtime::ProcessError(kQueryProgram, *two, kExitFailure);
+  }
+  points.run_id = process.run_id;
+  points.maze_fingerprint = probe->maze_fingerprint;
+  points.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                     std::chrono::system_clock::now().time_since_epoch())
+                     .count();
+  points.num_points = static_cast<int32_t>(points.x.size());
+  (*opened)->bus().Publish(protocol::channel::kMapPoints, points);
+  int obstacles = 0;
+  for (int8_t state : points.states) obstacles += state == obstacle_points_t::OBSTACLE ? 1 : 0;
+  std::printf("published update %lld of source %s: %d obstacle, %d free points\n",
+              static_cast<long long>(points.sequence), points.source.c_str(), obstacles,
+              points.num_points - obstacles);
+  std::fflush(stdout);
+  return 0;
+}
+
 }  // namespace
 
 int QueryCommand(const std::vector<std::string>& args) {
@@ -179,7 +214,9 @@ int QueryCommand(const std::vector<std::string>& args) {
       "With a goal (--to ROW,COL, --to-xy X,Y in metres, or --goal NAME of the\n"
       "service's --goals file) it asks for the exact shortest path from each start\n"
       "(--from cells, --from-xy poses) to that goal on the current map instead\n"
-      "(--json: start, goal, status, cost, path, path_xy, version, step, answered_by).",
+      "(--json: start, goal, status, cost, path, path_xy, version, step, answered_by).\n"
+      "With --obstacle-xy / --free-xy X,Y it publishes one obstacle update in metres\n"
+      "(obstacle_points_t on MAP_POINTS) for the service's maze instead.",
       kQueryProgram);
   runtime::OptionGroup group(app);
   runtime::ProcessOptions process_options;
@@ -204,6 +241,21 @@ int QueryCommand(const std::vector<std::string>& args) {
   std::optional<std::string> client_given;
   group.Option("--client", client_given, "NAME",
                "the name replies are addressed to (1-64 characters)", "query-PID");
+  std::vector<std::string> obstacle_xy, free_xy;
+  app.add_option("--obstacle-xy", obstacle_xy,
+                 "instead of asking: publish an obstacle at X,Y metres in the map's frame "
+                 "(repeat for more; one update with --free-xy)")
+      ->type_name("X,Y");
+  app.add_option("--free-xy", free_xy,
+                 "instead of asking: publish that the cell at X,Y metres is free (repeat for more)")
+      ->type_name("X,Y");
+  std::optional<std::string> source_given;
+  DeclareUpdateSourceOption(group, source_given, "query-PID");
+  std::optional<long long> sequence_given;
+  group.Option("--sequence", sequence_given, "N",
+               "the update's sequence number (>= 1; the default grows with the clock, so a "
+               "later call of one --source is taken)",
+               "the clock in microseconds");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kQueryProgram); code >= 0) return code;
@@ -220,6 +272,44 @@ int QueryCommand(const std::vector<std::string>& args) {
     return runtime::ProcessError(kQueryProgram, "--timeout must be between 0 and 3600 seconds");
   }
   const int goals_given = (to ? 1 : 0) + (to_xy ? 1 : 0) + (goal_name ? 1 : 0);
+  if (!obstacle_xy.empty() || !free_xy.empty()) {
+    if (goals_given > 0 || rate || !from.empty() || !from_xy.empty()) {
+      return runtime::ProcessError(kQueryProgram,
+                                   "--obstacle-xy and --free-xy publish an update: no --from, "
+                                   "--from-xy, goal or --rate with them");
+    }
+    if (obstacle_xy.size() + free_xy.size() > 65536) {
+      return runtime::ProcessError(kQueryProgram, "at most 65536 points in one update");
+    }
+    obstacle_points_t points{};
+    points.source = source_given.value_or("query-" + std::to_string(getpid()));
+    if (points.source.empty() || points.source.size() > 64) {
+      return runtime::ProcessError(kQueryProgram, "--source must have 1-64 characters");
+    }
+    if (sequence_given && *sequence_given < 1) {
+      return runtime::ProcessError(kQueryProgram, "--sequence must be at least 1");
+    }
+    points.sequence =
+        sequence_given.value_or(std::chrono::duration_cast<std::chrono::microseconds>(
+                                    std::chrono::system_clock::now().time_since_epoch())
+                                    .count());
+    for (const auto& [texts, option, state] :
+         {std::tuple{&obstacle_xy, "obstacle-xy", obstacle_points_t::OBSTACLE},
+          std::tuple{&free_xy, "free-xy", obstacle_points_t::FREE}}) {
+      for (const std::string& text : *texts) {
+        Result<std::pair<double, double>> point = ParsePoint(option, text);
+        if (!point) return runtime::ProcessError(kQueryProgram, point.error().message);
+        points.x.push_back(point->first);
+        points.y.push_back(point->second);
+        points.states.push_back(state);
+      }
+    }
+    return PublishPoints(*process, client, std::move(points), timeout);
+  }
+  if (source_given || sequence_given) {
+    return runtime::ProcessError(kQueryProgram,
+                                 "--source and --sequence need --obstacle-xy or --free-xy");
+  }
   if (goals_given > 1) {
     return runtime::ProcessError(kQueryProgram, "give one goal: --to, --to-xy or --goal");
   }

@@ -9,6 +9,13 @@ void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds) {
                "how long to wait for the service (a reply, its first policy, each commit)");
 }
 
+void DeclareUpdateSourceOption(runtime::OptionGroup& group, std::optional<std::string>& source,
+                               const std::string& default_text) {
+  group.Option("--source", source, "NAME",
+               "the updates' source name (1-64 characters; sequence numbers count per source)",
+               default_text);
+}
+
 Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text) {
   const size_t comma = text.find(',');
   auto number = [](const std::string& part) -> std::optional<int32_t> {

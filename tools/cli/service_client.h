@@ -4,6 +4,7 @@
 // Python module); here its --timeout option and --from cells.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -18,6 +19,10 @@ using runtime::ServiceClient;
 
 // --timeout of query and feed: how long to wait for the service.
 void DeclareServiceWaitOption(runtime::OptionGroup& group, double& seconds);
+// --source of the commands that publish obstacle updates (feed, query);
+// `default_text` is the help's default ("feed-PID").
+void DeclareUpdateSourceOption(runtime::OptionGroup& group, std::optional<std::string>& source,
+                               const std::string& default_text);
 // "R,C" as a cell, or an error naming the option.
 Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text);
 

@@ -33,10 +33,12 @@ enum class UpdateRefusal {
   kOutsideGrid,        // a cell outside the grid
   kUnknownState,       // a state other than free or obstacle
   kStationToObstacle,  // an obstacle on a station
-  kGridShape,          // an occupancy grid of another size than the map
+  kGridShape,          // an occupancy grid that covers no cell of the map
   kOtherMaze,          // made for another maze (its maze fingerprint is not the service's)
+  kResolution,         // an occupancy grid of another resolution than the map's
+  kOffLattice,         // an occupancy grid whose origin is not on the map's cell lattice
 };
-inline constexpr size_t kUpdateRefusalCount = 6;
+inline constexpr size_t kUpdateRefusalCount = 8;
 const char* UpdateRefusalName(UpdateRefusal why);  // "stale", "outside_grid", ...
 
 // An update refused before it reached the queue (its conversion from a
