@@ -358,6 +358,25 @@ Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int
   return update;
 }
 
+obstacle_points_t PointsToMessage(const std::vector<std::pair<double, double>>& blocked,
+                                  const std::vector<std::pair<double, double>>& freed,
+                                  const std::string& source, int64_t sequence, uint64_t maze) {
+  obstacle_points_t m{};
+  m.source = source;
+  m.sequence = sequence;
+  m.maze_fingerprint = static_cast<int64_t>(maze);
+  for (const auto& [points, state] : {std::pair{&blocked, obstacle_points_t::OBSTACLE},
+                                      std::pair{&freed, obstacle_points_t::FREE}}) {
+    for (const auto& [x, y] : *points) {
+      m.x.push_back(x);
+      m.y.push_back(y);
+      m.states.push_back(state);
+    }
+  }
+  m.num_points = static_cast<int32_t>(m.x.size());
+  return m;
+}
+
 Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& m, const MapFrame& frame,
                                                 uint64_t maze) {
   if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dynapath/change_sequence.h"
@@ -176,6 +177,13 @@ Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m
 // outside the map is kOutsideGrid, and the update is then refused whole.
 Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& message,
                                                 const MapFrame& frame, uint64_t maze);
+// The obstacle update in metres that `source` sends as its `sequence`-th,
+// made for the maze of fingerprint `maze`: the points (x, y) of `blocked`
+// become obstacles, those of `freed` free, in that order; run_id and utime
+// are the caller's.
+obstacle_points_t PointsToMessage(const std::vector<std::pair<double, double>>& blocked,
+                                  const std::vector<std::pair<double, double>>& freed,
+                                  const std::string& source, int64_t sequence, uint64_t maze);
 
 // The reply to request (`client`, `request_id`): `refused` one of
 // path_reply_t's ACCEPTED, TOO_MANY_STARTS, NOT_READY; `snapshot` (null

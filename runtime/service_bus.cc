@@ -39,23 +39,18 @@ ServiceBus::ServiceBus(protocol::Bus& bus, PathService& service, ServiceBusOptio
   bus_.Subscribe<obstacle_update_t>(
       protocol::channel::kMapUpdates,
       [this, rows = maze.rows(), cols = maze.cols()](obstacle_update_t& message) {
-        Result<MapUpdate, UpdateError> update =
-            protocol::UpdateFromMessage(message, rows, cols, service_.maze_fingerprint());
-        if (!update) return RefuseUpdate(protocol::channel::kMapUpdates, update.error());
-        (void)service_.Submit(*update);
+        SubmitUpdate(protocol::channel::kMapUpdates,
+                     protocol::UpdateFromMessage(message, rows, cols, service_.maze_fingerprint()));
       });
   bus_.Subscribe<obstacle_points_t>(
       protocol::channel::kMapPoints, [this](obstacle_points_t& message) {
-        Result<MapUpdate, UpdateError> update =
-            protocol::UpdateFromPoints(message, frame_, service_.maze_fingerprint());
-        if (!update) return RefuseUpdate(protocol::channel::kMapPoints, update.error());
-        (void)service_.Submit(*update);
+        SubmitUpdate(protocol::channel::kMapPoints,
+                     protocol::UpdateFromPoints(message, frame_, service_.maze_fingerprint()));
       });
   bus_.Subscribe<occupancy_grid_t>(protocol::channel::kMapGrid, [this](occupancy_grid_t& message) {
-    Result<MapUpdate, UpdateError> update =
-        protocol::UpdateFromOccupancyGrid(message, service_.maze(), frame_, options_.thresholds);
-    if (!update) return RefuseUpdate(protocol::channel::kMapGrid, update.error());
-    (void)service_.Submit(*update);
+    SubmitUpdate(
+        protocol::channel::kMapGrid,
+        protocol::UpdateFromOccupancyGrid(message, service_.maze(), frame_, options_.thresholds));
   });
   // A recorded run's environment changes (lcm-logplayer of a run's log,
   // with that run's id and secret): its first pass's steps, each step's
@@ -90,6 +85,12 @@ ServiceBus::~ServiceBus() {
   }
   policy_waiting_.notify_all();
   if (publisher_.joinable()) publisher_.join();
+}
+
+void ServiceBus::SubmitUpdate(std::string_view channel,
+                              const Result<MapUpdate, UpdateError>& update) {
+  if (!update) return RefuseUpdate(channel, update.error());
+  (void)service_.Submit(*update);
 }
 
 void ServiceBus::RefuseUpdate(std::string_view channel, const UpdateError& refused) {

@@ -81,6 +81,8 @@ class ServiceBus {
   // channel, at most once a second (a flood of bad updates must not flood
   // the log).
   void RefuseUpdate(std::string_view channel, const UpdateError& refused);
+  // A converted update of `channel` submitted to the service, or refused.
+  void SubmitUpdate(std::string_view channel, const Result<MapUpdate, UpdateError>& update);
 
   protocol::Bus& bus_;
   PathService& service_;

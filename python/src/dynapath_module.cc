@@ -44,6 +44,7 @@
 #include "dynapath/rng.h"
 #include "dynapath/routes.h"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
 #include "python/src/walker_world.h"
 #include "runtime/option_group.h"
 #include "runtime/output_check.h"
@@ -976,23 +977,12 @@ class PythonServiceClient {
       }
     }
     if (!fingerprint_) fingerprint_ = static_cast<uint64_t>(Ask({}, timeout).maze_fingerprint);
-    obstacle_points_t update{};
+    obstacle_points_t update =
+        protocol::PointsToMessage(blocked, freed, source_, ++sequence_, *fingerprint_);
     update.run_id = process_.run_id;
-    update.source = source_;
-    update.sequence = ++sequence_;
     update.utime = std::chrono::duration_cast<std::chrono::microseconds>(
                        std::chrono::system_clock::now().time_since_epoch())
                        .count();
-    update.maze_fingerprint = static_cast<int64_t>(*fingerprint_);
-    for (const auto& [points, state] : {std::pair{&blocked, obstacle_points_t::OBSTACLE},
-                                        std::pair{&freed, obstacle_points_t::FREE}}) {
-      for (const auto& [x, y] : *points) {
-        update.x.push_back(x);
-        update.y.push_back(y);
-        update.states.push_back(state);
-      }
-    }
-    update.num_points = static_cast<int32_t>(update.x.size());
     client_->bus().Publish(protocol::channel::kMapPoints, update);
     return update.sequence;
   }

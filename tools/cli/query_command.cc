@@ -17,6 +17,8 @@
 #include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/routes.h"
 #include "protocol/channels.h"
+#include "protocol/convert.h"
+#include "protocol/limits.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
 #include "tools/cli/commands.h"
@@ -173,7 +175,9 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
 // --obstacle-xy / --free-xy: one obstacle_points_t for the service's maze
 // (from a probe), published on MAP_POINTS.
 int PublishPoints(const runtime::ProcessSetup& process, const std::string& client,
-                  obstacle_points_t points, double timeout) {
+                  const std::vector<std::pair<double, double>>& blocked,
+                  const std::vector<std::pair<double, double>>& freed, const std::string& source,
+                  int64_t sequence, double timeout) {
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(process, client, ServiceClient::kRepliesOnly);
   if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
@@ -186,18 +190,15 @@ int PublishPoints(const runtime::ProcessSetup& process, const std::string& clien
   if (std::optional<std::string> two = (*opened)->SecondService()) {
     return runtime::ProcessError(kQueryProgram, *two, kExitFailure);
   }
+  obstacle_points_t points = protocol::PointsToMessage(
+      blocked, freed, source, sequence, static_cast<uint64_t>(probe->maze_fingerprint));
   points.run_id = process.run_id;
-  points.maze_fingerprint = probe->maze_fingerprint;
   points.utime = std::chrono::duration_cast<std::chrono::microseconds>(
                      std::chrono::system_clock::now().time_since_epoch())
                      .count();
-  points.num_points = static_cast<int32_t>(points.x.size());
   (*opened)->bus().Publish(protocol::channel::kMapPoints, points);
-  int obstacles = 0;
-  for (int8_t state : points.states) obstacles += state == obstacle_points_t::OBSTACLE ? 1 : 0;
-  std::printf("published update %lld of source %s: %d obstacle, %d free points\n",
-              static_cast<long long>(points.sequence), points.source.c_str(), obstacles,
-              points.num_points - obstacles);
+  std::printf("published update %lld of source %s: %zu obstacle, %zu free points\n",
+              static_cast<long long>(sequence), source.c_str(), blocked.size(), freed.size());
   std::fflush(stdout);
   return 0;
 }
@@ -278,33 +279,32 @@ int QueryCommand(const std::vector<std::string>& args) {
                                    "--obstacle-xy and --free-xy publish an update: no --from, "
                                    "--from-xy, goal or --rate with them");
     }
-    if (obstacle_xy.size() + free_xy.size() > 65536) {
-      return runtime::ProcessError(kQueryProgram, "at most 65536 points in one update");
+    if (obstacle_xy.size() + free_xy.size() > static_cast<size_t>(protocol::kMaxUpdateCells)) {
+      return runtime::ProcessError(
+          kQueryProgram,
+          "at most " + std::to_string(protocol::kMaxUpdateCells) + " points in one update");
     }
-    obstacle_points_t points{};
-    points.source = source_given.value_or("query-" + std::to_string(getpid()));
-    if (points.source.empty() || points.source.size() > 64) {
+    const std::string source = source_given.value_or("query-" + std::to_string(getpid()));
+    if (source.empty() || source.size() > 64) {
       return runtime::ProcessError(kQueryProgram, "--source must have 1-64 characters");
     }
     if (sequence_given && *sequence_given < 1) {
       return runtime::ProcessError(kQueryProgram, "--sequence must be at least 1");
     }
-    points.sequence =
+    const int64_t sequence =
         sequence_given.value_or(std::chrono::duration_cast<std::chrono::microseconds>(
                                     std::chrono::system_clock::now().time_since_epoch())
                                     .count());
-    for (const auto& [texts, option, state] :
-         {std::tuple{&obstacle_xy, "obstacle-xy", obstacle_points_t::OBSTACLE},
-          std::tuple{&free_xy, "free-xy", obstacle_points_t::FREE}}) {
+    std::vector<std::pair<double, double>> blocked, freed;
+    for (const auto& [texts, option, points] : {std::tuple{&obstacle_xy, "obstacle-xy", &blocked},
+                                                std::tuple{&free_xy, "free-xy", &freed}}) {
       for (const std::string& text : *texts) {
         Result<std::pair<double, double>> point = ParsePoint(option, text);
         if (!point) return runtime::ProcessError(kQueryProgram, point.error().message);
-        points.x.push_back(point->first);
-        points.y.push_back(point->second);
-        points.states.push_back(state);
+        points->push_back(*point);
       }
     }
-    return PublishPoints(*process, client, std::move(points), timeout);
+    return PublishPoints(*process, client, blocked, freed, source, sequence, timeout);
   }
   if (source_given || sequence_given) {
     return runtime::ProcessError(kQueryProgram,
