@@ -42,6 +42,25 @@ double WallMs() {
       .count();
 }
 
+// Keeps a page message (JSON text) for new clients: at most `cap`, the
+// older half dropped when full.
+void KeepForNewClients(std::vector<std::string>& kept, std::string text, int cap) {
+  if (static_cast<int>(kept.size()) >= cap) {
+    kept.erase(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(kept.size() / 2));
+  }
+  kept.push_back(std::move(text));
+}
+
+// {"t":"<type>","<key>":[kept...]}: the kept messages as one.
+std::string HistoryJson(const char* type, const char* key, const std::vector<std::string>& kept) {
+  std::string history = std::string("{\"t\":\"") + type + "\",\"" + key + "\":[";
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (i > 0) history += ',';
+    history += kept[i];
+  }
+  return history + "]}";
+}
+
 }  // namespace
 
 struct WebServer::Impl {
@@ -313,23 +332,9 @@ struct WebServer::Impl {
       const ApproachState& state = approaches[name];
       SendBinary(handle, FullFrame(state.header, state.cells));
     }
-    if (!reports.empty()) {
-      std::string history = "{\"t\":\"history\",\"reports\":[";
-      for (size_t i = 0; i < reports.size(); ++i) {
-        if (i > 0) history += ',';
-        history += reports[i];
-      }
-      history += "]}";
-      SendText(handle, history);
-    }
+    if (!reports.empty()) SendText(handle, HistoryJson("history", "reports", reports));
     if (!service_windows.empty()) {
-      std::string history = "{\"t\":\"service_history\",\"windows\":[";
-      for (size_t i = 0; i < service_windows.size(); ++i) {
-        if (i > 0) history += ',';
-        history += service_windows[i];
-      }
-      history += "]}";
-      SendText(handle, history);
+      SendText(handle, HistoryJson("service_history", "windows", service_windows));
     }
   }
 
@@ -470,10 +475,7 @@ struct WebServer::Impl {
   void TakeReport(const step_report_t& report, double received_ms) {
     std::string text = ReportJson(report, received_ms);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
-    if (static_cast<int>(reports.size()) >= options.max_reports) {
-      reports.erase(reports.begin(), reports.begin() + reports.size() / 2);
-    }
-    reports.push_back(std::move(text));
+    KeepForNewClients(reports, std::move(text), options.max_reports);
     ToFoxglove("/report", received_ms, [&] { return ReportFoxglove(report); });
   }
 
@@ -521,11 +523,7 @@ struct WebServer::Impl {
     if (!window) return;
     std::string text = ServiceJson(*window);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
-    if (static_cast<int>(service_windows.size()) >= options.max_service_windows) {
-      service_windows.erase(service_windows.begin(),
-                            service_windows.begin() + service_windows.size() / 2);
-    }
-    service_windows.push_back(std::move(text));
+    KeepForNewClients(service_windows, std::move(text), options.max_service_windows);
   }
 
   void TakeRequest(const std::string& client, int64_t request_id, double received_ms) {
