@@ -327,8 +327,15 @@ obstacle_update_t UpdateToMessage(const ChangeStep& step, int cols, const std::s
   return m;
 }
 
-Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
-                                                 uint64_t maze) {
+namespace {
+
+// An obstacle update of either kind (cells or points, whose states share
+// their values) for the maze of fingerprint `maze`: `cell_of(i)` is the
+// grid index of the message's i-th entry, or why it is refused. Refused
+// whole at its first bad entry.
+template <class Message, class CellOf>
+Result<MapUpdate, UpdateError> UpdateOf(const Message& m, int count, uint64_t maze,
+                                        CellOf cell_of) {
   if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
     return UpdateError{UpdateRefusal::kOtherMaze,
                        Error("an update for the maze of fingerprint " +
@@ -339,8 +346,25 @@ Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int
   update.source = m.source;
   update.sequence = m.sequence;
   update.utime = m.utime;
-  update.changes.reserve(static_cast<size_t>(m.num_cells));
-  for (int i = 0; i < m.num_cells; ++i) {
+  update.changes.reserve(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    Result<int32_t, UpdateError> cell = cell_of(i);
+    if (!cell) return cell.error();
+    if (m.states[i] != Message::OBSTACLE && m.states[i] != Message::FREE) {
+      return UpdateError{UpdateRefusal::kUnknownState,
+                         Error("unknown state " + std::to_string(m.states[i]))};
+    }
+    const Cell code = m.states[i] == Message::FREE ? Cell::kFree : Cell::kObstacle;
+    update.changes.push_back(CellChange{*cell, code});
+  }
+  return update;
+}
+
+}  // namespace
+
+Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int rows, int cols,
+                                                 uint64_t maze) {
+  return UpdateOf(m, m.num_cells, maze, [&](int i) -> Result<int32_t, UpdateError> {
     const int32_t row = m.rows[i], col = m.cols[i];
     if (row < 0 || row >= rows || col < 0 || col >= cols) {
       return UpdateError{
@@ -348,14 +372,8 @@ Result<MapUpdate, UpdateError> UpdateFromMessage(const obstacle_update_t& m, int
           Error("cell (" + std::to_string(row) + ", " + std::to_string(col) + ") outside the " +
                 std::to_string(rows) + "x" + std::to_string(cols) + " grid")};
     }
-    if (m.states[i] != obstacle_update_t::OBSTACLE && m.states[i] != obstacle_update_t::FREE) {
-      return UpdateError{UpdateRefusal::kUnknownState,
-                         Error("unknown state " + std::to_string(m.states[i]))};
-    }
-    const Cell code = m.states[i] == obstacle_update_t::FREE ? Cell::kFree : Cell::kObstacle;
-    update.changes.push_back(CellChange{row * cols + col, code});
-  }
-  return update;
+    return row * cols + col;
+  });
 }
 
 obstacle_points_t PointsToMessage(const std::vector<std::pair<double, double>>& blocked,
@@ -379,18 +397,7 @@ obstacle_points_t PointsToMessage(const std::vector<std::pair<double, double>>& 
 
 Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& m, const MapFrame& frame,
                                                 uint64_t maze) {
-  if (static_cast<uint64_t>(m.maze_fingerprint) != maze) {
-    return UpdateError{UpdateRefusal::kOtherMaze,
-                       Error("an update for the maze of fingerprint " +
-                             FingerprintText(static_cast<uint64_t>(m.maze_fingerprint)) + ", not " +
-                             FingerprintText(maze))};
-  }
-  MapUpdate update;
-  update.source = m.source;
-  update.sequence = m.sequence;
-  update.utime = m.utime;
-  update.changes.reserve(static_cast<size_t>(m.num_points));
-  for (int i = 0; i < m.num_points; ++i) {
+  return UpdateOf(m, m.num_points, maze, [&](int i) -> Result<int32_t, UpdateError> {
     int row = 0, col = 0;
     if (!frame.CellAt(m.x[i], m.y[i], &row, &col)) {
       char text[160];
@@ -399,14 +406,8 @@ Result<MapUpdate, UpdateError> UpdateFromPoints(const obstacle_points_t& m, cons
                     frame.resolution, frame.origin_x, frame.origin_y);
       return UpdateError{UpdateRefusal::kOutsideGrid, Error(text)};
     }
-    if (m.states[i] != obstacle_points_t::OBSTACLE && m.states[i] != obstacle_points_t::FREE) {
-      return UpdateError{UpdateRefusal::kUnknownState,
-                         Error("unknown state " + std::to_string(m.states[i]))};
-    }
-    const Cell code = m.states[i] == obstacle_points_t::FREE ? Cell::kFree : Cell::kObstacle;
-    update.changes.push_back(CellChange{row * frame.cols + col, code});
-  }
-  return update;
+    return row * frame.cols + col;
+  });
 }
 
 Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m, const Grid& map,
