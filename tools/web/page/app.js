@@ -9,6 +9,12 @@
 
 const STAGE = 800;
 const MAX_PATHS = 2000;
+// Retrained regions outlined one by one up to this many; a step with more
+// (a first training: every leaf, 4,694 on hard 1000x1000) shows their
+// bounding box. Stroking thousands of outlines took tens of milliseconds
+// in the step's frame and more when the canvas was rasterized, which
+// delayed the next steps' frames.
+const MAX_REGION_OUTLINES = 500;
 const NO_ACTION = 15;
 // Colours (RGBA) of obstacles, moving obstacles, stations, failing starts.
 const OBSTACLE = [43, 43, 43], MOVER = [142, 68, 173], STATION = [39, 174, 96];
@@ -300,7 +306,16 @@ function drawOverlay(now) {
     octx.stroke();
   }
   octx.strokeStyle = "#e67e22"; octx.lineWidth = 2;
-  for (const [r0, c0, rows, cols] of view.regions || []) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
+  const regions = view.regions || [];
+  if (regions.length <= MAX_REGION_OUTLINES) {
+    for (const [r0, c0, rows, cols] of regions) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
+  } else {  // a first training: their bounding box
+    let r0 = Infinity, c0 = Infinity, r1 = -Infinity, c1 = -Infinity;
+    for (const [r, c, rows, cols] of regions) {
+      r0 = Math.min(r0, r); c0 = Math.min(c0, c); r1 = Math.max(r1, r + rows); c1 = Math.max(c1, c + cols);
+    }
+    octx.strokeRect(c0 * s + 1, r0 * s + 1, (c1 - c0) * s - 2, (r1 - r0) * s - 2);
+  }
   if (state.paths.length) {  // robots and their paths
     octx.strokeStyle = "rgba(41,128,185,0.55)"; octx.lineWidth = Math.max(1, s / 4);
     octx.beginPath();
