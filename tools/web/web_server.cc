@@ -3,13 +3,13 @@
 #define ASIO_STANDALONE 1
 #include <spdlog/spdlog.h>
 
+#include <asio/steady_timer.hpp>
 #include <chrono>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 #include <vector>
-#include <asio/steady_timer.hpp>
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
@@ -92,8 +92,8 @@ struct WebServer::Impl {
   std::vector<std::string> approach_order;
   std::map<std::string, ApproachState> approaches;
   std::vector<std::string> reports;
-  ServiceLatency path_latency;  // PATH_REQUEST to PATH_REPLY
-  ServiceLatency goal_latency;  // GOAL_REQUEST to GOAL_REPLY
+  ServiceLatency path_latency;               // PATH_REQUEST to PATH_REPLY
+  ServiceLatency goal_latency;               // GOAL_REQUEST to GOAL_REPLY
   std::vector<std::string> service_windows;  // ServiceJson texts of both, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
 

@@ -59,7 +59,7 @@ struct ServerOptions {
   int64_t max_pending_bytes = int64_t{256} << 20;
   int max_reports = 20000;  // kept for new clients' plots
   int max_paths = 1000;     // paths of one PATH_REPLY sent to the page
-  int max_service_windows = 3600;  // service latency windows kept for new clients (both kinds)
+  int max_service_windows = 3600;       // service latency windows kept for new clients (both kinds)
   size_t max_pending_requests = 65536;  // per kind: requests waiting for their reply
   std::string run_id;
   std::string version;

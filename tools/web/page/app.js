@@ -104,6 +104,10 @@ function layout(view) {
   const scale = Math.min(STAGE / view.cols, STAGE / view.rows);
   cells.style.width = view.cols * scale + "px"; cells.style.height = view.rows * scale + "px";
   overlay.width = Math.round(view.cols * scale); overlay.height = Math.round(view.rows * scale);
+  // The overlay's first drawing allocates its pixels: done now, when the
+  // maze arrives, rather than in the first step's frame (the cells canvas
+  // is drawn at once).
+  octx.fillRect(0, 0, 1, 1); octx.clearRect(0, 0, 1, 1);
   image = ctx.createImageData(view.cols, view.rows);
   pixels = new Uint32Array(image.data.buffer);
   state.moved = new Uint8Array(view.rows * view.cols);
