@@ -6,8 +6,9 @@
 // page's service plots: the windows they drew (window.dynapath.service and
 // .serviceDrawn) hold those counts, every reply matched to its request, and
 // each window with replies has percentiles 0 < p50 <= p99 <= max. Saves a
-// screenshot. Exit 1 on a mismatch, or when the plots are not fed within
-// BROWSER_CHECK_TIMEOUT seconds (default 60).
+// screenshot of the plots (docs/images/web_service.png is one). Exit 1 on a
+// mismatch, or when the plots are not fed within BROWSER_CHECK_TIMEOUT
+// seconds (default 60).
 // Usage: node [--experimental-websocket] service_check.js DEVTOOLS_PORT PAGE_URL EXPECTED_JSON SCREENSHOT
 "use strict";
 const fs = require("fs");
@@ -76,7 +77,12 @@ async function main() {
       fail("implausible window: " + JSON.stringify(w));
     }
   }
-  const shot = await call("Page.captureScreenshot", { format: "png" });
+  // The service plots (below the maze at this width).
+  const box = JSON.parse(await evaluate(
+    "JSON.stringify(document.getElementById('service').getBoundingClientRect())"));
+  const shot = await call("Page.captureScreenshot", {
+    format: "png", captureBeyondViewport: true,
+    clip: { x: box.x, y: box.y, width: box.width, height: box.height, scale: 1 } });
   fs.writeFileSync(screenshot, Buffer.from(shot.result.data, "base64"));
   console.log("service_check: the plots drew " + KINDS.map((k) =>
     `${got[k].windows} ${k} windows (${got[k].requests} requests, ${got[k].replies} replies)`).join(", "));
