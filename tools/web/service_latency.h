@@ -39,7 +39,7 @@ class ServiceLatency {
  public:
   explicit ServiceLatency(size_t max_pending = 65536, double window_ms = 1000);
 
-  // Each returns the window the message's time closed, if one with replies.
+  // Each returns the window the message's time closed, if it had a request or a reply.
   std::optional<ServiceWindow> Request(const std::string& client, int64_t id, double ms);
   std::optional<ServiceWindow> Reply(const std::string& client, int64_t id, double ms);
   // The open window, when `ms` is past its end (a timer's tick).
