@@ -10,9 +10,7 @@
 // Prints the page's timers as JSON on the last line. Exit 1 on a mismatch.
 "use strict";
 const fs = require("fs");
-// Node 20 has a WebSocket client (--experimental-websocket), Node 18 (Debian
-// 12's) has not: then npm's ws (scripts/install-web-node.sh, NODE_PATH).
-const WebSocketClient = globalThis.WebSocket || require("ws");
+const { openPage } = require("./cdp");
 const [devtools, pageUrl, approach, stepText, policyFile, screenshot, measureText] = process.argv.slice(2);
 const step = Number(stepText);
 let policy = null;
@@ -41,32 +39,7 @@ setTimeout(() => fail("timed out; the page's last state: " + lastState),
            Number(process.env.BROWSER_CHECK_TIMEOUT || 120) * 1000);
 
 async function main() {
-  let targets = null;
-  for (let i = 0; i < 100 && !targets; i++) {
-    try {
-      targets = await (await fetch(`http://127.0.0.1:${devtools}/json/list`)).json();
-    } catch (e) {
-      await new Promise((r) => setTimeout(r, 200));
-    }
-  }
-  if (!targets) fail("no DevTools endpoint");
-  const target = targets.find((t) => t.type === "page");
-  const ws = new WebSocketClient(target.webSocketDebuggerUrl);
-  await new Promise((resolve, reject) => { ws.onopen = resolve; ws.onerror = reject; });
-  let id = 0;
-  const waiting = new Map();
-  ws.onmessage = (event) => {
-    const m = JSON.parse(event.data);
-    if (m.id && waiting.has(m.id)) { waiting.get(m.id)(m); waiting.delete(m.id); }
-  };
-  const call = (method, params = {}) => new Promise((resolve) => {
-    waiting.set(++id, resolve);
-    ws.send(JSON.stringify({ id, method, params }));
-  });
-  const evaluate = async (expression) => {
-    const reply = await call("Runtime.evaluate", { expression, returnByValue: true });
-    return reply.result && reply.result.result ? reply.result.result.value : undefined;
-  };
+  const { call, evaluate, close } = await openPage(devtools);
   await call("Emulation.setDeviceMetricsOverride", { width: 1300, height: 900, deviceScaleFactor: 1, mobile: false });
   await call("Page.navigate", { url: pageUrl });
   while (!(await evaluate("window.dynapath && window.dynapath.connected"))) {
@@ -124,7 +97,7 @@ async function main() {
   const timers = await evaluate(`JSON.stringify({fps: window.dynapath.fps, updates: window.dynapath.updates})`);
   console.log(`browser_check: ${checked} cells match step ${step} of ${policy.approach}`);
   console.log(timers);
-  ws.close();
+  close();
   process.exit(0);
 }
 main().catch((e) => fail(String(e)));

@@ -399,15 +399,60 @@ TEST(ServiceLatency, TimesEachReplyFromItsRequestInOneSecondWindows) {
   EXPECT_GE(w->p99_ms, 10.0);
   EXPECT_LE(w->p99_ms, 10.0 * 1.011);
   EXPECT_EQ(w->max_ms, 10.0);
-  // A window without replies is not returned; the next one with replies is.
-  EXPECT_FALSE(latency.Request("robot", 4, t + 2'500));
-  EXPECT_FALSE(latency.Request("robot", 5, t + 3'100));
+  EXPECT_EQ(w->requests, 3);
+  // A window with requests and no reply is returned (its requests
+  // counted, no percentiles): request 3's.
+  const std::optional<ServiceWindow> only_requests = latency.Request("robot", 4, t + 2'500);
+  ASSERT_TRUE(only_requests);
+  EXPECT_EQ(only_requests->end_ms, t + 2'000);
+  EXPECT_EQ(only_requests->requests, 1);
+  EXPECT_EQ(only_requests->replies, 0);
+  EXPECT_EQ(only_requests->p99_ms, 0.0);
+  // Request 4 alone in the window of t + 2 s (answered two windows later).
+  const std::optional<ServiceWindow> unanswered = latency.Request("robot", 5, t + 3'100);
+  ASSERT_TRUE(unanswered);
+  EXPECT_EQ(unanswered->end_ms, t + 3'000);
+  EXPECT_EQ(unanswered->requests, 1);
+  EXPECT_EQ(unanswered->replies, 0);
   EXPECT_FALSE(latency.Reply("robot", 5, t + 3'101));
+  EXPECT_FALSE(latency.Close(t + 3'500));  // the open window
   const std::optional<ServiceWindow> next = latency.Reply("robot", 4, t + 4'000);
   ASSERT_TRUE(next);
   EXPECT_EQ(next->end_ms, t + 4'000);
+  EXPECT_EQ(next->requests, 1);
   EXPECT_EQ(next->replies, 1);
   EXPECT_EQ(next->max_ms, 1.0);
+  const std::optional<ServiceWindow> reply_only = latency.Close(t + 6'000);
+  ASSERT_TRUE(reply_only);
+  EXPECT_EQ(reply_only->requests, 0);
+  EXPECT_EQ(reply_only->max_ms, 1'500.0);
+  // A window without traffic is not returned.
+  EXPECT_FALSE(latency.Close(t + 8'000));
+}
+
+TEST(ServiceLatency, TheClockClosesTheLastWindow) {
+  ServiceLatency latency;
+  const double t = 2'000'000.0;
+  EXPECT_FALSE(latency.Close(t + 10));  // nothing open yet
+  EXPECT_FALSE(latency.Request("robot", 1, t + 100));
+  EXPECT_FALSE(latency.Request("robot", 2, t + 150));
+  EXPECT_FALSE(latency.Reply("robot", 1, t + 120));
+  EXPECT_FALSE(latency.Close(t + 999));  // still the open window
+  const std::optional<ServiceWindow> w = latency.Close(t + 1'250);
+  ASSERT_TRUE(w);
+  EXPECT_EQ(w->end_ms, t + 1'000);
+  EXPECT_EQ(w->requests, 2);
+  EXPECT_EQ(w->replies, 1);
+  EXPECT_EQ(w->max_ms, 20.0);
+  // Once: the next ticks find nothing; the late reply counts in its own window.
+  EXPECT_FALSE(latency.Close(t + 1'500));
+  EXPECT_FALSE(latency.Reply("robot", 2, t + 1'600));
+  const std::optional<ServiceWindow> late = latency.Close(t + 2'000);
+  ASSERT_TRUE(late);
+  EXPECT_EQ(late->requests, 0);
+  EXPECT_EQ(late->replies, 1);
+  EXPECT_EQ(late->max_ms, 1'450.0);
+  EXPECT_FALSE(latency.Close(t + 5'000));  // windows without traffic: nothing
 }
 
 TEST(ServiceLatency, ForgetsTheOldestRequestsBeyondItsCap) {
@@ -466,6 +511,68 @@ TEST(WebServer, SendsTheServiceLatencyToThePage) {
     history += late.Read(50);
     return history.find("\"t\":\"service_history\"") != std::string::npos;
   }));
+}
+
+TEST(WebServer, TimesGoalQueriesAsASecondSeries) {
+  ServerOptions options = TestOptions();
+  options.max_pending_requests = 2;  // per kind
+  WebServer server(options);
+  ASSERT_TRUE(server.Start());
+  RawClient page(server.port());
+  ASSERT_EQ(page.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 1; }));
+  std::string received = page.TakeRest();
+  // Goal request 1 of "robot" and path request 1 of "robot": ids of the two
+  // kinds are separate. Three goal requests wait at most 2: the first is
+  // forgotten and its reply unmatched.
+  goal_request_t goal{};
+  goal.client = "robot";
+  for (int64_t id = 1; id <= 3; ++id) {
+    goal.request_id = id;
+    server.GoalRequest(goal, 7'000.0 + static_cast<double>(id));
+  }
+  path_request_t path{};
+  path.client = "robot";
+  path.request_id = 1;
+  server.Request(path, 7'010.0);
+  goal_reply_t answer{};
+  answer.client = "robot";
+  for (int64_t id = 1; id <= 3; ++id) {
+    answer.request_id = id;
+    server.GoalReply(answer, 7'020.0);
+  }
+  path_reply_t path_answer{};
+  path_answer.client = "robot";
+  path_answer.request_id = 1;
+  server.Paths(path_answer, 7'011.0);
+  // No later request: the server's clock closes both windows.
+  ASSERT_TRUE(WaitFor([&] {
+    received += page.Read(50);
+    return received.find("\"kind\":\"goal\"") != std::string::npos &&
+           received.find("\"kind\":\"path\"") != std::string::npos;
+  })) << received;
+  // Keys in order (nlohmann::json sorts them).
+  EXPECT_NE(received.find("{\"end\":8000.0,\"kind\":\"goal\",\"max\":18.0,"), std::string::npos)
+      << received;
+  EXPECT_NE(received.find("\"rate\":3.0,\"replies\":2,\"requests\":3,\"t\":\"service\","
+                          "\"unmatched\":1}"),
+            std::string::npos)
+      << received;
+  EXPECT_NE(received.find("{\"end\":8000.0,\"kind\":\"path\",\"max\":1.0,"), std::string::npos)
+      << received;
+  EXPECT_NE(received.find("\"replies\":1,\"requests\":1,\"t\":\"service\",\"unmatched\":0}"),
+            std::string::npos)
+      << received;
+  // A client that connects later gets both series.
+  RawClient late(server.port());
+  ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  std::string history = late.TakeRest();
+  ASSERT_TRUE(WaitFor([&] {
+    history += late.Read(50);
+    return history.find("\"t\":\"service_history\"") != std::string::npos &&
+           history.find("\"kind\":\"path\"") != std::string::npos;
+  })) << history;
+  EXPECT_NE(history.find("\"kind\":\"goal\""), std::string::npos) << history;
 }
 
 TEST(PageFrames, DeltaRebuildsThePolicy) {

@@ -234,10 +234,11 @@ std::string ReportJson(const step_report_t& r, double received_ms) {
   return message.dump();
 }
 
-std::string ServiceJson(const ServiceWindow& w) {
-  json message = {{"t", "service"},          {"end", w.end_ms},   {"replies", w.replies},
-                  {"rate", w.per_second},    {"p50", w.p50_ms},   {"p99", w.p99_ms},
-                  {"max", w.max_ms},         {"unmatched", w.unmatched}};
+std::string ServiceJson(const char* kind, const ServiceWindow& w) {
+  json message = {{"t", "service"},          {"kind", kind},         {"end", w.end_ms},
+                  {"requests", w.requests},  {"replies", w.replies}, {"rate", w.per_second},
+                  {"p50", w.p50_ms},         {"p99", w.p99_ms},      {"max", w.max_ms},
+                  {"unmatched", w.unmatched}};
   return message.dump();
 }
 

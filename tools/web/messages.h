@@ -72,8 +72,9 @@ std::string ReportJson(const step_report_t& report, double received_ms);
 std::string ChangesJson(const changes_t& changes, double received_ms);
 std::string PathsJson(const path_reply_t& reply, double received_ms, int max_paths);
 std::string UpdatesJson(const obstacle_update_t& update, double received_ms);
-// {"t":"service", ...}: one closed window of the service's latency.
-std::string ServiceJson(const ServiceWindow& window);
+// {"t":"service","kind":KIND, ...}: one closed window of the service's
+// latency; KIND "path" (PATH_REQUEST to PATH_REPLY) or "goal" (GOAL_...).
+std::string ServiceJson(const char* kind, const ServiceWindow& window);
 std::string HelloJson(const std::string& run_id, const std::string& version, int max_clients);
 
 // Foxglove channels: topic, schema name, JSON schema.

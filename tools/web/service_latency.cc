@@ -18,9 +18,10 @@ std::optional<ServiceWindow> ServiceLatency::Advance(double ms) {
   const auto index = static_cast<int64_t>(std::floor(ms / window_ms_));
   if (index <= window_) return std::nullopt;  // the open window (or a clock step back)
   std::optional<ServiceWindow> closed;
-  if (window_ >= 0 && window_replies_ > 0) {
+  if (window_ >= 0 && (window_requests_ > 0 || window_replies_ > 0)) {
     ServiceWindow w;
     w.end_ms = static_cast<double>(window_ + 1) * window_ms_;
+    w.requests = window_requests_;
     w.replies = latencies_.count();
     w.per_second = static_cast<double>(window_replies_) * 1000.0 / window_ms_;
     w.p50_ms = static_cast<double>(latencies_.Quantile(0.5)) / 1000.0;
@@ -31,6 +32,7 @@ std::optional<ServiceWindow> ServiceLatency::Advance(double ms) {
   }
   window_ = index;
   latencies_ = LatencyHistogram();
+  window_requests_ = 0;
   window_replies_ = 0;
   window_unmatched_ = 0;
   return closed;
@@ -39,6 +41,7 @@ std::optional<ServiceWindow> ServiceLatency::Advance(double ms) {
 std::optional<ServiceWindow> ServiceLatency::Request(const std::string& client, int64_t id,
                                                      double ms) {
   std::optional<ServiceWindow> closed = Advance(ms);
+  ++window_requests_;
   std::string key = Key(client, id);
   if (sent_.emplace(key, ms).second) order_.push_back(std::move(key));
   // The order keeps answered keys until it is twice the cap: then only

@@ -149,6 +149,10 @@ int Run(const std::vector<std::string>& args) {
                                 [&](path_request_t& m) { server.Request(m, NowMs()); });
   bus.Subscribe<path_reply_t>(ch::kPathReply,
                               [&](path_reply_t& m) { server.Paths(std::move(m), NowMs()); });
+  bus.Subscribe<goal_request_t>(ch::kGoalRequest,
+                                [&](goal_request_t& m) { server.GoalRequest(m, NowMs()); });
+  bus.Subscribe<goal_reply_t>(ch::kGoalReply,
+                              [&](goal_reply_t& m) { server.GoalReply(m, NowMs()); });
   bus.Subscribe<obstacle_update_t>(
       ch::kMapUpdates, [&](obstacle_update_t& m) { server.Updates(std::move(m), NowMs()); });
   const std::atomic<bool>& stop = protocol::StopOnSignals();

@@ -3,6 +3,7 @@
 #define ASIO_STANDALONE 1
 #include <spdlog/spdlog.h>
 
+#include <asio/steady_timer.hpp>
 #include <chrono>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -64,10 +65,16 @@ std::string HistoryJson(const char* type, const char* key, const std::vector<std
 }  // namespace
 
 struct WebServer::Impl {
-  explicit Impl(ServerOptions o) : options(std::move(o)) {}
+  explicit Impl(ServerOptions o)
+      : options(std::move(o)),
+        path_latency(options.max_pending_requests),
+        goal_latency(options.max_pending_requests) {}
 
   ServerOptions options;
   Server server;
+  // Closes the service's latency windows each quarter second (I/O thread).
+  // After `server`: destroyed before the io_service it was made on.
+  std::unique_ptr<asio::steady_timer> window_timer;
   std::thread thread;
   std::atomic<int> bound_port{0};
   std::atomic<int64_t> pending_bytes{0};
@@ -85,8 +92,9 @@ struct WebServer::Impl {
   std::vector<std::string> approach_order;
   std::map<std::string, ApproachState> approaches;
   std::vector<std::string> reports;
-  ServiceLatency service_latency;
-  std::vector<std::string> service_windows;  // ServiceJson texts, for new clients
+  ServiceLatency path_latency;               // PATH_REQUEST to PATH_REPLY
+  ServiceLatency goal_latency;               // GOAL_REQUEST to GOAL_REPLY
+  std::vector<std::string> service_windows;  // ServiceJson texts of both, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
 
   mutable std::mutex counters_mutex;
@@ -519,19 +527,44 @@ struct WebServer::Impl {
         packed_ms - taken_ms, WallMs() - packed_ms);
   }
 
-  void TakeServiceWindow(const std::optional<ServiceWindow>& window) {
+  void TakeServiceWindow(const char* kind, const std::optional<ServiceWindow>& window) {
     if (!window) return;
-    std::string text = ServiceJson(*window);
+    std::string text = ServiceJson(kind, *window);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
     KeepForNewClients(service_windows, std::move(text), options.max_service_windows);
   }
 
+  // The timer's tick: windows past their end are sent without waiting for
+  // the next request or reply (the last second of a burst).
+  void CloseServiceWindows() {
+    const double now = WallMs();
+    TakeServiceWindow("path", path_latency.Close(now));
+    TakeServiceWindow("goal", goal_latency.Close(now));
+  }
+
+  void ArmWindowTimer() {
+    window_timer->expires_after(std::chrono::milliseconds(250));
+    window_timer->async_wait([this](const asio::error_code& ec) {
+      if (ec) return;  // cancelled: stopping
+      CloseServiceWindows();
+      ArmWindowTimer();
+    });
+  }
+
   void TakeRequest(const std::string& client, int64_t request_id, double received_ms) {
-    TakeServiceWindow(service_latency.Request(client, request_id, received_ms));
+    TakeServiceWindow("path", path_latency.Request(client, request_id, received_ms));
+  }
+
+  void TakeGoalRequest(const std::string& client, int64_t request_id, double received_ms) {
+    TakeServiceWindow("goal", goal_latency.Request(client, request_id, received_ms));
+  }
+
+  void TakeGoalReply(const std::string& client, int64_t request_id, double received_ms) {
+    TakeServiceWindow("goal", goal_latency.Reply(client, request_id, received_ms));
   }
 
   void TakePaths(const path_reply_t& reply, double received_ms) {
-    TakeServiceWindow(service_latency.Reply(reply.client, reply.request_id, received_ms));
+    TakeServiceWindow("path", path_latency.Reply(reply.client, reply.request_id, received_ms));
     const std::string text = PathsJson(reply, received_ms, options.max_paths);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
     ToFoxglove("/paths", received_ms, [&] { return PathsFoxglove(reply); });
@@ -581,6 +614,8 @@ Status WebServer::Start() {
   s.bound_port = local_ec ? s.options.port : local.port();
   server.start_accept(ec);
   if (ec) return Error::Io("cannot accept connections: " + ec.message());
+  s.window_timer = std::make_unique<asio::steady_timer>(server.get_io_service());
+  s.ArmWindowTimer();
   s.started = true;
   s.thread = std::thread([&s] {
     for (;;) {
@@ -602,6 +637,7 @@ void WebServer::Stop() {
   asio::post(s.server.get_io_service(), [&s] {
     websocketpp::lib::error_code ec;
     s.server.stop_listening(ec);
+    s.window_timer->cancel();
     for (auto& [handle, client] : s.clients) {
       s.server.close(handle, websocketpp::close::status::going_away, "server stopping", ec);
     }
@@ -648,6 +684,18 @@ void WebServer::Request(const path_request_t& request, double received_ms) {
   const int64_t bytes = static_cast<int64_t>(request.client.size()) + 64;
   impl_->Post(bytes, [this, client = request.client, id = request.request_id, received_ms] {
     impl_->TakeRequest(client, id, received_ms);
+  });
+}
+void WebServer::GoalRequest(const goal_request_t& request, double received_ms) {
+  const int64_t bytes = static_cast<int64_t>(request.client.size()) + 64;
+  impl_->Post(bytes, [this, client = request.client, id = request.request_id, received_ms] {
+    impl_->TakeGoalRequest(client, id, received_ms);
+  });
+}
+void WebServer::GoalReply(const goal_reply_t& reply, double received_ms) {
+  const int64_t bytes = static_cast<int64_t>(reply.client.size()) + 64;
+  impl_->Post(bytes, [this, client = reply.client, id = reply.request_id, received_ms] {
+    impl_->TakeGoalReply(client, id, received_ms);
   });
 }
 void WebServer::Updates(obstacle_update_t update, double received_ms) {

@@ -32,6 +32,8 @@
 #include <vector>
 
 #include "dynapath/changes_t.hpp"
+#include "dynapath/goal_reply_t.hpp"
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/grid_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/path_reply_t.hpp"
@@ -57,7 +59,8 @@ struct ServerOptions {
   int64_t max_pending_bytes = int64_t{256} << 20;
   int max_reports = 20000;  // kept for new clients' plots
   int max_paths = 1000;     // paths of one PATH_REPLY sent to the page
-  int max_service_windows = 3600;  // service latency windows kept for new clients
+  int max_service_windows = 3600;       // service latency windows kept for new clients (both kinds)
+  size_t max_pending_requests = 65536;  // per kind: requests waiting for their reply
   std::string run_id;
   std::string version;
   std::map<std::string, PageFile> files;  // "/" and "/app.js", ...
@@ -102,6 +105,9 @@ class WebServer {
   // A request only times its reply (ServiceLatency): it is not sent on.
   void Request(const path_request_t& request, double received_ms);
   void Paths(path_reply_t reply, double received_ms);
+  // Goal queries are timed the same way, as a second series ("goal").
+  void GoalRequest(const goal_request_t& request, double received_ms);
+  void GoalReply(const goal_reply_t& reply, double received_ms);
   void Updates(obstacle_update_t update, double received_ms);
 
  private:

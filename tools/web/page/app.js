@@ -9,6 +9,12 @@
 
 const STAGE = 800;
 const MAX_PATHS = 2000;
+// Retrained regions outlined one by one up to this many; a step with more
+// (a first training: every leaf, 4,694 on hard 1000x1000) shows their
+// bounding box. Stroking thousands of outlines took tens of milliseconds
+// in the step's frame and more when the canvas was rasterized, which
+// delayed the next steps' frames.
+const MAX_REGION_OUTLINES = 500;
 const NO_ACTION = 15;
 // Colours (RGBA) of obstacles, moving obstacles, stations, failing starts.
 const OBSTACLE = [43, 43, 43], MOVER = [142, 68, 173], STATION = [39, 174, 96];
@@ -25,8 +31,10 @@ const state = {
   reports: {}, reportRx: {}, changes: null, moved: null, paths: [], pathStep: -1,
   framesReceived: 0, framesDrawn: 0, fps: 0, updates: [], drawn: null,
   // A planning service's latency and throughput, one entry per second
-  // with replies (the server times request to reply on the bus).
-  service: [],
+  // with requests or replies, of each kind: "path" (PATH_REQUEST to
+  // PATH_REPLY) and "goal" (GOAL_REQUEST to GOAL_REPLY), timed by the server
+  // on the bus. serviceDrawn: the windows of each kind the plots last drew.
+  service: [], serviceDrawn: { path: 0, goal: 0 },
   // Pixel colour [r, g, b] drawn at (row, col) of the shown grid.
   pixel(row, col) {
     const view = shown();
@@ -96,6 +104,10 @@ function layout(view) {
   const scale = Math.min(STAGE / view.cols, STAGE / view.rows);
   cells.style.width = view.cols * scale + "px"; cells.style.height = view.rows * scale + "px";
   overlay.width = Math.round(view.cols * scale); overlay.height = Math.round(view.rows * scale);
+  // The overlay's first drawing allocates its pixels: done now, when the
+  // maze arrives, rather than in the first step's frame (the cells canvas
+  // is drawn at once).
+  octx.fillRect(0, 0, 1, 1); octx.clearRect(0, 0, 1, 1);
   image = ctx.createImageData(view.cols, view.rows);
   pixels = new Uint32Array(image.data.buffer);
   state.moved = new Uint8Array(view.rows * view.cols);
@@ -184,6 +196,7 @@ function onReport(r) {
 const MAX_SERVICE = 3600;
 let dirtyService = false;
 function onService(w) {
+  if (!w.kind) w.kind = "path";
   state.service.push(w);
   if (state.service.length > MAX_SERVICE) state.service.splice(0, MAX_SERVICE / 2);
   document.getElementById("service").hidden = false;
@@ -297,7 +310,16 @@ function drawOverlay(now) {
     octx.stroke();
   }
   octx.strokeStyle = "#e67e22"; octx.lineWidth = 2;
-  for (const [r0, c0, rows, cols] of view.regions || []) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
+  const regions = view.regions || [];
+  if (regions.length <= MAX_REGION_OUTLINES) {
+    for (const [r0, c0, rows, cols] of regions) octx.strokeRect(c0 * s + 1, r0 * s + 1, cols * s - 2, rows * s - 2);
+  } else {  // a first training: their bounding box
+    let r0 = Infinity, c0 = Infinity, r1 = -Infinity, c1 = -Infinity;
+    for (const [r, c, rows, cols] of regions) {
+      r0 = Math.min(r0, r); c0 = Math.min(c0, c); r1 = Math.max(r1, r + rows); c1 = Math.max(c1, c + cols);
+    }
+    octx.strokeRect(c0 * s + 1, r0 * s + 1, (c1 - c0) * s - 2, (r1 - r0) * s - 2);
+  }
   if (state.paths.length) {  // robots and their paths
     octx.strokeStyle = "rgba(41,128,185,0.55)"; octx.lineWidth = Math.max(1, s / 4);
     octx.beginPath();
@@ -351,7 +373,8 @@ function drawPlot(id, field) {
 }
 
 // Lines over wall-clock time (seconds before the latest window):
-// series [{name, field, colour}] of state.service.
+// series [{name, kind, field, colour}] of state.service; a latency line
+// skips the windows without a matched reply (no percentiles).
 function drawService(id, series) {
   const canvas = document.getElementById(id);
   const g = canvas.getContext("2d");
@@ -359,21 +382,27 @@ function drawService(id, series) {
   const w = state.service;
   if (!w.length) return;
   const t0 = w[0].end, t1 = Math.max(w[w.length - 1].end, t0 + 1000);
+  const points = (s) => w.filter((x) => x.kind === s.kind && (s.field === "rate" || x.replies > 0));
   let hi = 0;
-  for (const x of w) for (const s of series) hi = Math.max(hi, x[s.field]);
+  for (const s of series) for (const x of points(s)) hi = Math.max(hi, x[s.field]);
   if (!(hi > 0)) hi = 1;
   const W = canvas.width, H = canvas.height, pad = 28;
   g.fillStyle = "#555"; g.font = "10px sans-serif";
   g.fillText(hi.toPrecision(3), 2, 10); g.fillText("0", 2, H - pad + 10);
   g.fillText(((t1 - t0) / 1000).toFixed(0) + " s", W - 40, H - 4);
-  series.forEach((s, n) => {
+  let legend = pad + 4;
+  series.forEach((s) => {
+    const drawn = points(s);
+    if (!drawn.length) return;
     g.strokeStyle = s.colour; g.lineWidth = 1.5; g.beginPath();
-    w.forEach((x, i) => {
+    drawn.forEach((x, i) => {
       const px = pad + (W - pad - 4) * (x.end - t0) / (t1 - t0), py = 4 + (H - pad - 4) * (1 - x[s.field] / hi);
       if (i === 0) g.moveTo(px, py); else g.lineTo(px, py);
     });
+    if (drawn.length === 1) g.arc(pad + (W - pad - 4) * (drawn[0].end - t0) / (t1 - t0), 4 + (H - pad - 4) * (1 - drawn[0][s.field] / hi), 1.5, 0, 2 * Math.PI);
     g.stroke();
-    g.fillStyle = s.colour; g.fillText(s.name, pad + 4 + 40 * n, H - 4);
+    g.fillStyle = s.colour; g.fillText(s.name, legend, H - 4);
+    legend += g.measureText(s.name).width + 10;
   });
 }
 
@@ -395,8 +424,13 @@ function frame(now) {
   if (dirtyOverlay || state.paths.length) { drawOverlay(now); dirtyOverlay = false; }
   const t2 = performance.now();
   if (dirtyService) {
-    drawService("plot-latency", [{ name: "p50", field: "p50", colour: LINE[0] }, { name: "p99", field: "p99", colour: LINE[1] }]);
-    drawService("plot-rate", [{ name: "replies/s", field: "rate", colour: LINE[2] }]);
+    drawService("plot-latency", [{ name: "path p50", kind: "path", field: "p50", colour: LINE[0] },
+                                 { name: "path p99", kind: "path", field: "p99", colour: LINE[1] },
+                                 { name: "goal p50", kind: "goal", field: "p50", colour: LINE[2] },
+                                 { name: "goal p99", kind: "goal", field: "p99", colour: LINE[3] }]);
+    drawService("plot-rate", [{ name: "path replies/s", kind: "path", field: "rate", colour: LINE[0] },
+                              { name: "goal replies/s", kind: "goal", field: "rate", colour: LINE[2] }]);
+    for (const kind of ["path", "goal"]) state.serviceDrawn[kind] = state.service.filter((x) => x.kind === kind).length;
     dirtyService = false;
   }
   if (dirtyPlots) { drawPlot("plot-success", "success"); drawPlot("plot-length", "length"); drawPlot("plot-adapt", "adapt"); drawKeys(); dirtyPlots = false; }
