@@ -3,7 +3,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
 #include <string>
@@ -18,20 +17,17 @@
 int main(int argc, char** argv) {
   using namespace dynapath;
   runtime::InitProcessLogging("agent");
-  CLI::App app(
+  agent::AgentCommandLine given;
+  const int code = runtime::ParseProcessCommandLine(
+      "dynapath-agent",
       "Hosts Q-learning learners for the coordinator of a run: receives jobs,\n"
       "returns Q-table shards per round (or final tables), sends heartbeats.\n"
       "Also hosts the learners of convQ's model for `dynapath train-model\n"
       "--agents` (one parameter shard per learner and round).\n"
       "Exits when the coordinator finishes, fails or is silent for --wait seconds.",
-      "dynapath-agent");
-  runtime::OptionGroup group(app);
-  agent::AgentCommandLine given;
-  agent::DeclareAgentCommandLine(group, given);
-  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-agent");
-      code >= 0) {
-    return code;
-  }
+      [&given](runtime::OptionGroup& group) { agent::DeclareAgentCommandLine(group, given); },
+      given.log, argc, argv);
+  if (code >= 0) return code;
   auto fail = [](const std::string& message) {
     return runtime::ProcessError("dynapath-agent", message);
   };

@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 #include "coordinator/command_line.h"
@@ -16,18 +15,17 @@
 int main(int argc, char** argv) {
   using namespace dynapath;
   runtime::InitProcessLogging("coordinator");
-  CLI::App app(
+  coordinator::CoordinatorCommandLine given;
+  const int code = runtime::ParseProcessCommandLine(
+      "dynapath-coordinator",
       "Runs the chosen approaches on the maze of the run's environment simulator,\n"
       "training on the run's agent processes, and writes DIR/results.csv and\n"
       "DIR/results_detailed.csv exactly as `dynapath run --local` does.",
-      "dynapath-coordinator");
-  runtime::OptionGroup group(app);
-  coordinator::CoordinatorCommandLine given;
-  coordinator::DeclareCoordinatorCommandLine(group, given);
-  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-coordinator");
-      code >= 0) {
-    return code;
-  }
+      [&given](runtime::OptionGroup& group) {
+        coordinator::DeclareCoordinatorCommandLine(group, given);
+      },
+      given.log, argc, argv);
+  if (code >= 0) return code;
   auto fail = [](const std::string& message) {
     return runtime::ProcessError("dynapath-coordinator", message);
   };

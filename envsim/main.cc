@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <string>
 
@@ -16,19 +15,16 @@
 int main(int argc, char** argv) {
   using namespace dynapath;
   runtime::InitProcessLogging("envsim");
-  CLI::App app(
+  envsim::EnvSimCommandLine given;
+  const int code = runtime::ParseProcessCommandLine(
+      "dynapath-envsim",
       "Holds a run's maze and its change sequence (generated from a seed exactly as\n"
       "the report's runs, loaded from files, or replayed from an LCM log) and hands\n"
       "them to the coordinator one time step at a time: in lock-step with it by\n"
       "default, or free-running at --hz steps per second.",
-      "dynapath-envsim");
-  runtime::OptionGroup group(app);
-  envsim::EnvSimCommandLine given;
-  envsim::DeclareEnvSimCommandLine(group, given);
-  if (int code = runtime::ParseProcessArgs(app, given.log, argc, argv, "dynapath-envsim");
-      code >= 0) {
-    return code;
-  }
+      [&given](runtime::OptionGroup& group) { envsim::DeclareEnvSimCommandLine(group, given); },
+      given.log, argc, argv);
+  if (code >= 0) return code;
   auto fail = [](const std::string& message) {
     return runtime::ProcessError("dynapath-envsim", message);
   };

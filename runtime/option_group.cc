@@ -304,6 +304,16 @@ int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::st
   return -1;
 }
 
+int ParseCommandLine(const std::string& program, const std::string& name,
+                     const std::string& description,
+                     const std::function<void(OptionGroup&)>& declare,
+                     std::vector<std::string> args) {
+  CLI::App app(description, name);
+  OptionGroup group(app);
+  declare(group);
+  return ParseCommandLine(app, std::move(args), program);
+}
+
 void CloseInheritedFd(const std::string& path) {
   if (path.rfind("/dev/fd/", 0) != 0) return;
   char* end = nullptr;

@@ -18,6 +18,7 @@
 // ConfigWriter writes no "" string); an option that only means something
 // with another is refused without it where the group is resolved.
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -109,6 +110,14 @@ const CLI::Validator& DecimalInteger();
 // help and returns 0; a bad option prints "PROGRAM: MESSAGE" (one line) and
 // returns 2. Returns -1 to go on. `args` excludes the program name.
 int ParseCommandLine(CLI::App& app, std::vector<std::string> args, const std::string& program);
+// The same on an app made here, named NAME in its --help and described by
+// DESCRIPTION, whose options DECLARE puts on the group: a front end whose
+// options are all a group's need not include CLI11 (seconds of compilation
+// per file).
+int ParseCommandLine(const std::string& program, const std::string& name,
+                     const std::string& description,
+                     const std::function<void(OptionGroup&)>& declare,
+                     std::vector<std::string> args);
 // The parse alone: a bad option's one-line message as the error (for a
 // caller that reports it otherwise, the Python module); --help throws
 // CLI::CallForHelp.

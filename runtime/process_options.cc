@@ -201,6 +201,8 @@ int ProcessError(const char* program, const std::string& message, int exit_code)
   return exit_code;
 }
 
+namespace {
+
 int ParseProcessArgs(CLI::App& app, const LogOptions& log, int argc, char** argv,
                      const char* program) {
   AddConfigOption(app);
@@ -214,6 +216,17 @@ int ParseProcessArgs(CLI::App& app, const LogOptions& log, int argc, char** argv
     return ProcessError(program, status.error().message);
   }
   return -1;
+}
+
+}  // namespace
+
+int ParseProcessCommandLine(const char* program, const std::string& description,
+                            const std::function<void(OptionGroup&)>& declare, const LogOptions& log,
+                            int argc, char** argv) {
+  CLI::App app(description, program);
+  OptionGroup group(app);
+  declare(group);
+  return ParseProcessArgs(app, log, argc, argv, program);
 }
 
 }  // namespace dynapath::runtime

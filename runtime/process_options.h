@@ -2,6 +2,7 @@
 // Options every process of a distributed run takes: the run id, the LCM URL,
 // the run's secret and (tests only) fault injection.
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -88,10 +89,14 @@ void InitProcessLogging(const std::string& name);
 // Prints "PROGRAM: MESSAGE" on stderr and returns `exit_code` (2: bad usage).
 int ProcessError(const char* program, const std::string& message, int exit_code = 2);
 
-// Common start of a process main: parse (a --config file and the command
-// line), --help, log level. Returns -1 to continue, else the exit code to
-// return.
-int ParseProcessArgs(CLI::App& app, const LogOptions& log, int argc, char** argv,
-                     const char* program);
+// Common start of a process main: an app described by DESCRIPTION, whose
+// options DECLARE puts on the group; parses a --config file and the command
+// line, --help, log level. Returns -1 to continue, else the exit code to
+// return. The app is made here so that a process main need not include
+// CLI11, whose compilation is most of such a file's (seconds per file, more
+// under the sanitizers).
+int ParseProcessCommandLine(const char* program, const std::string& description,
+                            const std::function<void(OptionGroup&)>& declare, const LogOptions& log,
+                            int argc, char** argv);
 
 }  // namespace dynapath::runtime

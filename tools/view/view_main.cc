@@ -8,7 +8,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -91,34 +90,37 @@ Result<std::pair<int, int>> ParseWindowSize(const std::string& text) {
 }
 
 int Run(const std::vector<std::string>& args) {
-  CLI::App app(
+  view::ShowOptions show;
+  std::string lcm_url;
+  std::optional<std::string> pid_given;
+  std::string window_given = "960x760";
+  std::optional<std::string> screenshot;
+  long long frames_given = 1;
+  long long timeout_given = 60;
+  runtime::LogOptions log;
+  const int parsed = runtime::ParseCommandLine(
+      kProgram, "dynapath view",
       "A live window on a run's policy: the latest POLICY message of an approach, drawn\n"
       "like `dynapath render` draws them. Keys: Tab/PageUp/PageDown or 1-9 pick the\n"
       "approach, A follows the latest one, wheel or +/- zoom, drag or arrows pan, F fits,\n"
       "Q or Escape quit. A run in its private network (the default of dynapath run\n"
       "--agents N): give the pid its launcher logs, --pid PID.",
-      "dynapath view");
-  runtime::OptionGroup group(app);
-  view::ShowOptions show;
-  view::DeclareShowOptions(group, show);
-  std::string lcm_url;
-  runtime::DeclareLcmUrlOption(group, lcm_url);
-  std::optional<std::string> pid_given;
-  group.Option("--pid", pid_given, "PID",
-               "join the private network of this process (a running `dynapath run`)");
-  std::string window_given = "960x760";
-  group.Option("--window", window_given, "WxH", "window size");
-  std::optional<std::string> screenshot;
-  group.Option("--screenshot", screenshot, "FILE",
-               "save what the window shows as a PNG once --frames policies arrived, and exit");
-  long long frames_given = 1;
-  group.Option("--frames", frames_given, "N", "policies to receive before the screenshot");
-  long long timeout_given = 60;
-  group.Option("--timeout", timeout_given, "SEC",
-               "screenshot mode: give up after SEC seconds (exit 1)");
-  runtime::LogOptions log;
-  runtime::DeclareLogOptions(group, log);
-  if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
+      [&](runtime::OptionGroup& group) {
+        view::DeclareShowOptions(group, show);
+        runtime::DeclareLcmUrlOption(group, lcm_url);
+        group.Option("--pid", pid_given, "PID",
+                     "join the private network of this process (a running `dynapath run`)");
+        group.Option("--window", window_given, "WxH", "window size");
+        group.Option(
+            "--screenshot", screenshot, "FILE",
+            "save what the window shows as a PNG once --frames policies arrived, and exit");
+        group.Option("--frames", frames_given, "N", "policies to receive before the screenshot");
+        group.Option("--timeout", timeout_given, "SEC",
+                     "screenshot mode: give up after SEC seconds (exit 1)");
+        runtime::DeclareLogOptions(group, log);
+      },
+      args);
+  if (parsed >= 0) return parsed;
   if (Status status = runtime::ApplyLogLevel(log); !status) {
     return runtime::ProcessError(kProgram, status.error().message);
   }
