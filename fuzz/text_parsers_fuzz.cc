@@ -47,7 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     default: {
       auto config = dynapath::cli::ParseConfigText(text, "fuzz.toml");
       if (config) {
-        auto values = dynapath::cli::ConfigOptionValues(*config);
+        auto values = dynapath::cli::StudyFileOptions(*config);
         if (values) (void)dynapath::cli::ResolveStudyOptions(*values, 2);
       }
       break;
