@@ -12,8 +12,8 @@
 #include "dynapath/goal_paths.h"
 #include "dynapath/grid.h"
 #include "dynapath/movingai_map.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_plan.h"
+#include "study/study_config.h"
+#include "study/study_plan.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > (1 << 16)) return 0;

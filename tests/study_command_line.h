@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "runtime/option_group.h"
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 namespace dynapath::cli::test_support {
 

@@ -54,9 +54,9 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "runtime/service_client.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_plan.h"
-#include "tools/common/study_results.h"
+#include "study/study_config.h"
+#include "study/study_plan.h"
+#include "study/study_results.h"
 
 namespace py = pybind11;
 

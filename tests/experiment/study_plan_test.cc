@@ -1,4 +1,4 @@
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 #include <gtest/gtest.h>
 

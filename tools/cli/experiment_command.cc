@@ -13,8 +13,8 @@
 
 #include "dynapath/result.h"
 #include "runtime/option_group.h"
+#include "study/study_plan.h"
 #include "tools/cli/commands.h"
-#include "tools/common/study_plan.h"
 #include "tools/study/study_session.h"
 
 namespace dynapath::cli {

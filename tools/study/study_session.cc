@@ -31,13 +31,13 @@
 #include "runtime/output_lock.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+#include "study/manifest.h"
+#include "study/study_config.h"
+#include "study/study_log.h"
+#include "study/study_results.h"
 #include "tools/common/build_info.h"
-#include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
 #include "tools/common/space_reserve.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_log.h"
-#include "tools/common/study_results.h"
 
 namespace dynapath::cli {
 namespace {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "dynapath/result.h"
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 namespace CLI {
 class App;

@@ -17,8 +17,8 @@
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
-#include "tools/common/json.h"
-#include "tools/common/study_config.h"
+#include "study/json.h"
+#include "study/study_config.h"
 
 namespace dynapath::cli {
 
