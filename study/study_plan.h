@@ -90,12 +90,13 @@ struct StudyOptions {
   std::string out = kDefaultStudyDir;
 };
 
-// The study's options as given, declared once on CLI11
-// (DeclareStudyCommandLine): the study's own (lists kept as their text) and
-// the groups it shares with `dynapath run` (learner options, placement,
-// mode, threads, LCM URL, log level, seed and steps). The config file takes
-// the same names (with '-' or '_'), checked by the kinds the declaration
-// records.
+// The study's options as given, declared once (DeclareStudyCommandLine):
+// the study's own (lists kept as their comma-separated text, a study file's
+// array as its items joined) and the groups it shares with `dynapath run`
+// (learner options, placement, mode, threads, LCM URL, log level, seed and
+// steps). CLI11 parses a command line into it; a study file's values are
+// set into its fields by their keys (the same names, with '-' or '_'; the
+// declaration on runtime::OptionFields says where each lives and its kind).
 struct StudyCommandLine {
   std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
   bool edge_case = false, no_edge_case = false;
