@@ -1,12 +1,12 @@
 // libFuzzer target: the reader of a study's repeats.csv (dynapath compare
-// STUDY A B and summary.csv's statistics, tools/common/study_results.h).
+// STUDY A B and summary.csv's statistics, study/study_results.h).
 // The first byte picks summary.csv or the comparison of approaches X and Y.
 // Inputs are capped at 4 KiB: each group's bootstrap draws 10000 resamples.
 
 #include <cstdint>
 #include <string>
 
-#include "tools/common/study_results.h"
+#include "study/study_results.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > 4096) return 0;

@@ -12,8 +12,8 @@
 #include "dynapath/goal_paths.h"
 #include "dynapath/grid.h"
 #include "dynapath/movingai_map.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_plan.h"
+#include "study/study_config.h"
+#include "study/study_plan.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > (1 << 16)) return 0;
@@ -47,7 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     default: {
       auto config = dynapath::cli::ParseConfigText(text, "fuzz.toml");
       if (config) {
-        auto values = dynapath::cli::ConfigOptionValues(*config);
+        auto values = dynapath::cli::StudyFileOptions(*config);
         if (values) (void)dynapath::cli::ResolveStudyOptions(*values, 2);
       }
       break;

@@ -114,8 +114,25 @@ void OptionGroup::Record(const std::string& name, ValueKind kind) {
   if (kinds_ != nullptr) (*kinds_)[Key(name)] = kind;
 }
 
+template <typename T>
+bool OptionGroup::Bind(const std::string& name, ValueKind kind, T& value) {
+  if (fields_ == nullptr) return false;
+  (*fields_)[Key(name)] = OptionField{kind, &value};
+  return true;
+}
+
+void CopyOptionField(const OptionField& from, const OptionField& to) {
+  std::visit(
+      [&](auto* source) {
+        using Pointer = decltype(source);
+        if (auto* const* target = std::get_if<Pointer>(&to.value)) **target = *source;
+      },
+      from.value);
+}
+
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
+  if (Bind(name, ValueKind::kString, value)) return;
   if (writer_ != nullptr) {
     if (!value.empty()) writer_->PutText(Key(name), value);  // "": not given
     return;
@@ -130,6 +147,7 @@ void OptionGroup::Option(const std::string& name, std::string& value, const std:
 void OptionGroup::Option(const std::string& name, std::optional<std::string>& value,
                          const std::string& value_name, const std::string& help,
                          const std::string& default_text) {
+  if (Bind(name, ValueKind::kString, value)) return;
   if (writer_ != nullptr) {
     if (value) writer_->PutText(Key(name), *value);
     return;
@@ -143,6 +161,7 @@ void OptionGroup::Option(const std::string& name, std::optional<std::string>& va
 void OptionGroup::Option(const std::string& name, std::optional<long long>& value,
                          const std::string& value_name, const std::string& help,
                          const std::string& default_text) {
+  if (Bind(name, ValueKind::kInteger, value)) return;
   if (writer_ != nullptr) {
     if (value) writer_->Put(Key(name), std::to_string(*value));
     return;
@@ -158,6 +177,7 @@ void OptionGroup::Option(const std::string& name, std::optional<long long>& valu
 void OptionGroup::Option(const std::string& name, std::optional<double>& value,
                          const std::string& value_name, const std::string& help,
                          const std::string& default_text) {
+  if (Bind(name, ValueKind::kFloat, value)) return;
   if (writer_ != nullptr) {
     if (value) writer_->Put(Key(name), fmt::format("{}", *value));
     return;
@@ -172,6 +192,7 @@ void OptionGroup::Option(const std::string& name, std::optional<double>& value,
 
 void OptionGroup::Option(const std::string& name, long long& value, const std::string& value_name,
                          const std::string& help) {
+  if (Bind(name, ValueKind::kInteger, value)) return;
   if (writer_ != nullptr) return writer_->Put(Key(name), std::to_string(value));
   Record(name, ValueKind::kInteger);
   app_->add_option(name, value, help)
@@ -184,6 +205,7 @@ void OptionGroup::Option(const std::string& name, long long& value, const std::s
 void OptionGroup::Option(const std::string& name, double& value, const std::string& value_name,
                          const std::string& help) {
   // {} is the shortest text that reads back as the same double.
+  if (Bind(name, ValueKind::kFloat, value)) return;
   if (writer_ != nullptr) return writer_->Put(Key(name), fmt::format("{}", value));
   Record(name, ValueKind::kFloat);
   app_->add_option(name, value, help)
@@ -194,6 +216,7 @@ void OptionGroup::Option(const std::string& name, double& value, const std::stri
 }
 
 void OptionGroup::Flag(const std::string& name, bool& value, const std::string& help) {
+  if (Bind(name, ValueKind::kBoolean, value)) return;
   if (writer_ != nullptr) {
     if (value) writer_->Put(Key(name), "true");
     return;
@@ -205,6 +228,7 @@ void OptionGroup::Flag(const std::string& name, bool& value, const std::string& 
 void OptionGroup::List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
                        const std::string& value_name, const std::string& help,
                        const std::string& default_text) {
+  if (Bind(name, kind, text)) return;
   if (writer_ != nullptr) {
     if (text) writer_->PutText(Key(name), *text);
     return;

@@ -22,6 +22,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "dynapath/result.h"
@@ -57,11 +58,27 @@ class ConfigWriter {
 enum class ValueKind { kString, kInteger, kFloat, kBoolean, kIntegerList, kStringList };
 using OptionKinds = std::map<std::string, ValueKind>;
 
+// Where a declared option's value lives in the struct it was declared on,
+// with its kind, by its config-file key: for a reader that sets typed values
+// itself (a study file, read by toml++) and for taking one struct's given
+// options over another's, option by option (CopyOptionField).
+struct OptionField {
+  ValueKind kind = ValueKind::kString;
+  std::variant<std::string*, std::optional<std::string>*, std::optional<long long>*,
+               std::optional<double>*, long long*, double*, bool*>
+      value;
+};
+using OptionFields = std::map<std::string, OptionField>;
+// Sets `to`'s value to `from`'s (fields of the same option in two structs).
+void CopyOptionField(const OptionField& from, const OptionField& to);
+
 class OptionGroup {
  public:
   // `kinds`, when given, gets the kind of every option declared.
   explicit OptionGroup(CLI::App& app, OptionKinds* kinds = nullptr) : app_(&app), kinds_(kinds) {}
   explicit OptionGroup(ConfigWriter& writer) : writer_(&writer) {}
+  // Records where each option's value lives (nothing is parsed or written).
+  explicit OptionGroup(OptionFields& fields) : fields_(&fields) {}
 
   // An option taking a value, "--name VALUE_NAME". `default_text` is shown
   // in --help for std::optional members (the struct's value otherwise).
@@ -89,10 +106,14 @@ class OptionGroup {
 
  private:
   void Record(const std::string& name, ValueKind kind);
+  // With fields_: records the option's field and returns true (declare nothing).
+  template <typename T>
+  bool Bind(const std::string& name, ValueKind kind, T& value);
 
   CLI::App* app_ = nullptr;
   OptionKinds* kinds_ = nullptr;
   ConfigWriter* writer_ = nullptr;
+  OptionFields* fields_ = nullptr;
 };
 
 // `fallback` when unset; else `value` when in [min, max], else the error

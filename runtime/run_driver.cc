@@ -188,6 +188,37 @@ void DeclareRunOptions(OptionGroup& group, RunOptions& o) {
              "`dynapath run --resume DIR` sets)");
 }
 
+Status ResolveCheckpointOptions(const std::string& dir, std::optional<long long> every_given,
+                                std::optional<double> interval_given, bool resume, RunPlan& plan) {
+  Result<long long> every = InRange("checkpoint-every", every_given, 1, 1, 1'000'000);
+  if (!every) return every.error();
+  plan.checkpoint.dir = dir;
+  plan.checkpoint.every = static_cast<int>(*every);
+  const double interval = interval_given.value_or(0);
+  if (!(interval >= 0 && interval <= 86400)) {
+    return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
+  }
+  plan.checkpoint.min_seconds = interval;
+  if (dir.empty() && (every_given || interval_given)) {
+    return Error::Option(every_given ? "checkpoint-every" : "checkpoint-interval",
+                         "needs --checkpoint DIR");
+  }
+  if (resume) {
+    if (dir.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
+    Result<RunCheckpoint> found = ReadCheckpoint(dir);
+    if (!found && !found.error().IsNotFound()) return found.error();
+    if (found) {
+      for (size_t i = 0; i < found->runs.size(); ++i) {
+        if (i >= plan.approaches.size() || found->runs[i].approach != plan.approaches[i]) {
+          return Error::Option("checkpoint", dir + " is of a run of other approaches");
+        }
+      }
+      plan.checkpoint.resume = std::make_shared<const RunCheckpoint>(std::move(*found));
+    }
+  }
+  return Ok{};
+}
+
 Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   RunPlan plan;
   Result<std::vector<Approach>> approaches = ParseApproachList(o.approach);
@@ -231,31 +262,10 @@ Result<RunPlan> ResolveRunOptions(const RunOptions& o) {
   Result<PolicyPlan> policy = ResolvePolicyOptions(o.policy, plan.approaches);
   if (!policy) return policy.error();
   plan.policy = std::move(*policy);
-  Result<long long> every = InRange("checkpoint-every", o.checkpoint_every, 1, 1, 1'000'000);
-  if (!every) return every.error();
-  plan.checkpoint.dir = o.checkpoint;
-  plan.checkpoint.every = static_cast<int>(*every);
-  const double interval = o.checkpoint_interval.value_or(0);
-  if (!(interval >= 0 && interval <= 86400)) {
-    return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
-  }
-  plan.checkpoint.min_seconds = interval;
-  if (o.checkpoint.empty() && (o.checkpoint_every || o.checkpoint_interval)) {
-    return Error::Option(o.checkpoint_every ? "checkpoint-every" : "checkpoint-interval",
-                         "needs --checkpoint DIR");
-  }
-  if (o.resume_checkpoint) {
-    if (o.checkpoint.empty()) return Error::Option("resume-checkpoint", "needs --checkpoint DIR");
-    Result<RunCheckpoint> found = ReadCheckpoint(o.checkpoint);
-    if (!found && !found.error().IsNotFound()) return found.error();
-    if (found) {
-      for (size_t i = 0; i < found->runs.size(); ++i) {
-        if (i >= plan.approaches.size() || found->runs[i].approach != plan.approaches[i]) {
-          return Error::Option("checkpoint", o.checkpoint + " is of a run of other approaches");
-        }
-      }
-      plan.checkpoint.resume = std::make_shared<const RunCheckpoint>(std::move(*found));
-    }
+  if (Status status = ResolveCheckpointOptions(o.checkpoint, o.checkpoint_every,
+                                               o.checkpoint_interval, o.resume_checkpoint, plan);
+      !status) {
+    return status.error();
   }
   return plan;
 }

@@ -116,6 +116,12 @@ void DeclarePlacementOption(OptionGroup& group, RunOptions& options);
 // policy options (runtime/policy_options.h) and the checkpoint options.
 void DeclareRunOptions(OptionGroup& group, RunOptions& options);
 Result<RunPlan> ResolveRunOptions(const RunOptions& options);
+// --checkpoint DIR ("" none), --checkpoint-every, --checkpoint-interval and
+// --resume-checkpoint into plan.checkpoint, checked; with `resume`, DIR's
+// checkpoint is read and must be of plan.approaches' run. ResolveRunOptions
+// uses it; a study sets its configurations' checkpoints with it directly.
+Status ResolveCheckpointOptions(const std::string& dir, std::optional<long long> every,
+                                std::optional<double> interval, bool resume, RunPlan& plan);
 
 // DIR/params.toml of a run: what determines its results besides the maze,
 // as `--config` lines: the approaches, --leaf-limit, --bootstrap (with

@@ -2,10 +2,10 @@
 # The layers point one way (CONTRIBUTING.md, "The layering rule"):
 #   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
 #   coordinator/ agent/ (the processes) <- launch/ <- app/ (plans and sessions)
-#   <- tools/ (the front ends);
+#   and study/ (the study library, beside app/: runtime/ and below and app/'s
+#   rules, never the launcher or the processes) <- tools/ (the front ends);
 #   python/ (the Python module) beside the processes: runtime/ and below,
-#   and the study library tools/common/ (a front end like `dynapath
-#   experiment`), never the CLI's own tools/cli/.
+#   and the study library study/, never tools/.
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
 # aside) includes a header private to core (core/<room>/<name>.h, anything
@@ -14,10 +14,10 @@
 # name through an include path that reaches core's rooms); when the face
 # holds a header that core/include/face.txt does not list, or lists one it
 # lacks; when a header of the face includes a private one; when anything
-# below tools/ includes a study-only library
+# below tools/ but the study library includes a library of the applications
 # (JSON, TOML, PNG, SFML); or when a process executable links a library
-# above the processes (the study and CLI code of tools/, app/, the launcher, the
-# view).
+# above the processes (the study library, the CLI code of tools/, app/, the
+# launcher, the view).
 # Usage: tests/layering_test.sh SOURCE_DIR [BUILD_DIR]
 set -uo pipefail
 src=${1:?usage: layering_test.sh SOURCE_DIR [BUILD_DIR]}
@@ -36,10 +36,12 @@ allowed_for() {
     protocol) echo "face messages protocol" ;;
     runtime) echo "face messages protocol runtime" ;;
     envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
-    python) echo "face messages protocol runtime python tools" ;;
+    python) echo "face messages protocol runtime python study" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
     app) echo "face messages protocol runtime envsim coordinator agent launch app" ;;
-    tools) echo "face messages protocol runtime envsim coordinator agent launch app tools" ;;
+    # app/ only for its rules (app/repeats.h): the study library starts nothing.
+    study) echo "face messages protocol runtime app study" ;;
+    tools) echo "face messages protocol runtime envsim coordinator agent launch app study tools" ;;
   esac
 }
 
@@ -104,7 +106,7 @@ fi
 # at link time, so their headers are checked).
 forbidden_headers='^#include *[<"](nlohmann/|toml\+\+/|png\.h|gif_lib\.h|SFML/)'
 
-for layer in core/include core lcmtypes protocol runtime envsim coordinator agent python launch app tools; do
+for layer in core/include core lcmtypes protocol runtime envsim coordinator agent python launch app study tools; do
   allowed=$(allowed_for "$layer")
   [ -d "$src/$layer" ] || continue
   while IFS= read -r file; do
@@ -118,11 +120,13 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
         *) fail "${file#"$src"/} ($layer) includes a header of $kind: $line" ;;
       esac
     done < <(grep -hE '^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"]' "$file")
-    if [ "$layer" = python ] && grep -Eq '^#include *["<]tools/' "$file" &&
-      grep -E '^#include *["<]tools/' "$file" | grep -vq '["<]tools/common/'; then
-      fail "${file#"$src"/} (python) includes a header of tools/ other than the study library tools/common/"
+    # Of app/, the study library takes only the rules without a network
+    # (dynapath_app_rules: app/repeats.h, app/resources.h), never a session.
+    if [ "$layer" = study ] && grep -E '^#include *["<]app/' "$file" |
+      grep -vqE '["<]app/(repeats|resources)\.h[">]'; then
+      fail "${file#"$src"/} (study) includes a header of app/ other than its rules (repeats.h, resources.h)"
     fi
-    if [ "$layer" != tools ] && grep -Eq "$forbidden_headers" "$file"; then
+    if [ "$layer" != tools ] && [ "$layer" != study ] && grep -Eq "$forbidden_headers" "$file"; then
       fail "${file#"$src"/} ($layer) uses a library of the applications: $(grep -Eh "$forbidden_headers" "$file" | head -1)"
     fi
   done < <(find "$src/$layer" -type f \( -name '*.h' -o -name '*.cc' -o -name '*.hpp' \))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An independent reference for summary.csv (tools/common/repeat_statistics,
+"""An independent reference for summary.csv (study/repeat_statistics,
 study_results): recomputes every row of SUMMARY from REPEATS (repeats.csv)
 and compares the text of each number (%.10g) to the last digit.
 

@@ -54,9 +54,9 @@
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
 #include "runtime/service_client.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_plan.h"
-#include "tools/common/study_results.h"
+#include "study/study_config.h"
+#include "study/study_plan.h"
+#include "study/study_results.h"
 
 namespace py = pybind11;
 
@@ -779,30 +779,20 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   std::optional<std::string> config_path;
   cli::DeclareStudyConfigOption(group, config_path);
   Check(runtime::ParseArguments(app, std::move(args)));
-  if (given.edge_case && given.no_edge_case) {
-    throw std::invalid_argument("choose one of --edge-case and --no-edge-case");
-  }
   if (given.mode.agents || given.mode.embedded) {
     throw std::invalid_argument(
         "a study with a Python approach runs in this process: --agents and --embedded are not "
         "available with it (use --local)");
   }
-  cli::OptionValues command_line;
-  for (auto& [name, value] : cli::GivenOptionValues(app)) {
-    if (name == "no-edge-case") {
-      command_line["edge-case"] = cli::OptionValue{"false", value.origin};
-    } else if (cli::StudyOptionKinds().count(name) > 0) {
-      command_line[name] = value;
-    }
-  }
-  cli::OptionValues file_values;
+  const cli::GivenStudyOptions command_line = Take(cli::CommandLineStudyOptions(app, given));
+  cli::GivenStudyOptions file_options;
   if (config_path) {
     const cli::ConfigFile file = Take(cli::ReadConfigFile(*config_path));
-    file_values = Take(cli::ConfigOptionValues(file));
+    file_options = Take(cli::StudyFileOptions(file));
   }
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const cli::StudyOptions options =
-      Take(cli::ResolveStudyOptions(cli::MergeOptionValues(file_values, command_line), hardware));
+      Take(cli::ResolveStudyOptions(cli::MergeStudyOptions(file_options, command_line), hardware));
   if (!options.sweeps.empty()) {
     throw std::invalid_argument(
         "parameter sweeps (a list in the study file) are not available with Python approaches; "
@@ -832,8 +822,7 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
     spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
     const runtime::ScenarioSetup setup =
         Take(runtime::ResolveScenario(cli::ScenarioOptionsOf(configuration)));
-    const runtime::RunPlan run_plan =
-        Take(runtime::ResolveRunOptions(cli::RunOptionsOf(options, configuration, directory)));
+    const runtime::RunPlan run_plan = cli::RunPlanOf(options, configuration, directory);
     RunWithPython(run_plan, setup, options.threads, builtin, external);
     has_edge = has_edge || configuration.edge_case;
     if (configuration.repeat == 1) {

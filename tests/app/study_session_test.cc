@@ -6,16 +6,18 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/study_command_line.h"
+
 namespace dynapath::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Option values as a command line gives them ("option --NAME").
-OptionValues Cli(std::initializer_list<std::pair<std::string, std::string>> given) {
-  OptionValues values;
-  for (const auto& [name, text] : given) values[name] = OptionValue{text, "option --" + name};
-  return values;
+// Options as a command line gives them, parsed by CLI11 ("option --NAME").
+GivenStudyOptions Cli(std::initializer_list<std::pair<std::string, std::string>> given) {
+  Result<GivenStudyOptions> parsed = test_support::ParseStudyCommandLine(given);
+  EXPECT_TRUE(parsed) << parsed.error().message;
+  return parsed ? *parsed : GivenStudyOptions{};
 }
 
 fs::path TempPath(const std::string& name) {
@@ -43,7 +45,7 @@ TEST(PlanStudy, TakesTheOptionsAndMakesThePlan) {
 }
 
 TEST(PlanStudy, AnErrorNamesItsOption) {
-  const std::pair<OptionValues, std::string> cases[] = {
+  const std::pair<GivenStudyOptions, std::string> cases[] = {
       {Cli({{"sizes", "twenty"}}), "option --sizes: "},
       {Cli({{"difficulties", "medium-rare"}}), "option --difficulties: "},
       {Cli({{"repeats", "0"}}), "option --repeats: "},

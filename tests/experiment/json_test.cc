@@ -1,7 +1,7 @@
 // Tests of what tools/common/json adds to nlohmann::json: the strict parse
 // (duplicate keys, error positions), the dump that cannot throw, Member.
 
-#include "tools/common/json.h"
+#include "study/json.h"
 
 #include <gtest/gtest.h>
 

@@ -1,13 +1,12 @@
-#include "tools/common/manifest.h"
+#include "study/manifest.h"
 
 #include <gtest/gtest.h>
-
-#include "tests/temp_path.h"
 
 #include <regex>
 
 #include "dynapath/text_file.h"
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
+#include "tests/temp_path.h"
 
 namespace dynapath::cli {
 namespace {

@@ -1,7 +1,7 @@
 // study.log's sink: a line that cannot be written (a full disk) is kept
 // and written when there is room again; what is still missing is said.
 
-#include "tools/common/study_log.h"
+#include "study/study_log.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 #include <gtest/gtest.h>
 
@@ -6,27 +6,33 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/study_command_line.h"
 #include "tests/temp_path.h"
 
 namespace dynapath::cli {
 namespace {
 
-OptionValues Cli(std::initializer_list<std::pair<std::string, std::string>> values) {
-  OptionValues result;
-  for (const auto& [name, text] : values) result[name] = OptionValue{text, "option --" + name};
-  return result;
+// A command line's options, parsed by CLI11 as `dynapath experiment` does.
+Result<GivenStudyOptions> Cli(std::initializer_list<std::pair<std::string, std::string>> values) {
+  return test_support::ParseStudyCommandLine(values);
+}
+
+// A command line resolved; its parse error when CLI11 refused it.
+Result<StudyOptions> Resolve(const Result<GivenStudyOptions>& given, int threads) {
+  if (!given) return given.error();
+  return cli::ResolveStudyOptions(*given, threads);
 }
 
 Result<StudyOptions> FromFile(const std::string& text) {
   Result<ConfigFile> file = ParseConfigText(text, "s.toml");
   if (!file) return file.error();
-  Result<OptionValues> values = ConfigOptionValues(*file);
+  Result<GivenStudyOptions> values = StudyFileOptions(*file);
   if (!values) return values.error();
-  return ResolveStudyOptions(*values, 4);
+  return cli::ResolveStudyOptions(*values, 4);
 }
 
 TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
-  Result<StudyOptions> options = ResolveStudyOptions({}, 4);
+  Result<StudyOptions> options = ResolveStudyOptions(GivenStudyOptions{}, 4);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->sizes, (std::vector<int>{20, 50, 100, 200, 300}));
   EXPECT_EQ(options->approaches, AllApproaches());
@@ -60,13 +66,12 @@ TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
 }
 
 TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
-  Result<StudyOptions> options =
-      ResolveStudyOptions(Cli({{"sizes", "50, 20"},
-                               {"difficulties", "hard,easy"},
-                               {"seed", "7"},
-                               {"steps", "10"},
-                               {"approaches", "BFS Oracle,fedAsynQ_ImAvg"}}),
-                          2);
+  Result<StudyOptions> options = Resolve(Cli({{"sizes", "50, 20"},
+                                              {"difficulties", "hard,easy"},
+                                              {"seed", "7"},
+                                              {"steps", "10"},
+                                              {"approaches", "BFS Oracle,fedAsynQ_ImAvg"}}),
+                                         2);
   ASSERT_TRUE(options) << options.error().message;
   std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 5u);
@@ -83,19 +88,31 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   EXPECT_EQ(scenario.seed, 7);
   EXPECT_EQ(scenario.steps, 10);
   EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay);
-  const runtime::RunOptions run = RunOptionsOf(*options, "out/runs/x");
-  EXPECT_EQ(run.approach, "BFS Oracle,fedAsynQ_ImAvg");
-  EXPECT_EQ(run.out, "out/runs/x");
-  EXPECT_EQ(run.leaf_limit, 20);
-  EXPECT_EQ(run.bootstrap, "in-grid");
-  EXPECT_EQ(run.semantics, "ours");
-  EXPECT_EQ(run.placement, "auto");
-  // What `dynapath run` would resolve from them.
-  Result<runtime::RunPlan> resolved = runtime::ResolveRunOptions(run);
+  // The configuration's run plan, built from the study's typed plan.
+  const runtime::RunPlan run = RunPlanOf(*options, plan[0], "out/runs/x");
+  EXPECT_EQ(run.approaches,
+            (std::vector<Approach>{Approach::kBfsOracle, Approach::kFedAsynQImAvg}));
+  EXPECT_EQ(run.out_dir, "out/runs/x");
+  EXPECT_EQ(run.options.leaf_limit, 20);
+  EXPECT_EQ(run.options.bootstrap, PlannerOptions{}.bootstrap);
+  EXPECT_EQ(run.options.semantics, Semantics::kOurs);
+  EXPECT_EQ(run.placement, runtime::Placement::kAuto);
+  EXPECT_FALSE(run.learner_seed);
+  EXPECT_TRUE(run.checkpoint.dir.empty());
+  // A coordinator process's options, as it resolves them: the same plan.
+  const runtime::RunOptions words = RunOptionsOf(*options, plan[0], "out/runs/x");
+  EXPECT_EQ(words.approach, "BFS Oracle,fedAsynQ_ImAvg");
+  EXPECT_EQ(words.out, "out/runs/x");
+  EXPECT_EQ(words.bootstrap, "in-grid");
+  EXPECT_EQ(words.semantics, "ours");
+  EXPECT_EQ(words.placement, "auto");
+  Result<runtime::RunPlan> resolved = runtime::ResolveRunOptions(words);
   ASSERT_TRUE(resolved) << resolved.error().message;
-  EXPECT_EQ(resolved->approaches.size(), 2u);
+  EXPECT_EQ(resolved->approaches, run.approaches);
+  EXPECT_EQ(resolved->options.leaf_limit, run.options.leaf_limit);
+  EXPECT_EQ(RunPlanToml(*resolved), RunPlanToml(run));
 
-  options = ResolveStudyOptions(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
+  options = Resolve(Cli({{"sizes", "20"}, {"edge-case", "false"}}), 2);
   ASSERT_TRUE(options);
   plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 3u);
@@ -114,14 +131,18 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
       "out = \"from-file\"\n",
       "s.toml");
   ASSERT_TRUE(file) << file.error().message;
-  Result<OptionValues> values = ConfigOptionValues(*file);
+  Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->at("sizes").text, "20,50");
-  EXPECT_EQ(values->at("sizes").origin, "s.toml:1: sizes");
-  EXPECT_EQ(values->at("edge-case").text, "false");
-  EXPECT_EQ(values->count("local"), 0u);  // false sets nothing
+  EXPECT_EQ(values->values.sizes, "20,50");
+  EXPECT_EQ(values->origins.at("sizes"), "s.toml:1: sizes");
+  EXPECT_EQ(values->values.mode.agents, 3);
+  EXPECT_EQ(values->values.learner.leaf_limit, 10);
+  EXPECT_TRUE(values->values.no_edge_case);
+  EXPECT_EQ(values->origins.at("edge-case"), "s.toml:4: edge-case");
+  EXPECT_EQ(values->origins.count("local"), 0u);  // false sets nothing
+  EXPECT_FALSE(values->values.mode.local);
 
-  Result<StudyOptions> options = ResolveStudyOptions(*values, 2);
+  Result<StudyOptions> options = cli::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->sizes, (std::vector<int>{20, 50}));
   EXPECT_EQ(options->difficulties, (std::vector<Difficulty>{Difficulty::kEasy}));
@@ -133,18 +154,65 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->learner.leaf_limit, 10);
 
   // The command line wins; its mode replaces the file's.
-  options = ResolveStudyOptions(
-      MergeOptionValues(*values, Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
+  options = cli::ResolveStudyOptions(
+      MergeStudyOptions(*values, *Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
   EXPECT_EQ(options->sizes, (std::vector<int>{30}));
   EXPECT_EQ(options->out, "cli");
   EXPECT_EQ(options->learner.leaf_limit, 10);
 
-  options = ResolveStudyOptions(MergeOptionValues(*values, Cli({{"embedded", "true"}})), 2);
+  options = cli::ResolveStudyOptions(MergeStudyOptions(*values, *Cli({{"embedded", "true"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->mode.kind, StudyMode::kEmbedded);
   EXPECT_EQ(options->mode.agents, 1);
+}
+
+// A study file's values are set into the declared options by their keys,
+// typed (no command line is built): either spelling of a key, integers,
+// numbers and words as the file gives them; an empty value, a key given
+// twice or a value of the wrong type is refused naming the key and line.
+TEST(StudyPlanTest, FileValuesAreSetIntoTheirOptionsTyped) {
+  Result<ConfigFile> file = ParseConfigText(
+      "epsilon_start = 0.25\nlearners = 3\nleaf_limit = 7\nlearner-seed = 9\n"
+      "bootstrap = 'in-region'\nthreads = 3\nmaze_seeds = [4, 5]\nembedded = true\n",
+      "s.toml");
+  ASSERT_TRUE(file) << file.error().message;
+  Result<GivenStudyOptions> given = StudyFileOptions(*file);
+  ASSERT_TRUE(given) << given.error().message;
+  const StudyCommandLine& values = given->values;
+  EXPECT_EQ(values.learner.parameters.reals[1], 0.25);
+  EXPECT_EQ(values.learner.parameters.integers[11], 3);
+  EXPECT_EQ(values.learner.leaf_limit, 7);
+  EXPECT_EQ(values.learner.learner_seed, 9);
+  EXPECT_EQ(values.learner.bootstrap, "in-region");
+  EXPECT_EQ(values.threads.threads, 3);
+  EXPECT_EQ(values.maze_seeds, "4,5");
+  EXPECT_TRUE(values.mode.embedded);
+  EXPECT_EQ(given->origins.at("epsilon-start"), "s.toml:1: epsilon-start");
+  EXPECT_TRUE(given->sweeps.empty());
+  Result<StudyOptions> options = cli::ResolveStudyOptions(*given, 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->run.options.single_agent.epsilon_start, 0.25);
+  EXPECT_EQ(options->run.options.federated.learners, 3);
+  EXPECT_EQ(options->run.options.leaf_limit, 7);
+  EXPECT_EQ(options->run.learner_seed, 9u);
+  EXPECT_EQ(options->repeats, 2);
+  EXPECT_EQ(options->mode.kind, StudyMode::kEmbedded);
+
+  const std::pair<const char*, const char*> bad[] = {
+      {"\nout = ''\n", "s.toml:2: out: must not be empty"},
+      {"difficulties = []\n", "s.toml:1: difficulties: must not be empty"},
+      {"leaf_limit = 'x'\n", "s.toml:1: leaf-limit: expected an integer, got a string"},
+      {"threads = 2\nthreads = 3\n",
+       "s.toml:2: Error while parsing key-value pair: cannot redefine"},
+      {"leaf-limit = 2\nleaf_limit = 3\n", "s.toml:2: 'leaf_limit' gives 'leaf-limit' of line 1"},
+  };
+  for (const auto& [text, expected] : bad) {
+    Result<StudyOptions> refused = FromFile(text);
+    ASSERT_FALSE(refused) << text;
+    EXPECT_EQ(refused.error().message.rfind(expected, 0), 0u) << refused.error().message;
+  }
 }
 
 // Maps: a folder gives its maps in name order, after any mazes;
@@ -152,7 +220,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
 // `dynapath run --maze` of its path with the study's stations and movers.
 TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
-  Result<StudyOptions> options = ResolveStudyOptions(Cli({{"maps", maps}, {"movers", "3"}}), 2);
+  Result<StudyOptions> options = Resolve(Cli({{"maps", maps}, {"movers", "3"}}), 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
   EXPECT_EQ(options->maps[0].path, maps + "/maze-25-61-1.map");
@@ -186,13 +254,13 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(identity["movers"], "3");
 
   // Mazes and the edge case when asked for, before the maps; one map file.
-  options = ResolveStudyOptions(Cli({{"maps", maps + "/wide-5-9.map"},
-                                     {"sizes", "20"},
-                                     {"difficulties", "hard"},
-                                     {"edge-case", "true"},
-                                     {"seed", "7"},
-                                     {"steps", "4"}}),
-                                2);
+  options = Resolve(Cli({{"maps", maps + "/wide-5-9.map"},
+                         {"sizes", "20"},
+                         {"difficulties", "hard"},
+                         {"edge-case", "true"},
+                         {"seed", "7"},
+                         {"steps", "4"}}),
+                    2);
   ASSERT_TRUE(options) << options.error().message;
   const std::vector<StudyConfiguration> mixed = MakeStudyPlan(*options);
   ASSERT_EQ(mixed.size(), 3u);
@@ -201,12 +269,13 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(mixed[2].Name(), "map_wide-5-9_7");
   EXPECT_EQ(mixed[2].steps, 4);
   // Without maps, nothing about them enters the identity (old studies resume).
-  EXPECT_FALSE(StudyIdentityJson(*ResolveStudyOptions({}, 2)).contains("maps"));
+  EXPECT_FALSE(
+      StudyIdentityJson(*cli::ResolveStudyOptions(GivenStudyOptions{}, 2)).contains("maps"));
 }
 
 TEST(StudyPlanTest, BadMapOptions) {
   const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
-  const std::pair<OptionValues, std::string> cases[] = {
+  const std::pair<Result<GivenStudyOptions>, std::string> cases[] = {
       {Cli({{"maps", maps + "/missing.map"}}), "option --maps: " + maps + "/missing.map: cannot"},
       {Cli({{"maps", std::string(DYNAPATH_TEST_DATA_DIR)}}), "option --maps: folder "},
       {Cli({{"maps", maps + "/wide-5-9.stations"}}),
@@ -216,7 +285,7 @@ TEST(StudyPlanTest, BadMapOptions) {
       {Cli({{"maps", maps}, {"movers", "lots"}}), "option --movers: expected a count"},
   };
   for (const auto& [values, expected] : cases) {
-    Result<StudyOptions> options = ResolveStudyOptions(values, 2);
+    Result<StudyOptions> options = Resolve(values, 2);
     ASSERT_FALSE(options) << expected;
     EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
   }
@@ -239,7 +308,7 @@ TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
   WriteMap(root / "a" / "x.map", 3, 7);
   WriteMap(root / "b" / "x.map", 7, 3);
   const std::string a = (root / "a").string(), b = (root / "b").string();
-  Result<StudyOptions> options = ResolveStudyOptions(Cli({{"maps", a + "," + b}}), 2);
+  Result<StudyOptions> options = Resolve(Cli({{"maps", a + "," + b}}), 2);
   ASSERT_FALSE(options);
   EXPECT_EQ(options.error().message, "option --maps: maps " + a + "/x.map and " + b +
                                          "/x.map have the same name 'x' (their runs and result "
@@ -248,7 +317,7 @@ TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
   const std::string wide = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps/wide-5-9.map";
   const std::string other_spelling =
       std::string(DYNAPATH_TEST_DATA_DIR) + "/maps/../maps/./wide-5-9.map";
-  options = ResolveStudyOptions(Cli({{"maps", wide + "," + other_spelling}}), 2);
+  options = Resolve(Cli({{"maps", wide + "," + other_spelling}}), 2);
   ASSERT_FALSE(options);
   EXPECT_EQ(options.error().message,
             "option --maps: maps " + wide + " and " + other_spelling + " are the same file");
@@ -269,8 +338,8 @@ TEST(StudyPlanTest, MapsOfOneNameOrOneFileAreRefused) {
 TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   const std::string maps = std::string(DYNAPATH_TEST_DATA_DIR) + "/maps";
   const std::string wide = maps + "/wide-5-9.map", stations = maps + "/wide-5-9.stations";
-  Result<StudyOptions> options = ResolveStudyOptions(
-      Cli({{"maps", wide + ":" + stations + "," + maps + "/maze-25-61-1.map"}}), 2);
+  Result<StudyOptions> options =
+      Resolve(Cli({{"maps", wide + ":" + stations + "," + maps + "/maze-25-61-1.map"}}), 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
   EXPECT_EQ(options->maps[0].path, wide);
@@ -292,17 +361,16 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   Result<ConfigFile> file =
       ParseConfigText("maps = ['maps/wide-5-9.map:maps/wide-5-9.stations']\n", data + "/s.toml");
   ASSERT_TRUE(file);
-  Result<OptionValues> values = ConfigOptionValues(*file);
+  Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->at("maps").text,
-            data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations");
+  EXPECT_EQ(values->values.maps, data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations");
 
   // A missing stations file or one for a folder: one error before the study.
-  options = ResolveStudyOptions(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
+  options = Resolve(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
   ASSERT_FALSE(options);
   EXPECT_NE(options.error().message.find("none.stations"), std::string::npos)
       << options.error().message;
-  options = ResolveStudyOptions(Cli({{"maps", maps + ":" + stations}}), 2);
+  options = Resolve(Cli({{"maps", maps + ":" + stations}}), 2);
   ASSERT_FALSE(options);
   EXPECT_NE(options.error().message.find("a stations file is one map's, not a folder's"),
             std::string::npos)
@@ -314,11 +382,11 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   Result<ConfigFile> file = ParseConfigText(
       "maps = ['maps/wide-5-9.map', '" + data + "/maps/maze-25-61-1.map']\n", data + "/s.toml");
   ASSERT_TRUE(file) << file.error().message;
-  Result<OptionValues> values = ConfigOptionValues(*file);
+  Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->at("maps").text,
+  EXPECT_EQ(values->values.maps,
             data + "/maps/wide-5-9.map," + data + "/maps/maze-25-61-1.map");  // absolute: kept
-  Result<StudyOptions> options = ResolveStudyOptions(*values, 2);
+  Result<StudyOptions> options = cli::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
   EXPECT_EQ(options->maps[0].path, data + "/maps/wide-5-9.map");
@@ -327,30 +395,31 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   // A file in the working directory: its paths stay as written.
   file = ParseConfigText("maps = 'maps/wide-5-9.map'\n", "s.toml");
   ASSERT_TRUE(file);
-  values = ConfigOptionValues(*file);
+  values = StudyFileOptions(*file);
   ASSERT_TRUE(values);
-  EXPECT_EQ(values->at("maps").text, "maps/wide-5-9.map");
+  EXPECT_EQ(values->values.maps, "maps/wide-5-9.map");
   // The command line's relative paths are the working directory's.
-  options = ResolveStudyOptions(Cli({{"maps", "maps/wide-5-9.map"}}), 2);
+  options = Resolve(Cli({{"maps", "maps/wide-5-9.map"}}), 2);
   ASSERT_FALSE(options);
   EXPECT_EQ(options.error().message.rfind("option --maps: maps/wide-5-9.map: cannot", 0), 0u)
       << options.error().message;
 }
 
 TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
-  const std::pair<OptionValues, const char*> cases[] = {
+  const std::pair<Result<GivenStudyOptions>, const char*> cases[] = {
       {Cli({{"sizes", "1"}}), "option --sizes: size '1' is not an integer from 2 to 4096"},
       {Cli({{"sizes", "20,abc"}}), "option --sizes: size 'abc' is not an integer"},
       {Cli({{"sizes", "20,50,20"}}), "option --sizes: size 20 is given twice"},
       {Cli({{"sizes", "20,,50"}}), "option --sizes: empty item"},
-      {Cli({{"sizes", ""}}), "option --sizes: must not be empty"},
+      // Refused by the parse, as `dynapath experiment` refuses them.
+      {Cli({{"sizes", ""}}), "option --sizes must not be empty"},
       {Cli({{"difficulties", "easy,extreme"}}),
        "option --difficulties: unknown difficulty 'extreme'"},
       {Cli({{"difficulties", "hard,HARD"}}),
        "option --difficulties: difficulty HARD is given twice"},
       {Cli({{"approaches", "magic"}}), "option --approaches: unknown approach 'magic'"},
       {Cli({{"seed", "-1"}}), "option --seed: must be between 0 and 4294967295"},
-      {Cli({{"steps", "x"}}), "option --steps: needs an integer"},
+      {Cli({{"steps", "x"}}), "option --steps needs a decimal number, got 'x'"},
       {Cli({{"agents", "0"}}), "option --agents: must be between 1 and 256"},
       {Cli({{"local", "true"}, {"agents", "2"}}), "option --local: choose one of"},
       {Cli({{"lcm-url", "udpm://"}}), "option --lcm-url: an LCM URL needs --agents N"},
@@ -359,10 +428,10 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
       {Cli({{"semantics", "report"}, {"bootstrap", "in-region"}}),
        "option --semantics: report sets the bootstrap itself"},
       {Cli({{"log-level", "loud"}}), "option --log-level: must be trace"},
-      {Cli({{"out", ""}}), "option --out: must not be empty"},
+      {Cli({{"out", ""}}), "option --out must not be empty"},
   };
   for (const auto& [values, expected] : cases) {
-    Result<StudyOptions> options = ResolveStudyOptions(values, 2);
+    Result<StudyOptions> options = Resolve(values, 2);
     ASSERT_FALSE(options) << expected;
     EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
   }
@@ -404,11 +473,11 @@ TEST(StudyPlanTest, CheckedValuesAreLocatedByTheirSubject) {
        "leaf-limit"},
       {FromFile("semantics = 'report'\nbootstrap = 'in-region'\n"),
        "s.toml:1: semantics: report sets the bootstrap itself; leave --bootstrap out", "semantics"},
-      {ResolveStudyOptions(Cli({{"placement", "none"}}), 2),
+      {Resolve(Cli({{"placement", "none"}}), 2),
        "option --placement: must be auto, whole or split, got 'none'", "placement"},
-      {ResolveStudyOptions(Cli({{"threads", "0"}}), 2),
-       "option --threads: must be between 1 and 1024, got 0", "threads"},
-      {ResolveStudyOptions(Cli({{"local", "true"}, {"agents", "2"}}), 2),
+      {Resolve(Cli({{"threads", "0"}}), 2), "option --threads: must be between 1 and 1024, got 0",
+       "threads"},
+      {Resolve(Cli({{"local", "true"}, {"agents", "2"}}), 2),
        "option --local: choose one of --local, --agents N and --embedded", "local"},
   };
   for (const auto& c : cases) {
@@ -420,10 +489,10 @@ TEST(StudyPlanTest, CheckedValuesAreLocatedByTheirSubject) {
 }
 
 TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
-  Result<StudyOptions> a = ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}}), 2);
-  Result<StudyOptions> b = ResolveStudyOptions(
+  Result<StudyOptions> a = Resolve(Cli({{"sizes", "20"}, {"steps", "10"}}), 2);
+  Result<StudyOptions> b = Resolve(
       Cli({{"sizes", "20"}, {"steps", "10"}, {"agents", "2"}, {"threads", "7"}, {"out", "x"}}), 2);
-  Result<StudyOptions> c = ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "11"}}), 2);
+  Result<StudyOptions> c = Resolve(Cli({{"sizes", "20"}, {"steps", "11"}}), 2);
   ASSERT_TRUE(a && b && c);
   EXPECT_EQ(StudyIdentityJson(*a), StudyIdentityJson(*b));  // mode, threads, out do not count
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*c));
@@ -439,13 +508,14 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
             "\"convergence-checks\":21,\"learners\":12,\"sync-period\":1000,\"iterations-per-"
             "cell\":200,\"max-drop\":0.01,\"min-success-rate\":0.9,\"escalate-below\":0.9}}");
   // A parameter changes the results: part of the identity, by name.
-  Result<StudyOptions> e = ResolveStudyOptions(
+  Result<StudyOptions> e = Resolve(
       Cli({{"sizes", "20"}, {"steps", "10"}, {"epsilon-start", "0.3"}, {"learners", "4"}}), 2);
   ASSERT_TRUE(e);
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*e));
   EXPECT_EQ(StudyIdentityJson(*e)["parameters"]["epsilon-start"].get<double>(), 0.3);
   EXPECT_EQ(StudyIdentityJson(*e)["parameters"]["learners"].get<int>(), 4);
-  EXPECT_EQ(RunOptionsOf(*e, "x").parameters.reals[1], 0.3);
+  EXPECT_EQ(RunPlanOf(*e, MakeStudyPlan(*e)[0], "x").options.single_agent.epsilon_start, 0.3);
+  EXPECT_EQ(RunPlanOf(*e, MakeStudyPlan(*e)[0], "x").options.federated.learners, 4);
   // A manifest of a study before parameters were options: the defaults.
   Json earlier = StudyIdentityJson(*a);
   earlier.erase("parameters");
@@ -453,7 +523,7 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
   EXPECT_EQ(StudyIdentityWithParameters(StudyIdentityJson(*e)), StudyIdentityJson(*e));
   // --semantics report changes the results, so it is part of the identity.
   Result<StudyOptions> d =
-      ResolveStudyOptions(Cli({{"sizes", "20"}, {"steps", "10"}, {"semantics", "report"}}), 2);
+      Resolve(Cli({{"sizes", "20"}, {"steps", "10"}, {"semantics", "report"}}), 2);
   ASSERT_TRUE(d);
   EXPECT_NE(StudyIdentityJson(*a), StudyIdentityJson(*d));
   EXPECT_EQ(StudyIdentityJson(*d)["semantics"].get<std::string>(), "report");
@@ -462,8 +532,8 @@ TEST(StudyPlanTest, IdentityHoldsWhatDeterminesTheResults) {
 }
 
 TEST(StudyPlanTest, RepeatsGiveEachConfigurationItsRepeatsAndLearnerSeeds) {
-  Result<StudyOptions> options = ResolveStudyOptions(
-      Cli({{"sizes", "20"}, {"difficulties", "easy,hard"}, {"repeats", "3"}}), 2);
+  Result<StudyOptions> options =
+      Resolve(Cli({{"sizes", "20"}, {"difficulties", "easy,hard"}, {"repeats", "3"}}), 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->parallel, 2);  // --local repeats over the cores by default
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
@@ -479,15 +549,17 @@ TEST(StudyPlanTest, RepeatsGiveEachConfigurationItsRepeatsAndLearnerSeeds) {
   EXPECT_EQ(plan[2].Label(), "20 Easy, seed 50, repeat 3/3");
   EXPECT_EQ(*RunOptionsOf(*options, plan[2], "d").learner_seed, 2000056);
   EXPECT_FALSE(RunOptionsOf(*options, plan[0], "d").learner_seed);
+  EXPECT_EQ(*RunPlanOf(*options, plan[2], "d").learner_seed, 2000056u);
+  EXPECT_FALSE(RunPlanOf(*options, plan[0], "d").learner_seed);
   EXPECT_EQ(StudyIdentityJson(*options)["repeats"], 3);
 
   // --learner-seed is the base of every repeat; --maze-seeds the mazes.
-  options = ResolveStudyOptions(Cli({{"sizes", "20"},
-                                     {"difficulties", "easy"},
-                                     {"maze-seeds", "7,9"},
-                                     {"learner-seed", "5"},
-                                     {"edge-case", "false"}}),
-                                2);
+  options = Resolve(Cli({{"sizes", "20"},
+                         {"difficulties", "easy"},
+                         {"maze-seeds", "7,9"},
+                         {"learner-seed", "5"},
+                         {"edge-case", "false"}}),
+                    2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->repeats, 2);
   const std::vector<StudyConfiguration> seeded = MakeStudyPlan(*options);
@@ -498,7 +570,7 @@ TEST(StudyPlanTest, RepeatsGiveEachConfigurationItsRepeatsAndLearnerSeeds) {
   EXPECT_EQ(*seeded[1].learner_seed, 5u + 1000003u);
 
   // Without repeats nothing changes: no suffix, no seed, no identity entry.
-  options = ResolveStudyOptions(Cli({{"sizes", "20"}}), 2);
+  options = Resolve(Cli({{"sizes", "20"}}), 2);
   ASSERT_TRUE(options);
   EXPECT_EQ(options->parallel, 1);
   EXPECT_EQ(MakeStudyPlan(*options)[0].Name(), "20_easy_50");
@@ -519,11 +591,14 @@ TEST(StudyPlanTest, ASweepRunsTheGridOfItsParametersValues) {
   EXPECT_EQ(plan[5].Name(), "20_hard_52_epsilon-start-1.0_learners-4");
   EXPECT_EQ(plan[1].Label(), "20 Hard, seed 52, epsilon-start 0.05, learners 4");
   // Each point's run options carry its values over the study's others.
-  Result<runtime::RunPlan> run = runtime::ResolveRunOptions(RunOptionsOf(*options, plan[3], "d"));
-  ASSERT_TRUE(run) << run.error().message;
-  EXPECT_EQ(run->options.single_agent.epsilon_start, 0.1);
-  EXPECT_EQ(run->options.federated.learners, 4);
-  EXPECT_EQ(run->options.single_agent.replay_batch, 32);
+  const runtime::RunPlan run = RunPlanOf(*options, plan[3], "d");
+  EXPECT_EQ(run.options.single_agent.epsilon_start, 0.1);
+  EXPECT_EQ(run.options.federated.learners, 4);
+  EXPECT_EQ(run.options.single_agent.replay_batch, 32);
+  // A coordinator process resolves the same values from its options.
+  Result<runtime::RunPlan> words = runtime::ResolveRunOptions(RunOptionsOf(*options, plan[3], "d"));
+  ASSERT_TRUE(words) << words.error().message;
+  EXPECT_EQ(RunPlanToml(*words), RunPlanToml(run));
   const Json identity = StudyIdentityJson(*options);
   EXPECT_EQ(identity["parameters"]["epsilon-start"], Json::array({0.05, 0.1, 1.0}));
   EXPECT_EQ(identity["parameters"]["learners"], Json::array({2, 4}));

@@ -1,4 +1,4 @@
-#include "tools/common/study_results.h"
+#include "study/study_results.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include "dynapath/results_csv.h"
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
+#include "study/repeat_statistics.h"
 #include "tests/temp_path.h"
-#include "tools/common/repeat_statistics.h"
 
 namespace dynapath::cli {
 namespace {

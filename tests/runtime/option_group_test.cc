@@ -256,6 +256,43 @@ TEST(OptionKindsTest, TheDeclarationRecordsEachKind) {
   EXPECT_EQ(kinds.at("leaf-limit"), ValueKind::kInteger);
 }
 
+// The same declaration on OptionFields says where each option lives, with
+// the kind CLI11's declaration records; a field's value copies to the same
+// option's field of another struct (a study file's values under a command
+// line's), optional or not.
+TEST(OptionFieldsTest, TheDeclarationRecordsEachFieldAndItsKind) {
+  CLI::App app;
+  OptionKinds kinds;
+  OptionGroup declared(app, &kinds);
+  Everything parsed;
+  Declare(declared, parsed);
+  OptionFields fields;
+  OptionGroup group(fields);
+  Everything options;
+  Declare(group, options);
+  ASSERT_EQ(fields.size(), kinds.size());
+  for (const auto& [name, kind] : kinds) EXPECT_EQ(fields.at(name).kind, kind) << name;
+  EXPECT_EQ(std::get<std::optional<long long>*>(fields.at("size").value), &options.scenario.size);
+  EXPECT_EQ(std::get<long long*>(fields.at("leaf-limit").value), &options.run.leaf_limit);
+
+  Everything other;
+  OptionFields other_fields;
+  OptionGroup other_group(other_fields);
+  Declare(other_group, other);
+  other.scenario.size = 30;
+  other.run.leaf_limit = 7;
+  other.run.bootstrap = "in-region";
+  other.scenario.allow_unreachable = true;
+  for (const char* name : {"size", "leaf-limit", "bootstrap", "allow-unreachable"}) {
+    CopyOptionField(other_fields.at(name), fields.at(name));
+  }
+  EXPECT_EQ(options.scenario.size, 30);
+  EXPECT_EQ(options.run.leaf_limit, 7);
+  EXPECT_EQ(options.run.bootstrap, "in-region");
+  EXPECT_TRUE(options.scenario.allow_unreachable);
+  EXPECT_FALSE(options.scenario.seed);  // not copied
+}
+
 // An enum option's words are one table; its list, check, parse
 // and default word come from it, with the case rules the options had.
 TEST(WordTableTest, ListCheckAndParseComeFromOneTable) {

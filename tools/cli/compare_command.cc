@@ -1,6 +1,6 @@
 // dynapath compare STUDY A B: the paired difference of two approaches over
 // the repeats of a study (or of `dynapath run --repeats`), with its
-// bootstrap interval (tools/common/study_results.h, CompareCsv): a table on
+// bootstrap interval (study/study_results.h, CompareCsv): a table on
 // a terminal, CSV otherwise (or with --csv), and a figure with --plot.
 
 #include <unistd.h>
@@ -15,9 +15,9 @@
 #include "dynapath/text_file.h"
 #include "runtime/option_group.h"
 #include "runtime/output_check.h"
+#include "study/study_results.h"
 #include "tools/cli/commands.h"
 #include "tools/common/compare_table.h"
-#include "tools/common/study_results.h"
 
 namespace dynapath::cli {
 

@@ -13,8 +13,8 @@
 
 #include "dynapath/result.h"
 #include "runtime/option_group.h"
+#include "study/study_plan.h"
 #include "tools/cli/commands.h"
-#include "tools/common/study_plan.h"
 #include "tools/study/study_session.h"
 
 namespace dynapath::cli {
@@ -63,7 +63,7 @@ int ExperimentCommand(const std::vector<std::string>& args) {
   if (int code = runtime::ParseCommandLine(app, args, "dynapath experiment"); code >= 0) {
     return code;
   }
-  Result<OptionValues> command_line = StudyCommandLineValues(app, given);
+  Result<GivenStudyOptions> command_line = CommandLineStudyOptions(app, given);
   if (!command_line) return UsageError(command_line.error().message);
   input.command_line = std::move(*command_line);
   input.hardware_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

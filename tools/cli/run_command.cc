@@ -12,12 +12,12 @@
 #include "app/run_session.h"
 #include "dynapath/text_file.h"
 #include "protocol/dispatcher.h"
+#include "study/study_config.h"
+#include "study/study_plan.h"
+#include "study/study_results.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/run_resume.h"
 #include "tools/common/results_table.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_plan.h"
-#include "tools/common/study_results.h"
 #include "tools/common/toml_config.h"
 
 namespace dynapath::cli {

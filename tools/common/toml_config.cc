@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/common/study_config.h"
+#include "study/study_config.h"
 
 namespace dynapath::cli {
 namespace {

@@ -31,13 +31,13 @@
 #include "runtime/output_lock.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
+#include "study/manifest.h"
+#include "study/study_config.h"
+#include "study/study_log.h"
+#include "study/study_results.h"
 #include "tools/common/build_info.h"
-#include "tools/common/manifest.h"
 #include "tools/common/progress_bar.h"
 #include "tools/common/space_reserve.h"
-#include "tools/common/study_config.h"
-#include "tools/common/study_log.h"
-#include "tools/common/study_results.h"
 
 namespace dynapath::cli {
 namespace {
@@ -124,17 +124,21 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
                         int index) {
   const std::string directory = (session.out / configuration.Directory()).string();
   const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
-  runtime::RunOptions run_options = RunOptionsOf(session.options, configuration, directory);
-  // An interrupted configuration goes on from its last checkpoint (at most
-  // one every 2 s: small configurations take a step in milliseconds).
-  run_options.checkpoint = (fs::path(directory) / kCheckpointFolder).string();
-  run_options.checkpoint_interval = 2;
-  run_options.resume_checkpoint = true;
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
-  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run_options);
-  if (!plan) return plan.error();
-  const int approaches = static_cast<int>(plan->approaches.size());
+  // The study's plan with this configuration's directory, learner seed and
+  // sweep point. An interrupted configuration goes on from its last
+  // checkpoint (at most one every 2 s: small configurations take a step in
+  // milliseconds).
+  const std::string checkpoint = (fs::path(directory) / kCheckpointFolder).string();
+  constexpr double kCheckpointSeconds = 2;
+  runtime::RunPlan plan = RunPlanOf(session.options, configuration, directory);
+  if (Status status = runtime::ResolveCheckpointOptions(checkpoint, std::nullopt,
+                                                        kCheckpointSeconds, true, plan);
+      !status) {
+    return status.error();
+  }
+  const int approaches = static_cast<int>(plan.approaches.size());
   ProgressDisplay& display = session.display;
 
   if (session.mode == StudyMode::kLocal) {
@@ -146,7 +150,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
       ~Unwatch() { display.WatchTraining(index, nullptr); }
     } unwatch{display, index};
     Result<std::vector<ApproachRun>> runs = runtime::RunLocal(
-        *plan, *setup, session.threads,
+        plan, *setup, session.threads,
         [&](const StepView& view) {
           display.StepOf(index, ApproachName(view.run.approach), view.pass, approaches,
                          view.run.steps.back().time_step, view.total_steps);
@@ -167,7 +171,11 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   run.threads_per_agent =
       app::ThreadsPerAgent(session.options.threads, session.options.mode.agents);
   run.scenario = scenario;
-  run.run = run_options;
+  // The coordinator process's options (written into its config pipe).
+  run.run = RunOptionsOf(session.options, configuration, directory);
+  run.run.checkpoint = checkpoint;
+  run.run.checkpoint_interval = kCheckpointSeconds;
+  run.run.resume_checkpoint = true;
   run.log_level = session.options.log.log_level;
   run.child_stderr = session.log_fd;
   run.on_step = [&display, approaches](const launch::StepReport& report) {
@@ -177,7 +185,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   if (session.mode == StudyMode::kEmbedded) {
     spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                  run.process.run_id, run.agents);
-    ran = launch::RunEmbedded(run, *plan, *setup);
+    ran = launch::RunEmbedded(run, plan, *setup);
   } else {
     spdlog::info("run {}: envsim, coordinator and {} agent processes", run.process.run_id,
                  run.agents);
@@ -532,33 +540,18 @@ class StudyRunner {
 
 }  // namespace
 
-Result<OptionValues> StudyCommandLineValues(const CLI::App& app, const StudyCommandLine& given) {
-  if (given.edge_case && given.no_edge_case) {
-    return Error{"choose one of --edge-case and --no-edge-case"};
-  }
-  OptionValues values;
-  for (auto& [name, value] : GivenOptionValues(app)) {
-    if (name == "no-edge-case") {
-      values["edge-case"] = OptionValue{"false", value.origin};
-    } else if (StudyOptionKinds().count(name) > 0) {
-      values[name] = value;
-    }
-  }
-  return values;
-}
-
 // The options of the config file (if any) overridden by the command line's.
 Result<StudyPlan> PlanStudy(StudyInput input) {
-  OptionValues file_values;
+  GivenStudyOptions file_options;
   if (input.config_path) {
     Result<ConfigFile> file = ReadConfigFile(*input.config_path);
     if (!file) return file.error();
-    Result<OptionValues> values = ConfigOptionValues(*file);
-    if (!values) return values.error();
-    file_values = std::move(*values);
+    Result<GivenStudyOptions> read = StudyFileOptions(*file);
+    if (!read) return read.error();
+    file_options = std::move(*read);
   }
   Result<StudyOptions> options = ResolveStudyOptions(
-      MergeOptionValues(file_values, input.command_line), input.hardware_threads);
+      MergeStudyOptions(file_options, input.command_line), input.hardware_threads);
   if (!options) return options.error();
   StudyPlan plan;
   plan.options = std::move(*options);

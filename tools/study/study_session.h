@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "dynapath/result.h"
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 namespace CLI {
 class App;
@@ -22,18 +22,14 @@ class App;
 
 namespace dynapath::cli {
 
-// What experiment was given: the option values of its command line, its
+// What experiment was given: the options of its command line, its
 // --config file and --force.
 struct StudyInput {
-  OptionValues command_line;
+  GivenStudyOptions command_line;
   std::optional<std::string> config_path;
   bool force = false;
   int hardware_threads = 1;  // the default of --threads
 };
-
-// The option values given on a parsed command line (StudyInput's
-// command_line); an error when both --edge-case and --no-edge-case are.
-Result<OptionValues> StudyCommandLineValues(const CLI::App& app, const StudyCommandLine& given);
 
 // A study, checked: what StudySession runs.
 struct StudyPlan {

@@ -1,4 +1,4 @@
-#include "tools/common/json.h"
+#include "study/json.h"
 
 #include <set>
 #include <vector>

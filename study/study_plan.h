@@ -17,8 +17,8 @@
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
 #include "runtime/scenario_options.h"
-#include "tools/common/json.h"
-#include "tools/common/study_config.h"
+#include "study/json.h"
+#include "study/study_config.h"
 
 namespace dynapath::cli {
 
@@ -70,10 +70,15 @@ struct StudyOptions {
     std::vector<double> values;
   };
   std::vector<Sweep> sweeps;
-  // leaf_limit, bootstrap, semantics and placement, with `dynapath run`'s
-  // defaults and checks; approach and out are each configuration's
-  // (RunOptionsOf).
+  // leaf_limit, bootstrap, semantics, placement, the parameters and the
+  // learner seed as given (words, for the manifest and the coordinator
+  // processes), with `dynapath run`'s defaults and checks; approach and out
+  // are each configuration's (RunOptionsOf).
   runtime::RunOptions learner;
+  // The same resolved once by `dynapath run`'s resolver, with the study's
+  // approaches: the plan every configuration runs (RunPlanOf), its out
+  // directory, learner seed and sweep point its own.
+  runtime::RunPlan run;
   // How it runs; may change from one session of a study to the next.
   runtime::RunMode mode;  // kind and agents
   int threads = 1;        // ResolveStudyOptions: --threads or the hardware's
@@ -85,25 +90,13 @@ struct StudyOptions {
   std::string out = kDefaultStudyDir;
 };
 
-// One option value and where it came from, for error messages:
-// "option --sizes" or "study.toml:3: sizes".
-struct OptionValue {
-  std::string text;
-  std::string origin;
-};
-// By option name ("sizes", "edge-case", ...). Lists are comma-separated
-// text, as on the command line; booleans are "true" or "false". The words
-// as given are where a study file and the command line meet (one rule,
-// MergeOptionValues); CLI11 converts the merged words once, with the
-// declaration below (ResolveStudyOptions).
-using OptionValues = std::map<std::string, OptionValue>;
-
-// The study's options as given, declared once on CLI11
-// (DeclareStudyCommandLine): the study's own (lists kept as their text) and
-// the groups it shares with `dynapath run` (learner options, placement,
-// mode, threads, LCM URL, log level, seed and steps). The config file takes
-// the same names (with '-' or '_'), checked by the kinds the declaration
-// records.
+// The study's options as given, declared once (DeclareStudyCommandLine):
+// the study's own (lists kept as their comma-separated text, a study file's
+// array as its items joined) and the groups it shares with `dynapath run`
+// (learner options, placement, mode, threads, LCM URL, log level, seed and
+// steps). CLI11 parses a command line into it; a study file's values are
+// set into its fields by their keys (the same names, with '-' or '_'; the
+// declaration on runtime::OptionFields says where each lives and its kind).
 struct StudyCommandLine {
   std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
   bool edge_case = false, no_edge_case = false;
@@ -126,23 +119,45 @@ void DeclareRepeatsOption(runtime::OptionGroup& group, std::optional<long long>&
                           const std::string& default_text);
 // The keys a study file may hold, with their kinds (from the declaration).
 const runtime::OptionKinds& StudyOptionKinds();
-// The options given on a parsed command line, as text values ("option
-// --NAME"); flags are "true".
-OptionValues GivenOptionValues(const CLI::App& app);
 
-// The entries of a config file as option values; unknown keys and values of
-// the wrong type are errors naming the line. `local = false`,
-// `embedded = false` set nothing. Relative `maps` paths are made relative
-// to the file's folder.
-Result<OptionValues> ConfigOptionValues(const ConfigFile& file);
-// The file's values overridden by the command line's. A mode given on the
-// command line (--local, --agents, --embedded) replaces the file's mode.
-OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& command_line);
-// Converts every value with the declaration (so unset options keep the
-// declared structs' defaults) and checks it, with `dynapath run`'s own
-// checks where the option is one of run's; the first error names the
-// value's origin. `hardware_threads` is the default of --threads.
-Result<StudyOptions> ResolveStudyOptions(const OptionValues& values, int hardware_threads);
+// Where each given option came from, by option name: "option --sizes" or
+// "study.toml:3: sizes".
+using OptionOrigins = std::map<std::string, std::string>;
+
+// The study's options as given, typed: the declared struct's values (CLI11's
+// parse of a command line, or a study file's values set into its fields by
+// their keys), which options were given and from where, and a study file's
+// sweeps. --no-edge-case (a file's `edge-case = false`) is given as
+// "edge-case".
+struct GivenStudyOptions {
+  StudyCommandLine values;
+  OptionOrigins origins;
+  // A parameter given a list of several values in a study file, by name
+  // (its value in `values` is the list's first).
+  std::map<std::string, std::vector<double>> sweeps;
+};
+
+// The options given on a command line that CLI11 parsed into `parsed`
+// (declared on `app` with DeclareStudyCommandLine; the app's other options
+// are left out); an error when both --edge-case and --no-edge-case are.
+Result<GivenStudyOptions> CommandLineStudyOptions(const CLI::App& app,
+                                                  const StudyCommandLine& parsed);
+// The entries of a study file set into the declared struct by their keys,
+// each converted from its TOML value (no command line is built); unknown
+// keys, values of the wrong type and empty values are errors naming the
+// line. `local = false`, `embedded = false` set nothing. Relative `maps`
+// paths are made relative to the file's folder.
+Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file);
+// The file's options overridden, option by option, by the command line's.
+// A mode given on the command line (--local, --agents, --embedded) replaces
+// the file's mode; a parameter given there replaces the file's sweep of it.
+GivenStudyOptions MergeStudyOptions(const GivenStudyOptions& file,
+                                    const GivenStudyOptions& command_line);
+// Checks every given value (unset options keep the declared struct's
+// defaults), with `dynapath run`'s own checks where the option is one of
+// run's; the first error names the value's origin. `hardware_threads` is
+// the default of --threads.
+Result<StudyOptions> ResolveStudyOptions(const GivenStudyOptions& given, int hardware_threads);
 
 // One maze of the study.
 struct StudyConfiguration {
@@ -202,12 +217,17 @@ using app::RepeatLearnerSeed;
 inline constexpr size_t kMaxSweepPoints = 1000;
 
 // The `dynapath run` maze options of a configuration (size, difficulty,
-// seed, steps), and its run options (approaches, out, leaf limit,
-// bootstrap, semantics, placement): copied into the structs `run` parses
-// into, not spelled out as arguments.
+// seed, steps): copied into the struct `run` parses into, not spelled out
+// as arguments (the coordinator process takes them so).
 runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
-runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir);
-// The same with the configuration's learner seed.
+// The run plan of a configuration, built from the study's resolved plan:
+// its out directory, its learner seed and its sweep point's parameter values
+// (checked when the study was resolved) over the study's. No checkpoint.
+runtime::RunPlan RunPlanOf(const StudyOptions& options, const StudyConfiguration& configuration,
+                           const std::string& out_dir);
+// The same as the options a coordinator process is given (the launcher
+// writes them into its config pipe): approaches, out, leaf limit,
+// bootstrap, semantics, placement, parameters, the learner seed.
 runtime::RunOptions RunOptionsOf(const StudyOptions& options,
                                  const StudyConfiguration& configuration,
                                  const std::string& out_dir);

@@ -1,4 +1,4 @@
-#include "tools/common/study_log.h"
+#include "study/study_log.h"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "tools/common/manifest.h"
+#include "study/manifest.h"
 
 #include <sys/utsname.h>
 #include <unistd.h>

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "dynapath/result.h"
-#include "tools/common/json.h"
-#include "tools/common/study_plan.h"
+#include "study/json.h"
+#include "study/study_plan.h"
 
 namespace dynapath::cli {
 

@@ -1,4 +1,4 @@
-#include "tools/common/repeat_statistics.h"
+#include "study/repeat_statistics.h"
 
 #include <algorithm>
 #include <cmath>

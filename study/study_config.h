@@ -14,7 +14,7 @@
 // options' names are; a key given twice under any spelling is refused,
 // naming both lines. This is the one reading rule of every options file:
 // study files, `dynapath run --config FILE` and a checkpoint's run.toml
-// (toml_config.h). This module only parses; which keys exist is the
+// (tools/common/toml_config.h). This module only parses; which keys exist is the
 // caller's business (study_plan.h, CLI11's options).
 
 #include <string>

@@ -1,4 +1,4 @@
-#include "tools/common/study_config.h"
+#include "study/study_config.h"
 
 #include <toml++/toml.h>
 

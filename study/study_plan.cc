@@ -1,4 +1,4 @@
-#include "tools/common/study_plan.h"
+#include "study/study_plan.h"
 
 #include <spdlog/spdlog.h>
 
@@ -100,20 +100,20 @@ MapItem SplitMapItem(const std::string& item) {
 // users expect of a config file (the map folder can travel with it); the
 // command line's stay relative to the working directory. `out` is not a
 // path to read, so it stays as given.
-std::string MapsRelativeToFile(const std::string& list, const std::string& file_name) {
+std::vector<std::string> MapsRelativeToFile(std::vector<std::string> items,
+                                            const std::string& file_name) {
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(file_name).parent_path();
-  if (folder.empty()) return list;  // the file is in the working directory
+  if (folder.empty()) return items;  // the file is in the working directory
   auto relative = [&](const std::string& path) {
     return !path.empty() && fs::path(path).is_relative() ? (folder / path).string() : path;
   };
-  std::vector<std::string> items = Split(list, ',');
   for (std::string& item : items) {
-    const MapItem split = SplitMapItem(item);
+    const MapItem split = SplitMapItem(Trim(item));
     item = relative(split.map) +
            (split.stations_file.empty() ? "" : ":" + relative(split.stations_file));
   }
-  return Join(items, ",");
+  return items;
 }
 
 // The maps of a --maps list: files as given, folders as their .map files in
@@ -243,36 +243,85 @@ void DeclareStudyCommandLine(runtime::OptionGroup& group, StudyCommandLine& o) {
   group.Option("--out", o.out, "DIR", "study directory", kDefaultStudyDir);
 }
 
+namespace {
+
+// Where each option of a StudyCommandLine lives, by key.
+runtime::OptionFields FieldsOf(StudyCommandLine& options) {
+  runtime::OptionFields fields;
+  runtime::OptionGroup group(fields);
+  DeclareStudyCommandLine(group, options);
+  return fields;
+}
+
+// The option names given with --edge-case's meaning: --no-edge-case is
+// "edge-case" given false.
+constexpr const char* kEdgeCase = "edge-case";
+constexpr const char* kNoEdgeCase = "no-edge-case";
+
+}  // namespace
+
 const runtime::OptionKinds& StudyOptionKinds() {
   static const runtime::OptionKinds kinds = [] {
     runtime::OptionKinds declared;
-    CLI::App app;
     StudyCommandLine options;
-    runtime::OptionGroup group(app, &declared);
-    DeclareStudyCommandLine(group, options);
-    declared.erase("no-edge-case");  // a file says edge-case = false
+    for (const auto& [name, field] : FieldsOf(options)) declared[name] = field.kind;
+    declared.erase(kNoEdgeCase);  // a file says edge-case = false
     return declared;
   }();
   return kinds;
 }
 
-OptionValues GivenOptionValues(const CLI::App& app) {
-  OptionValues values;
+Result<GivenStudyOptions> CommandLineStudyOptions(const CLI::App& app,
+                                                  const StudyCommandLine& parsed) {
+  if (parsed.edge_case && parsed.no_edge_case) {
+    return Error{"choose one of --edge-case and --no-edge-case"};
+  }
+  GivenStudyOptions given;
+  given.values = parsed;
+  const runtime::OptionFields fields = FieldsOf(given.values);
   for (const CLI::Option* option : app.get_options()) {
     if (option->count() == 0 || option->get_lnames().empty()) continue;
     const std::string name = option->get_lnames().front();
-    std::string text = "true";  // a flag
-    if (option->get_expected_min() > 0) text = Join(option->results(), ",");
-    values[name] = OptionValue{text, "option --" + name};
+    if (fields.count(name) == 0) continue;  // not the study's (--config, --force)
+    given.origins[name == kNoEdgeCase ? kEdgeCase : name] = "option --" + name;
   }
-  return values;
+  return given;
 }
 
-Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
-  OptionValues values;
+namespace {
+
+// Sets a field of the declared struct from a study file's value of the
+// field's kind (the value was checked against the kind first).
+void SetText(const runtime::OptionField& field, const std::string& text) {
+  if (auto* const* value = std::get_if<std::string*>(&field.value)) **value = text;
+  if (auto* const* value = std::get_if<std::optional<std::string>*>(&field.value)) **value = text;
+}
+void SetInteger(const runtime::OptionField& field, long long integer) {
+  if (auto* const* value = std::get_if<long long*>(&field.value)) **value = integer;
+  if (auto* const* value = std::get_if<std::optional<long long>*>(&field.value)) **value = integer;
+}
+void SetReal(const runtime::OptionField& field, double real) {
+  if (auto* const* value = std::get_if<double*>(&field.value)) **value = real;
+  if (auto* const* value = std::get_if<std::optional<double>*>(&field.value)) **value = real;
+}
+void SetFlag(const runtime::OptionField& field) {
+  if (auto* const* value = std::get_if<bool*>(&field.value)) **value = true;
+}
+
+// A TOML number (integer or float) as a double.
+double NumberOf(const ConfigValue& value) {
+  return value.kind == ConfigValue::Kind::kFloat ? value.number
+                                                 : static_cast<double>(value.integer);
+}
+
+}  // namespace
+
+Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
+  GivenStudyOptions given;
+  const runtime::OptionFields fields = FieldsOf(given.values);
+  const runtime::OptionKinds& kinds = StudyOptionKinds();
   for (const ConfigEntry& entry : file.entries) {
     const std::string& key = entry.key;
-    const runtime::OptionKinds& kinds = StudyOptionKinds();
     const auto spec = kinds.find(key);
     const std::string where = file.name + ":" + std::to_string(entry.line);
     if (spec == kinds.end()) {
@@ -281,6 +330,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
       return Error{where + ": unknown key '" + entry.written + "' (expected one of: " + names +
                    ")"};
     }
+    const runtime::OptionField& field = fields.at(key);
     const ConfigValue& value = entry.value;
     const std::string origin = where + ": " + key;
     auto wrong = [&](const std::string& expected) {
@@ -288,6 +338,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
           origin + ": expected " + expected + ", got " +
           (value.kind == ConfigValue::Kind::kArray ? "an array" : "a " + value.KindName())};
     };
+    const Error empty{origin + ": must not be empty"};
     using Kind = ConfigValue::Kind;
     // A parameter may list values to sweep.
     const bool sweepable = IsParameter(key) && value.kind == Kind::kArray;
@@ -300,6 +351,7 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
         } else if (value.kind != Kind::kInteger) {
           return wrong("an integer");
         }
+        SetInteger(field, sweepable ? value.items.front().integer : value.integer);
         break;
       case runtime::ValueKind::kFloat:
         if (sweepable) {
@@ -312,144 +364,130 @@ Result<OptionValues> ConfigOptionValues(const ConfigFile& file) {
         } else if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) {
           return wrong("a number");
         }
+        SetReal(field, NumberOf(sweepable ? value.items.front() : value));
         break;
       case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
+        if (value.string.empty()) return empty;
+        SetText(field, value.string);
         break;
       case runtime::ValueKind::kBoolean:
         if (value.kind != Kind::kBoolean) return wrong("true or false");
+        if (key == kEdgeCase && !value.boolean) {
+          SetFlag(fields.at(kNoEdgeCase));
+        } else if (value.boolean) {
+          SetFlag(field);
+        }
         break;
       case runtime::ValueKind::kIntegerList:
+      case runtime::ValueKind::kStringList: {
+        const bool integers = spec->second == runtime::ValueKind::kIntegerList;
+        const Kind item_kind = integers ? Kind::kInteger : Kind::kString;
         if (value.kind == Kind::kArray) {
-          if (!value.items.empty() && value.items.front().kind != Kind::kInteger) {
-            return wrong("an array of integers");
+          if (!value.items.empty() && value.items.front().kind != item_kind) {
+            return wrong(integers ? "an array of integers" : "an array of strings");
           }
-        } else if (value.kind != Kind::kInteger) {
-          return wrong("an integer or an array of integers");
+        } else if (value.kind != item_kind) {
+          return wrong(integers ? "an integer or an array of integers"
+                                : "a string or an array of strings");
         }
-        break;
-      case runtime::ValueKind::kStringList:
-        if (value.kind == Kind::kArray) {
-          if (!value.items.empty() && value.items.front().kind != Kind::kString) {
-            return wrong("an array of strings");
+        // The list's items, as the items of a command line's list.
+        std::vector<std::string> items;
+        for (const ConfigValue& item :
+             value.kind == Kind::kArray ? value.items : std::vector{value}) {
+          if (item.string.find(',') != std::string::npos) {
+            return Error{origin + ": '" + item.string + "' holds a comma"};
           }
-        } else if (value.kind != Kind::kString) {
-          return wrong("a string or an array of strings");
+          items.push_back(integers ? std::to_string(item.integer) : item.string);
         }
+        if (key == "maps") items = MapsRelativeToFile(items, file.name);
+        const std::string text = Join(items, ",");
+        if (text.empty()) return empty;
+        SetText(field, text);
         break;
+      }
     }
     if ((key == "local" || key == "embedded") && !value.boolean) continue;
-    std::string text;
-    if (value.kind == Kind::kArray) {
-      std::vector<std::string> items;
-      for (const ConfigValue& item : value.items) {
-        if (item.string.find(',') != std::string::npos) {
-          return Error{origin + ": '" + item.string + "' holds a comma"};
-        }
-        items.push_back(item.Text());
-      }
-      text = Join(items, ",");
-    } else {
-      text = value.Text();
+    if (sweepable && value.items.size() > 1) {
+      std::vector<double>& sweep = given.sweeps[key];
+      for (const ConfigValue& item : value.items) sweep.push_back(NumberOf(item));
     }
-    if (key == "maps") text = MapsRelativeToFile(text, file.name);
-    values[key] = OptionValue{text, origin};
+    given.origins[key] = origin;
   }
-  return values;
+  return given;
 }
 
-OptionValues MergeOptionValues(const OptionValues& file, const OptionValues& command_line) {
-  OptionValues merged = file;
-  const bool mode_given =
-      command_line.count("local") || command_line.count("agents") || command_line.count("embedded");
+GivenStudyOptions MergeStudyOptions(const GivenStudyOptions& file,
+                                    const GivenStudyOptions& command_line) {
+  GivenStudyOptions merged = file;
+  const runtime::OptionFields to = FieldsOf(merged.values);
+  StudyCommandLine cli_values = command_line.values;
+  const runtime::OptionFields from = FieldsOf(cli_values);
+  const OptionOrigins& given = command_line.origins;
+  const bool mode_given = given.count("local") || given.count("agents") || given.count("embedded");
   if (mode_given) {
-    for (const char* mode : {"local", "agents", "embedded"}) merged.erase(mode);
+    StudyCommandLine defaults;
+    const runtime::OptionFields unset = FieldsOf(defaults);
+    for (const char* mode : {"local", "agents", "embedded"}) {
+      runtime::CopyOptionField(unset.at(mode), to.at(mode));
+      merged.origins.erase(mode);
+    }
   }
-  for (const auto& [name, value] : command_line) merged[name] = value;
+  for (const auto& [name, origin] : given) {
+    runtime::CopyOptionField(from.at(name), to.at(name));
+    if (name == kEdgeCase) runtime::CopyOptionField(from.at(kNoEdgeCase), to.at(kNoEdgeCase));
+    merged.origins[name] = origin;
+    merged.sweeps.erase(name);
+  }
   return merged;
 }
 
 namespace {
 
-// The command-line words of one option value: "--NAME=TEXT" (so a value
-// starting with '-' stays a value), "--NAME" "" for an empty one, a
-// boolean's flag (edge-case = false: --no-edge-case; local or embedded =
-// false: none).
-Result<std::vector<std::string>> ArgumentsOf(const std::string& name, const OptionValue& value) {
-  const runtime::OptionKinds& kinds = StudyOptionKinds();
-  const auto kind = kinds.find(name);
-  if (kind == kinds.end()) return Error{value.origin + ": not an option of a study"};
-  if (kind->second != runtime::ValueKind::kBoolean) {
-    if (value.text.empty()) return std::vector<std::string>{"--" + name, ""};
-    return std::vector<std::string>{"--" + name + "=" + value.text};
-  }
-  if (value.text != "true" && value.text != "false") {
-    return Error{value.origin + ": must be true or false, got '" + value.text + "'"};
-  }
-  if (value.text == "true") return std::vector<std::string>{"--" + name};
-  if (name == "edge-case") return std::vector<std::string>{"--no-edge-case"};
-  return std::vector<std::string>{};
-}
-
-// The values converted by CLI11 into the struct the study declares its
-// options with, exactly as it converts a command line: the defaults are
-// that struct's (the runtime groups' own), and every value is converted by
-// the same code whichever source it came from. One value at a time, so a
-// value CLI11 refuses (an empty one, or an integer it cannot convert)
-// names its origin.
-Result<StudyCommandLine> ConvertOptionValues(const OptionValues& values) {
-  StudyCommandLine given;
-  for (const auto& [name, value] : values) {
-    Result<std::vector<std::string>> arguments = ArgumentsOf(name, value);
-    if (!arguments) return arguments.error();
-    CLI::App app;
-    runtime::OptionGroup group(app);
-    DeclareStudyCommandLine(group, given);
-    std::reverse(arguments->begin(), arguments->end());  // CLI11 takes them last first
-    try {
-      app.parse(*arguments);
-    } catch (const CLI::ParseError&) {
-      // The option layer refuses an empty value of every kind
-      // (runtime/option_group.h); else only an integer can fail.
-      if (value.text.empty()) return Error{value.origin + ": must not be empty"};
-      return Error{value.origin + ": needs an integer, got '" + value.text + "'"};
-    }
-  }
-  return given;
-}
-
-// The given option values, converted, and where each came from.
+// The given options, and where each came from.
 class GivenOptions {
  public:
-  GivenOptions(const OptionValues& values, StudyCommandLine converted)
-      : values_(values), converted_(std::move(converted)) {}
+  explicit GivenOptions(const GivenStudyOptions& given) : given_(given) {}
 
-  const StudyCommandLine& operator*() const { return converted_; }
-  const StudyCommandLine* operator->() const { return &converted_; }
-  // The value of option `name` as given, or null.
-  const OptionValue* Find(const std::string& name) const {
-    const auto it = values_.find(name);
-    return it == values_.end() ? nullptr : &it->second;
+  const StudyCommandLine& operator*() const { return given_.values; }
+  const StudyCommandLine* operator->() const { return &given_.values; }
+  // Where option `name` was given, or null when it was not.
+  const std::string* Find(const std::string& name) const {
+    const auto it = given_.origins.find(name);
+    return it == given_.origins.end() ? nullptr : &it->second;
   }
   // A runtime check's error, "option --NAME must be ...", as "ORIGIN: must
   // be ..." for the value of the option it concerns (its subject; `name`
   // when it has none), so that a study file's value is reported with its line.
   Error Located(const Error& error, const std::string& name) const {
     const std::string option = error.subject.empty() ? name : error.subject;
-    const OptionValue* value = Find(option);
+    const std::string* origin = Find(option);
     Error located = error;
-    located.message = (value ? value->origin : "option --" + option) + ": " + error.Detail();
+    located.message = (origin ? *origin : "option --" + option) + ": " + error.Detail();
     located.subject = option;
     return located;
   }
 
  private:
-  const OptionValues& values_;
-  StudyCommandLine converted_;
+  const GivenStudyOptions& given_;
 };
 
+// A list option's text as given (comma-separated) and where it came from.
+struct ListText {
+  std::string text;
+  std::string origin;
+};
+
+// The given list option `name` (its text `text`), or null.
+std::optional<ListText> GivenList(const GivenOptions& given, const std::string& name,
+                                  const std::optional<std::string>& text) {
+  const std::string* origin = given.Find(name);
+  if (!origin || !text) return std::nullopt;
+  return ListText{*text, *origin};
+}
+
 // The items of a comma-separated list, none empty.
-Result<std::vector<std::string>> ListItems(const OptionValue& value) {
+Result<std::vector<std::string>> ListItems(const ListText& value) {
   std::vector<std::string> pieces = Split(value.text, ',');
   if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
   for (const std::string& piece : pieces) {
@@ -464,7 +502,7 @@ Status ResolveCellCount(const GivenOptions& given, const std::string& name,
                         const std::optional<std::string>& text, const StudyOptions& options,
                         std::string& resolved) {
   if (!text) return Ok{};
-  const std::string& origin = given.Find(name)->origin;
+  const std::string& origin = *given.Find(name);
   if (options.maps.empty()) return Error{origin + ": needs maps"};
   Result<CellCount> count = ParseCellCount(*text);
   if (!count) return count.error().Prefixed(origin + ": ");
@@ -474,7 +512,7 @@ Status ResolveCellCount(const GivenOptions& given, const std::string& name,
 
 // --maps, and the --stations and --movers every map gets.
 Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
-  if (const OptionValue* maps = given.Find("maps")) {
+  if (const std::optional<ListText> maps = GivenList(given, "maps", given->maps)) {
     Result<std::vector<std::string>> items = ListItems(*maps);
     if (!items) return items.error();
     Result<std::vector<StudyOptions::Map>> read = ExpandMapList(*items, maps->origin);
@@ -488,9 +526,8 @@ Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
 
 // --sizes (none by default with maps) and --difficulties.
 Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
-  const OptionValue default_sizes{kDefaultSizes, "default sizes"};
-  const OptionValue* sizes = given.Find("sizes");
-  if (!sizes && options.maps.empty()) sizes = &default_sizes;
+  std::optional<ListText> sizes = GivenList(given, "sizes", given->sizes);
+  if (!sizes && options.maps.empty()) sizes = ListText{kDefaultSizes, "default sizes"};
   if (sizes) {
     Result<std::vector<std::string>> items = ListItems(*sizes);
     if (!items) return items.error();
@@ -507,9 +544,9 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
     }
   }
 
-  const OptionValue default_difficulties{kDefaultDifficulties, "default difficulties"};
-  const OptionValue* given_difficulties = given.Find("difficulties");
-  const OptionValue& difficulties = given_difficulties ? *given_difficulties : default_difficulties;
+  const ListText difficulties =
+      GivenList(given, "difficulties", given->difficulties)
+          .value_or(ListText{kDefaultDifficulties, "default difficulties"});
   Result<std::vector<std::string>> items = ListItems(difficulties);
   if (!items) return items.error();
   for (const std::string& item : *items) {
@@ -528,12 +565,11 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
 
 // --approaches, the edge case (off by default with maps), --seed, --steps.
 Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
-  const OptionValue all{kAllApproaches, "default approaches"};
-  const OptionValue* approaches = given.Find("approaches");
-  if (!approaches) approaches = &all;
-  if (Trim(approaches->text).empty()) return Error{approaches->origin + ": the list is empty"};
-  Result<std::vector<Approach>> parsed = ParseApproachList(approaches->text);
-  if (!parsed) return parsed.error().Prefixed(approaches->origin + ": ");
+  const ListText approaches = GivenList(given, "approaches", given->approaches)
+                                  .value_or(ListText{kAllApproaches, "default approaches"});
+  if (Trim(approaches.text).empty()) return Error{approaches.origin + ": the list is empty"};
+  Result<std::vector<Approach>> parsed = ParseApproachList(approaches.text);
+  if (!parsed) return parsed.error().Prefixed(approaches.origin + ": ");
   options.approaches = std::move(*parsed);
 
   options.edge_case = given->edge_case || (options.maps.empty() && !given->no_edge_case);
@@ -549,7 +585,8 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   Result<long long> repeats = runtime::InRange("repeats", given->repeats, 1, 1, kMaxRepeats);
   if (!repeats) return given.Located(repeats.error(), "repeats");
   options.repeats = static_cast<int>(*repeats);
-  if (const OptionValue* maze_seeds = given.Find("maze-seeds")) {
+  if (const std::optional<ListText> maze_seeds =
+          GivenList(given, "maze-seeds", given->maze_seeds)) {
     if (given->seed) return Error{maze_seeds->origin + ": choose one of --seed and --maze-seeds"};
     Result<std::vector<std::string>> items = ListItems(*maze_seeds);
     if (!items) return items.error();
@@ -577,23 +614,25 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   return Ok{};
 }
 
-// --out, and the learner options and --placement, checked by `dynapath
-// run`'s own ResolveRunOptions.
+// --out, and the learner options and --placement, resolved by `dynapath
+// run`'s own ResolveRunOptions into the study's run plan (with the study's
+// approaches, resolved before).
 Status ResolveLearner(const GivenOptions& given, StudyOptions& options) {
   options.out = given->out.value_or(kDefaultStudyDir);
   runtime::RunOptions run = given->learner;
   run.out = options.out;  // a directory too, with the same rule
-  if (Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run); !plan) {
-    return given.Located(plan.error(), "");
-  }
+  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(run);
+  if (!plan) return given.Located(plan.error(), "");
+  options.run = std::move(*plan);
+  options.run.approaches = options.approaches;
   options.learner = given->learner;
   // Every repeat's learner seed must be one --learner-seed accepts.
   if (options.learner.learner_seed) {
     const long long last = *options.learner.learner_seed +
                            (options.repeats - 1) * static_cast<long long>(kRepeatSeedStride);
     if (last > runtime::kMaxLearnerSeed) {
-      const OptionValue* value = given.Find("learner-seed");
-      return Error{(value ? value->origin : std::string("option --learner-seed")) + ": with " +
+      const std::string* origin = given.Find("learner-seed");
+      return Error{(origin ? *origin : std::string("option --learner-seed")) + ": with " +
                    std::to_string(options.repeats) + " repeats the last repeat's learner seed " +
                    std::to_string(last) + " would exceed " +
                    std::to_string(runtime::kMaxLearnerSeed)};
@@ -622,7 +661,7 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
   Result<long long> parallel = runtime::InRange("parallel", given->parallel, 1, 1, 256);
   if (!parallel) return given.Located(parallel.error(), "parallel");
   if (*parallel > 1 && options.mode.kind != StudyMode::kLocal) {
-    return Error{given.Find("parallel")->origin +
+    return Error{*given.Find("parallel") +
                  ": runs configurations at once only with --local (agents spread one run's "
                  "training over their cores)"};
   }
@@ -635,11 +674,11 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
     return given.Located(status.error(), "log-level");
   }
   options.log = given->log;
-  if (const OptionValue* url = given.Find("lcm-url")) {
+  if (const std::string* url = given.Find("lcm-url")) {
     if (options.mode.kind != StudyMode::kAgents) {
-      return Error{url->origin + ": an LCM URL needs --agents N (processes)"};
+      return Error{*url + ": an LCM URL needs --agents N (processes)"};
     }
-    if (given->lcm_url.empty()) return Error{url->origin + ": must not be empty"};
+    if (given->lcm_url.empty()) return Error{*url + ": must not be empty"};
     options.lcm_url = given->lcm_url;
   }
   return Ok{};
@@ -649,37 +688,34 @@ Status ResolveExecution(const GivenOptions& given, int hardware_threads, StudyOp
 
 namespace {
 
-// A parameter given several values (a study file's array, comma-joined):
-// the sweep, its values checked and distinct; the option value left with
-// the first, so that it is converted and checked as one value.
-Status TakeSweeps(OptionValues& values, std::vector<StudyOptions::Sweep>& sweeps) {
+// The parameters a study file gave several values (in name order: the
+// first varies slowest): each sweep's values checked and distinct, the grid
+// not too large.
+Status TakeSweeps(const GivenOptions& given,
+                  const std::map<std::string, std::vector<double>>& lists,
+                  std::vector<StudyOptions::Sweep>& sweeps) {
   size_t points = 1;
-  for (auto& [name, value] : values) {
+  for (const auto& [name, values] : lists) {
     const std::optional<size_t> index = ParameterIndex(name);
-    if (!index || value.text.find(',') == std::string::npos) continue;
+    const std::string* origin = given.Find(name);
+    if (!index || !origin) continue;
     const Parameter& parameter = Parameters()[*index];
     StudyOptions::Sweep sweep{*index, {}};
-    for (const std::string& item : Split(value.text, ',')) {
-      char* end = nullptr;
-      const double number = std::strtod(item.c_str(), &end);
-      if (item.empty() || end != item.c_str() + item.size()) {
-        return Error{value.origin + ": '" + item + "' is not a number"};
-      }
+    for (const double number : values) {
       PlannerOptions check;
       if (Status status = SetParameter(check, *index, number); !status) {
-        return Error{value.origin + ": " + status.error().Detail()};
+        return Error{*origin + ": " + status.error().Detail()};
       }
       if (std::find(sweep.values.begin(), sweep.values.end(), number) != sweep.values.end()) {
-        return Error{value.origin + ": " + ParameterText(parameter, number) + " is given twice"};
+        return Error{*origin + ": " + ParameterText(parameter, number) + " is given twice"};
       }
       sweep.values.push_back(number);
     }
     points *= sweep.values.size();
     if (points > kMaxSweepPoints) {
-      return Error{value.origin + ": the sweep's grid would have more than " +
+      return Error{*origin + ": the sweep's grid would have more than " +
                    std::to_string(kMaxSweepPoints) + " points"};
     }
-    value.text = Split(value.text, ',').front();
     sweeps.push_back(std::move(sweep));
   }
   return Ok{};
@@ -687,13 +723,13 @@ Status TakeSweeps(OptionValues& values, std::vector<StudyOptions::Sweep>& sweeps
 
 }  // namespace
 
-Result<StudyOptions> ResolveStudyOptions(const OptionValues& given_values, int hardware_threads) {
-  OptionValues values = given_values;
+Result<StudyOptions> ResolveStudyOptions(const GivenStudyOptions& given_options,
+                                         int hardware_threads) {
+  const GivenOptions given(given_options);
   std::vector<StudyOptions::Sweep> sweeps;
-  if (Status status = TakeSweeps(values, sweeps); !status) return status.error();
-  Result<StudyCommandLine> converted = ConvertOptionValues(values);
-  if (!converted) return converted.error();
-  const GivenOptions given(values, std::move(*converted));
+  if (Status status = TakeSweeps(given, given_options.sweeps, sweeps); !status) {
+    return status.error();
+  }
   StudyOptions options;
   // The maps first: with maps, sizes and the edge case default to none.
   if (Status status = ResolveMaps(given, options); !status) return status.error();
@@ -703,7 +739,8 @@ Result<StudyOptions> ResolveStudyOptions(const OptionValues& given_values, int h
   if (Status status = ResolveExecution(given, hardware_threads, options); !status) {
     return status.error();
   }
-  // The swept parameters are the points' own, not the study's.
+  // The swept parameters are the points' own, not the study's (a point's
+  // values are set over the study's plan: RunPlanOf).
   for (const StudyOptions::Sweep& sweep : sweeps) {
     options.learner.parameters.integers[sweep.parameter].reset();
     options.learner.parameters.reals[sweep.parameter].reset();
@@ -876,19 +913,26 @@ runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configurati
   return options;
 }
 
-runtime::RunOptions RunOptionsOf(const StudyOptions& options, const std::string& out_dir) {
-  std::vector<std::string> names;
-  for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
-  runtime::RunOptions run = options.learner;
-  run.approach = Join(names, ",");
-  run.out = out_dir;
-  return run;
+runtime::RunPlan RunPlanOf(const StudyOptions& options, const StudyConfiguration& configuration,
+                           const std::string& out_dir) {
+  runtime::RunPlan plan = options.run;
+  plan.out_dir = out_dir;
+  plan.learner_seed = configuration.learner_seed;
+  for (const auto& [index, value] : configuration.point) {
+    // In range: each sweep's values were checked (TakeSweeps).
+    (void)SetParameter(plan.options, index, value);
+  }
+  return plan;
 }
 
 runtime::RunOptions RunOptionsOf(const StudyOptions& options,
                                  const StudyConfiguration& configuration,
                                  const std::string& out_dir) {
-  runtime::RunOptions run = RunOptionsOf(options, out_dir);
+  std::vector<std::string> names;
+  for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
+  runtime::RunOptions run = options.learner;
+  run.approach = Join(names, ",");
+  run.out = out_dir;
   run.learner_seed.reset();
   if (configuration.learner_seed) {
     run.learner_seed = static_cast<long long>(*configuration.learner_seed);
@@ -956,8 +1000,7 @@ Json StudyIdentityJson(const StudyOptions& options) {
     Json& seeds = json["maze_seeds"] = Json::array();
     for (const unsigned seed : options.maze_seeds) seeds.push_back(seed);
   }
-  Result<runtime::RunPlan> plan = runtime::ResolveRunOptions(RunOptionsOf(options, options.out));
-  json["parameters"] = ParametersJson(plan ? plan->options : PlannerOptions{});
+  json["parameters"] = ParametersJson(options.run.options);
   // A swept parameter's entry is its list of values.
   for (const StudyOptions::Sweep& sweep : options.sweeps) {
     const Parameter& parameter = Parameters()[sweep.parameter];
