@@ -25,16 +25,9 @@ void DeclareUpdateSourceOption(runtime::OptionGroup& group, std::optional<std::s
 void DeclareMetresOptions(runtime::OptionGroup& group, MetresOptions& options) {
   group.Flag("--xy", options.xy,
              "publish the obstacle changes in metres (obstacle_points_t on MAP_POINTS: each "
-             "changed cell's centre in the map's frame) instead of cells (obstacle_update_t on "
-             "MAP_UPDATES)");
-  group.Option("--resolution", options.resolution, "METRES",
-               "with --xy: metres per cell of a map without a frame, as given to serve (a ROS "
-               "map's YAML has its own)",
-               "1");
-  group.Option("--origin", options.origin, "X,Y",
-               "with --xy: metres of the bottom-left corner of the map's bottom-left cell, as "
-               "given to serve (maps without a frame)",
-               "0,0");
+             "changed cell's centre in the map's frame, a ROS map's own or --resolution and "
+             "--origin as given to serve) instead of cells (obstacle_update_t on MAP_UPDATES)");
+  runtime::DeclareMapFrameOptions(group, options.resolution, options.origin);
 }
 
 Result<std::optional<MapFrame>> ResolveMetresOptions(const MetresOptions& options,
@@ -53,8 +46,8 @@ Result<std::optional<MapFrame>> ResolveMetresOptions(const MetresOptions& option
 }
 
 void PublishStep(ServiceClient& client, const ChangeStep& step, const Grid& grid,
-                 const std::optional<MapFrame>& frame, const std::string& source,
-                 int64_t sequence, uint64_t maze, int64_t utime) {
+                 const std::optional<MapFrame>& frame, const std::string& source, int64_t sequence,
+                 uint64_t maze, int64_t utime) {
   if (!frame) {
     obstacle_update_t update = protocol::UpdateToMessage(step, grid.cols(), source, sequence, maze);
     update.run_id = client.bus().run_id();

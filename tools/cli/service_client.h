@@ -46,8 +46,8 @@ Result<std::optional<MapFrame>> ResolveMetresOptions(const MetresOptions& option
 // MAP_UPDATES, or with a frame an obstacle_points_t on MAP_POINTS whose
 // points are the changed cells' centres, in the step's order.
 void PublishStep(ServiceClient& client, const ChangeStep& step, const Grid& grid,
-                 const std::optional<MapFrame>& frame, const std::string& source,
-                 int64_t sequence, uint64_t maze, int64_t utime);
+                 const std::optional<MapFrame>& frame, const std::string& source, int64_t sequence,
+                 uint64_t maze, int64_t utime);
 
 // "R,C" as a cell, or an error naming the option.
 Result<std::pair<int32_t, int32_t>> ParseCell(const std::string& text);

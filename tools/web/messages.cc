@@ -284,7 +284,7 @@ std::string UpdatesJson(const obstacle_update_t& u, double received_ms) {
 }
 
 std::string PointsJson(const obstacle_points_t& u, double received_ms) {
-  json message = {{"t", "points"},     {"source", u.source}, {"sequence", u.sequence},
+  json message = {{"t", "points"},       {"source", u.source},  {"sequence", u.sequence},
                   {"x", FiniteAll(u.x)}, {"y", FiniteAll(u.y)}, {"states", u.states},
                   {"rx", received_ms}};
   return message.dump();
@@ -388,20 +388,22 @@ const std::vector<FoxgloveChannel>& FoxgloveChannels() {
                             {"cols", integers},
                             {"states", integers}})
                         .dump()});
-    list.push_back({7, "/map_points", "dynapath.MapPoints",
-                    Schema({{"run_id", text},
-                            {"source", text},
-                            {"sequence", integer},
-                            {"x", {{"type", "array"},
-                                   {"items", number},
-                                   {"description", "metres in the map's frame, to the right"}}},
-                            {"y", {{"type", "array"},
-                                   {"items", number},
-                                   {"description", "metres in the map's frame, up"}}},
-                            {"states", {{"type", "array"},
-                                        {"items", integer},
-                                        {"description", "0 obstacle, 1 free"}}}})
-                        .dump()});
+    list.push_back(
+        {7, "/map_points", "dynapath.MapPoints",
+         Schema({{"run_id", text},
+                 {"source", text},
+                 {"sequence", integer},
+                 {"x",
+                  {{"type", "array"},
+                   {"items", number},
+                   {"description", "metres in the map's frame, to the right"}}},
+                 {"y",
+                  {{"type", "array"},
+                   {"items", number},
+                   {"description", "metres in the map's frame, up"}}},
+                 {"states",
+                  {{"type", "array"}, {"items", integer}, {"description", "0 obstacle, 1 free"}}}})
+             .dump()});
     return list;
   }();
   return channels;
@@ -510,7 +512,7 @@ std::string UpdatesFoxglove(const obstacle_update_t& u) {
 }
 
 std::string PointsFoxglove(const obstacle_points_t& u) {
-  json message = {{"run_id", u.run_id},   {"source", u.source},   {"sequence", u.sequence},
+  json message = {{"run_id", u.run_id},  {"source", u.source},  {"sequence", u.sequence},
                   {"x", FiniteAll(u.x)}, {"y", FiniteAll(u.y)}, {"states", u.states}};
   return message.dump();
 }
