@@ -108,6 +108,10 @@ echo "$out" | grep -q '"status":"start_obstacle"' || fail "start_obstacle: $out"
 echo "$out" | grep -q '"status":"outside_grid"' || fail "outside_grid: $out"
 echo "$out" | grep -q '"status":"outside_map"' || fail "outside_map: $out"
 q --goal dock-1 --from 20,36 >/dev/null || fail "the service stopped answering"
+# Goal requests at a fixed rate: every one answered.
+rated=$(q --to 20,36 --rate 200 --duration 0.5) || fail "query --to --rate: $rated"
+python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["sent"] == o["answered"] == 100 else 1)' \
+  "$rated" || fail "goal requests at a rate: $rated"
 
 kill -INT $SERVICE; wait $SERVICE; code=$?
 [ $code -eq 0 ] || fail "serve exited $code"

@@ -15,11 +15,11 @@
 #include <tuple>
 #include <vector>
 
+#include "dynapath/goal_reply_t.hpp"
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/routes.h"
-#include "dynapath/goal_reply_t.hpp"
-#include "dynapath/goal_request_t.hpp"
 #include "protocol/bus.h"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
