@@ -253,11 +253,16 @@ void DeclareGoalOptions(OptionGroup& group, GoalOptions& options) {
                "memory of the goal distance fields, landmarks and fields being built included "
                "(2 bytes a free cell each; 0-65536, 0: every goal searched)",
                "256");
-  group.Option("--resolution", options.resolution, "METRES",
+  DeclareMapFrameOptions(group, options.resolution, options.origin);
+}
+
+void DeclareMapFrameOptions(OptionGroup& group, std::optional<double>& resolution,
+                            std::optional<std::string>& origin) {
+  group.Option("--resolution", resolution, "METRES",
                "metres per cell of a map without a frame, for poses, obstacle points and "
                "occupancy grids (a ROS map's YAML has its own)",
                "1");
-  group.Option("--origin", options.origin, "X,Y",
+  group.Option("--origin", origin, "X,Y",
                "metres of the bottom-left corner of the map's bottom-left cell (maps without a "
                "frame)",
                "0,0");

@@ -83,6 +83,10 @@ struct GoalOptions {
   std::optional<std::string> origin;
 };
 void DeclareGoalOptions(OptionGroup& group, GoalOptions& options);
+// --resolution and --origin: the frame of a map without one (serve's, and
+// the commands that publish to it in metres).
+void DeclareMapFrameOptions(OptionGroup& group, std::optional<double>& resolution,
+                            std::optional<std::string>& origin);
 // The goal service's configuration (max_starts left at its default), or
 // one clear error. `maze_path`: --maze (a ROS map has its own frame).
 Result<GoalServiceConfig> ResolveGoalOptions(const GoalOptions& options,

@@ -14,6 +14,10 @@
 #    the summary at stop; the service keeps answering.
 # 3. A goals file with a goal outside the map, --resolution with a ROS map:
 #    refused before any work (exit 2).
+# 4. Updates in metres: `feed --xy` (obstacle_points_t) makes the same
+#    steps (success rate, path length, per step) as `feed` in cells, and a
+#    fleet publishing in metres (`robots --xy`) the same fleet figures as
+#    one publishing cells; --resolution without --xy is refused (exit 2).
 set -uo pipefail
 DYNAPATH=$1
 SRC=$(cd "$(dirname "$0")/.." && pwd)
@@ -104,6 +108,10 @@ echo "$out" | grep -q '"status":"start_obstacle"' || fail "start_obstacle: $out"
 echo "$out" | grep -q '"status":"outside_grid"' || fail "outside_grid: $out"
 echo "$out" | grep -q '"status":"outside_map"' || fail "outside_map: $out"
 q --goal dock-1 --from 20,36 >/dev/null || fail "the service stopped answering"
+# Goal requests at a fixed rate: every one answered.
+rated=$(q --to 20,36 --rate 200 --duration 0.5) || fail "query --to --rate: $rated"
+python3 -c 'import json,sys; o=json.loads(sys.argv[1]); sys.exit(0 if o["sent"] == o["answered"] == 100 else 1)' \
+  "$rated" || fail "goal requests at a rate: $rated"
 
 kill -INT $SERVICE; wait $SERVICE; code=$?
 [ $code -eq 0 ] || fail "serve exited $code"
@@ -112,4 +120,38 @@ grep -q "1 goal_outside_grid, 1 goal_obstacle, 1 goal_outside_map, 1 unknown_goa
 grep -q "1 start_obstacle, 1 outside_grid, 1 outside_map" "$WORK/serve.out" \
   || fail "start statuses not counted: $(grep goals: "$WORK/serve.out")"
 grep -q "^goal cache: " "$WORK/serve.out" || fail "no cache line"
+# 4. The same change steps in cells and in metres (frame 0.5 m, origin -10,5).
+SHORT=("${MAZE[@]}" --steps 4)
+FRAME=(--resolution 0.5 --origin -10,5)
+for units in cells metres; do
+  xy=(); [ $units = metres ] && xy=(--xy "${FRAME[@]}")
+  "$DYNAPATH" serve "${COMMON[@]}" "${SHORT[@]}" "${FRAME[@]}" --approach "Incremental Oracle" \
+    --out "$WORK/$units" >/dev/null 2>"$WORK/serve.err" &
+  SERVICE=$!
+  "$DYNAPATH" feed "${COMMON[@]}" "${SHORT[@]}" "${xy[@]}" --timeout 20 >"$WORK/feed-$units.json" \
+    || fail "feed in $units"
+  kill -INT $SERVICE; wait $SERVICE || fail "serve ($units) exited $?"
+  "$DYNAPATH" serve "${COMMON[@]}" "${SHORT[@]}" "${FRAME[@]}" --approach "Incremental Oracle" \
+    >/dev/null 2>"$WORK/serve.err" &
+  SERVICE=$!
+  "$DYNAPATH" robots "${COMMON[@]}" "${SHORT[@]}" "${xy[@]}" --robots 8 --ticks 12 \
+    --ticks-per-step 3 --timeout 20 >"$WORK/fleet-$units.json" || fail "robots in $units"
+  kill -INT $SERVICE; wait $SERVICE || fail "serve ($units, fleet) exited $?"
+done
+python3 - "$WORK" <<'PY' || fail "updates in metres differ from updates in cells"
+import csv, json, sys
+w = sys.argv[1]
+rows = [list(csv.DictReader(open(f"{w}/{u}/results_detailed.csv"))) for u in ("cells", "metres")]
+keys = ("TimeStep", "SuccessRate", "AvgPathLength", "NumChanges")
+steps = [[tuple(r[k] for k in keys if k in r) for r in x] for x in rows]
+assert len(steps[0]) == 5 and steps[0] == steps[1], steps
+feeds = [json.load(open(f"{w}/feed-{u}.json")) for u in ("cells", "metres")]
+assert feeds[0]["sent"] == feeds[1]["sent"] == 4, feeds
+fleets = [json.load(open(f"{w}/fleet-{u}.json")) for u in ("cells", "metres")]
+same = ("robots", "arrived", "tasks", "conflicts", "overruns", "blocked_moves", "queries", "version")
+assert all(fleets[0][k] == fleets[1][k] for k in same), fleets
+print("updates in metres: the same", len(steps[0]), "steps and fleet as in cells")
+PY
+"$DYNAPATH" feed "${COMMON[@]}" "${SHORT[@]}" --resolution 0.5 >/dev/null 2>"$WORK/err"
+[ $? -eq 2 ] && grep -q "need --xy" "$WORK/err" || fail "--resolution without --xy: $(cat "$WORK/err")"
 echo "goals end to end: ok"

@@ -16,12 +16,19 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include "tools/web/host_check.h"
+#include "tools/web/mcap_writer.h"
 #include "tools/web/messages.h"
 #include "tools/web/service_latency.h"
 
@@ -573,6 +580,119 @@ TEST(WebServer, TimesGoalQueriesAsASecondSeries) {
            history.find("\"kind\":\"path\"") != std::string::npos;
   })) << history;
   EXPECT_NE(history.find("\"kind\":\"goal\""), std::string::npos) << history;
+}
+
+obstacle_points_t Points(const std::string& run, std::vector<double> x, std::vector<double> y) {
+  obstacle_points_t m{};
+  m.run_id = run;
+  m.source = "lidar";
+  m.sequence = 3;
+  m.num_points = static_cast<int32_t>(x.size());
+  m.states.assign(x.size(), obstacle_points_t::OBSTACLE);
+  m.x = std::move(x);
+  m.y = std::move(y);
+  return m;
+}
+
+TEST(WebServer, SendsObstaclePointsAndTheMapFrame) {
+  WebServer server(TestOptions());
+  ASSERT_TRUE(server.Start());
+  RawClient page(server.port());
+  ASSERT_EQ(page.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  ASSERT_TRUE(WaitFor([&] { return server.counters().clients == 1; }));
+  std::string received = page.TakeRest();
+  server.Points(Points("test", {1.25, -0.5}, {2.75, 0.0}), 9'000.0);
+  goal_reply_t reply{};
+  reply.client = "robot";
+  reply.request_id = 1;
+  reply.resolution = 0.05;
+  reply.origin_x = -1.0;
+  reply.origin_y = -2.0;
+  server.GoalReply(reply, 9'001.0);
+  ASSERT_TRUE(WaitFor([&] {
+    received += page.Read(50);
+    return received.find("\"t\":\"points\"") != std::string::npos &&
+           received.find("\"t\":\"frame\"") != std::string::npos;
+  })) << received;
+  // Keys in order (nlohmann::json sorts them).
+  EXPECT_NE(received.find("{\"rx\":9000.0,\"sequence\":3,\"source\":\"lidar\","
+                          "\"states\":[0,0],\"t\":\"points\",\"x\":[1.25,-0.5],\"y\":[2.75,0.0]}"),
+            std::string::npos)
+      << received;
+  EXPECT_NE(received.find("{\"origin_x\":-1.0,\"origin_y\":-2.0,\"resolution\":0.05,"
+                          "\"t\":\"frame\"}"),
+            std::string::npos)
+      << received;
+  // A client that connects later gets the frame.
+  RawClient late(server.port());
+  ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  std::string history = late.TakeRest();
+  ASSERT_TRUE(WaitFor([&] {
+    history += late.Read(50);
+    return history.find("\"t\":\"frame\"") != std::string::npos;
+  })) << history;
+}
+
+TEST(FoxgloveMessages, ObstaclePointsHaveTheirChannel) {
+  EXPECT_EQ(FoxgloveTopicOf("MAP_POINTS"), "/map_points");
+  const uint32_t id = FoxgloveChannelId("/map_points");
+  ASSERT_NE(id, 0u);
+  EXPECT_NE(id, FoxgloveChannelId("/map_updates"));
+  const nlohmann::json message =
+      nlohmann::json::parse(PointsFoxglove(Points("test", {0.5}, {1.5})));
+  for (const FoxgloveChannel& channel : FoxgloveChannels()) {
+    if (channel.id != id) continue;
+    EXPECT_EQ(channel.schema_name, "dynapath.MapPoints");
+    for (const auto& [field, type] : nlohmann::json::parse(channel.schema)["properties"].items()) {
+      EXPECT_TRUE(message.contains(field)) << field;
+    }
+  }
+  EXPECT_EQ(message["x"], nlohmann::json::array({0.5}));
+  EXPECT_EQ(message["y"], nlohmann::json::array({1.5}));
+}
+
+// log-to-mcap: a valid MAP_POINTS message is exported; an invalid one (a
+// NaN coordinate), a cut one and one whose run id is not its channel's are
+// dropped and counted.
+TEST(LogToMcap, ExportsObstaclePointsAndDropsBadOnes) {
+  const std::string dir = ::testing::TempDir() + "points_" + std::to_string(getpid());
+  const std::string log_path = dir + ".lcm", mcap_path = dir + ".mcap";
+  {
+    lcm::LogFile log(log_path, "w");
+    ASSERT_TRUE(log.good());
+    int64_t number = 0;
+    auto write = [&](const std::string& channel, std::vector<uint8_t> data) {
+      lcm::LogEvent event{};
+      event.eventnum = number;
+      event.timestamp = 1000 + number++;
+      event.channel = channel;
+      event.datalen = static_cast<int32_t>(data.size());
+      event.data = data.data();
+      ASSERT_EQ(log.writeEvent(&event), 0);
+    };
+    auto encode = [](const obstacle_points_t& m) {
+      std::vector<uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
+      m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+      return bytes;
+    };
+    write("DYNAPATH/r/MAP_POINTS", encode(Points("r", {1.25}, {2.5})));
+    write("DYNAPATH/r/MAP_POINTS", encode(Points("r", {std::nan("")}, {2.5})));
+    std::vector<uint8_t> cut = encode(Points("r", {1.0, 2.0}, {1.0, 2.0}));
+    cut.resize(cut.size() - 5);
+    write("DYNAPATH/r/MAP_POINTS", cut);
+    write("DYNAPATH/other/MAP_POINTS", encode(Points("r", {1.0}, {1.0})));
+  }
+  Result<McapExport> exported = LogToMcap(log_path, mcap_path);
+  ASSERT_TRUE(exported) << exported.error().message;
+  EXPECT_EQ(exported->events, 4);
+  EXPECT_EQ(exported->messages, 1);
+  EXPECT_EQ(exported->dropped, 3);
+  std::ifstream in(mcap_path, std::ios::binary);
+  const std::string mcap((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(mcap.find("/map_points"), std::string::npos);
+  EXPECT_NE(mcap.find("\"x\":[1.25],\"y\":[2.5]"), std::string::npos);
+  std::remove(log_path.c_str());
+  std::remove(mcap_path.c_str());
 }
 
 TEST(PageFrames, DeltaRebuildsThePolicy) {

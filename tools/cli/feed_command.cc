@@ -1,5 +1,6 @@
 // dynapath feed: publishes a change sequence to a running `dynapath serve`
-// as live obstacle updates, one obstacle_update_t per time step, either in
+// as live obstacle updates, one obstacle_update_t (or with --xy one
+// obstacle_points_t, in metres) per time step, either in
 // lock step with the service's commits (the default: the service then
 // makes exactly the run's time steps) or at a fixed rate.
 
@@ -38,7 +39,8 @@ int64_t NowMicros() {
 int FeedCommand(const std::vector<std::string>& args) {
   CLI::App app(
       "Publishes a maze's change sequence to a running `dynapath serve` as live updates\n"
-      "(obstacle_update_t on DYNAPATH/<run>/MAP_UPDATES, one per time step): the\n"
+      "(obstacle_update_t on DYNAPATH/<run>/MAP_UPDATES, one per time step; with --xy\n"
+      "obstacle_points_t on MAP_POINTS, the changed cells' centres in metres): the\n"
       "sequence of --changes FILE (as `dynapath maze --save-changes` writes it), or the\n"
       "one generated for the maze options as `run` would. The maze options must be the\n"
       "service's (its maze fingerprint is checked first); the steps sent are those after\n"
@@ -63,6 +65,8 @@ int FeedCommand(const std::vector<std::string>& args) {
   std::optional<long long> max_steps;
   group.Option("--max-steps", max_steps, "N",
                "send at most N steps (1-10000000) after the service's current one", "all");
+  MetresOptions metres;
+  DeclareMetresOptions(group, metres);
   double timeout = 60;
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
@@ -90,6 +94,8 @@ int FeedCommand(const std::vector<std::string>& args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return runtime::ProcessError(kFeedProgram, setup.error().message);
   const Grid& grid = setup->scenario.grid;
+  Result<std::optional<MapFrame>> frame = ResolveMetresOptions(metres, scenario.maze, grid);
+  if (!frame) return runtime::ProcessError(kFeedProgram, frame.error().message);
   Result<std::unique_ptr<ServiceClient>> opened =
       ServiceClient::Open(*process, "feed-" + std::to_string(getpid()), ServiceClient::kReports);
   if (!opened) return runtime::ProcessError(kFeedProgram, opened.error().message, kExitFailure);
@@ -126,18 +132,16 @@ int FeedCommand(const std::vector<std::string>& args) {
                                 : steps.size();
   for (size_t t = static_cast<size_t>(expected_step); t < last; ++t) {
     const ChangeStep& step = steps[t];
-    obstacle_update_t update = protocol::UpdateToMessage(
-        step, grid.cols(), source, ++sent, static_cast<uint64_t>(first->maze_fingerprint));
-    update.run_id = process->run_id;
-    update.utime = NowMicros();
+    const int64_t sequence = ++sent;
+    const uint64_t maze = static_cast<uint64_t>(first->maze_fingerprint);
     if (rate) {
       std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                 std::chrono::duration<double>((sent - 1) / *rate)));
-      client.bus().Publish(protocol::channel::kMapUpdates, update);
+      PublishStep(client, step, grid, *frame, source, sequence, maze, NowMicros());
       continue;
     }
     const auto published = std::chrono::steady_clock::now();
-    client.bus().Publish(protocol::channel::kMapUpdates, update);
+    PublishStep(client, step, grid, *frame, source, sequence, maze, NowMicros());
     if (step.changes.empty()) continue;  // the service makes no step of nothing
     ++expected_step;
     // Lock step: probe until a reply comes from the step this update made.

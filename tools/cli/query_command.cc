@@ -7,17 +7,23 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
 #include <tuple>
 #include <vector>
 
+#include "dynapath/goal_reply_t.hpp"
+#include "dynapath/goal_request_t.hpp"
 #include "dynapath/latency_histogram.h"
 #include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/routes.h"
+#include "protocol/bus.h"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
+#include "protocol/dispatcher.h"
 #include "protocol/limits.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
@@ -87,9 +93,11 @@ void PrintReply(const path_reply_t& r, bool json) {
 }
 
 // --rate: Q requests a second, one random free start each, for S seconds;
-// latencies from publishing to the reply's arrival.
+// latencies from publishing to the reply's arrival. With `goal` (its goal
+// set), goal requests to that goal (GOAL_REQUEST, answered on GOAL_REPLY)
+// instead of path requests.
 int MeasureRate(const runtime::ProcessSetup& process, const std::string& client, double rate,
-                double duration, double timeout) {
+                double duration, double timeout, std::optional<goal_request_t> goal) {
   const int64_t total = static_cast<int64_t>(rate * duration);
   // Written by the sending loop, read by the dispatch thread.
   std::vector<std::atomic<int64_t>> sent_us(static_cast<size_t>(total));
@@ -125,40 +133,70 @@ int MeasureRate(const runtime::ProcessSetup& process, const std::string& client,
     if (free_cells.empty())
       return runtime::ProcessError(kQueryProgram, "the map has no free cell", 1);
   }
-  Result<std::unique_ptr<ServiceClient>> opened = ServiceClient::Open(
-      process, client, ServiceClient::kRepliesOnly, [&](const path_reply_t& reply) {
-        const int64_t id = reply.request_id;
-        if (id < 0 || id >= total) return;
-        const int64_t sent = sent_us[static_cast<size_t>(id)].load();
-        if (sent == 0) return;
-        if (answered[static_cast<size_t>(id)].exchange(1) != 0) return;
-        const int64_t micros = now_us() - sent;
-        std::lock_guard lock(mutex);
-        latency.Add(micros);
-        ++answered_count;
-      });
-  if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
-  ServiceClient& c = **opened;
+  auto on_reply = [&](int64_t id) {
+    if (id < 0 || id >= total) return;
+    const int64_t sent = sent_us[static_cast<size_t>(id)].load();
+    if (sent == 0) return;
+    if (answered[static_cast<size_t>(id)].exchange(1) != 0) return;
+    const int64_t micros = now_us() - sent;
+    std::lock_guard lock(mutex);
+    latency.Add(micros);
+    ++answered_count;
+  };
   std::mt19937_64 random(static_cast<uint64_t>(getpid()));
   std::uniform_int_distribution<size_t> pick(0, free_cells.size() - 1);
-  const int64_t start = now_us();
-  for (int64_t i = 0; i < total; ++i) {
-    const int64_t due = start + static_cast<int64_t>(static_cast<double>(i) * 1e6 / rate);
-    // Sleep, not spin: on a small machine a spinning client takes the
-    // core the service answers on.
-    const int64_t wait = due - now_us();
-    if (wait > 0) std::this_thread::sleep_for(std::chrono::microseconds(wait));
-    const Cell2 cell = free_cells[pick(random)];
-    sent_us[static_cast<size_t>(i)].store(now_us());
-    c.Send(i, {cell});
-  }
-  // Replies still in flight: wait up to a second for the last ones.
-  const int64_t grace_end = now_us() + 1000000;
-  while (answered_count.load() < total && now_us() < grace_end) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  if (std::optional<std::string> two = c.SecondService()) {
-    return runtime::ProcessError(kQueryProgram, *two, kExitFailure);
+  // Sends request i from `cell`; then waits up to a second for the replies
+  // still in flight.
+  auto send_all = [&](const std::function<void(int64_t, Cell2)>& send) {
+    const int64_t start = now_us();
+    for (int64_t i = 0; i < total; ++i) {
+      const int64_t due = start + static_cast<int64_t>(static_cast<double>(i) * 1e6 / rate);
+      // Sleep, not spin: on a small machine a spinning client takes the
+      // core the service answers on.
+      const int64_t wait = due - now_us();
+      if (wait > 0) std::this_thread::sleep_for(std::chrono::microseconds(wait));
+      const Cell2 cell = free_cells[pick(random)];
+      sent_us[static_cast<size_t>(i)].store(now_us());
+      send(i, cell);
+    }
+    const int64_t grace_end = now_us() + 1000000;
+    while (answered_count.load() < total && now_us() < grace_end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  };
+  if (goal) {
+    Result<std::unique_ptr<lcm::LCM>> lcm = protocol::OpenLcm(process.lcm_url);
+    if (!lcm) return runtime::ProcessError(kQueryProgram, lcm.error().message, kExitFailure);
+    protocol::Bus bus(**lcm, process.run_id, process.bus);
+    bus.Subscribe<goal_reply_t>(protocol::channel::kGoalReply, [&](goal_reply_t& reply) {
+      if (reply.client == client && reply.refused == goal_reply_t::ACCEPTED) {
+        on_reply(reply.request_id);
+      }
+    });
+    protocol::Dispatcher dispatcher(**lcm);
+    goal_request_t request = *goal;
+    request.run_id = process.run_id;
+    request.client = client;
+    request.num_starts = 1;
+    request.num_start_poses = 0;
+    request.start_x.clear();
+    request.start_y.clear();
+    send_all([&](int64_t i, Cell2 cell) {
+      request.request_id = i;
+      request.start_rows = {cell.first};
+      request.start_cols = {cell.second};
+      bus.Publish(protocol::channel::kGoalRequest, request);
+    });
+  } else {
+    Result<std::unique_ptr<ServiceClient>> opened =
+        ServiceClient::Open(process, client, ServiceClient::kRepliesOnly,
+                            [&](const path_reply_t& reply) { on_reply(reply.request_id); });
+    if (!opened) return runtime::ProcessError(kQueryProgram, opened.error().message, kExitFailure);
+    ServiceClient& c = **opened;
+    send_all([&](int64_t i, Cell2 cell) { c.Send(i, {cell}); });
+    if (std::optional<std::string> two = c.SecondService()) {
+      return runtime::ProcessError(kQueryProgram, *two, kExitFailure);
+    }
   }
   std::lock_guard lock(mutex);
   std::printf(
@@ -210,8 +248,9 @@ int QueryCommand(const std::vector<std::string>& args) {
       "Asks a running `dynapath serve` for the path to a station from each --from cell\n"
       "and prints the reply (with --json one object per start: start, status, length,\n"
       "path, version, step, answered_by). With --rate Q --duration S it measures\n"
-      "instead: Q requests a second from random free cells for S seconds, and prints\n"
-      "one JSON line with sent, answered, p50_ms, p99_ms and max_ms.\n"
+      "instead: Q requests a second from random free cells for S seconds (to the goal\n"
+      "when one is given), and prints one JSON line with sent, answered, p50_ms,\n"
+      "p99_ms and max_ms.\n"
       "With a goal (--to ROW,COL, --to-xy X,Y in metres, or --goal NAME of the\n"
       "service's --goals file) it asks for the exact shortest path from each start\n"
       "(--from cells, --from-xy poses) to that goal on the current map instead\n"
@@ -316,9 +355,12 @@ int QueryCommand(const std::vector<std::string>& args) {
   if (!from_xy.empty() && goals_given == 0) {
     return runtime::ProcessError(kQueryProgram, "--from-xy needs a goal (--to, --to-xy, --goal)");
   }
+  std::optional<goal_request_t> goal;  // --rate with a goal: the goal's request
   if (goals_given == 1) {
-    if (rate) return runtime::ProcessError(kQueryProgram, "--rate asks for stations: no goal");
-    if (from.empty() && from_xy.empty()) {
+    if (rate && (!from.empty() || !from_xy.empty())) {
+      return runtime::ProcessError(kQueryProgram, "--rate picks its own starts: no --from");
+    }
+    if (!rate && from.empty() && from_xy.empty()) {
       return runtime::ProcessError(kQueryProgram, "give a start with --from or --from-xy");
     }
     if (from.size() + from_xy.size() > 65536) {
@@ -360,7 +402,8 @@ int QueryCommand(const std::vector<std::string>& args) {
     }
     request.num_starts = static_cast<int32_t>(request.start_rows.size());
     request.num_start_poses = static_cast<int32_t>(request.start_x.size());
-    return AskGoal(*process, std::move(request), json, timeout);
+    if (!rate) return AskGoal(*process, std::move(request), json, timeout);
+    goal = std::move(request);
   }
   if (rate) {
     if (!from.empty())
@@ -372,7 +415,7 @@ int QueryCommand(const std::vector<std::string>& args) {
     if (!(seconds >= 0.1 && seconds <= 600)) {
       return runtime::ProcessError(kQueryProgram, "--duration must be between 0.1 and 600 seconds");
     }
-    return MeasureRate(*process, client, *rate, seconds, timeout);
+    return MeasureRate(*process, client, *rate, seconds, timeout, std::move(goal));
   }
   if (duration) return runtime::ProcessError(kQueryProgram, "--duration needs --rate");
   if (from.empty()) return runtime::ProcessError(kQueryProgram, "give a start with --from ROW,COL");

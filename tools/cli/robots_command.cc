@@ -57,9 +57,9 @@ int RobotsCommand(const std::vector<std::string>& args) {
       "or cross diagonally (PIBT; --ignore-conflicts: each moves as if alone), and an\n"
       "independent validator checks every tick. Every --ticks-per-step ticks the\n"
       "obstacles move by the maze's next change step, which this command publishes to\n"
-      "the service as an update and waits for its commit; a robot asks again when its\n"
-      "next cell became an obstacle (a blocked move), it left its path or its plan\n"
-      "comes from an older policy. The maze options must be the service's (its maze\n"
+      "the service as an update (--xy: in metres) and waits for its commit; a robot asks\n"
+      "again when its next cell became an obstacle (a blocked move), it left its path\n"
+      "or its plan comes from an older policy. The maze options must be the service's (its maze\n"
       "fingerprint is checked first); the obstacles start from the service's current\n"
       "step of the maze's change sequence.\n"
       "Prints one JSON line: robots, arrived (robots that reached their first station),\n"
@@ -89,6 +89,8 @@ int RobotsCommand(const std::vector<std::string>& args) {
   bool ignore_conflicts = false;
   group.Flag("--ignore-conflicts", ignore_conflicts,
              "robots do not block each other (each moves as if alone; for comparison)");
+  MetresOptions metres;
+  DeclareMetresOptions(group, metres);
   double timeout = 60;
   DeclareServiceWaitOption(group, timeout);
   runtime::LogOptions log;
@@ -116,6 +118,8 @@ int RobotsCommand(const std::vector<std::string>& args) {
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return runtime::ProcessError(kRobotsProgram, setup.error().message);
   Grid grid = setup->scenario.grid;
+  Result<std::optional<MapFrame>> frame = ResolveMetresOptions(metres, scenario.maze, grid);
+  if (!frame) return runtime::ProcessError(kRobotsProgram, frame.error().message);
   const std::vector<ChangeStep>& steps = setup->scenario.changes.steps;
 
   Result<std::unique_ptr<ServiceClient>> opened =
@@ -210,10 +214,8 @@ int RobotsCommand(const std::vector<std::string>& args) {
       repair_us = std::chrono::duration_cast<std::chrono::microseconds>(
                       std::chrono::steady_clock::now() - repair_start)
                       .count();
-      obstacle_update_t update = protocol::UpdateToMessage(
-          step, grid.cols(), source, ++sequence, static_cast<uint64_t>(met->maze_fingerprint));
-      update.run_id = process->run_id;
-      client.bus().Publish(protocol::channel::kMapUpdates, update);
+      PublishStep(client, step, grid, *frame, source, ++sequence,
+                  static_cast<uint64_t>(met->maze_fingerprint), 0);
       if (!step.changes.empty()) {
         // Wait for this step's own policy (its REPORT: a step that retrains
         // commits an interim policy before it): the fleet then plans on the

@@ -58,6 +58,9 @@ std::optional<std::string> ToJson(const std::string& name, const std::string& ru
   if (name == "MAP_UPDATES") {
     return Convert<obstacle_update_t>(bytes, run, dropped, UpdatesFoxglove);
   }
+  if (name == "MAP_POINTS") {
+    return Convert<obstacle_points_t>(bytes, run, dropped, PointsFoxglove);
+  }
   return std::nullopt;
 }
 

@@ -20,8 +20,9 @@ constexpr int kExitFailure = 1;
 int Run(const std::vector<std::string>& args) {
   CLI::App app(
       "Writes the messages of an LCM log (dynapath run --log, lcm-logger) that dynapath web\n"
-      "shows as MCAP: the channels /grid, /policy, /report, /changes, /paths and\n"
-      "/map_updates, JSON with JSON schemas, as `dynapath web` sends them to Foxglove.\n"
+      "shows as MCAP: the channels /grid, /policy, /report, /changes, /paths,\n"
+      "/map_updates and /map_points, JSON with JSON schemas, as `dynapath web` sends them\n"
+      "to Foxglove.\n"
       "Fragmented messages are reassembled; undecodable or invalid ones are skipped and\n"
       "counted.",
       "dynapath log-to-mcap");

@@ -45,6 +45,12 @@ void PutHeader(std::vector<uint8_t>& out, const FrameHeader& header) {
 // Finite numbers only in JSON (NaN would make it invalid).
 double Finite(double value) { return std::isfinite(value) ? value : 0.0; }
 
+std::vector<double> FiniteAll(const std::vector<double>& values) {
+  std::vector<double> out(values.size());
+  for (size_t i = 0; i < values.size(); ++i) out[i] = Finite(values[i]);
+  return out;
+}
+
 std::string CellString(const std::vector<int8_t>& values, char none) {
   std::string text(values.size(), none);
   for (size_t i = 0; i < values.size(); ++i) {
@@ -277,6 +283,21 @@ std::string UpdatesJson(const obstacle_update_t& u, double received_ms) {
   return message.dump();
 }
 
+std::string PointsJson(const obstacle_points_t& u, double received_ms) {
+  json message = {{"t", "points"},       {"source", u.source},  {"sequence", u.sequence},
+                  {"x", FiniteAll(u.x)}, {"y", FiniteAll(u.y)}, {"states", u.states},
+                  {"rx", received_ms}};
+  return message.dump();
+}
+
+std::string FrameJson(double resolution, double origin_x, double origin_y) {
+  json message = {{"t", "frame"},
+                  {"resolution", Finite(resolution)},
+                  {"origin_x", Finite(origin_x)},
+                  {"origin_y", Finite(origin_y)}};
+  return message.dump();
+}
+
 std::string HelloJson(const std::string& run_id, const std::string& version, int max_clients) {
   json message = {
       {"t", "hello"}, {"run", run_id}, {"version", version}, {"maxClients", max_clients}};
@@ -367,6 +388,22 @@ const std::vector<FoxgloveChannel>& FoxgloveChannels() {
                             {"cols", integers},
                             {"states", integers}})
                         .dump()});
+    list.push_back(
+        {7, "/map_points", "dynapath.MapPoints",
+         Schema({{"run_id", text},
+                 {"source", text},
+                 {"sequence", integer},
+                 {"x",
+                  {{"type", "array"},
+                   {"items", number},
+                   {"description", "metres in the map's frame, to the right"}}},
+                 {"y",
+                  {{"type", "array"},
+                   {"items", number},
+                   {"description", "metres in the map's frame, up"}}},
+                 {"states",
+                  {{"type", "array"}, {"items", integer}, {"description", "0 obstacle, 1 free"}}}})
+             .dump()});
     return list;
   }();
   return channels;
@@ -386,6 +423,7 @@ std::string_view FoxgloveTopicOf(std::string_view lcm_name) {
   if (lcm_name == "ENV_CHANGES") return "/changes";
   if (lcm_name == "PATH_REPLY") return "/paths";
   if (lcm_name == "MAP_UPDATES") return "/map_updates";
+  if (lcm_name == "MAP_POINTS") return "/map_points";
   return "";
 }
 
@@ -470,6 +508,12 @@ std::string PathsFoxglove(const path_reply_t& reply) {
 std::string UpdatesFoxglove(const obstacle_update_t& u) {
   json message = {{"run_id", u.run_id}, {"source", u.source}, {"sequence", u.sequence},
                   {"rows", u.rows},     {"cols", u.cols},     {"states", u.states}};
+  return message.dump();
+}
+
+std::string PointsFoxglove(const obstacle_points_t& u) {
+  json message = {{"run_id", u.run_id},  {"source", u.source},  {"sequence", u.sequence},
+                  {"x", FiniteAll(u.x)}, {"y", FiniteAll(u.y)}, {"states", u.states}};
   return message.dump();
 }
 

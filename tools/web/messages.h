@@ -15,6 +15,7 @@
 
 #include "dynapath/changes_t.hpp"
 #include "dynapath/grid_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/path_reply_t.hpp"
 #include "dynapath/policy_t.hpp"
@@ -72,6 +73,12 @@ std::string ReportJson(const step_report_t& report, double received_ms);
 std::string ChangesJson(const changes_t& changes, double received_ms);
 std::string PathsJson(const path_reply_t& reply, double received_ms, int max_paths);
 std::string UpdatesJson(const obstacle_update_t& update, double received_ms);
+// An obstacle update in metres ("t":"points": x, y, states as sent); the
+// page places the points with the map's frame once it has one.
+std::string PointsJson(const obstacle_points_t& update, double received_ms);
+// {"t":"frame"}: the map's frame (metres a cell, the bottom-left corner of
+// the grid) as the service states it in its goal replies.
+std::string FrameJson(double resolution, double origin_x, double origin_y);
 // {"t":"service","kind":KIND, ...}: one closed window of the service's
 // latency; KIND "path" (PATH_REQUEST to PATH_REPLY) or "goal" (GOAL_...).
 std::string ServiceJson(const char* kind, const ServiceWindow& window);
@@ -95,6 +102,7 @@ std::string ReportFoxglove(const step_report_t& report);
 std::string ChangesFoxglove(const changes_t& changes);
 std::string PathsFoxglove(const path_reply_t& reply);
 std::string UpdatesFoxglove(const obstacle_update_t& update);
+std::string PointsFoxglove(const obstacle_points_t& update);
 
 // What a Foxglove client may send (text frames): subscribe and unsubscribe.
 // Anything else is kUnsupported (answered with a status message); bytes

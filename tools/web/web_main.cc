@@ -155,6 +155,8 @@ int Run(const std::vector<std::string>& args) {
                               [&](goal_reply_t& m) { server.GoalReply(m, NowMs()); });
   bus.Subscribe<obstacle_update_t>(
       ch::kMapUpdates, [&](obstacle_update_t& m) { server.Updates(std::move(m), NowMs()); });
+  bus.Subscribe<obstacle_points_t>(
+      ch::kMapPoints, [&](obstacle_points_t& m) { server.Points(std::move(m), NowMs()); });
   const std::atomic<bool>& stop = protocol::StopOnSignals();
   {
     protocol::Dispatcher dispatcher(**lcm);

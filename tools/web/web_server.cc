@@ -96,6 +96,7 @@ struct WebServer::Impl {
   ServiceLatency goal_latency;               // GOAL_REQUEST to GOAL_REPLY
   std::vector<std::string> service_windows;  // ServiceJson texts of both, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
+  std::string map_frame;                // FrameJson of the latest goal reply's frame ("" none)
 
   mutable std::mutex counters_mutex;
   ServerCounters counters;
@@ -344,6 +345,7 @@ struct WebServer::Impl {
     if (!service_windows.empty()) {
       SendText(handle, HistoryJson("service_history", "windows", service_windows));
     }
+    if (!map_frame.empty()) SendText(handle, map_frame);
   }
 
   void OnClose(Handle handle) {
@@ -563,6 +565,14 @@ struct WebServer::Impl {
     TakeServiceWindow("goal", goal_latency.Reply(client, request_id, received_ms));
   }
 
+  void TakeMapFrame(double resolution, double origin_x, double origin_y) {
+    if (!(resolution > 0)) return;  // a reply without a frame
+    std::string text = FrameJson(resolution, origin_x, origin_y);
+    if (text == map_frame) return;
+    map_frame = std::move(text);
+    ToPages(map_frame.data(), map_frame.size(), websocketpp::frame::opcode::text);
+  }
+
   void TakePaths(const path_reply_t& reply, double received_ms) {
     TakeServiceWindow("path", path_latency.Reply(reply.client, reply.request_id, received_ms));
     const std::string text = PathsJson(reply, received_ms, options.max_paths);
@@ -574,6 +584,12 @@ struct WebServer::Impl {
     const std::string text = UpdatesJson(update, received_ms);
     ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
     ToFoxglove("/map_updates", received_ms, [&] { return UpdatesFoxglove(update); });
+  }
+
+  void TakePoints(const obstacle_points_t& update, double received_ms) {
+    const std::string text = PointsJson(update, received_ms);
+    ToPages(text.data(), text.size(), websocketpp::frame::opcode::text);
+    ToFoxglove("/map_points", received_ms, [&] { return PointsFoxglove(update); });
   }
 };
 
@@ -694,14 +710,22 @@ void WebServer::GoalRequest(const goal_request_t& request, double received_ms) {
 }
 void WebServer::GoalReply(const goal_reply_t& reply, double received_ms) {
   const int64_t bytes = static_cast<int64_t>(reply.client.size()) + 64;
-  impl_->Post(bytes, [this, client = reply.client, id = reply.request_id, received_ms] {
+  impl_->Post(bytes, [this, client = reply.client, id = reply.request_id, received_ms,
+                      resolution = reply.resolution, x = reply.origin_x, y = reply.origin_y] {
     impl_->TakeGoalReply(client, id, received_ms);
+    impl_->TakeMapFrame(resolution, x, y);
   });
 }
 void WebServer::Updates(obstacle_update_t update, double received_ms) {
   const int64_t bytes = int64_t{update.num_cells} * 9 + 64;
   impl_->Post(bytes, [this, update = std::move(update), received_ms] {
     impl_->TakeUpdates(update, received_ms);
+  });
+}
+void WebServer::Points(obstacle_points_t update, double received_ms) {
+  const int64_t bytes = int64_t{update.num_points} * 17 + 64;
+  impl_->Post(bytes, [this, update = std::move(update), received_ms] {
+    impl_->TakePoints(update, received_ms);
   });
 }
 

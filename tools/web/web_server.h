@@ -35,6 +35,7 @@
 #include "dynapath/goal_reply_t.hpp"
 #include "dynapath/goal_request_t.hpp"
 #include "dynapath/grid_t.hpp"
+#include "dynapath/obstacle_points_t.hpp"
 #include "dynapath/obstacle_update_t.hpp"
 #include "dynapath/path_reply_t.hpp"
 #include "dynapath/path_request_t.hpp"
@@ -105,10 +106,14 @@ class WebServer {
   // A request only times its reply (ServiceLatency): it is not sent on.
   void Request(const path_request_t& request, double received_ms);
   void Paths(path_reply_t reply, double received_ms);
-  // Goal queries are timed the same way, as a second series ("goal").
+  // Goal queries are timed the same way, as a second series ("goal"). A
+  // reply's map frame (resolution, origin) is sent on to the pages when it
+  // changes, and to new clients: it places obstacle updates in metres.
   void GoalRequest(const goal_request_t& request, double received_ms);
   void GoalReply(const goal_reply_t& reply, double received_ms);
   void Updates(obstacle_update_t update, double received_ms);
+  // An obstacle update in metres (MAP_POINTS).
+  void Points(obstacle_points_t update, double received_ms);
 
  private:
   struct Impl;

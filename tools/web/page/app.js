@@ -30,6 +30,10 @@ const state = {
   connected: false, run: "", approaches: {}, order: [], maze: null, selected: "",
   reports: {}, reportRx: {}, changes: null, moved: null, paths: [], pathStep: -1,
   framesReceived: 0, framesDrawn: 0, fps: 0, updates: [], drawn: null,
+  // Obstacle updates in metres: the map's frame (from the service's goal
+  // replies; null until one came) and the count of points received and of
+  // those placed on the grid.
+  frame: null, points: { received: 0, placed: 0 },
   // A planning service's latency and throughput, one entry per second
   // with requests or replies, of each kind: "path" (PATH_REQUEST to
   // PATH_REPLY) and "goal" (GOAL_REQUEST to GOAL_REPLY), timed by the server
@@ -235,6 +239,27 @@ function onText(text) {
         }
       }
       state.changes = { step: -1, cells: m.rows.map((r, i) => r * (view ? view.cols : 0) + m.cols[i]) };
+      dirtyOverlay = true;
+      break;
+    }
+    case "frame": state.frame = { resolution: m.resolution, x: m.origin_x, y: m.origin_y }; break;
+    case "points": {
+      // Each point marks the cell holding it (x right along columns, y up
+      // along rows from the bottom-left corner), once the frame is known.
+      const view = shown(), f = state.frame, placed = [];
+      state.points.received += m.x.length;
+      if (view && f && f.resolution > 0) {
+        for (let i = 0; i < m.x.length; i++) {
+          const col = Math.floor((m.x[i] - f.x) / f.resolution);
+          const row = view.rows - 1 - Math.floor((m.y[i] - f.y) / f.resolution);
+          if (row < 0 || col < 0 || row >= view.rows || col >= view.cols) continue;
+          const index = row * view.cols + col;
+          placed.push(index);
+          if (state.moved && index < state.moved.length) state.moved[index] = 1;
+        }
+      }
+      state.points.placed += placed.length;
+      state.changes = { step: -1, cells: placed };
       dirtyOverlay = true;
       break;
     }
