@@ -19,6 +19,16 @@
 
 namespace dynapath::test_maps {
 
+// Under a sanitizer (GCC's ASan or TSan build) the tests' own reference
+// learners are compiled at -O0 and instrumented, ten times slower than in
+// the release build: the heaviest property tests take fewer cases of the
+// same kinds there.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
 // Hand-made maps: walls, two stations, and (20x20) two enclosed pockets that
 // no policy can get out of.
 inline constexpr const char* kMap10 =
