@@ -643,7 +643,9 @@ TEST(FoxgloveMessages, ObstaclePointsHaveTheirChannel) {
   for (const FoxgloveChannel& channel : FoxgloveChannels()) {
     if (channel.id != id) continue;
     EXPECT_EQ(channel.schema_name, "dynapath.MapPoints");
-    for (const auto& [field, type] : nlohmann::json::parse(channel.schema)["properties"].items()) {
+    // Named: a range-for over items() of a temporary's member would outlive it.
+    const nlohmann::json schema = nlohmann::json::parse(channel.schema);
+    for (const auto& [field, type] : schema["properties"].items()) {
       EXPECT_TRUE(message.contains(field)) << field;
     }
   }
