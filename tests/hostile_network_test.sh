@@ -113,7 +113,14 @@ done
 grep -E "exiting; messages" "$work/run.log" | sed 's/^\[[^]]*\] \[[a-z]*\] //'
 # The forged agent 7 was never taken for real.
 grep -q "coordinator: agents 1 2 alive" "$work/run.log" || fail "agents other than 1 and 2 were seen"
-grep -Eq "agent 7|agents.* 7( |$)" "$work/run.log" && fail "the forged agent 7 appears in the run's log"
+# Agent 7 named alone ("agent 7: ...") or in a list of agents ("agents 1 2
+# alive", "training on agents 1 2"); not any 7 after the word agents (the
+# progress line "training on agents: ... round 7 of 20" is logged on a
+# loaded machine).
+if grep -Eq "agent 7([^0-9]|$)" "$work/run.log" ||
+  grep -Eo "agents( [0-9]+)+" "$work/run.log" | grep -Eq " 7( |$)"; then
+  fail "the forged agent 7 appears in the run's log"
+fi
 cat "$work/garbage.out"
 
 if [ $failures -gt 0 ]; then
