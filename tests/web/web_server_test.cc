@@ -15,14 +15,17 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -145,6 +148,18 @@ bool WaitFor(const std::function<bool()>& condition, int seconds = 20) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return condition();
+}
+
+// Reads from `client` into `received` until it holds every one of `needles`
+// (within WaitFor's bound).
+bool ReadUntil(RawClient& client, std::string& received,
+               std::initializer_list<std::string_view> needles) {
+  return WaitFor([&] {
+    received += client.Read(50);
+    return std::all_of(needles.begin(), needles.end(), [&](std::string_view needle) {
+      return received.find(needle) != std::string::npos;
+    });
+  });
 }
 
 policy_t Policy(int side, int action) {
@@ -504,20 +519,14 @@ TEST(WebServer, SendsTheServiceLatencyToThePage) {
   server.Paths(reply, 5'003.0);
   request.request_id = 8;
   server.Request(request, 6'000.0);  // closes the window of 5 s
-  ASSERT_TRUE(WaitFor([&] {
-    received += page.Read(50);
-    return received.find("\"t\":\"service\"") != std::string::npos;
-  }));
+  ASSERT_TRUE(ReadUntil(page, received, {"\"t\":\"service\""}));
   EXPECT_NE(received.find("\"max\":3.0"), std::string::npos) << received;
   EXPECT_NE(received.find("\"replies\":1"), std::string::npos) << received;
   // A client that connects later gets the windows so far.
   RawClient late(server.port());
   ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
   std::string history = late.TakeRest();  // the first messages may come with the handshake
-  ASSERT_TRUE(WaitFor([&] {
-    history += late.Read(50);
-    return history.find("\"t\":\"service_history\"") != std::string::npos;
-  }));
+  ASSERT_TRUE(ReadUntil(late, history, {"\"t\":\"service_history\""}));
 }
 
 TEST(WebServer, TimesGoalQueriesAsASecondSeries) {
@@ -553,11 +562,7 @@ TEST(WebServer, TimesGoalQueriesAsASecondSeries) {
   path_answer.request_id = 1;
   server.Paths(path_answer, 7'011.0);
   // No later request: the server's clock closes both windows.
-  ASSERT_TRUE(WaitFor([&] {
-    received += page.Read(50);
-    return received.find("\"kind\":\"goal\"") != std::string::npos &&
-           received.find("\"kind\":\"path\"") != std::string::npos;
-  })) << received;
+  ASSERT_TRUE(ReadUntil(page, received, {"\"kind\":\"goal\"", "\"kind\":\"path\""})) << received;
   // Keys in order (nlohmann::json sorts them).
   EXPECT_NE(received.find("{\"end\":8000.0,\"kind\":\"goal\",\"max\":18.0,"), std::string::npos)
       << received;
@@ -574,11 +579,8 @@ TEST(WebServer, TimesGoalQueriesAsASecondSeries) {
   RawClient late(server.port());
   ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
   std::string history = late.TakeRest();
-  ASSERT_TRUE(WaitFor([&] {
-    history += late.Read(50);
-    return history.find("\"t\":\"service_history\"") != std::string::npos &&
-           history.find("\"kind\":\"path\"") != std::string::npos;
-  })) << history;
+  ASSERT_TRUE(ReadUntil(late, history, {"\"t\":\"service_history\"", "\"kind\":\"path\""}))
+      << history;
   EXPECT_NE(history.find("\"kind\":\"goal\""), std::string::npos) << history;
 }
 
@@ -609,11 +611,7 @@ TEST(WebServer, SendsObstaclePointsAndTheMapFrame) {
   reply.origin_x = -1.0;
   reply.origin_y = -2.0;
   server.GoalReply(reply, 9'001.0);
-  ASSERT_TRUE(WaitFor([&] {
-    received += page.Read(50);
-    return received.find("\"t\":\"points\"") != std::string::npos &&
-           received.find("\"t\":\"frame\"") != std::string::npos;
-  })) << received;
+  ASSERT_TRUE(ReadUntil(page, received, {"\"t\":\"points\"", "\"t\":\"frame\""})) << received;
   // Keys in order (nlohmann::json sorts them).
   EXPECT_NE(received.find("{\"rx\":9000.0,\"sequence\":3,\"source\":\"lidar\","
                           "\"states\":[0,0],\"t\":\"points\",\"x\":[1.25,-0.5],\"y\":[2.75,0.0]}"),
@@ -627,10 +625,7 @@ TEST(WebServer, SendsObstaclePointsAndTheMapFrame) {
   RawClient late(server.port());
   ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
   std::string history = late.TakeRest();
-  ASSERT_TRUE(WaitFor([&] {
-    history += late.Read(50);
-    return history.find("\"t\":\"frame\"") != std::string::npos;
-  })) << history;
+  ASSERT_TRUE(ReadUntil(late, history, {"\"t\":\"frame\""})) << history;
 }
 
 TEST(FoxgloveMessages, ObstaclePointsHaveTheirChannel) {
