@@ -9,19 +9,8 @@
 # Exit 77 (skipped) without chromium, node or private networks.
 set -u
 dynapath=$1 source=$2 work=$3 size=${4:-20} steps=${5:-12} measure=${6:-0}
-command -v chromium > /dev/null || { echo "skipped: chromium is not installed (scripts/install-deps.sh)"; exit 77; }
-command -v node > /dev/null || { echo "skipped: node is not installed"; exit 77; }
-"$dynapath" netns -- true 2> /dev/null || { echo "skipped: no private network namespaces here"; exit 77; }
-# The DevTools driver's WebSocket: Node's own (20+), else npm's ws.
-if node --experimental-websocket -e 'if (typeof WebSocket !== "function") process.exit(1)' 2> /dev/null; then
-  export NODE_OPTIONS=--experimental-websocket
-else
-  node_dir=$(dirname "$work")/../web-node
-  "$source/scripts/install-web-node.sh" "$node_dir" ||
-    { echo "skipped: node has no WebSocket client and npm's ws cannot be installed"; exit 77; }
-  export NODE_PATH="$node_dir/node_modules"
-fi
-rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "$0")/browser_setup.sh"
+browser_setup "$dynapath" "$source" "$work"
 cat > "$work/inside.sh" << 'INSIDE'
 set -u
 dynapath=$1 source=$2 work=$3 size=$4 steps=$5 measure=$6
