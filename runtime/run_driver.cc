@@ -20,6 +20,7 @@
 #include "runtime/model_file.h"
 #include "runtime/output_check.h"
 #include "runtime/policy_saver.h"
+#include "runtime/test_hold.h"
 
 namespace dynapath::runtime {
 namespace {
@@ -199,6 +200,7 @@ Status ResolveCheckpointOptions(const std::string& dir, std::optional<long long>
     return Error::Option("checkpoint-interval", "must be between 0 and 86400 seconds");
   }
   plan.checkpoint.min_seconds = interval;
+  if (!dir.empty()) plan.checkpoint.hold_after_step = TestHoldStep("run");
   if (dir.empty() && (every_given || interval_given)) {
     return Error::Option(every_given ? "checkpoint-every" : "checkpoint-interval",
                          "needs --checkpoint DIR");
@@ -435,6 +437,7 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
   CheckpointWriter checkpoints(plan.checkpoint, options.run_seed, source.total_steps(),
                                static_cast<int>(plan.approaches.size()));
   double last_checkpoint = -1e300;  // SteadyClock() of the last one taken
+  bool held = false;                // at plan.checkpoint.hold_after_step
   const RunCheckpoint* resume = plan.checkpoint.resume.get();
   if (resume != nullptr &&
       (resume->run_seed != options.run_seed || resume->total_steps != source.total_steps())) {
@@ -547,13 +550,20 @@ Result<std::vector<ApproachRun>> RunApproaches(StepSource& source, Trainer& trai
       hooks.checkpoint = [&](PolicyState&& state, const ApproachRun& so_far) {
         last_checkpoint = SteadyClock()();
         if (!checkpoint_status) return;
+        const int step = state.step;
         if (resumed == nullptr) {
           checkpoint_status = checkpoints.InProgress(runs, so_far, std::move(state));
-          return;
+        } else {
+          ApproachRun whole = *resumed;  // the rows before the checkpoint, then these
+          whole.steps.insert(whole.steps.end(), so_far.steps.begin(), so_far.steps.end());
+          checkpoint_status = checkpoints.InProgress(runs, whole, std::move(state));
         }
-        ApproachRun whole = *resumed;  // the rows before the checkpoint, then these
-        whole.steps.insert(whole.steps.end(), so_far.steps.begin(), so_far.steps.end());
-        checkpoint_status = checkpoints.InProgress(runs, whole, std::move(state));
+        if (!held && pass == 0 && resumed == nullptr && plan.checkpoint.hold_after_step >= 0 &&
+            step >= plan.checkpoint.hold_after_step && checkpoint_status) {
+          held = true;
+          checkpoint_status = checkpoints.Flush();
+          if (checkpoint_status) HoldForTest("run", step);
+        }
       };
     }
     Result<ApproachRun> result = RunApproach(stoppable, static_cast<int>(pass), approach, options,

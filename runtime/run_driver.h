@@ -38,6 +38,10 @@ struct CheckpointPlan {
   double min_seconds = 0;  // and at least this long between them
   // The checkpoint the run continues from (--resume-checkpoint found one).
   std::shared_ptr<const RunCheckpoint> resume;
+  // A test hook (DYNAPATH_TEST_HOLD=run:STEP, runtime/test_hold.h): the
+  // process stops itself once the first approach's first checkpoint at or
+  // after this time step is on disk. -1: never.
+  int hold_after_step = -1;
 };
 
 // An approach from outside core (the Python module's): its planner and the

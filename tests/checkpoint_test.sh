@@ -108,10 +108,19 @@ study=(experiment --steps 400 --sizes 50 --difficulties hard --no-edge-case
 [ "${DYNAPATH_SANITIZED:-0}" = 1 ] && study=(experiment --steps 30 --leaf-limit 8 --sizes 30
   --difficulties hard --no-edge-case --approaches fedAsynQ_EqAvg,singleAgent --local)
 "$dynapath" "${study[@]}" --out study_whole >/dev/null 2>&1 || fail "the uninterrupted study failed"
-"$dynapath" "${study[@]}" --out study >/dev/null 2>&1 &
-study_size=50
-[ "${DYNAPATH_SANITIZED:-0}" = 1 ] && study_size=30
-kill_when_checkpointed $! "study/runs/${study_size}_hard_52/checkpoint"
+# Killed once its first configuration's first checkpoint is on disk: the
+# run stops itself there (DYNAPATH_TEST_HOLD, runtime/test_hold.h), so the
+# kill lands mid-configuration however fast or loaded the machine is.
+DYNAPATH_TEST_HOLD=run:0 "$dynapath" "${study[@]}" --out study >/dev/null 2>&1 &
+held=$!
+for _ in $(seq 1200); do  # up to 60 s
+  [ "$(awk '{ print $3 }' "/proc/$held/stat" 2>/dev/null)" = T ] && break
+  kill -0 "$held" 2>/dev/null || fail "the study ended before its first checkpoint's hold"
+  sleep 0.05
+done
+kill -9 "$held"
+wait "$held" 2>/dev/null
+ls study/runs/*/checkpoint/checkpoint.dpc >/dev/null 2>&1 || fail "no checkpoint when the study was killed"
 "$dynapath" "${study[@]}" --out study >/dev/null 2>&1 || fail "the resumed study failed"
 if ls study/runs/*/checkpoint >/dev/null 2>&1; then fail "a finished study kept checkpoints"; fi
 grep -q "resuming" study/study.log || fail "the study did not resume its configuration from its checkpoint"
