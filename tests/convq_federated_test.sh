@@ -61,6 +61,10 @@ for agents in 1 2; do
     fail "the file of --embedded with $agents agents differs from the in-process one"
 done
 
+# Six rounds: agents that join after the first still get learners.
+hold=(--seed 4 --rounds 6 --mazes 6 --samples 64 --learners 3)
+"$dynapath" train-model "${hold[@]}" --out "$work/hold.model" 2>/dev/null || fail "in-process training"
+
 # --lcm-url: on this test's network (private: ctest runs the script in
 # `dynapath netns`), agents started by hand with the training's run id and
 # secret join the training's own agent and compute shards; the same file.
@@ -75,9 +79,10 @@ done
 for id in 11 12; do  # each has subscribed and heartbeats
   for _ in $(seq 1500); do grep -q "waiting for the coordinator" "$work/agent-$id.log" && break; sleep 0.02; done
 done
-train --lcm-url "$url" --run-id hand-trained --secret-file "$work/run.key" --agents 1 \
-  --out "$work/url.model" 2>"$work/url.log" || fail "train-model --lcm-url: $(cat "$work/url.log")"
-cmp -s "$work/equal.model" "$work/url.model" || fail "the file with --lcm-url differs from the in-process one"
+"$dynapath" train-model "${hold[@]}" --lcm-url "$url" --run-id hand-trained \
+  --secret-file "$work/run.key" --agents 1 --out "$work/url.model" 2>"$work/url.log" ||
+  fail "train-model --lcm-url: $(cat "$work/url.log")"
+cmp -s "$work/hold.model" "$work/url.model" || fail "the file with --lcm-url differs from the in-process one"
 grep -Eq "shards \(.*agent 11: [1-9]" "$work/url.log" && grep -Eq "shards \(.*agent 12: [1-9]" "$work/url.log" ||
   fail "the hand-started agents computed no shard: $(grep 'rounds on agents' "$work/url.log")"
 for pid in "${hand[@]}"; do  # they exit on the training's final heartbeat
@@ -105,8 +110,6 @@ agents_of() {  # the dynapath-agent children of process $1
     [ "$ppid" = "$1" ] && [ "$comm" = "(dynapath-agent)" ] && echo "$pid"
   done
 }
-hold=(--seed 4 --rounds 6 --mazes 6 --samples 64 --learners 3)
-"$dynapath" train-model "${hold[@]}" --out "$work/hold.model" 2>/dev/null || fail "in-process training"
 # One of 3 agents killed: its learners go to the others; the same file.
 DYNAPATH_TEST_HOLD=train-model:2 "$dynapath" train-model "${hold[@]}" --agents 3 \
   --out "$work/hold-3.model" 2>"$work/kill.log" &
