@@ -10,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <set>
 #include <vector>
 
 #include "dynapath/heartbeat_t.hpp"
@@ -45,6 +46,7 @@ class AgentRegistry {
   bool OnHeartbeat(const heartbeat_t& beat) {
     if (beat.role != heartbeat_t::ROLE_AGENT) return false;
     std::lock_guard lock(mutex_);
+    if (gone_.count(beat.sender) != 0) return false;
     const auto known = agents_.find(beat.sender);
     if (known == agents_.end() && agents_.size() >= kMaxAgents) {
       // Sweep out dead agents at most every 100 ms: a flood of new ids must
@@ -71,6 +73,16 @@ class AgentRegistry {
     info.epoch = beat.epoch;
     info.round = beat.round;
     return is_new;
+  }
+
+  // An agent known to have exited (its launcher saw it end): not live from
+  // now on, whatever its last heartbeat, and heartbeats of its id still in
+  // flight are ignored. For the launcher's own agents only (at most
+  // kMaxAgents ids).
+  void MarkGone(int id) {
+    std::lock_guard lock(mutex_);
+    agents_.erase(id);
+    gone_.insert(id);
   }
 
   // Agents heard from within the timeout, ascending ids.
@@ -113,6 +125,7 @@ class AgentRegistry {
   int64_t timeout_ms_;
   mutable std::mutex mutex_;
   std::map<int, AgentInfo> agents_;
+  std::set<int> gone_;  // MarkGone
   int64_t ignored_ = 0;
   int64_t last_sweep_ms_ = -1000000;
 };

@@ -29,18 +29,56 @@ void ConvQTrainer::Start() { heartbeat_.Start(); }
 
 void ConvQTrainer::Finish() { heartbeat_.Finish(status_); }
 
-std::vector<int> ConvQTrainer::LiveAgents(int min) {
-  Result<std::string> ids = WaitForAgents(agents_, inbox_, min, options_.agent_wait_seconds, stop_);
-  if (!ids) {
-    status_ = ids.error().IsCancelled()
-                  ? Status(Error::Cancelled())
-                  : Status(Error::Unavailable("training convQ's model on agents: " +
-                                              ids.error().message));
-    return {};
+void ConvQTrainer::AgentExited(int id, const std::string& how) {
+  inbox_.Post([this, id, how] {
+    agents_.MarkGone(id);
+    exited_[id] = how;
+    spdlog::warn("agent {} {}", id, how);
+  });
+}
+
+void ConvQTrainer::NoAgentProcessLeft() {
+  inbox_.Post([this] { processes_gone_ = true; });
+}
+
+std::string ConvQTrainer::ExitedAgents() const {
+  std::string text;
+  for (const auto& [id, how] : exited_) {
+    text += (text.empty() ? "agent " : ", agent ") + std::to_string(id) + " " + how;
   }
-  std::vector<int> live;
-  for (const AgentInfo& info : agents_.Live()) live.push_back(info.id);
-  return live;
+  return text;
+}
+
+std::vector<int> ConvQTrainer::LiveAgents(int min) {
+  const int64_t start = AgentRegistry::NowMs();
+  while (true) {
+    const std::vector<AgentInfo> live = agents_.Live();
+    // Agents known to have exited are not waited for.
+    const int needed = std::max(1, min - static_cast<int>(exited_.size()));
+    if (static_cast<int>(live.size()) >= needed) {
+      std::vector<int> ids;
+      for (const AgentInfo& info : live) ids.push_back(info.id);
+      return ids;
+    }
+    if (Stopped()) {
+      status_ = Error::Cancelled();
+      return {};
+    }
+    if (NoneLeft()) {
+      status_ =
+          Error::Unavailable("training convQ's model on agents: every agent process has exited (" +
+                             ExitedAgents() + ") and no other agent is live");
+      return {};
+    }
+    if (static_cast<double>(AgentRegistry::NowMs() - start) > options_.agent_wait_seconds * 1000) {
+      status_ = Error::Unavailable(
+          "training convQ's model on agents: only " + std::to_string(live.size()) + " of " +
+          std::to_string(needed) + " agents appeared within " +
+          std::to_string(static_cast<int>(options_.agent_wait_seconds)) + " s");
+      return {};
+    }
+    inbox_.RunFor(std::chrono::milliseconds(50));
+  }
 }
 
 void ConvQTrainer::Publish(const std::vector<int>& live) {
@@ -87,6 +125,7 @@ void ConvQTrainer::OnShards(const model_shards_t& message) {
     }
     slot = shard;
     ++stats_.shards;
+    ++stats_.shards_by_agent[message.agent];
     last_progress_ms_ = AgentRegistry::NowMs();
   }
 }
@@ -134,9 +173,11 @@ Result<std::vector<ConvQShard>> ConvQTrainer::Round(const ConvQTrainingOptions& 
     }
     if (!lost.empty()) {
       std::string who;
-      for (int agent : lost) who += (who.empty() ? "" : ", ") + std::to_string(agent);
-      spdlog::warn("agent(s) {} silent; reassigning their learners of round {} (epoch {})", who,
-                   round, epoch_ + 1);
+      for (int agent : lost) {
+        who += (who.empty() ? "agent " : ", agent ") + std::to_string(agent) +
+               (exited_.count(agent) != 0 ? " exited" : " silent");
+      }
+      spdlog::warn("{}; reassigning their learners of round {} (epoch {})", who, round, epoch_ + 1);
       live = LiveAgents(1);
       if (live.empty()) return status_.error();
       ++stats_.epochs;

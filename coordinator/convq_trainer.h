@@ -13,7 +13,10 @@
 // silent is dropped and its learners are reassigned to the live agents in a
 // new epoch of the round (a shard is a function of the round alone, so
 // whoever computes it gives the same bytes); with none live for
-// agent_wait_seconds the training fails. A round whose shards do not come
+// agent_wait_seconds the training fails. An agent process its launcher saw
+// exit (AgentExited) is dropped at once, not after the silence; with every
+// such process gone and no other agent live the training fails at once
+// (NoAgentProcessLeft). A round whose shards do not come
 // is repeated (backing off from resend_seconds to 1 s; agents answer a
 // repeat by re-sending), and fails after give_up_seconds without a shard
 // although agents are live. Every wait watches the stop flag.
@@ -22,6 +25,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "coordinator/agent_registry.h"
@@ -48,6 +52,7 @@ struct ConvQTrainerStats {
   int64_t epochs = 0;          // rounds published again with learners reassigned
   int64_t resends = 0;         // repeats of a round
   int64_t shards = 0;          // shards taken
+  std::map<int, int64_t> shards_by_agent;  // ... by the agent that sent them
   int64_t shards_ignored = 0;  // repeated, or of another round
   int64_t shards_refused = 0;  // a learner the training does not have (logged)
 };
@@ -66,6 +71,16 @@ class ConvQTrainer {
   // another reason than being stopped): agents that hear it exit.
   void Finish();
 
+  // An agent process of this training's launcher exited, `how` it ended
+  // ("was killed by signal 9"): it is dropped at once, not after
+  // agent_timeout_seconds of silence, and its learners of the round in hand
+  // go to the live agents. Any thread.
+  void AgentExited(int id, const std::string& how);
+  // Every agent process the launcher started has exited: unless other
+  // agents (started elsewhere) are live, the training fails at once, naming
+  // them and how they ended. Any thread.
+  void NoAgentProcessLeft();
+
   // Every learner's shard of `round` from `model`, in learner order, on
   // the agents (options.learners > 0). Errors: kCancelled, kUnavailable
   // (no agent, or no progress), saying why.
@@ -78,9 +93,13 @@ class ConvQTrainer {
   void OnShards(const model_shards_t& message);
   // Assigns the learners still missing to `live` and publishes the round.
   void Publish(const std::vector<int>& live);
-  // Live agents, waiting up to agent_wait_seconds for `min` of them; empty
-  // when none came (status_ says why).
+  // Live agents, waiting up to agent_wait_seconds for `min` of them (less
+  // those known to have exited); empty when none came (status_ says why).
   std::vector<int> LiveAgents(int min);
+  // The launcher's agents all exited and no other agent is live.
+  bool NoneLeft() const { return processes_gone_ && agents_.Live().empty(); }
+  // "agent 1 was killed by signal 9, agent 2 exited with status 1".
+  std::string ExitedAgents() const;
   bool Stopped() const { return stop_ != nullptr && stop_->load(); }
 
   protocol::Bus& bus_;
@@ -92,6 +111,9 @@ class ConvQTrainer {
   bool waited_ = false;
   Status status_ = Ok{};
   ConvQTrainerStats stats_;
+  // Agents known to have exited, and how (AgentExited; the calling thread).
+  std::map<int, std::string> exited_;
+  bool processes_gone_ = false;  // NoAgentProcessLeft
 
   // The round in hand (the calling thread only).
   int32_t epoch_ = -1;  // increases with every publication of a new assignment

@@ -171,8 +171,12 @@ bool StartChild(const ChildStart& run, std::vector<Child>& children, const std::
 bool StartAgent(const ChildStart& run, std::vector<Child>& children, int id, int threads) {
   agent::AgentCommandLine options;
   options.threads.threads = threads;
-  return StartChild(run, children, "agent " + std::to_string(id), FindBinary("agent"), options,
-                    agent::DeclareAgentCommandLine, {"--id", std::to_string(id)}, {});
+  if (!StartChild(run, children, "agent " + std::to_string(id), FindBinary("agent"), options,
+                  agent::DeclareAgentCommandLine, {"--id", std::to_string(id)}, {})) {
+    return false;
+  }
+  children.back().agent_id = id;
+  return true;
 }
 
 std::string Describe(int status) {
@@ -544,7 +548,8 @@ bool AgentProcesses::Start() {
   return true;
 }
 
-int AgentProcesses::Check() {
+int AgentProcesses::Check(
+    const std::function<void(int agent_id, const std::string& how)>& on_exit) {
   int running = 0;
   for (Child& child : children_) {
     if (!child.running) continue;
@@ -552,7 +557,11 @@ int AgentProcesses::Check() {
     if (waitpid(child.pid, &status, WNOHANG) == child.pid) {
       child.running = false;
       child.status = status;
-      spdlog::warn("{} {}; training goes on without it", child.name, Describe(status));
+      if (on_exit) {
+        on_exit(child.agent_id, Describe(status));
+      } else {
+        spdlog::warn("{} {}; training goes on without it", child.name, Describe(status));
+      }
       continue;
     }
     ++running;

@@ -83,6 +83,7 @@ struct ChildProcess {
   pid_t pid = -1;
   bool running = true;
   int status = 0;  // waitpid's, once it has exited
+  int agent_id = 0;  // an agent's --id; 0 for the other processes
 };
 
 // Agent processes for a process that plays the coordinator's part itself
@@ -107,9 +108,10 @@ class AgentProcesses {
   // Starts them; false (logged) when one could not be started (those
   // started are stopped again).
   bool Start();
-  // Notes agents that exited (each logged once: the trainer reassigns its
-  // work) and returns how many are still running.
-  int Check();
+  // Notes agents that exited (each once: logged, or with `on_exit` given
+  // handed to it instead with the agent's id and how it ended, "was killed
+  // by signal 9") and returns how many are still running.
+  int Check(const std::function<void(int agent_id, const std::string& how)>& on_exit = {});
   // SIGTERM to those still running, SIGKILL after `grace`; all reaped.
   void Stop(std::chrono::milliseconds grace = std::chrono::milliseconds(500));
 

@@ -23,7 +23,7 @@ void DeclareLcmUrlOption(OptionGroup& group, std::string& lcm_url) {
                "LCM provider URL (else $LCM_DEFAULT_URL, else udpm ttl=0)");
 }
 
-void DeclareProcessOptions(OptionGroup& group, ProcessOptions& o, bool run_id_required) {
+void DeclareRunNetworkOptions(OptionGroup& group, ProcessOptions& o, bool run_id_required) {
   group.Option("--run-id", o.run_id, "ID",
                run_id_required ? "the run to join (printed by the coordinator/launcher)"
                                : "id of the run (channels DYNAPATH/<ID>/...)",
@@ -36,6 +36,10 @@ void DeclareProcessOptions(OptionGroup& group, ProcessOptions& o, bool run_id_re
                run_id_required ? "required, or --insecure" : "a new one for this run");
   group.Flag("--insecure", o.insecure,
              "no secret: a well-known key anyone on the network can forge messages with");
+}
+
+void DeclareProcessOptions(OptionGroup& group, ProcessOptions& o, bool run_id_required) {
+  DeclareRunNetworkOptions(group, o, run_id_required);
   group.Option("--grid-cells", o.grid_cells, "N",
                "cells of the run's grid at most: caps what the process buffers of "
                "fragmented messages");

@@ -42,6 +42,9 @@ void DeclareLcmUrlOption(OptionGroup& group, std::string& lcm_url);
 // `run_id_required`: processes need --run-id, and --secret-file or
 // --insecure; the launcher makes a run id and a secret unless given.
 void DeclareProcessOptions(OptionGroup& group, ProcessOptions& options, bool run_id_required);
+// The first four of them, which say which run on which network: --run-id,
+// --lcm-url, --secret-file, --insecure (train-model: its agents' run).
+void DeclareRunNetworkOptions(OptionGroup& group, ProcessOptions& options, bool run_id_required);
 Result<ProcessSetup> ResolveProcessOptions(const ProcessOptions& options, bool run_id_required);
 // The options of a child process that joins the run `setup` (for the
 // launcher to hand on): run id, LCM URL, grid cells, fault injection; the

@@ -7,13 +7,15 @@
 //   "envsim" or "coordinator": that process's main() reads it (threads of
 //     an embedded run never hold);
 //   "run": a checkpointed run (ResolveCheckpointOptions) holds once its
-//     first approach's first checkpoint at or after STEP is on disk.
+//     first approach's first checkpoint at or after STEP is on disk;
+//   "train-model": `dynapath train-model` holds once round STEP is done
+//     (its progress line logged), its agents still running.
 
 #include <string_view>
 
 namespace dynapath::runtime {
 
-// The time step at which `process` ("envsim", "coordinator", "run") is to hold, or
+// The time step (or round) at which `process` is to hold, or
 // -1 when DYNAPATH_TEST_HOLD is unset, names another process or is not of
 // the form PROCESS:STEP.
 int TestHoldStep(std::string_view process);

@@ -31,6 +31,8 @@ HOMONYMS = {
     "--run-id": (2, "the run a process belongs to; the run render and view show"),
     "--agents": (3, "how many agent processes to run (run, experiment); how many the coordinator waits for; "
                     "train-model's agent processes hosting the learners of a federated training"),
+    "--embedded": (2, "a run's processes or a service's agents as threads over memq:// (run, experiment, "
+                      "serve); train-model's agents hosting the learners of a federated training as threads"),
     "--learners": (2, "FedAsynQ's learners per training job (run, experiment, the processes); "
                       "train-model's learners of a federated training of convQ's model"),
     "--config": (2, "a CLI11 config file (run, the processes); experiment's TOML study file, read by toml++"),

@@ -2,7 +2,9 @@
 // this test: coordinator::ConvQTrainer with launch::EmbeddedAgents. The
 // model must be the in-process federated training's at 1 and 3 agents; an
 // agent that falls silent owing shards has its learners reassigned; with no
-// agent left the training fails with the reason, in bounded time.
+// agent left the training fails with the reason, in bounded time. An agent
+// its launcher saw exit is dropped at once, however long the silence
+// timeout, and with every agent process gone the training fails at once.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -11,6 +13,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "coordinator/convq_trainer.h"
@@ -104,6 +107,7 @@ class VanishingAgent {
     if (given_ && beat_) beat_.reset();
   }
   bool vanished() const { return !beat_.has_value(); }
+  bool given() const { return given_; }
 
  private:
   std::atomic<bool> given_{false};
@@ -288,6 +292,80 @@ TEST(ConvQOnAgents, WithNoAgentLeftTheTrainingFailsSayingSo) {
   ASSERT_FALSE(model.ok());
   EXPECT_FALSE(model.error().IsCancelled());
   EXPECT_NE(model.error().message.find("agents appeared"), std::string::npos)
+      << model.error().message;
+}
+
+// A ghost agent that goes on beating after it was given learners (never
+// silent: only its launcher's word drops it) is reported exited then.
+TEST(ConvQOnAgents, AnAgentSeenToExitIsDroppedAtOnce) {
+  const ConvQTrainingOptions options = FederatedOptions(ConvQAveraging::kEqual);
+  Result<ConvQModel> local = TrainConvQModel(options, nullptr, {});
+  ASSERT_TRUE(local.ok());
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  protocol::Bus bus(lcm, "convq-exit", ConvQMemqBus());
+  protocol::Bus ghost_bus(lcm, "convq-exit", ConvQMemqBus());
+  coordinator::ConvQTrainerOptions trainer_options;
+  trainer_options.min_agents = 2;
+  trainer_options.agent_wait_seconds = 120;
+  trainer_options.agent_timeout_seconds = 3600;  // silence never drops it here
+  trainer_options.give_up_seconds = 3600;
+  coordinator::ConvQTrainer trainer(bus, trainer_options);
+  VanishingAgent ghost(ghost_bus, 1000);
+  launch::EmbeddedAgents embedded(lcm, "convq-exit", ConvQMemqBus(), 1, 1);
+  protocol::Dispatcher dispatcher(lcm);
+  trainer.Start();
+  embedded.Start();
+  std::atomic<bool> done{false};
+  std::thread launcher([&] {
+    while (!done && !ghost.given()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (ghost.given()) trainer.AgentExited(1000, "was killed by signal 9");
+  });
+  Result<ConvQModel> model = TrainConvQFederated(
+      options, [&](int round, const ConvQModel& m) { return trainer.Round(options, round, m); },
+      {});
+  done = true;
+  launcher.join();
+  trainer.Finish();
+  embedded.Stop();
+  ASSERT_TRUE(model.ok()) << model.error().message;
+  EXPECT_EQ(*model, *local);
+  EXPECT_GE(trainer.stats().epochs, 1);
+  EXPECT_EQ(trainer.stats().shards_by_agent.count(1000), 0u);
+}
+
+TEST(ConvQOnAgents, WithEveryAgentProcessGoneTheTrainingFailsAtOnce) {
+  const ConvQTrainingOptions options = FederatedOptions(ConvQAveraging::kEqual);
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  protocol::Bus bus(lcm, "convq-gone", ConvQMemqBus());
+  protocol::Bus ghost_bus(lcm, "convq-gone", ConvQMemqBus());
+  coordinator::ConvQTrainerOptions trainer_options;
+  trainer_options.agent_wait_seconds = 3600;  // only the launcher's word ends it
+  trainer_options.agent_timeout_seconds = 3600;
+  trainer_options.give_up_seconds = 3600;
+  coordinator::ConvQTrainer trainer(bus, trainer_options);
+  VanishingAgent ghost(ghost_bus, 7);
+  protocol::Dispatcher dispatcher(lcm);
+  trainer.Start();
+  std::atomic<bool> done{false};
+  std::thread launcher([&] {
+    while (!done && !ghost.given()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (!ghost.given()) return;
+    trainer.AgentExited(7, "was killed by signal 9");
+    trainer.NoAgentProcessLeft();
+  });
+  Result<ConvQModel> model = TrainConvQFederated(
+      options, [&](int round, const ConvQModel& m) { return trainer.Round(options, round, m); },
+      {});
+  done = true;
+  launcher.join();
+  trainer.Finish();
+  ASSERT_FALSE(model.ok());
+  EXPECT_TRUE(model.error().IsUnavailable());
+  EXPECT_NE(
+      model.error().message.find("every agent process has exited (agent 7 was killed by signal 9)"),
+      std::string::npos)
       << model.error().message;
 }
 

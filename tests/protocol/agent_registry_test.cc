@@ -39,5 +39,17 @@ TEST(AgentRegistryTest, DeadAgentsMakeRoom) {
   EXPECT_EQ(registry.ignored(), 0);
 }
 
+TEST(AgentRegistryTest, AnAgentMarkedGoneIsNotLiveAndItsLateHeartbeatsAreIgnored) {
+  AgentRegistry registry(60.0);
+  registry.OnHeartbeat(Beat(1));
+  registry.OnHeartbeat(Beat(2));
+  registry.MarkGone(2);
+  EXPECT_FALSE(registry.IsLive(2));
+  EXPECT_FALSE(registry.OnHeartbeat(Beat(2)));  // one still in flight
+  EXPECT_FALSE(registry.IsLive(2));
+  ASSERT_EQ(registry.Live().size(), 1u);
+  EXPECT_EQ(registry.Live()[0].id, 1);
+}
+
 }  // namespace
 }  // namespace dynapath::coordinator

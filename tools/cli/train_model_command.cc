@@ -19,6 +19,7 @@
 #include "runtime/model_file.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
+#include "runtime/test_hold.h"
 #include "tools/cli/commands.h"
 
 namespace dynapath::cli {
@@ -32,8 +33,12 @@ int TrainModelCommand(const std::vector<std::string>& args) {
       "training sizes: the same at any --threads. Ctrl-C stops it (exit 130)\n"
       "without writing FILE. With --learners K the training is federated: K\n"
       "learners fit their share of each round's mazes and their fits are\n"
-      "averaged; --agents N hosts them on N agent processes over LCM, with\n"
-      "the same file.",
+      "averaged; they can be hosted on agents, with the same file:\n"
+      "  --agents N    on N dynapath-agent processes over LCM, in a private network\n"
+      "                namespace (or on --lcm-url's network, where agents started\n"
+      "                elsewhere with the same --run-id and --secret-file join too)\n"
+      "  --embedded    on agents as threads of this process over memq:// (N from\n"
+      "                --agents, else 1)",
       "dynapath train-model");
   const ConvQTrainingOptions defaults;
   long long seed = static_cast<long long>(defaults.seed);
@@ -41,6 +46,8 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   long long samples = defaults.samples_per_maze;
   std::optional<long long> learners, agents;
   std::optional<std::string> average;
+  bool embedded = false;
+  runtime::ProcessOptions process;
   std::string out;
   runtime::OptionGroup group(app);
   group.Option("--seed", seed, "S", "the training seed (0 to 2^53 - 1)");
@@ -58,8 +65,13 @@ int TrainModelCommand(const std::vector<std::string>& args) {
                "equal");
   group.Option("--agents", agents, "N",
                "federated: host the learners on N dynapath-agent processes over LCM, in a "
-               "private network namespace (1 to 256); the same file as in this process",
+               "private network namespace or on --lcm-url's network (1 to 256); the same file "
+               "as in this process",
                "in this process");
+  group.Flag("--embedded", embedded,
+             "federated: host the learners on agents as threads of this process over memq:// "
+             "(N from --agents, else 1); the same file as in this process");
+  runtime::DeclareRunNetworkOptions(group, process, false);
   app.add_option("--out", out, "the model file to write")->type_name("FILE")->required();
 
   if (int code = runtime::ParseCommandLine(app, args, "dynapath train-model"); code >= 0) {
@@ -86,9 +98,24 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   Result<long long> checked_seed = runtime::InRange("seed", seed, 0, 0, (1LL << 53) - 1);
   if (!checked_seed) return usage_error(checked_seed.error().message);
   options.seed = static_cast<uint64_t>(*checked_seed);
-  if (!learners && (average || agents)) {
-    return usage_error(std::string("option --") + (average ? "average" : "agents") +
+  if (!learners && (average || agents || embedded)) {
+    return usage_error(std::string("option --") +
+                       (average  ? "average"
+                        : agents ? "agents"
+                                 : "embedded") +
                        " needs --learners K (a federated training)");
+  }
+  if (!agents && !embedded) {
+    const std::pair<const char*, bool> network_options[] = {
+        {"run-id", process.run_id.has_value()},
+        {"lcm-url", !process.lcm_url.empty()},
+        {"secret-file", process.secret_file.has_value()},
+        {"insecure", process.insecure}};
+    for (const auto& [option, given] : network_options) {
+      if (given) {
+        return usage_error(std::string("--") + option + " needs --agents N or --embedded");
+      }
+    }
   }
   if (learners) {
     const long long most = std::min<long long>(kMaxConvQLearners, options.mazes_per_round);
@@ -111,11 +138,17 @@ int TrainModelCommand(const std::vector<std::string>& args) {
       return usage_error("option --average must be equal or importance, got '" + *average + "'");
     }
   }
-  int agent_count = 0;
-  if (agents) {
+  std::optional<app::ModelTrainingAgents> on_agents;
+  if (agents || embedded) {
+    app::ModelTrainingAgentOptions agent_options;
     Result<long long> n = runtime::InRange("agents", agents, 1, 1, runtime::kMaxAgents);
     if (!n) return usage_error(n.error().message);
-    agent_count = static_cast<int>(*n);
+    agent_options.agents = static_cast<int>(*n);
+    agent_options.embedded = embedded;
+    agent_options.process = process;
+    Result<app::ModelTrainingAgents> plan = app::PlanModelTrainingAgents(agent_options);
+    if (!plan) return usage_error(plan.error().message);
+    on_agents = std::move(*plan);
   }
   const std::filesystem::path parent = std::filesystem::path(out).parent_path();
   std::error_code error;
@@ -125,12 +158,7 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   }
 
   // Still single-threaded: a private network needs that.
-  if (agent_count > 0) {
-    if (Status entered = app::EnterModelTrainingNetwork(); !entered) {
-      return usage_error("option --agents: no private network namespace can be made here (" +
-                         entered.error().message + ")");
-    }
-  }
+  if (on_agents) app::EnterModelTrainingNetwork(*on_agents);
   const std::atomic<bool>& stop =
       protocol::StopOnSignals("\ndynapath train-model: stopping (Ctrl-C again: at once)\n",
                               "\ndynapath train-model: stopped at once\n");
@@ -142,10 +170,13 @@ int TrainModelCommand(const std::vector<std::string>& args) {
   if (options.learners > 0) {
     spdlog::info("federated: {} learners, {} averaging, {}", options.learners,
                  options.averaging == ConvQAveraging::kEqual ? "equal" : "importance",
-                 agent_count > 0 ? fmt::format("on {} agent processes", agent_count)
-                                 : std::string("in this process"));
+                 !on_agents            ? std::string("in this process")
+                 : on_agents->embedded ? fmt::format("on {} agent threads", on_agents->agents)
+                                       : fmt::format("on {} agent processes", on_agents->agents));
   }
   const auto start = std::chrono::steady_clock::now();
+  // A test hook (runtime/test_hold.h): stop after this round.
+  const int hold_after = runtime::TestHoldStep("train-model");
   const auto report = [&](const ConvQTrainingRound& round) {
     const ConvQModel& m = round.model;
     spdlog::info(
@@ -153,10 +184,10 @@ int TrainModelCommand(const std::vector<std::string>& args) {
         "{:.6g} free, {:.6g} blocked; discounts {:.6g} move, {:.6g} bump",
         round.round, options.rounds, round.td_rms, round.samples, m.station_reward, m.free_reward,
         m.blocked_reward, m.move_discount, m.bump_discount);
+    if (round.round == hold_after) runtime::HoldForTest("train-model", round.round);
   };
-  Result<ConvQModel> model =
-      agent_count > 0 ? app::TrainModelOnAgentProcesses(options, agent_count, stop, report)
-                      : TrainConvQModel(options, &stop, report);
+  Result<ConvQModel> model = on_agents ? app::TrainModelOnAgents(options, *on_agents, stop, report)
+                                       : TrainConvQModel(options, &stop, report);
   if (!model) {
     if (model.error().IsCancelled()) {
       spdlog::warn("interrupted: no model written");
