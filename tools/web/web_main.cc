@@ -5,9 +5,14 @@
 
 #include <arpa/inet.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <thread>
@@ -47,6 +52,33 @@ bool IsIpAddress(const std::string& address) {
          inet_pton(AF_INET6, address.c_str(), bytes) == 1;
 }
 
+// Raises this process's nice value by `by` (at most to 19): the server then
+// yields the CPU to the run it watches when they share cores. Linux keeps a
+// nice value per thread: every thread of the process is set (called before
+// the server's and the bus's threads start, which inherit it). Raising one's
+// own nice value needs no privilege. Returns the nice value now.
+int LowerPriority(int by) {
+  errno = 0;
+  const int current = getpriority(PRIO_PROCESS, 0);
+  if (current == -1 && errno != 0) {
+    spdlog::warn("--nice: cannot read this process's priority: {}", std::strerror(errno));
+    return 0;
+  }
+  if (by == 0) return current;
+  const int wanted = std::min(19, current + by);
+  std::error_code ec;
+  bool any = false;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+    const id_t thread = static_cast<id_t>(std::atoi(entry.path().filename().c_str()));
+    if (thread > 0 && setpriority(PRIO_PROCESS, thread, wanted) == 0) any = true;
+  }
+  if (!any && setpriority(PRIO_PROCESS, 0, wanted) != 0) {
+    spdlog::warn("--nice: cannot lower this process's priority: {}", std::strerror(errno));
+    return current;
+  }
+  return wanted;
+}
+
 int Run(const std::vector<std::string>& args) {
   CLI::App app(
       "A run's or a service's live traffic in a browser (the maze, the policy, robots' paths,\n"
@@ -78,6 +110,10 @@ int Run(const std::vector<std::string>& args) {
   long long max_queue_given = 32;
   group.Option("--max-queue", max_queue_given, "MB",
                "unsent bytes per client (1-1024 MB) before the client is dropped as too slow");
+  long long nice_given = 10;
+  group.Option("--nice", nice_given, "N",
+               "raise this server's nice value by N (0-19; 0 keeps it): it yields the CPU to "
+               "the run it watches when they share cores");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
@@ -110,6 +146,9 @@ int Run(const std::vector<std::string>& args) {
   if (!max_clients) return runtime::ProcessError(kProgram, max_clients.error().message);
   Result<long long> max_queue = runtime::InRange("max-queue", max_queue_given, 0, 1, 1024);
   if (!max_queue) return runtime::ProcessError(kProgram, max_queue.error().message);
+  Result<long long> nice_by = runtime::InRange("nice", nice_given, 0, 0, 19);
+  if (!nice_by) return runtime::ProcessError(kProgram, nice_by.error().message);
+  const int nice_value = LowerPriority(static_cast<int>(*nice_by));
 
   web::ServerOptions options;
   options.bind = bind;
@@ -161,8 +200,8 @@ int Run(const std::vector<std::string>& args) {
   {
     protocol::Dispatcher dispatcher(**lcm);
     const std::string shown = bind.find(':') != std::string::npos ? "[" + bind + "]" : bind;
-    spdlog::info("serving run {} at http://{}:{}/ (Foxglove: ws://{}:{}), LCM {}", setup->run_id,
-                 shown, server.port(), shown, server.port(), url);
+    spdlog::info("serving run {} at http://{}:{}/ (Foxglove: ws://{}:{}), LCM {}, nice {}",
+                 setup->run_id, shown, server.port(), shown, server.port(), url, nice_value);
     while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   server.Stop();
