@@ -191,9 +191,9 @@ int main(int argc, char** argv) {
   // Large buffers (a 1000x1000 policy is 3 MB as it arrives, 1 MB packed,
   // 1 MB again as a frame) come from the heap and stay there when freed,
   // instead of being mapped and unmapped each time: memory touched once is
-  // reused, where a fresh mapping costs a page fault per 4 KB (3.5-4.5 ms of
-  // CPU per MB on the measured machine, 0.04 ms reused). The server's peak
-  // stays resident.
+  // reused, where a fresh mapping costs a page fault per 4 KB (3-10 ms of
+  // CPU per MB on the measured virtual machine, 0.03-0.06 ms reused). The
+  // server's peak stays resident.
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   dynapath::runtime::InitProcessLogging(kProgram);
