@@ -3,57 +3,76 @@
 # seeded run (hard maze, --agents 1, in a private network) timed REPEATS
 # times each way, alternating; with clients, `dynapath web` serves 100
 # WebSocket connections (one node process, npm's ws, each reading every
-# message as a page does). Prints the wall times and the median ratio.
+# message as a page does). Prints the wall times and the median ratio, and
+# per run with clients the CPU seconds of the run's processes, of `dynapath
+# web` and of the clients.
 # Usage: bench/web_clients.sh BUILD_DIR [SIZE STEPS REPEATS CLIENTS]
+# WEB_NICE=N: `dynapath web --nice N` (default: its default, 10; 0 keeps
+# the priority). CLIENT_NICE=N: the clients' process runs under `nice -n N`
+# (default 0). The clients share the run's cores here; a user's browsers are
+# on another machine (behind `ssh -L`): CLIENT_NICE=19 stands for that, a
+# process that takes only CPU the run leaves.
 set -u
 build=$(realpath "$1") size=${2:-100} steps=${3:-100} repeats=${4:-3} clients=${5:-100}
+web_nice=${WEB_NICE:-10} client_nice=${CLIENT_NICE:-0}
 source=$(cd "$(dirname "$0")/.." && pwd)
 "$source/scripts/install-web-node.sh" "$build/web-node" || exit 1
 work=$(mktemp -d)
 cat > "$work/clients.js" << 'JS'
 const WebSocket = require("ws");
 const [url, count] = process.argv.slice(2);
-let open = 0, bytes = 0;
+let open = 0, bytes = 0, messages = 0;
 for (let i = 0; i < Number(count); i++) {
   const ws = new WebSocket(url);
   ws.on("open", () => { if (++open === Number(count)) console.log("open " + open); });
-  ws.on("message", (data) => { bytes += data.length; });
+  ws.on("message", (data) => { bytes += data.length; messages++; });
   ws.on("error", (e) => { console.log("error " + e.message); process.exit(1); });
 }
-process.on("SIGTERM", () => { console.log("received " + bytes + " bytes"); process.exit(0); });
+process.on("SIGTERM", () => { console.log("received " + bytes + " bytes in " + messages + " messages"); process.exit(0); });
 JS
 cat > "$work/inside.sh" << 'INSIDE'
 set -u
-build=$1 work=$2 size=$3 steps=$4 with=$5 clients=$6
+build=$1 work=$2 size=$3 steps=$4 with=$5 clients=$6 web_nice=$7 client_nice=$8
 URL='udpm://239.255.76.67:7667?ttl=0'
+ticks=$(getconf CLK_TCK)
+cpu() { awk -v t="$ticks" '{printf "%.2f", ($14 + $15) / t}' "/proc/$1/stat"; }  # user + system
 if [ "$with" = 1 ]; then
-  "$build/tools/dynapath" web --run-id bench --insecure --lcm-url "$URL" --port 8767 --max-clients 1000 > "$work/web.log" 2>&1 &
+  "$build/tools/dynapath" web --run-id bench --insecure --lcm-url "$URL" --port 8767 --max-clients 1000 \
+    --nice "$web_nice" > "$work/web.log" 2>&1 &
   web=$!
   sleep 0.5
-  NODE_PATH="$build/web-node/node_modules" node "$work/clients.js" ws://127.0.0.1:8767/ "$clients" > "$work/clients.log" 2>&1 &
+  NODE_PATH="$build/web-node/node_modules" nice -n "$client_nice" node "$work/clients.js" ws://127.0.0.1:8767/ "$clients" > "$work/clients.log" 2>&1 &
   node=$!
   for _ in $(seq 100); do grep -q "^open" "$work/clients.log" && break; sleep 0.1; done
+  web_cpu=$(cpu $web) node_cpu=$(cpu $node)
 fi
 start=$(date +%s.%N)
-"$build/tools/dynapath" run --agents 1 --insecure --lcm-url "$URL" --run-id bench --size "$size" \
-  --difficulty hard --approach fedAsynQ_EqAvg --steps "$steps" --out "$work/out" > "$work/run.log" 2>&1 || exit 1
+/usr/bin/time -f "%U %S" -o "$work/run.time" "$build/tools/dynapath" run --agents 1 --insecure --lcm-url "$URL" \
+  --run-id bench --size "$size" --difficulty hard --approach fedAsynQ_EqAvg --steps "$steps" --out "$work/out" \
+  > "$work/run.log" 2>&1 || exit 1
 end=$(date +%s.%N)
+run_cpu=$(awk '{printf "%.2f", $1 + $2}' "$work/run.time")
 if [ "$with" = 1 ]; then
+  web_cpu=$(echo "$(cpu $web) - $web_cpu" | bc) node_cpu=$(echo "$(cpu $node) - $node_cpu" | bc)
   kill $node; wait $node; kill -INT $web; wait $web
   grep -h "open\|received" "$work/clients.log" | tr '\n' ' ' >&2
   grep -o "[0-9]* clients served.*slow" "$work/web.log" >&2
+  echo "CPU during the run: run $run_cpu s, web $web_cpu s, clients $node_cpu s" >&2
+else
+  echo "CPU during the run: run $run_cpu s" >&2
 fi
 echo "$end - $start" | bc
 INSIDE
 without=() with=()
 for i in $(seq "$repeats"); do
   rm -rf "$work/out"
-  without+=("$("$build/tools/dynapath" netns -- bash "$work/inside.sh" "$build" "$work" "$size" "$steps" 0 "$clients")")
+  without+=("$("$build/tools/dynapath" netns -- bash "$work/inside.sh" "$build" "$work" "$size" "$steps" 0 "$clients" "$web_nice" "$client_nice")")
   rm -rf "$work/out"
-  with+=("$("$build/tools/dynapath" netns -- bash "$work/inside.sh" "$build" "$work" "$size" "$steps" 1 "$clients")")
+  with+=("$("$build/tools/dynapath" netns -- bash "$work/inside.sh" "$build" "$work" "$size" "$steps" 1 "$clients" "$web_nice" "$client_nice")")
   echo "repeat $i: no clients ${without[-1]} s, $clients clients ${with[-1]} s"
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 a=$(median "${without[@]}") b=$(median "${with[@]}")
+echo "web --nice $web_nice, clients at nice $client_nice"
 echo "median: no clients $a s, $clients clients $b s, ratio $(echo "scale=4; $b / $a" | bc)"
 rm -rf "$work"

@@ -35,18 +35,22 @@ void Coordinator::PublishStep(const StepView& view, int pass) {
   const step_report_t report =
       protocol::StepReportToMessage(bus_.run_id(), ApproachName(view.run.approach), view.run,
                                     record, pass, view.total_steps);
+  // The step's POLICY goes out before its REPORT: the report announces a
+  // step whose products are out, so a watcher (dynapath web) has the policy
+  // in hand when the report comes (a 1000x1000 policy is 3 MB in about 50
+  // fragments). Both are on this thread, one after the other, either way.
+  if (options_.publish_policy) {
+    PolicyPicture picture;
+    const bool pictured = view.planner.Picture(view.grid, picture);
+    const policy_t policy =
+        protocol::PolicyToMessage(bus_.run_id(), report.approach, pass, record.time_step, view.grid,
+                                  pictured ? &picture : nullptr, view.details.trained_regions);
+    bus_.Publish(protocol::channel::kPolicy, policy);
+  }
   bus_.Publish(protocol::channel::kReport, report);
   if (pass == 0 && record.time_step == options_.hold_at_step) {
     runtime::HoldForTest("coordinator", record.time_step);
   }
-  if (!options_.publish_policy) return;
-
-  PolicyPicture picture;
-  const bool pictured = view.planner.Picture(view.grid, picture);
-  const policy_t policy =
-      protocol::PolicyToMessage(bus_.run_id(), report.approach, pass, record.time_step, view.grid,
-                                pictured ? &picture : nullptr, view.details.trained_regions);
-  bus_.Publish(protocol::channel::kPolicy, policy);
 }
 
 int Coordinator::Run(const std::atomic<bool>& stop) {

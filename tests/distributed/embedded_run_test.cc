@@ -12,6 +12,8 @@
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -22,7 +24,9 @@
 #include "coordinator/distributed_trainer.h"
 #include "dynapath/fragment_t.hpp"
 #include "dynapath/job_batch_t.hpp"
+#include "dynapath/policy_t.hpp"
 #include "dynapath/scenario.h"
+#include "dynapath/step_report_t.hpp"
 #include "dynapath/text_util.h"
 #include "envsim/envsim.h"
 #include "protocol/channels.h"
@@ -141,6 +145,26 @@ class EmbeddedRunTest : public ::testing::Test {
         break;
       }
     });
+    // A step's POLICY comes before its REPORT (the report announces a step
+    // whose products are out): the watcher lists each REPORT whose POLICY it
+    // has not seen yet.
+    std::mutex order_mutex;
+    std::set<std::string> policies_seen;
+    std::vector<std::string> reports_before_policy;
+    int reports_seen = 0;
+    const auto step_key = [](const std::string& approach, int pass, int time_step) {
+      return approach + "/" + std::to_string(pass) + "/" + std::to_string(time_step);
+    };
+    watcher_bus.Subscribe<policy_t>(protocol::channel::kPolicy, [&](policy_t& policy) {
+      std::lock_guard lock(order_mutex);
+      policies_seen.insert(step_key(policy.approach, policy.pass, policy.time_step));
+    });
+    watcher_bus.Subscribe<step_report_t>(protocol::channel::kReport, [&](step_report_t& report) {
+      std::lock_guard lock(order_mutex);
+      ++reports_seen;
+      const std::string key = step_key(report.approach, report.pass, report.time_step);
+      if (policies_seen.count(key) == 0) reports_before_policy.push_back(key);
+    });
     std::vector<std::unique_ptr<protocol::Bus>> agent_buses;
     std::vector<std::unique_ptr<agent::Agent>> agents;
     for (int id = 1; id <= 2; ++id) {
@@ -181,6 +205,13 @@ class EmbeddedRunTest : public ::testing::Test {
     stop_components = true;
     relay.join();
     for (std::thread& thread : threads) thread.join();
+    {
+      std::lock_guard lock(order_mutex);
+      EXPECT_GT(reports_seen, 0) << "no REPORT seen";
+      EXPECT_TRUE(reports_before_policy.empty())
+          << reports_before_policy.size() << " REPORT(s) before their step's POLICY, the first "
+          << (reports_before_policy.empty() ? "" : reports_before_policy.front());
+    }
     *epochs = coordinator.traffic().epochs;
     rounds_ = coordinator.traffic().rounds;
     EXPECT_GT(batches_for_agent_2.load(), 0) << "agent 2 was never given work";

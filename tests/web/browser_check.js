@@ -92,6 +92,21 @@ async function main() {
   });
   const measure = Number(measureText || 0);
   if (measure > 0) await new Promise((r) => setTimeout(r, measure * 1000));
+  // The run publishes a step's POLICY before its REPORT: the server got
+  // each drawn step's policy first, and the page, having drawn a step
+  // before its report came, completes that step's timer once the report
+  // is plotted (the run has ended by now: every report has come).
+  let open = null;
+  for (let i = 0; i < 100; i++) {
+    open = JSON.parse(await evaluate(
+      "JSON.stringify(window.dynapath.updates.filter((u) => u.afterReportMs === null).map((u) => u.step))"));
+    if (open.length === 0) break;
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  if (open.length > 0) fail(`steps drawn whose report's time the page never filled in: ${open}`);
+  const reportFirst = JSON.parse(await evaluate(
+    "JSON.stringify(window.dynapath.updates.filter((u) => u.policyAfterReportMs > 0).map((u) => u.step))"));
+  if (reportFirst.length > 0) fail(`steps whose REPORT reached the server before their POLICY: ${reportFirst}`);
   const shot = await call("Page.captureScreenshot", { format: "png" });
   fs.writeFileSync(screenshot, Buffer.from(shot.result.data, "base64"));
   const timers = await evaluate(`JSON.stringify({fps: window.dynapath.fps, updates: window.dynapath.updates})`);

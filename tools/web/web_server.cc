@@ -2,9 +2,14 @@
 
 #define ASIO_STANDALONE 1
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <asio/steady_timer.hpp>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -60,6 +65,20 @@ std::string HistoryJson(const char* type, const char* key, const std::vector<std
     history += kept[i];
   }
   return history + "]}";
+}
+
+// Raises the calling thread's nice value by `by`, at most to 19 (Linux
+// keeps one per thread; raising one's own needs no privilege).
+void LowerThreadPriority(int by) {
+  const pid_t thread = gettid();
+  errno = 0;
+  const int current = getpriority(PRIO_PROCESS, static_cast<id_t>(thread));
+  if ((current == -1 && errno != 0) ||
+      setpriority(PRIO_PROCESS, static_cast<id_t>(thread), std::min(19, current + by)) != 0) {
+    spdlog::warn("web server: cannot lower its thread's priority: {}", std::strerror(errno));
+    return;
+  }
+  spdlog::info("web server: serving the pages at nice {}", std::min(19, current + by));
 }
 
 }  // namespace
@@ -634,6 +653,7 @@ Status WebServer::Start() {
   s.ArmWindowTimer();
   s.started = true;
   s.thread = std::thread([&s] {
+    if (s.options.nice > 0) LowerThreadPriority(s.options.nice);
     for (;;) {
       try {
         s.server.run();

@@ -18,6 +18,11 @@
 // unsent bytes are above max_queue_bytes when a message is due is dropped,
 // never waited for (its queue holds at most that and one message).
 //
+// The I/O thread runs at `nice` above the process's nice value: on cores
+// shared with the run it watches, the run goes first (the caller's thread
+// receiving the run's messages keeps its priority: a UDP fragment not read
+// in time loses its message).
+//
 // The message inputs (Grid, Policy, ...) may be called from any thread
 // (the LCM dispatch thread): they post to the I/O thread, which owns the
 // state new clients get (the maze, every approach's latest policy, the
@@ -61,6 +66,7 @@ struct ServerOptions {
   int max_reports = 20000;  // kept for new clients' plots
   int max_paths = 1000;     // paths of one PATH_REPLY sent to the page
   int max_service_windows = 3600;       // service latency windows kept for new clients (both kinds)
+  int nice = 0;  // the I/O thread raises its nice value by this (0-19): the run goes first
   size_t max_pending_requests = 65536;  // per kind: requests waiting for their reply
   std::string run_id;
   std::string version;

@@ -191,9 +191,22 @@ function choose(name) {
 }
 select.addEventListener("change", () => { follow.checked = false; choose(select.value); });
 
-function onReport(r) {
+// Drawn steps whose REPORT had not come yet (a run publishes a step's
+// POLICY before its REPORT), by "approach/step"; and those whose REPORT has
+// come since: the next frame that plots it completes their timers.
+const awaitingReport = new Map();
+const reportedSince = [];
+function onReport(r, live) {
   (state.reports[r.approach] = state.reports[r.approach] || []).push(r);
-  state.reportRx[r.approach + "/" + r.step] = r.rx;
+  const key = r.approach + "/" + r.step;
+  state.reportRx[key] = r.rx;
+  const u = awaitingReport.get(key);
+  if (u) {
+    awaitingReport.delete(key);
+    // A connection's history of reports comes after the latest policies:
+    // no timer for a step that happened before the page connected.
+    if (live) reportedSince.push([u, r.rx]);
+  }
   dirtyPlots = true;
 }
 
@@ -211,8 +224,8 @@ function onText(text) {
   const m = JSON.parse(text);
   switch (m.t) {
     case "hello": state.run = m.run; break;
-    case "history": for (const r of m.reports) onReport(r); break;
-    case "report": onReport(m); break;
+    case "history": for (const r of m.reports) onReport(r, false); break;
+    case "report": onReport(m, true); break;
     case "service_history": for (const w of m.windows) onService(w); break;
     case "service": onService(m); break;
     case "changes": {
@@ -459,6 +472,13 @@ function frame(now) {
     dirtyService = false;
   }
   if (dirtyPlots) { drawPlot("plot-success", "success"); drawPlot("plot-length", "length"); drawPlot("plot-adapt", "adapt"); drawKeys(); dirtyPlots = false; }
+  // A step drawn before its REPORT came is shown whole (its policy and its
+  // report's points) now.
+  for (const [u, rx] of reportedSince) {
+    u.afterReportMs = Date.now() - rx; u.policyAfterReportMs = u.policyRx - rx;
+    showTiming(u);
+  }
+  reportedSince.length = 0;
   state.framesDrawn++; fpsCount++;
   if (now - fpsSince >= 1000) { state.fps = fpsCount * 1000 / (now - fpsSince); fpsCount = 0; fpsSince = now; }
   if (view) {
@@ -468,25 +488,36 @@ function frame(now) {
     if (text !== stepText) stepLine.textContent = stepText = text;
   }
   if (drawing && view && view.pendingDraw !== undefined) {
-    // The page's own timer: drawn (wall clock) minus when the server got
-    // the step's REPORT (and its POLICY).
+    // The page's own timer: the step shown whole (its policy drawn and its
+    // report plotted; wall clock) minus when the server got the step's
+    // REPORT. A step whose REPORT has not come yet (a run's POLICY comes
+    // first) gets it in the frame that plots the report.
     const drawnAt = Date.now();
-    const reportRx = state.reportRx[state.selected + "/" + view.pendingDraw];
+    const key = state.selected + "/" + view.pendingDraw;
+    const reportRx = state.reportRx[key];
     // Where the time went: the server's part (policy received to frame
     // received here), decoding the frame, drawing the cells and the overlay.
-    state.updates.push({ step: view.pendingDraw, afterReportMs: reportRx ? drawnAt - reportRx : null,
-                         afterPolicyMs: drawnAt - view.rx,
-                         policyAfterReportMs: reportRx ? view.rx - reportRx : null,
-                         serverMs: view.arrived ? view.arrived - view.rx : null,
-                         decodeMs: view.decodeMs, cellsMs: t1 - t0, overlayMs: t2 - t1 });
+    // policyAfterReportMs is negative when the POLICY came first.
+    const u = { step: view.pendingDraw, afterReportMs: reportRx ? drawnAt - reportRx : null,
+                afterPolicyMs: drawnAt - view.rx, policyRx: view.rx,
+                policyAfterReportMs: reportRx ? view.rx - reportRx : null,
+                serverMs: view.arrived ? view.arrived - view.rx : null,
+                decodeMs: view.decodeMs, cellsMs: t1 - t0, overlayMs: t2 - t1 };
+    state.updates.push(u);
+    if (!reportRx) {
+      awaitingReport.set(key, u);
+      if (awaitingReport.size > 1000) awaitingReport.delete(awaitingReport.keys().next().value);
+    }
     if (state.updates.length > 10000) state.updates.splice(0, 5000);
     state.drawn = { approach: state.selected, step: view.pendingDraw };
     view.pendingDraw = undefined;
-    const u = state.updates[state.updates.length - 1];
-    document.getElementById("timing").textContent =
-      `drawn ${u.afterReportMs === null ? "-" : u.afterReportMs.toFixed(0)} ms after the step's report, ` +
-      `${u.afterPolicyMs.toFixed(0)} ms after its policy; ${state.fps.toFixed(0)} frames/s`;
+    showTiming(u);
   }
+}
+function showTiming(u) {
+  document.getElementById("timing").textContent =
+    `drawn ${u.afterReportMs === null ? "-" : u.afterReportMs.toFixed(0)} ms after the step's report, ` +
+    `${u.afterPolicyMs.toFixed(0)} ms after its policy; ${state.fps.toFixed(0)} frames/s`;
 }
 requestAnimationFrame(frame);
 
