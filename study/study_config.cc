@@ -8,7 +8,7 @@
 
 #include "dynapath/text_file.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
@@ -150,4 +150,4 @@ Result<ConfigFile> ReadConfigFile(const std::string& path) {
   return ParseConfigText(*text, path);
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

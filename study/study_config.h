@@ -23,7 +23,7 @@
 
 #include "dynapath/result.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 struct ConfigValue {
   enum class Kind { kString, kInteger, kFloat, kBoolean, kArray };
@@ -60,4 +60,4 @@ Result<ConfigFile> ParseConfigText(std::string_view text, const std::string& nam
 // Reads and parses the file at `path`.
 Result<ConfigFile> ReadConfigFile(const std::string& path);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -774,32 +774,32 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
                        std::vector<ExternalArg> external) {
   CLI::App app;
   runtime::OptionGroup group(app);
-  cli::StudyCommandLine given;
-  cli::DeclareStudyCommandLine(group, given);
+  study::StudyCommandLine given;
+  study::DeclareStudyCommandLine(group, given);
   std::optional<std::string> config_path;
-  cli::DeclareStudyConfigOption(group, config_path);
+  study::DeclareStudyConfigOption(group, config_path);
   Check(runtime::ParseArguments(app, std::move(args)));
   if (given.mode.agents || given.mode.embedded) {
     throw std::invalid_argument(
         "a study with a Python approach runs in this process: --agents and --embedded are not "
         "available with it (use --local)");
   }
-  const cli::GivenStudyOptions command_line = Take(cli::CommandLineStudyOptions(app, given));
-  cli::GivenStudyOptions file_options;
+  const study::GivenStudyOptions command_line = Take(study::CommandLineStudyOptions(app, given));
+  study::GivenStudyOptions file_options;
   if (config_path) {
-    const cli::ConfigFile file = Take(cli::ReadConfigFile(*config_path));
-    file_options = Take(cli::StudyFileOptions(file));
+    const study::ConfigFile file = Take(study::ReadConfigFile(*config_path));
+    file_options = Take(study::StudyFileOptions(file));
   }
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const cli::StudyOptions options =
-      Take(cli::ResolveStudyOptions(cli::MergeStudyOptions(file_options, command_line), hardware));
+  const study::StudyOptions options = Take(
+      study::ResolveStudyOptions(study::MergeStudyOptions(file_options, command_line), hardware));
   if (!options.sweeps.empty()) {
     throw std::invalid_argument(
         "parameter sweeps (a list in the study file) are not available with Python approaches; "
         "run one study per value");
   }
   Check(runtime::ApplyLogLevel(options.log));
-  const std::vector<cli::StudyConfiguration> plan = cli::MakeStudyPlan(options);
+  const std::vector<study::StudyConfiguration> plan = study::MakeStudyPlan(options);
   const std::string out = options.out;
   Check(runtime::PrepareOutputDirectory(out, "out"));
   const runtime::OutputLock lock = Take(runtime::OutputLock::Acquire(out, "out"));
@@ -813,16 +813,16 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   }
 
   std::vector<std::string> main_dirs, edge_dirs;
-  std::vector<cli::RepeatFiles> main_repeats, edge_repeats;
+  std::vector<study::RepeatFiles> main_repeats, edge_repeats;
   bool has_edge = false;
   for (size_t i = 0; i < plan.size(); ++i) {
-    const cli::StudyConfiguration& configuration = plan[i];
+    const study::StudyConfiguration& configuration = plan[i];
     const std::string directory = out + "/" + configuration.Directory();
     Check(runtime::PrepareOutputDirectory(directory, "out"));
     spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
     const runtime::ScenarioSetup setup =
-        Take(runtime::ResolveScenario(cli::ScenarioOptionsOf(configuration)));
-    const runtime::RunPlan run_plan = cli::RunPlanOf(options, configuration, directory);
+        Take(runtime::ResolveScenario(study::ScenarioOptionsOf(configuration)));
+    const runtime::RunPlan run_plan = study::RunPlanOf(options, configuration, directory);
     RunWithPython(run_plan, setup, options.threads, builtin, external);
     has_edge = has_edge || configuration.edge_case;
     if (configuration.repeat == 1) {
@@ -833,11 +833,11 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
                     configuration.learner_seed.value_or(configuration.seed)});
   }
   const bool repeats = options.repeats > 1;
-  Check(cli::MergeResultFiles(main_dirs, out, ""));
-  if (repeats) Check(cli::WriteRepeatFiles(main_repeats, out, ""));
+  Check(study::MergeResultFiles(main_dirs, out, ""));
+  if (repeats) Check(study::WriteRepeatFiles(main_repeats, out, ""));
   if (has_edge) {
-    Check(cli::MergeResultFiles(edge_dirs, out, "edge_"));
-    if (repeats) Check(cli::WriteRepeatFiles(edge_repeats, out, "edge_"));
+    Check(study::MergeResultFiles(edge_dirs, out, "edge_"));
+    if (repeats) Check(study::WriteRepeatFiles(edge_repeats, out, "edge_"));
   }
   return out;
 }

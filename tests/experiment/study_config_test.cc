@@ -6,7 +6,7 @@
 
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 TEST(StudyConfigTest, ParsesTheSubset) {
@@ -140,4 +140,4 @@ TEST(StudyConfigTest, ReadsAFileAndReportsAMissingOne) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -81,7 +81,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
                "processes again from the last checkpoint, at most N times (0: never)",
                "3 with --checkpoint, else 0");
-  DeclareRepeatsOption(group, o.repeats, "1");
+  study::DeclareRepeatsOption(group, o.repeats, "1");
   runtime::AddConfigOption(app);
   ReadConfigAsToml(app);
   if (int code = runtime::ParseCommandLine(app, args, "dynapath run"); code >= 0) return code;
@@ -114,11 +114,11 @@ int RunCommand(const std::vector<std::string>& given_args) {
   }
   const std::string& out = session.plan().run.out_dir;
   if (!session.repeats().empty()) {
-    std::vector<RepeatFiles> files;
+    std::vector<study::RepeatFiles> files;
     for (const app::RepeatDone& r : session.repeats()) {
-      files.push_back(RepeatFiles{r.directory, r.repeat, r.seed, r.learner_seed});
+      files.push_back(study::RepeatFiles{r.directory, r.repeat, r.seed, r.learner_seed});
     }
-    if (Status written = WriteRepeatFiles(files, out, ""); !written) {
+    if (Status written = study::WriteRepeatFiles(files, out, ""); !written) {
       spdlog::error("{}", written.error().message);
       return kExitFailure;
     }

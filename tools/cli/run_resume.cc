@@ -46,7 +46,8 @@ Result<std::vector<std::string>> ResumeArgs(const std::string& dir,
   }
   // The options files' one rule, checked here so that an error names the
   // file (the run reads it from a pipe).
-  if (Result<ConfigFile> checked = ParseConfigText(*recorded, recorded_path); !checked) {
+  if (Result<study::ConfigFile> checked = study::ParseConfigText(*recorded, recorded_path);
+      !checked) {
     return checked.error();
   }
   bool mode_given = false;
