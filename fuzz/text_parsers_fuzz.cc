@@ -49,6 +49,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (config) {
         auto values = dynapath::study::StudyFileOptions(*config);
         if (values) (void)dynapath::study::ResolveStudyOptions(*values, 2);
+        dynapath::study::StudyCommandLine typed;
+        dynapath::runtime::OptionFields fields;
+        dynapath::runtime::OptionGroup group(fields);
+        dynapath::study::DeclareStudyCommandLine(group, typed);
+        (void)dynapath::study::SetOptionFields(*config, fields, nullptr);
       }
       break;
     }
