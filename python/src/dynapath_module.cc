@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "app/resources.h"
 #include "dynapath/approach.h"
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/change_sequence.h"
@@ -43,6 +44,7 @@
 #include "dynapath/results_csv.h"
 #include "dynapath/rng.h"
 #include "dynapath/routes.h"
+#include "launch/launcher.h"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
 #include "python/src/walker_world.h"
@@ -762,14 +764,40 @@ const std::vector<std::string>& ExperimentFiles() {
   return files;
 }
 
+// A configuration of a study run as `dynapath experiment --embedded` runs
+// it (tools/study's RunConfiguration): envsim, the coordinator and the
+// agents as threads over memq://, each configuration a run of its own id
+// and secret; Ctrl-C stops it (KeyboardInterrupt).
+void RunEmbedded(const study::StudyOptions& options, const study::StudyConfiguration& configuration,
+                 const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup) {
+  launch::DistributedRun run;
+  run.process.run_id = protocol::NewRunId();
+  runtime::MakeRunSecret(run.process);
+  run.process.bus.max_grid_cells = app::GridCap(setup.scenario.grid);
+  run.agents = options.mode.agents;
+  run.threads_per_agent = app::ThreadsPerAgent(options.threads, options.mode.agents);
+  run.scenario = study::ScenarioOptionsOf(configuration);
+  run.log_level = options.log.log_level;
+  spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
+               run.process.run_id, run.agents);
+  RunControl control;
+  std::optional<Status> ran;
+  const bool interrupted = RunWithoutGil(
+      control, [&] { ran.emplace(launch::RunEmbedded(run, plan, setup, control.stop)); });
+  if (interrupted) throw py::error_already_set();
+  if (!*ran && !ran->error().IsCancelled()) {
+    throw std::runtime_error("the embedded run failed (" + ran->error().message + ")");
+  }
+}
+
 // dynapath.experiment and `python3 -m dynapath experiment ARGS`: a study of
 // `dynapath experiment`'s options `args` (its own declaration and
 // resolution, --config included), every configuration run in this process
-// as `dynapath experiment --local` runs it (the same plan, maze options and
-// run options per configuration), the Python approaches `external` beside
-// the built-in ones, and the merged files and repeats' statistics written by
-// the study library itself. No manifest, log or resume: each call runs the
-// whole study. Returns the --out directory.
+// as `dynapath experiment --local` (or --embedded) runs it (the same plan,
+// maze options and run options per configuration), the Python approaches
+// `external` beside the built-in ones (--local only), and the merged files and repeats' statistics
+// written by the study library itself. No manifest, log or resume: each call runs the whole study.
+// Returns the --out directory.
 std::string Experiment(std::vector<std::string> args, bool builtin,
                        std::vector<ExternalArg> external) {
   CLI::App app;
@@ -779,10 +807,16 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   std::optional<std::string> config_path;
   study::DeclareStudyConfigOption(group, config_path);
   Check(runtime::ParseArguments(app, std::move(args)));
-  if (given.mode.agents || given.mode.embedded) {
+  if ((given.mode.agents || given.mode.embedded) && !external.empty()) {
     throw std::invalid_argument(
         "a study with a Python approach runs in this process: --agents and --embedded are not "
         "available with it (use --local)");
+  }
+  if (given.mode.agents && !given.mode.embedded) {
+    throw std::invalid_argument(
+        "--agents N starts agent processes in a private network of their own, which a Python "
+        "process cannot enter: use mode='embedded' (agents as threads over memq://) or run "
+        "`dynapath experiment --agents N` and read its files (dynapath.StudyResult)");
   }
   const study::GivenStudyOptions command_line = Take(study::CommandLineStudyOptions(app, given));
   study::GivenStudyOptions file_options;
@@ -823,7 +857,11 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
     const runtime::ScenarioSetup setup =
         Take(runtime::ResolveScenario(study::ScenarioOptionsOf(configuration)));
     const runtime::RunPlan run_plan = study::RunPlanOf(options, configuration, directory);
-    RunWithPython(run_plan, setup, options.threads, builtin, external);
+    if (options.mode.kind == runtime::RunMode::kEmbedded) {
+      RunEmbedded(options, configuration, run_plan, setup);
+    } else {
+      RunWithPython(run_plan, setup, options.threads, builtin, external);
+    }
     has_edge = has_edge || configuration.edge_case;
     if (configuration.repeat == 1) {
       (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
