@@ -147,18 +147,19 @@ Result<RunPlan> PlanRun(RunOptions options) {
   return plan;
 }
 
+void DeclareRecordedOptions(runtime::OptionGroup& group, RunOptions& options) {
+  runtime::DeclareModeOptions(group, options.mode);
+  runtime::DeclareScenarioOptions(group, options.scenario);
+  runtime::DeclareRunOptions(group, options.run);
+  runtime::DeclareThreadOptions(group, options.threads);
+}
+
 RunSession::RunSession(RunPlan plan) : plan_(std::move(plan)) {}
 
 Status RunSession::RecordOptions() {
-  // What `run --resume DIR` runs again: every option of the run but the
-  // process and log ones (a new run id and secret are fine).
-  RunOptions& given = plan_.options;
   runtime::ConfigWriter recorded;
   runtime::OptionGroup record(recorded);
-  runtime::DeclareModeOptions(record, given.mode);
-  runtime::DeclareScenarioOptions(record, given.scenario);
-  runtime::DeclareRunOptions(record, given.run);
-  runtime::DeclareThreadOptions(record, given.threads);
+  DeclareRecordedOptions(record, plan_.options);
   Status written = recorded.status();
   if (written) {
     written = WriteFileDurably(plan_.run.checkpoint.dir + "/" + runtime::kCheckpointOptionsName,

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/option_group.h"
 #include "runtime/output_lock.h"
 #include "runtime/process_options.h"
 #include "runtime/run_driver.h"
@@ -33,6 +34,11 @@ struct RunOptions {
   bool fault_drop_given = false;
   bool fault_dup_given = false;
 };
+
+// The options a checkpointed run records in its DIR/run.toml, which
+// `dynapath run --resume DIR` runs again: every option of the run but the
+// process and log ones (a new run id and secret are fine).
+void DeclareRecordedOptions(runtime::OptionGroup& group, RunOptions& options);
 
 // A run, checked: what RunSession starts.
 struct RunPlan {

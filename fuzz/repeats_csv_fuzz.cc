@@ -12,9 +12,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > 4096) return 0;
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   if (data[0] % 2 == 0) {
-    (void)dynapath::cli::SummaryCsv(text);
+    (void)dynapath::study::SummaryCsv(text);
   } else {
-    (void)dynapath::cli::CompareCsv(text, "X", "Y");
+    (void)dynapath::study::CompareCsv(text, "X", "Y");
   }
   return 0;
 }

@@ -45,10 +45,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     }
     default: {
-      auto config = dynapath::cli::ParseConfigText(text, "fuzz.toml");
+      auto config = dynapath::study::ParseConfigText(text, "fuzz.toml");
       if (config) {
-        auto values = dynapath::cli::StudyFileOptions(*config);
-        if (values) (void)dynapath::cli::ResolveStudyOptions(*values, 2);
+        auto values = dynapath::study::StudyFileOptions(*config);
+        if (values) (void)dynapath::study::ResolveStudyOptions(*values, 2);
+        dynapath::study::StudyCommandLine typed;
+        dynapath::runtime::OptionFields fields;
+        dynapath::runtime::OptionGroup group(fields);
+        dynapath::study::DeclareStudyCommandLine(group, typed);
+        (void)dynapath::study::SetOptionFields(*config, fields, nullptr);
       }
       break;
     }

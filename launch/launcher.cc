@@ -483,8 +483,7 @@ int LaunchProcessesExit(const DistributedRun& run) {
 
 // The embedded run, by exit status (RunEmbedded).
 int RunEmbeddedExit(const DistributedRun& run, const runtime::RunPlan& plan,
-                    const runtime::ScenarioSetup& scenario) {
-  const std::atomic<bool>& stop = protocol::StopOnSignals();
+                    const runtime::ScenarioSetup& scenario, const std::atomic<bool>& stop) {
   // One memq:// instance: a second one in this process would hear nothing.
   lcm::LCM lcm("memq://");
   if (!lcm.good()) {
@@ -530,7 +529,12 @@ Status LaunchProcesses(const DistributedRun& run) {
 
 Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
                    const runtime::ScenarioSetup& scenario) {
-  return OutcomeOfExit(RunEmbeddedExit(run, plan, scenario));
+  return OutcomeOfExit(RunEmbeddedExit(run, plan, scenario, protocol::StopOnSignals()));
+}
+
+Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                   const runtime::ScenarioSetup& scenario, const std::atomic<bool>& stop) {
+  return OutcomeOfExit(RunEmbeddedExit(run, plan, scenario, stop));
 }
 
 AgentProcesses::AgentProcesses(AgentLaunch launch) : launch_(std::move(launch)) {}

@@ -155,8 +155,13 @@ Status OutcomeOfExit(int exit_status);
 // the run starts, and a logger that dies during the run stops it (exit
 // status 1, saying how much was recorded).
 Status LaunchProcesses(const DistributedRun& run);
-// Runs all components as threads over memq://.
+// Runs all components as threads over memq://, stopped by Ctrl-C or
+// SIGTERM (protocol::StopOnSignals).
 Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
                    const runtime::ScenarioSetup& scenario);
+// The same, stopped when `stop` is set (a caller with signal handling of its
+// own: the Python module); no signal handler is installed.
+Status RunEmbedded(const DistributedRun& run, const runtime::RunPlan& plan,
+                   const runtime::ScenarioSetup& scenario, const std::atomic<bool>& stop);
 
 }  // namespace dynapath::launch

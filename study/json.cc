@@ -3,7 +3,7 @@
 #include <set>
 #include <vector>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 Result<Json> ParseJson(std::string_view text) {
   // The keys seen in each open object, innermost last.
@@ -55,4 +55,4 @@ const Json* Member(const Json& json, const std::string& key) {
   return found == json.end() ? nullptr : &*found;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

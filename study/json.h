@@ -11,7 +11,7 @@
 
 #include "dynapath/result.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 using Json = nlohmann::ordered_json;
 
@@ -27,4 +27,4 @@ std::string DumpJson(const Json& json, int indent = 2);
 // Member `key` of an object, or nullptr (also when `json` is no object).
 const Json* Member(const Json& json, const std::string& key);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

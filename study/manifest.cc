@@ -11,7 +11,7 @@
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 std::string CpuModel() {
@@ -231,4 +231,4 @@ std::string NowIso8601() {
   return text.substr(0, text.size() - 2) + std::string(":") + text.substr(text.size() - 2);
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

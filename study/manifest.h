@@ -11,7 +11,7 @@
 #include "study/json.h"
 #include "study/study_plan.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 struct MachineInfo {
   std::string hostname;
@@ -68,4 +68,4 @@ Result<Manifest> ReadManifest(const std::string& path);
 // ("2026-11-22T15:30:12+01:00").
 std::string NowIso8601();
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -6,7 +6,7 @@
 
 #include "dynapath/rng.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -102,4 +102,4 @@ SampleSummary Summarize(const std::vector<std::vector<double>>& strata) {
   return s;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

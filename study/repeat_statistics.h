@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 // The bootstrap's fixed settings: every summary.csv row records them.
 inline constexpr int kBootstrapResamples = 10000;
@@ -62,4 +62,4 @@ struct SampleSummary {
 };
 SampleSummary Summarize(const std::vector<std::vector<double>>& strata);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -4,11 +4,15 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <map>
+#include <optional>
+#include <type_traits>
+#include <variant>
 
 #include "dynapath/text_file.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
@@ -150,4 +154,62 @@ Result<ConfigFile> ReadConfigFile(const std::string& path) {
   return ParseConfigText(*text, path);
 }
 
-}  // namespace dynapath::cli
+Status SetOptionFields(const ConfigFile& file, const runtime::OptionFields& fields,
+                       const std::function<bool(const std::string& key)>& skip) {
+  using Kind = ConfigValue::Kind;
+  for (const ConfigEntry& entry : file.entries) {
+    if (skip && skip(entry.key)) continue;
+    const std::string where = file.name + ":" + std::to_string(entry.line);
+    const auto field = fields.find(entry.key);
+    if (field == fields.end()) {
+      return Error{where + ": unknown key '" + entry.written + "'"};
+    }
+    const ConfigValue& value = entry.value;
+    const std::string origin = where + ": " + entry.key;
+    auto wrong = [&](const std::string& expected) {
+      const bool an = value.kind == Kind::kArray || value.kind == Kind::kInteger;
+      return Error{origin + ": expected " + expected + ", got " + (an ? "an " : "a ") +
+                   value.KindName()};
+    };
+    const runtime::ValueKind kind = field->second.kind;
+    // A text option takes any value as its text ("stations = 5", an array's
+    // items joined by ','), as CLI11 takes a --config file's values.
+    const bool text = kind == runtime::ValueKind::kString ||
+                      kind == runtime::ValueKind::kIntegerList ||
+                      kind == runtime::ValueKind::kStringList;
+    if (kind == runtime::ValueKind::kInteger && value.kind != Kind::kInteger) {
+      return wrong("an integer");
+    }
+    if (kind == runtime::ValueKind::kFloat && value.kind != Kind::kFloat &&
+        value.kind != Kind::kInteger) {
+      return wrong("a number");
+    }
+    if (kind == runtime::ValueKind::kFloat && !std::isfinite(value.number)) {
+      return Error{origin + ": expected a finite number, got " + value.Text()};
+    }
+    if (kind == runtime::ValueKind::kBoolean && value.kind != Kind::kBoolean) {
+      return wrong("a boolean");
+    }
+    if (text && value.Text().empty()) return Error{origin + ": must not be empty"};
+    std::visit(
+        [&](auto* target) {
+          using Target = std::remove_pointer_t<decltype(target)>;
+          if constexpr (std::is_same_v<Target, bool>) {
+            *target = value.boolean;
+          } else if constexpr (std::is_same_v<Target, long long> ||
+                               std::is_same_v<Target, std::optional<long long>>) {
+            *target = value.integer;
+          } else if constexpr (std::is_same_v<Target, double> ||
+                               std::is_same_v<Target, std::optional<double>>) {
+            *target =
+                value.kind == Kind::kFloat ? value.number : static_cast<double>(value.integer);
+          } else {
+            *target = value.Text();
+          }
+        },
+        field->second.value);
+  }
+  return Ok{};
+}
+
+}  // namespace dynapath::study

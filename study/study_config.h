@@ -14,16 +14,19 @@
 // options' names are; a key given twice under any spelling is refused,
 // naming both lines. This is the one reading rule of every options file:
 // study files, `dynapath run --config FILE` and a checkpoint's run.toml
-// (tools/common/toml_config.h). This module only parses; which keys exist is the
-// caller's business (study_plan.h, CLI11's options).
+// (tools/common/toml_config.h). This module parses, and sets a file's values
+// into declared option fields (SetOptionFields); which keys exist is the
+// caller's business (study_plan.h, CLI11's options, the fields given).
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "dynapath/result.h"
+#include "runtime/option_group.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 struct ConfigValue {
   enum class Kind { kString, kInteger, kFloat, kBoolean, kArray };
@@ -60,4 +63,15 @@ Result<ConfigFile> ParseConfigText(std::string_view text, const std::string& nam
 // Reads and parses the file at `path`.
 Result<ConfigFile> ReadConfigFile(const std::string& path);
 
-}  // namespace dynapath::cli
+// Sets the options `fields` holds (runtime::OptionGroup(OptionFields&)) to
+// the file's values, each checked against its option's kind as CLI11 would
+// take it from a --config file: a text or list option takes any value as
+// its text (an array's items joined by ','), a float option an integer too,
+// an integer option an integer, a flag a boolean.
+// An entry whose key `skip` accepts is left out (an option given
+// otherwise). Errors read "NAME:LINE: ...": a key no option has, a value of
+// another kind, an empty string.
+Status SetOptionFields(const ConfigFile& file, const runtime::OptionFields& fields,
+                       const std::function<bool(const std::string& key)>& skip);
+
+}  // namespace dynapath::study

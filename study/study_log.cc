@@ -5,7 +5,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 void StudyLogSink::sink_it_(const spdlog::details::log_msg& message) {
   spdlog::memory_buf_t formatted;
@@ -47,4 +47,4 @@ std::string StudyLogSink::MissingText(const std::string& path) {
          " bytes of log lines could not be written: " + std::strerror(now.error);
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -15,7 +15,7 @@
 #include <mutex>
 #include <string>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 class StudyLogSink : public spdlog::sinks::base_sink<std::mutex> {
  public:
@@ -48,4 +48,4 @@ class StudyLogSink : public spdlog::sinks::base_sink<std::mutex> {
   int error_ = 0;
 };
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -18,7 +18,7 @@
 #include "dynapath/text_file.h"
 #include "dynapath/text_util.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 constexpr int kMaxSize = kMaxGridSide;
@@ -1038,4 +1038,4 @@ Json ExecutionJson(const StudyOptions& options) {
   return json;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

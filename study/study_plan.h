@@ -20,7 +20,7 @@
 #include "study/json.h"
 #include "study/study_config.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 // How each configuration of a study runs: runtime::RunMode's kinds, as
 // runtime::ResolveMode decides them for `dynapath run`.
@@ -242,4 +242,4 @@ Json StudyIdentityJson(const StudyOptions& options);
 Json StudyIdentityWithParameters(Json identity);
 Json ExecutionJson(const StudyOptions& options);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

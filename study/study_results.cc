@@ -10,7 +10,7 @@
 #include "dynapath/text_util.h"
 #include "study/repeat_statistics.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 // The lines of a file without their newlines (an empty last line dropped);
@@ -86,9 +86,9 @@ Status MergeResultFiles(const std::vector<std::string>& directories, const std::
   return Ok{};
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 std::string Number(double value) {
@@ -364,4 +364,4 @@ Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string
   return csv;
 }
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

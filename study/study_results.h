@@ -9,7 +9,7 @@
 #include "dynapath/approach.h"
 #include "dynapath/result.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 
 // True when DIR/results.csv holds one row per approach of `approaches`, in
 // that order, for size label `size_label` and difficulty `difficulty_label`,
@@ -83,4 +83,4 @@ Status WriteSweepFiles(const std::vector<std::string>& names, const std::vector<
 Result<std::string> CompareCsv(const std::string& repeats_csv, const std::string& a,
                                const std::string& b);
 
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -162,6 +162,12 @@ cp -r ck0 foreign
 sed -i 's/^seed=.*//' foreign/run.toml && echo "seed=53" >>foreign/run.toml
 expect_error 2 "seed" run --resume foreign --out foreign-out
 expect_error 2 "is not the checkpoint directory of a run" run --resume "$work/nothing"
+# run.toml is read by the options files' rule: a bad value is refused by its line.
+cp -r ck0 edited
+sed -i "s/^size=.*/size='x'/" edited/run.toml
+expect_error 2 "edited/run.toml:" run --resume edited --out edited-out
+grep -qF "size: expected an integer, got a string" err.txt || fail "edited run.toml: $(cat err.txt)"
+expect_error 2 "not with --checkpoint" run --resume ck0 --checkpoint elsewhere
 expect_error 2 "needs --checkpoint DIR" run --resume-checkpoint --size 20
 expect_error 2 "--restart-coordinator restarts from checkpoints" run --agents 2 --restart-coordinator 2
 expect_error 2 "option --checkpoint-every must be between" run --checkpoint x --checkpoint-every 0

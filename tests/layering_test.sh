@@ -4,8 +4,9 @@
 #   coordinator/ agent/ (the processes) <- launch/ <- app/ (plans and sessions)
 #   and study/ (the study library, beside app/: runtime/ and below and app/'s
 #   rules, never the launcher or the processes) <- tools/ (the front ends);
-#   python/ (the Python module) beside the processes: runtime/ and below,
-#   and the study library study/, never tools/.
+#   python/ (the Python module), a front end beside tools/: runtime/ and
+#   below, the study library study/, the launcher launch/ (its embedded
+#   runs) and app/'s rules, never tools/ or a process's own code.
 # Fails when a source file of a layer includes a project header of a layer
 # above it; when anything outside core/ (tests, benchmarks and fuzz targets
 # aside) includes a header private to core (core/<room>/<name>.h, anything
@@ -36,7 +37,7 @@ allowed_for() {
     protocol) echo "face messages protocol" ;;
     runtime) echo "face messages protocol runtime" ;;
     envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
-    python) echo "face messages protocol runtime python study" ;;
+    python) echo "face messages protocol runtime launch app python study" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
     app) echo "face messages protocol runtime envsim coordinator agent launch app" ;;
     # app/ only for its rules (app/repeats.h): the study library starts nothing.

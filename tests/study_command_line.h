@@ -12,7 +12,7 @@
 #include "runtime/option_group.h"
 #include "study/study_plan.h"
 
-namespace dynapath::cli::test_support {
+namespace dynapath::study::test_support {
 
 inline Result<GivenStudyOptions> ParseStudyCommandLine(
     std::initializer_list<std::pair<std::string, std::string>> given) {
@@ -36,4 +36,4 @@ inline Result<GivenStudyOptions> ParseStudyCommandLine(
   return CommandLineStudyOptions(app, parsed);
 }
 
-}  // namespace dynapath::cli::test_support
+}  // namespace dynapath::study::test_support

@@ -1,4 +1,5 @@
-"""Studies in this process: ``dynapath experiment --local`` from Python.
+"""Studies in this process: ``dynapath experiment --local`` (or
+``--embedded``) from Python.
 
 :func:`experiment` runs every approach (built-in ones by the CLI's names and
 Python approaches, as :func:`dynapath.run` takes them) on every maze of a
@@ -66,8 +67,9 @@ class StudyResult:
 
 
 def experiment(sizes=None, difficulties=None, approaches=("all",), repeats=None, edge_case=None,
-               out=None, config=None, threads=None, log_level="warn", **parameters):
-    """Run a study as ``dynapath experiment --local`` does.
+               out=None, config=None, threads=None, log_level="warn", mode="local", agents=None,
+               **parameters):
+    """Run a study as ``dynapath experiment --local`` (or ``--embedded``) does.
 
     Parameters
     ----------
@@ -98,6 +100,21 @@ def experiment(sizes=None, difficulties=None, approaches=("all",), repeats=None,
         The CLI's --threads.
     log_level : str
         "info" shows a line per configuration on stderr; default "warn".
+    mode : str
+        "local" (default): every approach in this process on a thread
+        pool, as ``--local``. "embedded": envsim, the coordinator and
+        ``agents`` agents as threads of this process over memq://, as
+        ``dynapath experiment --embedded``; built-in approaches only. The
+        result files are the same in both modes, the time columns aside.
+        Agent processes (``--agents N``) need a private network of their
+        own, which a Python process cannot enter: run the CLI for them,
+        ``subprocess.run(["dynapath", "experiment", "--agents", "2",
+        "--out", DIR, ...])`` (it starts its processes in a private network
+        namespace), and read its files with ``dynapath.StudyResult(DIR,
+        DIR)``.
+    agents : int, optional
+        With mode="embedded": the number of agents (the CLI's --agents;
+        default 1).
     **parameters
         Every other option of ``dynapath experiment`` by its name with
         underscores: ``steps``, ``seed``, ``maze_seeds``, ``maps``,
@@ -112,14 +129,20 @@ def experiment(sizes=None, difficulties=None, approaches=("all",), repeats=None,
     Raises
     ------
     ValueError
-        An unknown option or a bad value, with the CLI's message; options
-        that need other processes (agents); a Python approach's result that
-        is no policy.
+        An unknown option or a bad value, with the CLI's message; a mode
+        other than "local" and "embedded", ``agents`` without
+        mode="embedded", a Python approach with it; a Python approach's
+        result that is no policy.
     KeyboardInterrupt
         Ctrl-C: the study stops within a step.
     """
+    if mode not in ("local", "embedded"):
+        raise ValueError(f"mode must be 'local' or 'embedded', got {mode!r} (agent processes: "
+                         "run `dynapath experiment --agents N`; see help(dynapath.experiment))")
     names, external = _split_approaches(approaches)
-    args = []
+    args = ["--embedded"] if mode == "embedded" else []
+    if agents is not None:
+        args += ["--agents", _option_value("agents", agents)]
     for name, value in (("sizes", sizes), ("difficulties", difficulties), ("repeats", repeats),
                         ("config", config), ("threads", threads)):
         if value is not None:

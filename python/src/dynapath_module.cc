@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "app/resources.h"
 #include "dynapath/approach.h"
 #include "dynapath/bfs_oracle.h"
 #include "dynapath/change_sequence.h"
@@ -43,6 +44,7 @@
 #include "dynapath/results_csv.h"
 #include "dynapath/rng.h"
 #include "dynapath/routes.h"
+#include "launch/launcher.h"
 #include "protocol/channels.h"
 #include "protocol/convert.h"
 #include "python/src/walker_world.h"
@@ -762,44 +764,76 @@ const std::vector<std::string>& ExperimentFiles() {
   return files;
 }
 
+// A configuration of a study run as `dynapath experiment --embedded` runs
+// it (tools/study's RunConfiguration): envsim, the coordinator and the
+// agents as threads over memq://, each configuration a run of its own id
+// and secret; Ctrl-C stops it (KeyboardInterrupt).
+void RunEmbedded(const study::StudyOptions& options, const study::StudyConfiguration& configuration,
+                 const runtime::RunPlan& plan, const runtime::ScenarioSetup& setup) {
+  launch::DistributedRun run;
+  run.process.run_id = protocol::NewRunId();
+  runtime::MakeRunSecret(run.process);
+  run.process.bus.max_grid_cells = app::GridCap(setup.scenario.grid);
+  run.agents = options.mode.agents;
+  run.threads_per_agent = app::ThreadsPerAgent(options.threads, options.mode.agents);
+  run.scenario = study::ScenarioOptionsOf(configuration);
+  run.log_level = options.log.log_level;
+  spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
+               run.process.run_id, run.agents);
+  RunControl control;
+  std::optional<Status> ran;
+  const bool interrupted = RunWithoutGil(
+      control, [&] { ran.emplace(launch::RunEmbedded(run, plan, setup, control.stop)); });
+  if (interrupted) throw py::error_already_set();
+  if (!*ran && !ran->error().IsCancelled()) {
+    throw std::runtime_error("the embedded run failed (" + ran->error().message + ")");
+  }
+}
+
 // dynapath.experiment and `python3 -m dynapath experiment ARGS`: a study of
 // `dynapath experiment`'s options `args` (its own declaration and
 // resolution, --config included), every configuration run in this process
-// as `dynapath experiment --local` runs it (the same plan, maze options and
-// run options per configuration), the Python approaches `external` beside
-// the built-in ones, and the merged files and repeats' statistics written by
-// the study library itself. No manifest, log or resume: each call runs the
-// whole study. Returns the --out directory.
+// as `dynapath experiment --local` (or --embedded) runs it (the same plan,
+// maze options and run options per configuration), the Python approaches
+// `external` beside the built-in ones (--local only), and the merged files and repeats' statistics
+// written by the study library itself. No manifest, log or resume: each call runs the whole study.
+// Returns the --out directory.
 std::string Experiment(std::vector<std::string> args, bool builtin,
                        std::vector<ExternalArg> external) {
   CLI::App app;
   runtime::OptionGroup group(app);
-  cli::StudyCommandLine given;
-  cli::DeclareStudyCommandLine(group, given);
+  study::StudyCommandLine given;
+  study::DeclareStudyCommandLine(group, given);
   std::optional<std::string> config_path;
-  cli::DeclareStudyConfigOption(group, config_path);
+  study::DeclareStudyConfigOption(group, config_path);
   Check(runtime::ParseArguments(app, std::move(args)));
-  if (given.mode.agents || given.mode.embedded) {
+  if ((given.mode.agents || given.mode.embedded) && !external.empty()) {
     throw std::invalid_argument(
         "a study with a Python approach runs in this process: --agents and --embedded are not "
         "available with it (use --local)");
   }
-  const cli::GivenStudyOptions command_line = Take(cli::CommandLineStudyOptions(app, given));
-  cli::GivenStudyOptions file_options;
+  if (given.mode.agents && !given.mode.embedded) {
+    throw std::invalid_argument(
+        "--agents N starts agent processes in a private network of their own, which a Python "
+        "process cannot enter: use mode='embedded' (agents as threads over memq://) or run "
+        "`dynapath experiment --agents N` and read its files (dynapath.StudyResult)");
+  }
+  const study::GivenStudyOptions command_line = Take(study::CommandLineStudyOptions(app, given));
+  study::GivenStudyOptions file_options;
   if (config_path) {
-    const cli::ConfigFile file = Take(cli::ReadConfigFile(*config_path));
-    file_options = Take(cli::StudyFileOptions(file));
+    const study::ConfigFile file = Take(study::ReadConfigFile(*config_path));
+    file_options = Take(study::StudyFileOptions(file));
   }
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const cli::StudyOptions options =
-      Take(cli::ResolveStudyOptions(cli::MergeStudyOptions(file_options, command_line), hardware));
+  const study::StudyOptions options = Take(
+      study::ResolveStudyOptions(study::MergeStudyOptions(file_options, command_line), hardware));
   if (!options.sweeps.empty()) {
     throw std::invalid_argument(
         "parameter sweeps (a list in the study file) are not available with Python approaches; "
         "run one study per value");
   }
   Check(runtime::ApplyLogLevel(options.log));
-  const std::vector<cli::StudyConfiguration> plan = cli::MakeStudyPlan(options);
+  const std::vector<study::StudyConfiguration> plan = study::MakeStudyPlan(options);
   const std::string out = options.out;
   Check(runtime::PrepareOutputDirectory(out, "out"));
   const runtime::OutputLock lock = Take(runtime::OutputLock::Acquire(out, "out"));
@@ -813,17 +847,21 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
   }
 
   std::vector<std::string> main_dirs, edge_dirs;
-  std::vector<cli::RepeatFiles> main_repeats, edge_repeats;
+  std::vector<study::RepeatFiles> main_repeats, edge_repeats;
   bool has_edge = false;
   for (size_t i = 0; i < plan.size(); ++i) {
-    const cli::StudyConfiguration& configuration = plan[i];
+    const study::StudyConfiguration& configuration = plan[i];
     const std::string directory = out + "/" + configuration.Directory();
     Check(runtime::PrepareOutputDirectory(directory, "out"));
     spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
     const runtime::ScenarioSetup setup =
-        Take(runtime::ResolveScenario(cli::ScenarioOptionsOf(configuration)));
-    const runtime::RunPlan run_plan = cli::RunPlanOf(options, configuration, directory);
-    RunWithPython(run_plan, setup, options.threads, builtin, external);
+        Take(runtime::ResolveScenario(study::ScenarioOptionsOf(configuration)));
+    const runtime::RunPlan run_plan = study::RunPlanOf(options, configuration, directory);
+    if (options.mode.kind == runtime::RunMode::kEmbedded) {
+      RunEmbedded(options, configuration, run_plan, setup);
+    } else {
+      RunWithPython(run_plan, setup, options.threads, builtin, external);
+    }
     has_edge = has_edge || configuration.edge_case;
     if (configuration.repeat == 1) {
       (configuration.edge_case ? edge_dirs : main_dirs).push_back(directory);
@@ -833,11 +871,11 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
                     configuration.learner_seed.value_or(configuration.seed)});
   }
   const bool repeats = options.repeats > 1;
-  Check(cli::MergeResultFiles(main_dirs, out, ""));
-  if (repeats) Check(cli::WriteRepeatFiles(main_repeats, out, ""));
+  Check(study::MergeResultFiles(main_dirs, out, ""));
+  if (repeats) Check(study::WriteRepeatFiles(main_repeats, out, ""));
   if (has_edge) {
-    Check(cli::MergeResultFiles(edge_dirs, out, "edge_"));
-    if (repeats) Check(cli::WriteRepeatFiles(edge_repeats, out, "edge_"));
+    Check(study::MergeResultFiles(edge_dirs, out, "edge_"));
+    if (repeats) Check(study::WriteRepeatFiles(edge_repeats, out, "edge_"));
   }
   return out;
 }

@@ -1,5 +1,6 @@
-"""dynapath.experiment against `dynapath experiment --local`, and the CLI's
-py:MODULE:CLASS approaches (handed over to python3 -m dynapath)."""
+"""dynapath.experiment against `dynapath experiment --local` (and its
+embedded mode against its local one), and the CLI's py:MODULE:CLASS
+approaches (handed over to python3 -m dynapath)."""
 
 import os
 import pathlib
@@ -53,6 +54,33 @@ def test_study_files_equal_the_cli(cli, tmp_path):
             without_times(pd.read_csv(tmp_path / "py" / "runs" / run / "results_detailed.csv")),
             without_times(pd.read_csv(tmp_path / "cli" / "runs" / run / "results_detailed.csv")))
     assert result.edge_results is None and result.edge_summary is None
+
+
+def test_embedded_study_files_equal_local(tmp_path):
+    # Two configurations, a learning approach trained by two embedded agents.
+    tiny = dict(sizes=[20], difficulties=["easy", "medium"], steps=3, edge_case=False,
+                max_episodes=40, threads=2, approaches=["BFS Oracle", "singleAgent"])
+    local = dynapath.experiment(out=str(tmp_path / "local"), **tiny)
+    embedded = dynapath.experiment(mode="embedded", agents=2, out=str(tmp_path / "embedded"),
+                                   **tiny)
+    assert len(local.results) == 4
+    for mine, theirs in ((embedded.results, local.results),
+                         (embedded.detailed, local.detailed)):
+        pd.testing.assert_frame_equal(without_times(mine), without_times(theirs))
+    runs = sorted(p.name for p in (tmp_path / "local" / "runs").iterdir())
+    assert len(runs) == 2
+    assert runs == sorted(p.name for p in (tmp_path / "embedded" / "runs").iterdir())
+    for run in runs:  # each configuration's own files, written by the coordinator
+        mine, theirs = (pd.read_csv(tmp_path / mode / "runs" / run / "results_detailed.csv")
+                        for mode in ("embedded", "local"))
+        pd.testing.assert_frame_equal(without_times(mine), without_times(theirs))
+
+
+def test_embedded_refuses_what_it_cannot_run():
+    with pytest.raises(ValueError, match="mode must be 'local' or 'embedded'"):
+        dynapath.experiment(sizes=[20], mode="agents")
+    with pytest.raises(ValueError, match="--agents and --embedded are not available"):
+        dynapath.experiment(sizes=[20], mode="embedded", approaches=[NearestStation])
 
 
 class Distances(NearestStation):

@@ -14,10 +14,10 @@ namespace {
 namespace fs = std::filesystem;
 
 // Options as a command line gives them, parsed by CLI11 ("option --NAME").
-GivenStudyOptions Cli(std::initializer_list<std::pair<std::string, std::string>> given) {
-  Result<GivenStudyOptions> parsed = test_support::ParseStudyCommandLine(given);
+study::GivenStudyOptions Cli(std::initializer_list<std::pair<std::string, std::string>> given) {
+  Result<study::GivenStudyOptions> parsed = study::test_support::ParseStudyCommandLine(given);
   EXPECT_TRUE(parsed) << parsed.error().message;
-  return parsed ? *parsed : GivenStudyOptions{};
+  return parsed ? *parsed : study::GivenStudyOptions{};
 }
 
 fs::path TempPath(const std::string& name) {
@@ -45,7 +45,7 @@ TEST(PlanStudy, TakesTheOptionsAndMakesThePlan) {
 }
 
 TEST(PlanStudy, AnErrorNamesItsOption) {
-  const std::pair<GivenStudyOptions, std::string> cases[] = {
+  const std::pair<study::GivenStudyOptions, std::string> cases[] = {
       {Cli({{"sizes", "twenty"}}), "option --sizes: "},
       {Cli({{"difficulties", "medium-rare"}}), "option --difficulties: "},
       {Cli({{"repeats", "0"}}), "option --repeats: "},

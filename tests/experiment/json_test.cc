@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 TEST(JsonTest, RoundTripsAndKeepsMemberOrder) {
@@ -72,4 +72,4 @@ TEST(JsonTest, MemberFindsObjectMembersOnly) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -8,7 +8,7 @@
 #include "study/study_plan.h"
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 Manifest Example() {
@@ -118,4 +118,4 @@ TEST(ManifestTest, MachineAndTime) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

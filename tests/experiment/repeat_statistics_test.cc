@@ -6,7 +6,7 @@
 #include <map>
 #include <vector>
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 TEST(RepeatStatistics, HandComputedValues) {
@@ -166,4 +166,4 @@ TEST(RepeatStatistics, SummarizePoolsTheStrata) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -6,7 +6,7 @@
 
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 TEST(StudyConfigTest, ParsesTheSubset) {
@@ -139,5 +139,50 @@ TEST(StudyConfigTest, ReadsAFileAndReportsAMissingOne) {
   EXPECT_NE(missing.error().message.find(".missing"), std::string::npos);
 }
 
+// A file's values set into declared option fields (what `run --resume`
+// reads a checkpoint's run.toml with): each of its option's kind, text
+// options taking any value as text, skipped keys left alone.
+TEST(StudyConfigTest, SetsDeclaredOptionFields) {
+  std::string name = "default";
+  std::optional<std::string> list;
+  std::optional<long long> size;
+  std::optional<double> rate;
+  double alpha = 0.0;
+  bool flag = false;
+  runtime::OptionFields fields;
+  runtime::OptionGroup group(fields);
+  group.Option("--name", name, "TEXT", "");
+  group.List("--list", list, runtime::ValueKind::kIntegerList, "LIST", "", "");
+  group.Option("--size", size, "N", "");
+  group.Option("--rate", rate, "X", "");
+  group.Option("--alpha", alpha, "X", "");
+  group.Flag("--flag", flag, "");
+  Result<ConfigFile> file = ParseConfigText(
+      "name = 5\nlist = [1, 2]\nsize = 12\nrate = 2\nalpha = 0.25\nflag = true\n", "run.toml");
+  ASSERT_TRUE(file) << file.error().message;
+  ASSERT_TRUE(SetOptionFields(*file, fields, [](const std::string& key) { return key == "size"; }));
+  EXPECT_EQ(name, "5");
+  EXPECT_EQ(list, "1,2");
+  EXPECT_FALSE(size);  // skipped
+  EXPECT_EQ(rate, 2.0);
+  EXPECT_EQ(alpha, 0.25);
+  EXPECT_TRUE(flag);
+
+  const std::pair<const char*, const char*> bad[] = {
+      {"size = 'x'\n", "run.toml:1: size: expected an integer, got a string"},
+      {"rate = true\n", "run.toml:1: rate: expected a number, got a boolean"},
+      {"alpha = inf\n", "run.toml:1: alpha: expected a finite number, got inf"},
+      {"flag = 1\n", "run.toml:1: flag: expected a boolean, got an integer"},
+      {"name = ''\n", "run.toml:1: name: must not be empty"},
+      {"\nnot_there = 1\n", "run.toml:2: unknown key 'not_there'"}};
+  for (const auto& [text, message] : bad) {
+    Result<ConfigFile> parsed = ParseConfigText(text, "run.toml");
+    ASSERT_TRUE(parsed) << text;
+    Status set = SetOptionFields(*parsed, fields, nullptr);
+    ASSERT_FALSE(set) << text;
+    EXPECT_EQ(set.error().message, message);
+  }
+}
+
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -15,7 +15,7 @@
 #include "dynapath/text_file.h"
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 TEST(StudyLogSinkTest, LinesAFullDiskRefusedAreWrittenLaterAndMissingOnesAreSaid) {
@@ -45,4 +45,4 @@ TEST(StudyLogSinkTest, LinesAFullDiskRefusedAreWrittenLaterAndMissingOnesAreSaid
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -9,7 +9,7 @@
 #include "tests/study_command_line.h"
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 // A command line's options, parsed by CLI11 as `dynapath experiment` does.
@@ -20,7 +20,7 @@ Result<GivenStudyOptions> Cli(std::initializer_list<std::pair<std::string, std::
 // A command line resolved; its parse error when CLI11 refused it.
 Result<StudyOptions> Resolve(const Result<GivenStudyOptions>& given, int threads) {
   if (!given) return given.error();
-  return cli::ResolveStudyOptions(*given, threads);
+  return study::ResolveStudyOptions(*given, threads);
 }
 
 Result<StudyOptions> FromFile(const std::string& text) {
@@ -28,7 +28,7 @@ Result<StudyOptions> FromFile(const std::string& text) {
   if (!file) return file.error();
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   if (!values) return values.error();
-  return cli::ResolveStudyOptions(*values, 4);
+  return study::ResolveStudyOptions(*values, 4);
 }
 
 TEST(StudyPlanTest, DefaultsAreTheReportsStudy) {
@@ -142,7 +142,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(values->origins.count("local"), 0u);  // false sets nothing
   EXPECT_FALSE(values->values.mode.local);
 
-  Result<StudyOptions> options = cli::ResolveStudyOptions(*values, 2);
+  Result<StudyOptions> options = study::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->sizes, (std::vector<int>{20, 50}));
   EXPECT_EQ(options->difficulties, (std::vector<Difficulty>{Difficulty::kEasy}));
@@ -154,7 +154,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->learner.leaf_limit, 10);
 
   // The command line wins; its mode replaces the file's.
-  options = cli::ResolveStudyOptions(
+  options = study::ResolveStudyOptions(
       MergeStudyOptions(*values, *Cli({{"local", "true"}, {"sizes", "30"}, {"out", "cli"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->mode.kind, StudyMode::kLocal);
@@ -162,7 +162,7 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   EXPECT_EQ(options->out, "cli");
   EXPECT_EQ(options->learner.leaf_limit, 10);
 
-  options = cli::ResolveStudyOptions(MergeStudyOptions(*values, *Cli({{"embedded", "true"}})), 2);
+  options = study::ResolveStudyOptions(MergeStudyOptions(*values, *Cli({{"embedded", "true"}})), 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->mode.kind, StudyMode::kEmbedded);
   EXPECT_EQ(options->mode.agents, 1);
@@ -191,7 +191,7 @@ TEST(StudyPlanTest, FileValuesAreSetIntoTheirOptionsTyped) {
   EXPECT_TRUE(values.mode.embedded);
   EXPECT_EQ(given->origins.at("epsilon-start"), "s.toml:1: epsilon-start");
   EXPECT_TRUE(given->sweeps.empty());
-  Result<StudyOptions> options = cli::ResolveStudyOptions(*given, 2);
+  Result<StudyOptions> options = study::ResolveStudyOptions(*given, 2);
   ASSERT_TRUE(options) << options.error().message;
   EXPECT_EQ(options->run.options.single_agent.epsilon_start, 0.25);
   EXPECT_EQ(options->run.options.federated.learners, 3);
@@ -270,7 +270,7 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(mixed[2].steps, 4);
   // Without maps, nothing about them enters the identity (old studies resume).
   EXPECT_FALSE(
-      StudyIdentityJson(*cli::ResolveStudyOptions(GivenStudyOptions{}, 2)).contains("maps"));
+      StudyIdentityJson(*study::ResolveStudyOptions(GivenStudyOptions{}, 2)).contains("maps"));
 }
 
 TEST(StudyPlanTest, BadMapOptions) {
@@ -386,7 +386,7 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(values) << values.error().message;
   EXPECT_EQ(values->values.maps,
             data + "/maps/wide-5-9.map," + data + "/maps/maze-25-61-1.map");  // absolute: kept
-  Result<StudyOptions> options = cli::ResolveStudyOptions(*values, 2);
+  Result<StudyOptions> options = study::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
   EXPECT_EQ(options->maps[0].path, data + "/maps/wide-5-9.map");
@@ -623,4 +623,4 @@ TEST(StudyPlanTest, ASweepRunsTheGridOfItsParametersValues) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

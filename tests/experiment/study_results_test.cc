@@ -12,7 +12,7 @@
 #include "study/repeat_statistics.h"
 #include "tests/temp_path.h"
 
-namespace dynapath::cli {
+namespace dynapath::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -219,4 +219,4 @@ TEST(RepeatFilesTest, CompareTakesPairedDifferences) {
 }
 
 }  // namespace
-}  // namespace dynapath::cli
+}  // namespace dynapath::study

@@ -109,7 +109,7 @@ int CompareCommand(const std::vector<std::string>& args) {
   }
   Result<std::string> text = ReadTextFile(file);
   if (!text) return usage_error(text.error().message);
-  Result<std::string> csv = CompareCsv(*text, a, b);
+  Result<std::string> csv = study::CompareCsv(*text, a, b);
   if (!csv) return usage_error(file + ": " + csv.error().message);
   if (out) {
     if (Status status = WriteTextFileAtomically(*out, *csv); !status) {

@@ -55,15 +55,15 @@ int Failure(const std::string& message) {
 int ExperimentCommand(const std::vector<std::string>& args) {
   CLI::App app(kSummary, "dynapath experiment");
   runtime::OptionGroup group(app);
-  StudyCommandLine given;
-  DeclareStudyCommandLine(group, given);
+  study::StudyCommandLine given;
+  study::DeclareStudyCommandLine(group, given);
   StudyInput input;
-  DeclareStudyConfigOption(group, input.config_path);
+  study::DeclareStudyConfigOption(group, input.config_path);
   group.Flag("--force", input.force, "start over: delete the results of the study already in DIR");
   if (int code = runtime::ParseCommandLine(app, args, "dynapath experiment"); code >= 0) {
     return code;
   }
-  Result<GivenStudyOptions> command_line = CommandLineStudyOptions(app, given);
+  Result<study::GivenStudyOptions> command_line = study::CommandLineStudyOptions(app, given);
   if (!command_line) return UsageError(command_line.error().message);
   input.command_line = std::move(*command_line);
   input.hardware_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -1,7 +1,7 @@
 // dynapath run: parses the options into a run plan and runs it
 // (app/run_session.h: the option rules, the outputs, the modes, the
-// repeats); here only the command line, --resume's arguments and what is
-// printed.
+// repeats); here only the command line, --resume's recorded options and
+// what is printed.
 
 #include <spdlog/spdlog.h>
 
@@ -42,10 +42,12 @@ int RunCommand(const std::vector<std::string>& given_args) {
     return kExitUsage;
   };
   std::vector<std::string> args;
-  if (const std::optional<std::string> resume_dir = TakeResume(given_args, args)) {
-    Result<std::vector<std::string>> resumed = ResumeArgs(*resume_dir, args);
-    if (!resumed) return usage_error(resumed.error().message);
-    args = std::move(*resumed);
+  const std::optional<std::string> resume_dir = TakeResume(given_args, args);
+  std::optional<study::ConfigFile> recorded;
+  if (resume_dir) {
+    Result<study::ConfigFile> read = ReadRecordedOptions(*resume_dir, args);
+    if (!read) return usage_error(read.error().message);
+    recorded = std::move(*read);
   }
   CLI::App app(
       "Runs the chosen approaches on one shared maze and change sequence and writes\n"
@@ -81,10 +83,19 @@ int RunCommand(const std::vector<std::string>& given_args) {
                "--agents with --checkpoint: when the coordinator process dies, start the run's "
                "processes again from the last checkpoint, at most N times (0: never)",
                "3 with --checkpoint, else 0");
-  DeclareRepeatsOption(group, o.repeats, "1");
+  study::DeclareRepeatsOption(group, o.repeats, "1");
   runtime::AddConfigOption(app);
   ReadConfigAsToml(app);
   if (int code = runtime::ParseCommandLine(app, args, "dynapath run"); code >= 0) return code;
+  if (resume_dir) {
+    auto given_now = [&app](const std::string& key) {
+      const CLI::Option* option = app.get_option_no_throw("--" + key);
+      return option != nullptr && option->count() > 0;
+    };
+    if (Status resumed = ApplyRecordedOptions(*resume_dir, *recorded, given_now, o); !resumed) {
+      return usage_error(resumed.error().message);
+    }
+  }
   if (Status status = runtime::ApplyLogLevel(o.log); !status) {
     return usage_error(status.error().message);
   }
@@ -114,11 +125,11 @@ int RunCommand(const std::vector<std::string>& given_args) {
   }
   const std::string& out = session.plan().run.out_dir;
   if (!session.repeats().empty()) {
-    std::vector<RepeatFiles> files;
+    std::vector<study::RepeatFiles> files;
     for (const app::RepeatDone& r : session.repeats()) {
-      files.push_back(RepeatFiles{r.directory, r.repeat, r.seed, r.learner_seed});
+      files.push_back(study::RepeatFiles{r.directory, r.repeat, r.seed, r.learner_seed});
     }
-    if (Status written = WriteRepeatFiles(files, out, ""); !written) {
+    if (Status written = study::WriteRepeatFiles(files, out, ""); !written) {
       spdlog::error("{}", written.error().message);
       return kExitFailure;
     }

@@ -17,10 +17,10 @@ class TomlConfig : public CLI::ConfigTOML {
 
   std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
     const std::string text{std::istreambuf_iterator<char>(input), std::istreambuf_iterator<char>()};
-    Result<ConfigFile> file = ParseConfigText(text, FileName());
+    Result<study::ConfigFile> file = study::ParseConfigText(text, FileName());
     if (!file) throw CLI::ConfigError(file.error().message);
     std::vector<CLI::ConfigItem> config_items;
-    for (const ConfigEntry& entry : file->entries) {
+    for (const study::ConfigEntry& entry : file->entries) {
       CLI::ConfigItem item;
       item.name = entry.key;
       item.inputs = {entry.value.Text()};

@@ -59,13 +59,14 @@ const std::atomic<bool>& InstallSignalHandlers() {
 
 // The option values given on the command line.
 // "sizes: [20, 50] there, [20] here; steps: ...".
-std::string Differences(const Json& there, const Json& here) {
+std::string Differences(const study::Json& there, const study::Json& here) {
   std::string text;
   for (const auto& [key, value] : here.items()) {
-    const Json* old = Member(there, key);
+    const study::Json* old = study::Member(there, key);
     if (old != nullptr && *old == value) continue;
-    text += (text.empty() ? "" : "; ") + key + ": " + (old ? DumpJson(*old, -1) : "missing") +
-            " there, " + DumpJson(value, -1) + " here";
+    text += (text.empty() ? "" : "; ") + key + ": " +
+            (old ? study::DumpJson(*old, -1) : "missing") + " there, " +
+            study::DumpJson(value, -1) + " here";
   }
   return text.empty() ? "different options" : text;
 }
@@ -97,11 +98,11 @@ Status RemovePreviousStudy(const fs::path& out) {
   return Ok{};
 }
 
-bool Complete(const fs::path& out, const StudyConfiguration& configuration,
-              const StudyOptions& options) {
-  return ConfigurationComplete((out / configuration.Directory()).string(), options.approaches,
-                               configuration.SizeText(), configuration.DifficultyText(),
-                               configuration.steps);
+bool Complete(const fs::path& out, const study::StudyConfiguration& configuration,
+              const study::StudyOptions& options) {
+  return study::ConfigurationComplete((out / configuration.Directory()).string(),
+                                      options.approaches, configuration.SizeText(),
+                                      configuration.DifficultyText(), configuration.steps);
 }
 
 double Seconds() {
@@ -109,8 +110,8 @@ double Seconds() {
 }
 
 struct Session {
-  const StudyOptions& options;
-  StudyMode mode;  // after the fall-back to embedded
+  const study::StudyOptions& options;
+  study::StudyMode mode;  // after the fall-back to embedded
   int threads;     // of each configuration (--threads / --parallel)
   fs::path out;
   ProgressDisplay& display;
@@ -120,10 +121,10 @@ struct Session {
 
 // Runs one configuration in the session's mode, with the arguments
 // `dynapath run` would take. Ok when it ran to its end.
-Status RunConfiguration(const Session& session, const StudyConfiguration& configuration,
+Status RunConfiguration(const Session& session, const study::StudyConfiguration& configuration,
                         int index) {
   const std::string directory = (session.out / configuration.Directory()).string();
-  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(configuration);
+  const runtime::ScenarioOptions scenario = study::ScenarioOptionsOf(configuration);
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
   // The study's plan with this configuration's directory, learner seed and
@@ -132,7 +133,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   // milliseconds).
   const std::string checkpoint = (fs::path(directory) / kCheckpointFolder).string();
   constexpr double kCheckpointSeconds = 2;
-  runtime::RunPlan plan = RunPlanOf(session.options, configuration, directory);
+  runtime::RunPlan plan = study::RunPlanOf(session.options, configuration, directory);
   if (Status status = runtime::ResolveCheckpointOptions(checkpoint, std::nullopt,
                                                         kCheckpointSeconds, true, plan);
       !status) {
@@ -141,7 +142,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
   const int approaches = static_cast<int>(plan.approaches.size());
   ProgressDisplay& display = session.display;
 
-  if (session.mode == StudyMode::kLocal) {
+  if (session.mode == study::StudyMode::kLocal) {
     TrainingProgress training;
     display.WatchTraining(index, &training);
     struct Unwatch {
@@ -172,7 +173,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
       app::ThreadsPerAgent(session.options.threads, session.options.mode.agents);
   run.scenario = scenario;
   // The coordinator process's options (written into its config pipe).
-  run.run = RunOptionsOf(session.options, configuration, directory);
+  run.run = study::RunOptionsOf(session.options, configuration, directory);
   run.run.checkpoint = checkpoint;
   run.run.checkpoint_interval = kCheckpointSeconds;
   run.run.resume_checkpoint = true;
@@ -182,7 +183,7 @@ Status RunConfiguration(const Session& session, const StudyConfiguration& config
     display.Step(report.approach, report.pass, approaches, report.time_step, report.total_steps);
   };
   Status ran = Ok{};
-  if (session.mode == StudyMode::kEmbedded) {
+  if (session.mode == study::StudyMode::kEmbedded) {
     spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                  run.process.run_id, run.agents);
     ran = launch::RunEmbedded(run, plan, *setup);
@@ -206,8 +207,8 @@ struct CommandError {
 // Checks the study directory and locks it (`lock`; one study writes it at a
 // time): the manifest of the same study to resume, or none (a new study;
 // with --force, the old one is deleted first).
-std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(
-    const fs::path& out, const Json& identity, bool force,
+std::variant<std::optional<study::Manifest>, CommandError> OpenStudyDirectory(
+    const fs::path& out, const study::Json& identity, bool force,
     std::optional<runtime::OutputLock>& lock) {
   std::error_code error;
   if (fs::exists(out, error) && !fs::is_directory(out, error)) {
@@ -219,16 +220,16 @@ std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(
   if (Status status = runtime::CheckOutputFiles(out.string(), StudyFiles(), "out"); !status) {
     return CommandError{kExitUsage, status.error().message};
   }
-  std::optional<Manifest> previous;
+  std::optional<study::Manifest> previous;
   const fs::path manifest_path = out / "manifest.json";
   if (!force) {
     if (fs::exists(manifest_path, error)) {
-      Result<Manifest> read = ReadManifest(manifest_path.string());
+      Result<study::Manifest> read = study::ReadManifest(manifest_path.string());
       if (!read) {
         return CommandError{
             kExitUsage, read.error().message + " (use --force to start over, or another --out)"};
       }
-      const Json study = StudyIdentityWithParameters(read->study);
+      const study::Json study = study::StudyIdentityWithParameters(read->study);
       if (study != identity) {
         return CommandError{kExitUsage, out.string() + " holds a study of other options (" +
                                             Differences(study, identity) +
@@ -252,13 +253,12 @@ std::variant<std::optional<Manifest>, CommandError> OpenStudyDirectory(
 // The default logger of the study: everything at `level` into the log file
 // `log_fd` (the components' processes write there too), warnings and errors
 // also on stderr through the progress display.
-Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path, int log_fd,
-                                                    spdlog::level::level_enum level,
-                                                    ProgressDisplay& display,
-                                                    std::shared_ptr<StudyLogSink>& file_sink) {
+Result<std::shared_ptr<spdlog::logger>> StudyLogger(
+    const std::string& log_path, int log_fd, spdlog::level::level_enum level,
+    ProgressDisplay& display, std::shared_ptr<study::StudyLogSink>& file_sink) {
   std::shared_ptr<spdlog::logger> logger;
   try {
-    file_sink = std::make_shared<StudyLogSink>(log_fd);
+    file_sink = std::make_shared<study::StudyLogSink>(log_fd);
     file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
     auto console_sink = MakeDisplaySink(display);
     console_sink->set_pattern("[%H:%M:%S] [%l] %v");
@@ -275,11 +275,12 @@ Result<std::shared_ptr<spdlog::logger>> StudyLogger(const std::string& log_path,
 
 // The manifest of this session: the previous one's records (resume) with
 // their status taken from the configurations' files.
-Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& options,
-                         StudyMode mode, const std::vector<StudyConfiguration>& plan,
-                         const fs::path& out) {
-  const std::string now = NowIso8601();
-  Manifest manifest;
+study::Manifest SessionManifest(std::optional<study::Manifest> previous,
+                                const study::StudyOptions& options, study::StudyMode mode,
+                                const std::vector<study::StudyConfiguration>& plan,
+                                const fs::path& out) {
+  const std::string now = study::NowIso8601();
+  study::Manifest manifest;
   if (previous) {
     manifest = std::move(*previous);
     ++manifest.sessions;
@@ -290,17 +291,17 @@ Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& o
   manifest.version = kDynapathVersion;
   manifest.git_commit = commit.commit;
   manifest.git_commit_source = commit.source;
-  manifest.study = StudyIdentityJson(options);
-  manifest.execution = ExecutionJson(options);
-  manifest.execution["mode"] = StudyModeName(mode);  // after a fall-back to embedded
-  manifest.machine = CollectMachineInfo();
+  manifest.study = study::StudyIdentityJson(options);
+  manifest.execution = study::ExecutionJson(options);
+  manifest.execution["mode"] = study::StudyModeName(mode);  // after a fall-back to embedded
+  manifest.machine = study::CollectMachineInfo();
   manifest.started = now;
   manifest.ended.clear();
   manifest.status = "running";
-  std::vector<ConfigurationRecord> records;
-  for (const StudyConfiguration& configuration : plan) {
-    const ConfigurationRecord* record = manifest.Find(configuration.Name());
-    records.push_back(record ? *record : FreshRecord(configuration));
+  std::vector<study::ConfigurationRecord> records;
+  for (const study::StudyConfiguration& configuration : plan) {
+    const study::ConfigurationRecord* record = manifest.Find(configuration.Name());
+    records.push_back(record ? *record : study::FreshRecord(configuration));
     if (Complete(out, configuration, options)) {
       records.back().status = "done";
     } else if (records.back().status != "failed" && records.back().status != "interrupted") {
@@ -316,8 +317,8 @@ Manifest SessionManifest(std::optional<Manifest> previous, const StudyOptions& o
 class StudyRunner {
  public:
   // `reserve` (may be null): space given back for the final manifest.
-  StudyRunner(const Session& session, const std::vector<StudyConfiguration>& plan,
-              Manifest& manifest, bool terminal, SpaceReserve* reserve)
+  StudyRunner(const Session& session, const std::vector<study::StudyConfiguration>& plan,
+              study::Manifest& manifest, bool terminal, SpaceReserve* reserve)
       : session_(session),
         plan_(plan),
         manifest_(manifest),
@@ -370,7 +371,7 @@ class StudyRunner {
     manifest_.status = interrupted_                    ? "interrupted"
                        : failures_ > 0 || !merged.ok() ? "failed"
                                                        : "finished";
-    manifest_.ended = NowIso8601();
+    manifest_.ended = study::NowIso8601();
     Status saved = Save();
     // A full disk: the space held back for this last manifest, then again.
     if (!saved && reserve_ != nullptr && reserve_->Release()) saved = Save();
@@ -394,26 +395,26 @@ class StudyRunner {
   // Runs configuration i; with --parallel on several threads at once (the
   // manifest and the files are touched under mutex_).
   void RunOne(size_t i) {
-    const StudyConfiguration& configuration = plan_[i];
+    const study::StudyConfiguration& configuration = plan_[i];
     const fs::path directory = session_.out / configuration.Directory();
     const std::string name = "configuration " + Position(i) + " " + configuration.Label();
     {
       std::lock_guard lock(mutex_);
-      ConfigurationRecord& record = manifest_.configurations[i];
+      study::ConfigurationRecord& record = manifest_.configurations[i];
       std::error_code error;
       fs::create_directories(directory, error);
       // A run rewrites its files after every approach: drop an earlier partial run's.
       fs::remove(directory / "results.csv", error);
       fs::remove(directory / "results_detailed.csv", error);
       record.status = "running";
-      record.mode = StudyModeName(session_.mode);
-      record.started = NowIso8601();
+      record.mode = study::StudyModeName(session_.mode);
+      record.started = study::NowIso8601();
       record.ended.clear();
       record.wall_seconds = -1;
       record.error.clear();
       (void)Save();  // a failure is logged; the study's last save is the one that counts
       spdlog::info("{}: {} time steps, {} approaches, mode {}", name, configuration.steps,
-                   session_.options.approaches.size(), StudyModeName(session_.mode));
+                   session_.options.approaches.size(), study::StudyModeName(session_.mode));
       if (!terminal_) session_.display.Print(name + ": started");
       session_.display.BeginConfiguration(static_cast<int>(i), configuration.Label(),
                                           configuration.ShortLabel());
@@ -423,8 +424,8 @@ class StudyRunner {
     const Status result = RunConfiguration(session_, configuration, static_cast<int>(i));
     const double wall = Seconds() - start;
     std::lock_guard lock(mutex_);
-    ConfigurationRecord& record = manifest_.configurations[i];
-    record.ended = NowIso8601();
+    study::ConfigurationRecord& record = manifest_.configurations[i];
+    record.ended = study::NowIso8601();
     record.wall_seconds = wall;
     if (result && Complete(session_.out, configuration, session_.options)) {
       record.status = "done";
@@ -461,17 +462,17 @@ class StudyRunner {
     const bool summaries = last || Seconds() - last_summary_ >= kSummaryInterval;
     if (summaries) last_summary_ = Seconds();
     std::vector<std::string> main_dirs, edge_dirs;
-    std::vector<RepeatFiles> main_repeats, edge_repeats;
+    std::vector<study::RepeatFiles> main_repeats, edge_repeats;
     // With sweeps: the grid's points in order, main and edge.
     std::vector<std::string> sweep_names;
-    for (const StudyOptions::Sweep& sweep : session_.options.sweeps) {
+    for (const study::StudyOptions::Sweep& sweep : session_.options.sweeps) {
       sweep_names.push_back(Parameters()[sweep.parameter].name);
     }
-    std::vector<SweepPoint> main_points, edge_points;
+    std::vector<study::SweepPoint> main_points, edge_points;
     std::vector<std::vector<std::pair<size_t, double>>> point_keys;
     bool has_edge = false;
     for (size_t i = 0; i < plan_.size(); ++i) {
-      const StudyConfiguration& configuration = plan_[i];
+      const study::StudyConfiguration& configuration = plan_[i];
       has_edge = has_edge || configuration.edge_case;
       size_t point = 0;
       if (!sweep_names.empty()) {
@@ -479,7 +480,7 @@ class StudyRunner {
         point = static_cast<size_t>(found - point_keys.begin());
         if (found == point_keys.end()) {
           point_keys.push_back(configuration.point);
-          SweepPoint empty;
+          study::SweepPoint empty;
           for (const auto& [index, value] : configuration.point) {
             empty.values.push_back(ParameterText(Parameters()[index], value));
           }
@@ -489,8 +490,8 @@ class StudyRunner {
       }
       if (manifest_.configurations[i].status != "done") continue;
       const std::string directory = (session_.out / configuration.Directory()).string();
-      const RepeatFiles files{directory, configuration.repeat, configuration.seed,
-                              configuration.learner_seed.value_or(configuration.seed)};
+      const study::RepeatFiles files{directory, configuration.repeat, configuration.seed,
+                                     configuration.learner_seed.value_or(configuration.seed)};
       if (!sweep_names.empty()) {
         (configuration.edge_case ? edge_points : main_points)[point].repeats.push_back(files);
       }
@@ -507,13 +508,13 @@ class StudyRunner {
     const bool repeats = session_.options.repeats > 1;
     const std::string out = session_.out.string();
     const bool sweeps = !sweep_names.empty();
-    failed(MergeResultFiles(main_dirs, out, ""));
-    if (repeats) failed(WriteRepeatFiles(main_repeats, out, "", summaries));
-    if (sweeps) failed(WriteSweepFiles(sweep_names, main_points, out, "", summaries));
+    failed(study::MergeResultFiles(main_dirs, out, ""));
+    if (repeats) failed(study::WriteRepeatFiles(main_repeats, out, "", summaries));
+    if (sweeps) failed(study::WriteSweepFiles(sweep_names, main_points, out, "", summaries));
     if (has_edge) {
-      failed(MergeResultFiles(edge_dirs, out, "edge_"));
-      if (repeats) failed(WriteRepeatFiles(edge_repeats, out, "edge_", summaries));
-      if (sweeps) failed(WriteSweepFiles(sweep_names, edge_points, out, "edge_", summaries));
+      failed(study::MergeResultFiles(edge_dirs, out, "edge_"));
+      if (repeats) failed(study::WriteRepeatFiles(edge_repeats, out, "edge_", summaries));
+      if (sweeps) failed(study::WriteSweepFiles(sweep_names, edge_points, out, "edge_", summaries));
     }
     if (failures.empty()) return Ok{};
     spdlog::error("{}", failures);
@@ -521,14 +522,14 @@ class StudyRunner {
   }
 
   Status Save() {
-    Status status = WriteManifest(manifest_, (session_.out / "manifest.json").string());
+    Status status = study::WriteManifest(manifest_, (session_.out / "manifest.json").string());
     if (!status) spdlog::error("{}", status.error().message);
     return status;
   }
 
   const Session& session_;
-  const std::vector<StudyConfiguration>& plan_;
-  Manifest& manifest_;
+  const std::vector<study::StudyConfiguration>& plan_;
+  study::Manifest& manifest_;
   const bool terminal_;
   SpaceReserve* reserve_;
   std::mutex mutex_;  // the manifest, the merged files, the counts below
@@ -542,20 +543,20 @@ class StudyRunner {
 
 // The options of the config file (if any) overridden by the command line's.
 Result<StudyPlan> PlanStudy(StudyInput input) {
-  GivenStudyOptions file_options;
+  study::GivenStudyOptions file_options;
   if (input.config_path) {
-    Result<ConfigFile> file = ReadConfigFile(*input.config_path);
+    Result<study::ConfigFile> file = study::ReadConfigFile(*input.config_path);
     if (!file) return file.error();
-    Result<GivenStudyOptions> read = StudyFileOptions(*file);
+    Result<study::GivenStudyOptions> read = study::StudyFileOptions(*file);
     if (!read) return read.error();
     file_options = std::move(*read);
   }
-  Result<StudyOptions> options = ResolveStudyOptions(
-      MergeStudyOptions(file_options, input.command_line), input.hardware_threads);
+  Result<study::StudyOptions> options = study::ResolveStudyOptions(
+      study::MergeStudyOptions(file_options, input.command_line), input.hardware_threads);
   if (!options) return options.error();
   StudyPlan plan;
   plan.options = std::move(*options);
-  plan.configurations = MakeStudyPlan(plan.options);
+  plan.configurations = study::MakeStudyPlan(plan.options);
   plan.force = input.force;
   return plan;
 }
@@ -563,14 +564,14 @@ Result<StudyPlan> PlanStudy(StudyInput input) {
 // What a session holds from Prepare to the end of Run.
 struct StudySession::State {
   std::optional<runtime::OutputLock> lock;
-  std::optional<Manifest> previous;
+  std::optional<study::Manifest> previous;
   bool terminal = false;
   std::unique_ptr<ProgressDisplay> display;
   std::string log_path;
   int log_fd = -1;
-  std::shared_ptr<StudyLogSink> log_sink;
-  StudyMode mode = StudyMode::kLocal;
-  Manifest manifest;
+  std::shared_ptr<study::StudyLogSink> log_sink;
+  study::StudyMode mode = study::StudyMode::kLocal;
+  study::Manifest manifest;
   ~State() {
     if (log_fd >= 0) close(log_fd);
   }
@@ -582,17 +583,17 @@ StudySession::StudySession(StudyPlan plan)
 StudySession::~StudySession() = default;
 
 Status StudySession::Prepare() {
-  const StudyOptions& options = plan_.options;
-  const std::vector<StudyConfiguration>& plan = plan_.configurations;
+  const study::StudyOptions& options = plan_.options;
+  const std::vector<study::StudyConfiguration>& plan = plan_.configurations;
   const fs::path out = plan_.out();
   State& s = *state_;
 
-  auto opened = OpenStudyDirectory(out, StudyIdentityJson(options), plan_.force, s.lock);
+  auto opened = OpenStudyDirectory(out, study::StudyIdentityJson(options), plan_.force, s.lock);
   if (const CommandError* error = std::get_if<CommandError>(&opened)) {
     if (error->code == kExitUsage) return app::OptionError(error->message, "out");
     return Error::Io(error->message);
   }
-  s.previous = std::get<std::optional<Manifest>>(std::move(opened));
+  s.previous = std::get<std::optional<study::Manifest>>(std::move(opened));
 
   const char* term = std::getenv("TERM");
   s.terminal = isatty(STDERR_FILENO) && term != nullptr && std::string(term) != "dumb";
@@ -609,9 +610,9 @@ Status StudySession::Prepare() {
   // process still has a single thread (no thread has been started so far;
   // the manifest, which runs git, comes after: children are fine).
   s.mode = options.mode.kind;
-  if (s.mode == StudyMode::kAgents) {
+  if (s.mode == study::StudyMode::kAgents) {
     const launch::ProcessNetwork network = launch::EnterProcessNetwork(options.lcm_url);
-    if (network == launch::ProcessNetwork::kNone) s.mode = StudyMode::kEmbedded;
+    if (network == launch::ProcessNetwork::kNone) s.mode = study::StudyMode::kEmbedded;
     if (network == launch::ProcessNetwork::kPrivate) {
       spdlog::info("study in a private network; watch a run with: dynapath-spy --pid {}", getpid());
     }
@@ -619,18 +620,18 @@ Status StudySession::Prepare() {
 
   s.manifest = SessionManifest(std::move(s.previous), options, s.mode, plan, out);
   s.previous.reset();
-  if (Status status = WriteManifest(s.manifest, (out / "manifest.json").string()); !status) {
+  if (Status status = study::WriteManifest(s.manifest, (out / "manifest.json").string()); !status) {
     return Error::Io(status.error().message);
   }
   return Ok{};
 }
 
 Status StudySession::Run() {
-  const StudyOptions& options = plan_.options;
-  const std::vector<StudyConfiguration>& plan = plan_.configurations;
+  const study::StudyOptions& options = plan_.options;
+  const std::vector<study::StudyConfiguration>& plan = plan_.configurations;
   const fs::path out = plan_.out();
   State& s = *state_;
-  Manifest& manifest = s.manifest;
+  study::Manifest& manifest = s.manifest;
   ProgressDisplay& display = *s.display;
 
   std::vector<double> work;
@@ -644,7 +645,7 @@ Status StudySession::Run() {
       "dynapath {} (commit {}) on {}: study in {}, {} configurations ({} done before), "
       "{} approaches, mode {}",
       manifest.version, manifest.git_commit, manifest.machine.hostname, out.string(), plan.size(),
-      already, options.approaches.size(), StudyModeName(s.mode));
+      already, options.approaches.size(), study::StudyModeName(s.mode));
   if (already > 0) {
     display.Print("resuming the study in " + out.string() + ": " + std::to_string(already) +
                   " of " + std::to_string(plan.size()) +
@@ -657,19 +658,21 @@ Status StudySession::Run() {
     const double seconds = manifest.configurations[i].wall_seconds;
     if (done[i] && seconds >= 0) display.AddHistory(work[i], seconds);
   }
-  const int threads = s.mode == StudyMode::kLocal ? std::max(1, options.threads / options.parallel)
-                                                  : options.threads;
+  const int threads = s.mode == study::StudyMode::kLocal
+                          ? std::max(1, options.threads / options.parallel)
+                          : options.threads;
   const Session session{options, s.mode, threads, out, display, stop, s.log_fd};
   const double study_start = Seconds();
   // Room for the final manifest on a disk that fills up (twice its size).
-  SpaceReserve reserve((out / ".manifest.reserve").string(),
-                       std::max<size_t>(8192, 2 * DumpJson(ManifestToJson(manifest)).size()));
+  SpaceReserve reserve(
+      (out / ".manifest.reserve").string(),
+      std::max<size_t>(8192, 2 * study::DumpJson(study::ManifestToJson(manifest)).size()));
   StudyRunner runner(session, plan, manifest, s.terminal, &reserve);
   int code = runner.Run();
   display.Stop();
 
   int finished = 0;
-  for (const ConfigurationRecord& record : manifest.configurations) {
+  for (const study::ConfigurationRecord& record : manifest.configurations) {
     finished += record.status == "done";
   }
   std::string summary = "study " + manifest.status + ": " + std::to_string(finished) + " of " +

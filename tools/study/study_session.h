@@ -25,7 +25,7 @@ namespace dynapath::cli {
 // What experiment was given: the options of its command line, its
 // --config file and --force.
 struct StudyInput {
-  GivenStudyOptions command_line;
+  study::GivenStudyOptions command_line;
   std::optional<std::string> config_path;
   bool force = false;
   int hardware_threads = 1;  // the default of --threads
@@ -33,8 +33,8 @@ struct StudyInput {
 
 // A study, checked: what StudySession runs.
 struct StudyPlan {
-  StudyOptions options;
-  std::vector<StudyConfiguration> configurations;  // in study order
+  study::StudyOptions options;
+  std::vector<study::StudyConfiguration> configurations;  // in study order
   bool force = false;
   std::filesystem::path out() const { return options.out; }
 };
