@@ -39,6 +39,10 @@ HOMONYMS = {
     "--delay": (2, "render's GIF frame delay; dynapath-lan-delay's packet hold time"),
     "--rate": (2, "query's requests per second; feed's time steps per second"),
     "--timeout": (2, "view's wait for a run; query and feed's wait for the service"),
+    "--resolution": (2, "the frame of a map without one (serve, query, feed, robots; default 1 m); "
+                        "web's frame to draw obstacle points with before the service's goal replies give it"),
+    "--origin": (2, "the origin of a map without a frame (serve, query, feed, robots; default 0,0); "
+                    "web's, with its --resolution"),
     "--force": (2, "experiment's: delete the study in DIR and start over; run's: start a new run "
                    "in a --checkpoint DIR holding an unfinished run's checkpoint"),
 }

@@ -628,6 +628,35 @@ TEST(WebServer, SendsObstaclePointsAndTheMapFrame) {
   ASSERT_TRUE(ReadUntil(late, history, {"\"t\":\"frame\""})) << history;
 }
 
+TEST(WebServer, AGivenFrameReachesPagesBeforeAnyGoalReplyAndTheServiceOneReplacesIt) {
+  ServerOptions options = TestOptions();
+  options.frame_resolution = 0.5;
+  options.frame_origin_x = 3.0;
+  options.frame_origin_y = -4.0;
+  WebServer server(options);
+  ASSERT_TRUE(server.Start());
+  RawClient page(server.port());
+  ASSERT_EQ(page.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  std::string received = page.TakeRest();
+  ASSERT_TRUE(ReadUntil(page, received, {"\"t\":\"frame\""})) << received;
+  EXPECT_NE(received.find("{\"origin_x\":3.0,\"origin_y\":-4.0,\"resolution\":0.5,"
+                          "\"t\":\"frame\"}"),
+            std::string::npos)
+      << received;
+  goal_reply_t reply{};
+  reply.client = "robot";
+  reply.request_id = 1;
+  reply.resolution = 0.05;
+  server.GoalReply(reply, 9'001.0);
+  ASSERT_TRUE(ReadUntil(page, received, {"\"resolution\":0.05"})) << received;
+  // A client that connects later gets the service's frame only.
+  RawClient late(server.port());
+  ASSERT_EQ(late.Handshake(), "HTTP/1.1 101 Switching Protocols");
+  std::string history = late.TakeRest();
+  ASSERT_TRUE(ReadUntil(late, history, {"\"t\":\"frame\""})) << history;
+  EXPECT_EQ(history.find("\"resolution\":0.5,"), std::string::npos) << history;
+}
+
 TEST(FoxgloveMessages, ObstaclePointsHaveTheirChannel) {
   EXPECT_EQ(FoxgloveTopicOf("MAP_POINTS"), "/map_points");
   const uint32_t id = FoxgloveChannelId("/map_points");

@@ -17,6 +17,7 @@
 #include "protocol/bus.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
+#include "runtime/goal_service.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
 #include "runtime/scenario_options.h"
@@ -84,6 +85,14 @@ int Run(const std::vector<std::string>& args) {
                "raise the nice value of the thread that serves the pages by N (0-19; 0 keeps "
                "it): it yields the CPU to the run it watches when they share cores (the thread "
                "that receives the run's messages keeps its priority)");
+  std::optional<double> resolution;
+  std::optional<std::string> origin;
+  group.Option("--resolution", resolution, "METRES",
+               "metres per cell of the service's map, to draw obstacle points in metres from "
+               "the start (else from the service's first goal reply, which gives its frame)");
+  group.Option("--origin", origin, "X,Y",
+               "metres of the bottom-left corner of the map's bottom-left cell (with "
+               "--resolution; default 0,0)");
   runtime::LogOptions log;
   runtime::DeclareLogOptions(group, log);
   if (int code = runtime::ParseCommandLine(app, args, kProgram); code >= 0) return code;
@@ -120,6 +129,18 @@ int Run(const std::vector<std::string>& args) {
   if (!nice_by) return runtime::ProcessError(kProgram, nice_by.error().message);
 
   web::ServerOptions options;
+  if (origin && !resolution) {
+    return runtime::ProcessError(kProgram, "option --origin needs --resolution");
+  }
+  if (resolution) {
+    // The frame's rows and columns come with the run's grid; only its
+    // metres are checked here, by the rule serve's are.
+    Result<MapFrame> frame = runtime::ResolveMapFrame(std::nullopt, resolution, origin, Grid(1, 1));
+    if (!frame) return runtime::ProcessError(kProgram, frame.error().message);
+    options.frame_resolution = frame->resolution;
+    options.frame_origin_x = frame->origin_x;
+    options.frame_origin_y = frame->origin_y;
+  }
   options.bind = bind;
   options.port = static_cast<int>(*port);
   options.allowed_hosts = allow_hosts;

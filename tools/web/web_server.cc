@@ -87,7 +87,12 @@ struct WebServer::Impl {
   explicit Impl(ServerOptions o)
       : options(std::move(o)),
         path_latency(options.max_pending_requests),
-        goal_latency(options.max_pending_requests) {}
+        goal_latency(options.max_pending_requests) {
+    if (options.frame_resolution > 0) {
+      map_frame =
+          FrameJson(options.frame_resolution, options.frame_origin_x, options.frame_origin_y);
+    }
+  }
 
   ServerOptions options;
   Server server;
@@ -115,7 +120,8 @@ struct WebServer::Impl {
   ServiceLatency goal_latency;               // GOAL_REQUEST to GOAL_REPLY
   std::vector<std::string> service_windows;  // ServiceJson texts of both, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
-  std::string map_frame;                // FrameJson of the latest goal reply's frame ("" none)
+  std::string
+      map_frame;  // FrameJson of the latest goal reply's frame, else --resolution's ("" none)
 
   mutable std::mutex counters_mutex;
   ServerCounters counters;

@@ -68,6 +68,12 @@ struct ServerOptions {
   int max_service_windows = 3600;       // service latency windows kept for new clients (both kinds)
   int nice = 0;  // the I/O thread raises its nice value by this (0-19): the run goes first
   size_t max_pending_requests = 65536;  // per kind: requests waiting for their reply
+  // The map's frame given on the command line (resolution 0: none): pages
+  // place obstacle points in metres with it until a goal reply gives the
+  // service's own.
+  double frame_resolution = 0;
+  double frame_origin_x = 0;
+  double frame_origin_y = 0;
   std::string run_id;
   std::string version;
   std::map<std::string, PageFile> files;  // "/" and "/app.js", ...
