@@ -433,12 +433,13 @@ Result<MapUpdate, UpdateError> UpdateFromOccupancyGrid(const occupancy_grid_t& m
     return UpdateError{UpdateRefusal::kOffLattice, Error(text)};
   }
   if (col0 >= map.cols() || col0 + m.cols <= 0 || bottom0 >= map.rows() || bottom0 + m.rows <= 0) {
-    return UpdateError{
-        UpdateRefusal::kGridShape,
-        Error("occupancy grid of " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
-              " cells covers no cell of the map (its origin is cell (" +
-              std::to_string(static_cast<int64_t>(bottom0)) + ", " +
-              std::to_string(static_cast<int64_t>(col0)) + ") from the map's bottom-left)")};
+    // The origin's cell as a double: a far origin (1e300 m) has no integer.
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "occupancy grid of %dx%d cells covers no cell of the map (its origin is cell "
+                  "(%.15g, %.15g) from the map's bottom-left)",
+                  m.rows, m.cols, bottom0, col0);
+    return UpdateError{UpdateRefusal::kGridShape, Error(text)};
   }
   // Now within (-grid side, map side): the overlap in the grid's own cells.
   const int c0 = static_cast<int>(col0), b0 = static_cast<int>(bottom0);

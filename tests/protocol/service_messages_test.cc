@@ -138,6 +138,18 @@ TEST(ServiceMessages, OccupancyGridIsRosLayoutWithThresholds) {
   refused = UpdateFromOccupancyGrid(other, map, frame, {});
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().why, UpdateRefusal::kGridShape);
+  EXPECT_EQ(refused.error().error.message,
+            "occupancy grid of 2x3 cells covers no cell of the map (its origin is cell (-2, 0) "
+            "from the map's bottom-left)");
+  // An origin far beyond any integer (the fuzzer's find: its cell was cast
+  // to an integer for the message).
+  other = m;
+  other.origin_x = 1e300;
+  refused = UpdateFromOccupancyGrid(other, map, frame, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().why, UpdateRefusal::kGridShape);
+  EXPECT_NE(refused.error().error.message.find("(0, 2e+300)"), std::string::npos)
+      << refused.error().error.message;
   // Validation: a resolution must be above 0, the origin finite.
   other = m;
   other.resolution = 0;
