@@ -93,20 +93,23 @@ print("exact answers:", answers)
 PY
 
 # 2. Bad input, each with its status.
+# (grep -q reads a here-string, not a pipe: under pipefail, `echo "$out" |
+# grep -q` fails when grep has matched and exited before echo's last write,
+# which then dies of SIGPIPE.)
 expect_goal() {  # STATUS ARGS...
   local want=$1; shift
   out=$(q "$@" --json); code=$?
   [ $code -eq 1 ] || fail "query $* exited $code"
-  echo "$out" | grep -q "\"goal_status\":\"$want\"" || fail "query $*: $out"
+  grep -q "\"goal_status\":\"$want\"" <<<"$out" || fail "query $*: $out"
 }
 expect_goal goal_outside_grid --to 63,0 --from 2,5
 expect_goal goal_obstacle --to 0,0 --from 2,5
 expect_goal goal_outside_map --to-xy 1000,1 --from 2,5
 expect_goal unknown_goal --goal nowhere --from 2,5
 out=$(q --to 20,36 --from 0,0 --from 99,99 --from-xy -100,0 --json) || fail "bad starts"
-echo "$out" | grep -q '"status":"start_obstacle"' || fail "start_obstacle: $out"
-echo "$out" | grep -q '"status":"outside_grid"' || fail "outside_grid: $out"
-echo "$out" | grep -q '"status":"outside_map"' || fail "outside_map: $out"
+grep -q '"status":"start_obstacle"' <<<"$out" || fail "start_obstacle: $out"
+grep -q '"status":"outside_grid"' <<<"$out" || fail "outside_grid: $out"
+grep -q '"status":"outside_map"' <<<"$out" || fail "outside_map: $out"
 q --goal dock-1 --from 20,36 >/dev/null || fail "the service stopped answering"
 # Goal requests at a fixed rate: every one answered.
 rated=$(q --to 20,36 --rate 200 --duration 0.5) || fail "query --to --rate: $rated"

@@ -66,7 +66,10 @@ while kill -0 $launcher 2>/dev/null; do
     # environment (a secret is 64 hex digits).
     secret_fd=$(tr '\0' '\n' 2>/dev/null </proc/$pid/cmdline | grep -A1 -x -- --secret-file | tail -1)
     [ -n "$secret_fd" ] && secret_seen[$name]=$secret_fd
-    if cat /proc/$pid/cmdline /proc/$pid/environ 2>/dev/null | tr '\0' '\n' | grep -Eq '[0-9a-f]{64}'; then
+    # (grep reads a process substitution, not a pipe: under pipefail a
+    # grep -q that matched and left early would fail the pipeline by its
+    # writer's SIGPIPE and hide the match.)
+    if grep -Eq '[0-9a-f]{64}' < <(cat /proc/$pid/cmdline /proc/$pid/environ 2>/dev/null | tr '\0' '\n'); then
       secret_exposed[$name]=1
     fi
   done
@@ -118,7 +121,7 @@ grep -q "coordinator: agents 1 2 alive" "$work/run.log" || fail "agents other th
 # progress line "training on agents: ... round 7 of 20" is logged on a
 # loaded machine).
 if grep -Eq "agent 7([^0-9]|$)" "$work/run.log" ||
-  grep -Eo "agents( [0-9]+)+" "$work/run.log" | grep -Eq " 7( |$)"; then
+  grep -Eq " 7( |$)" < <(grep -Eo "agents( [0-9]+)+" "$work/run.log"); then
   fail "the forged agent 7 appears in the run's log"
 fi
 cat "$work/garbage.out"

@@ -79,7 +79,7 @@ if [ -z "$probe" ]; then
   echo "note: LCM not built, udpm checks skipped"
 else
   # Outside a private network the probe must refuse before opening LCM.
-  if tail -n +3 /proc/net/dev | cut -d: -f1 | tr -d ' ' | grep -qvx lo; then
+  if grep -qvx lo < <(tail -n +3 /proc/net/dev | cut -d: -f1 | tr -d ' '); then
     "$probe" loopback DYNAPATH_NETNS_TEST >/dev/null 2>"$work/err"
     [ $? -eq 2 ] && grep -q "refusing" "$work/err" || fail "the probe ran on the host network"
   fi
