@@ -130,6 +130,22 @@ void CopyOptionField(const OptionField& from, const OptionField& to) {
       from.value);
 }
 
+void SetOptionText(const OptionField& field, const std::string& text) {
+  if (auto* const* value = std::get_if<std::string*>(&field.value)) **value = text;
+  if (auto* const* value = std::get_if<std::optional<std::string>*>(&field.value)) **value = text;
+}
+void SetOptionInteger(const OptionField& field, long long integer) {
+  if (auto* const* value = std::get_if<long long*>(&field.value)) **value = integer;
+  if (auto* const* value = std::get_if<std::optional<long long>*>(&field.value)) **value = integer;
+}
+void SetOptionReal(const OptionField& field, double real) {
+  if (auto* const* value = std::get_if<double*>(&field.value)) **value = real;
+  if (auto* const* value = std::get_if<std::optional<double>*>(&field.value)) **value = real;
+}
+void SetOptionBoolean(const OptionField& field, bool value) {
+  if (auto* const* target = std::get_if<bool*>(&field.value)) **target = value;
+}
+
 void OptionGroup::Option(const std::string& name, std::string& value, const std::string& value_name,
                          const std::string& help) {
   if (Bind(name, ValueKind::kString, value)) return;

@@ -71,6 +71,13 @@ struct OptionField {
 using OptionFields = std::map<std::string, OptionField>;
 // Sets `to`'s value to `from`'s (fields of the same option in two structs).
 void CopyOptionField(const OptionField& from, const OptionField& to);
+// Set a field from a value of its kind, read from a file: text (a kString
+// or list field), an integer, a real, a flag. A value of another kind than
+// the field's pointer is not set (check the kind first).
+void SetOptionText(const OptionField& field, const std::string& text);
+void SetOptionInteger(const OptionField& field, long long integer);
+void SetOptionReal(const OptionField& field, double real);
+void SetOptionBoolean(const OptionField& field, bool value);
 
 class OptionGroup {
  public:

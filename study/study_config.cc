@@ -6,9 +6,6 @@
 #include <charconv>
 #include <cmath>
 #include <map>
-#include <optional>
-#include <type_traits>
-#include <variant>
 
 #include "dynapath/text_file.h"
 
@@ -191,23 +188,22 @@ Status SetOptionFields(const ConfigFile& file, const runtime::OptionFields& fiel
       return wrong("a boolean");
     }
     if (text && value.Text().empty()) return Error{origin + ": must not be empty"};
-    std::visit(
-        [&](auto* target) {
-          using Target = std::remove_pointer_t<decltype(target)>;
-          if constexpr (std::is_same_v<Target, bool>) {
-            *target = value.boolean;
-          } else if constexpr (std::is_same_v<Target, long long> ||
-                               std::is_same_v<Target, std::optional<long long>>) {
-            *target = value.integer;
-          } else if constexpr (std::is_same_v<Target, double> ||
-                               std::is_same_v<Target, std::optional<double>>) {
-            *target =
-                value.kind == Kind::kFloat ? value.number : static_cast<double>(value.integer);
-          } else {
-            *target = value.Text();
-          }
-        },
-        field->second.value);
+    switch (kind) {
+      case runtime::ValueKind::kBoolean:
+        runtime::SetOptionBoolean(field->second, value.boolean);
+        break;
+      case runtime::ValueKind::kInteger:
+        runtime::SetOptionInteger(field->second, value.integer);
+        break;
+      case runtime::ValueKind::kFloat:
+        runtime::SetOptionReal(field->second, value.kind == Kind::kFloat
+                                                  ? value.number
+                                                  : static_cast<double>(value.integer));
+        break;
+      default:  // text and lists
+        runtime::SetOptionText(field->second, value.Text());
+        break;
+    }
   }
   return Ok{};
 }

@@ -290,24 +290,6 @@ Result<GivenStudyOptions> CommandLineStudyOptions(const CLI::App& app,
 
 namespace {
 
-// Sets a field of the declared struct from a study file's value of the
-// field's kind (the value was checked against the kind first).
-void SetText(const runtime::OptionField& field, const std::string& text) {
-  if (auto* const* value = std::get_if<std::string*>(&field.value)) **value = text;
-  if (auto* const* value = std::get_if<std::optional<std::string>*>(&field.value)) **value = text;
-}
-void SetInteger(const runtime::OptionField& field, long long integer) {
-  if (auto* const* value = std::get_if<long long*>(&field.value)) **value = integer;
-  if (auto* const* value = std::get_if<std::optional<long long>*>(&field.value)) **value = integer;
-}
-void SetReal(const runtime::OptionField& field, double real) {
-  if (auto* const* value = std::get_if<double*>(&field.value)) **value = real;
-  if (auto* const* value = std::get_if<std::optional<double>*>(&field.value)) **value = real;
-}
-void SetFlag(const runtime::OptionField& field) {
-  if (auto* const* value = std::get_if<bool*>(&field.value)) **value = true;
-}
-
 // A TOML number (integer or float) as a double.
 double NumberOf(const ConfigValue& value) {
   return value.kind == ConfigValue::Kind::kFloat ? value.number
@@ -351,7 +333,7 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
         } else if (value.kind != Kind::kInteger) {
           return wrong("an integer");
         }
-        SetInteger(field, sweepable ? value.items.front().integer : value.integer);
+        runtime::SetOptionInteger(field, sweepable ? value.items.front().integer : value.integer);
         break;
       case runtime::ValueKind::kFloat:
         if (sweepable) {
@@ -364,19 +346,19 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
         } else if (value.kind != Kind::kFloat && value.kind != Kind::kInteger) {
           return wrong("a number");
         }
-        SetReal(field, NumberOf(sweepable ? value.items.front() : value));
+        runtime::SetOptionReal(field, NumberOf(sweepable ? value.items.front() : value));
         break;
       case runtime::ValueKind::kString:
         if (value.kind != Kind::kString) return wrong("a string");
         if (value.string.empty()) return empty;
-        SetText(field, value.string);
+        runtime::SetOptionText(field, value.string);
         break;
       case runtime::ValueKind::kBoolean:
         if (value.kind != Kind::kBoolean) return wrong("true or false");
         if (key == kEdgeCase && !value.boolean) {
-          SetFlag(fields.at(kNoEdgeCase));
+          runtime::SetOptionBoolean(fields.at(kNoEdgeCase), true);
         } else if (value.boolean) {
-          SetFlag(field);
+          runtime::SetOptionBoolean(field, true);
         }
         break;
       case runtime::ValueKind::kIntegerList:
@@ -403,7 +385,7 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
         if (key == "maps") items = MapsRelativeToFile(items, file.name);
         const std::string text = Join(items, ",");
         if (text.empty()) return empty;
-        SetText(field, text);
+        runtime::SetOptionText(field, text);
         break;
       }
     }
