@@ -1,7 +1,6 @@
 #include "app/model_training.h"
 
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <memory>
@@ -39,17 +38,8 @@ Result<ModelTrainingAgents> PlanModelTrainingAgents(const ModelTrainingAgentOpti
 
 void EnterModelTrainingNetwork(ModelTrainingAgents& plan) {
   if (plan.embedded) return;
-  switch (launch::EnterProcessNetwork(plan.process.lcm_url)) {
-    case launch::ProcessNetwork::kHost:
-      break;
-    case launch::ProcessNetwork::kPrivate:
-      spdlog::info("run {} in a private network; watch it with: dynapath-spy --pid {}",
-                   plan.process.run_id, getpid());
-      break;
-    case launch::ProcessNetwork::kNone:  // warned
-      plan.embedded = true;
-      break;
-  }
+  plan.embedded = launch::EnterRunNetwork(plan.process.lcm_url, plan.process.run_id) ==
+                  launch::ProcessNetwork::kNone;  // warned
 }
 
 Result<ConvQModel> TrainModelOnAgents(

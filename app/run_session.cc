@@ -2,7 +2,6 @@
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -211,12 +210,8 @@ Status RunSession::Prepare() {
   if (!plan_.distributed()) return Ok{};
   embedded_ = plan_.mode.kind == runtime::RunMode::kEmbedded;
   if (!embedded_) {
-    const launch::ProcessNetwork network = launch::EnterProcessNetwork(plan_.process.lcm_url);
-    if (network == launch::ProcessNetwork::kNone) embedded_ = true;
-    if (network == launch::ProcessNetwork::kPrivate) {
-      spdlog::info("run {} in a private network; watch it with: dynapath-spy --pid {}",
-                   plan_.process.run_id, getpid());
-    }
+    embedded_ = launch::EnterRunNetwork(plan_.process.lcm_url, plan_.process.run_id) ==
+                launch::ProcessNetwork::kNone;
   }
   if (embedded_ && plan_.options.log_file) {
     return OptionError("--log needs a network; not with --embedded", "log");

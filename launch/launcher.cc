@@ -292,6 +292,15 @@ ProcessNetwork EnterProcessNetwork(const std::string& lcm_url) {
   return ProcessNetwork::kPrivate;
 }
 
+ProcessNetwork EnterRunNetwork(const std::string& lcm_url, const std::string& run_id) {
+  const ProcessNetwork network = EnterProcessNetwork(lcm_url);
+  if (network == ProcessNetwork::kPrivate) {
+    spdlog::info("run {} in a private network; watch it with: dynapath-spy --pid {}", run_id,
+                 getpid());
+  }
+  return network;
+}
+
 Status OutcomeOfExit(int exit_status) {
   if (exit_status == 0) return Ok{};
   if (exit_status == 130) return Error::Cancelled();

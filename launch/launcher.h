@@ -68,6 +68,9 @@ struct DistributedRun {
 // is logged): run embedded (memq://) instead.
 enum class ProcessNetwork { kHost, kPrivate, kNone };
 ProcessNetwork EnterProcessNetwork(const std::string& lcm_url);
+// EnterProcessNetwork for run `run_id`'s processes, logging a private
+// network with how to watch it (dynapath-spy --pid).
+ProcessNetwork EnterRunNetwork(const std::string& lcm_url, const std::string& run_id);
 
 // A pipe holding `text` (at most 60,000 bytes), its read end returned
 // (close-on-exec) and its write end closed: a process reads it once through
