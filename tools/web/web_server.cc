@@ -120,8 +120,8 @@ struct WebServer::Impl {
   ServiceLatency goal_latency;               // GOAL_REQUEST to GOAL_REPLY
   std::vector<std::string> service_windows;  // ServiceJson texts of both, for new clients
   std::vector<uint32_t> changed_cells;  // TakePolicy's, kept for its capacity
-  std::string
-      map_frame;  // FrameJson of the latest goal reply's frame, else --resolution's ("" none)
+  // FrameJson of the latest goal reply's frame, else --resolution's ("" none).
+  std::string map_frame;
 
   mutable std::mutex counters_mutex;
   ServerCounters counters;
