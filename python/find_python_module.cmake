@@ -8,17 +8,8 @@
 # the interpreter is the first of PATH's python3 and /usr/bin/python3 that
 # imports numpy, unless -DPython3_EXECUTABLE names one.
 set(dynapath_python_missing "")
-# A sanitized or fuzzer-instrumented extension cannot be loaded by an
-# uninstrumented python3 (the sanitizer runtime must come first), so the
-# checked builds (scripts/checked_builds.sh) leave the module out.
-if(DYNAPATH_SANITIZE OR DYNAPATH_FUZZ)
-  if(DYNAPATH_PYTHON)
-    message(FATAL_ERROR "DYNAPATH_PYTHON cannot be combined with DYNAPATH_SANITIZE or DYNAPATH_FUZZ")
-  endif()
-  option(DYNAPATH_PYTHON "Build the Python module dynapath (python/)" OFF)
-  message(STATUS "Python module skipped: not in a sanitized or fuzzing build")
-  return()
-endif()
+# Chosen in every build, the checked ones too: the tests run their python3
+# with it (tests/CMakeLists.txt).
 if(NOT Python3_EXECUTABLE)
   find_program(dynapath_path_python3 python3)
   foreach(candidate ${dynapath_path_python3} /usr/bin/python3)
@@ -31,6 +22,17 @@ if(NOT Python3_EXECUTABLE)
       endif()
     endif()
   endforeach()
+endif()
+# A sanitized or fuzzer-instrumented extension cannot be loaded by an
+# uninstrumented python3 (the sanitizer runtime must come first), so the
+# checked builds (scripts/checked_builds.sh) leave the module out.
+if(DYNAPATH_SANITIZE OR DYNAPATH_FUZZ)
+  if(DYNAPATH_PYTHON)
+    message(FATAL_ERROR "DYNAPATH_PYTHON cannot be combined with DYNAPATH_SANITIZE or DYNAPATH_FUZZ")
+  endif()
+  option(DYNAPATH_PYTHON "Build the Python module dynapath (python/)" OFF)
+  message(STATUS "Python module skipped: not in a sanitized or fuzzing build")
+  return()
 endif()
 find_package(Python3 COMPONENTS Interpreter Development.Module NumPy QUIET)
 if(NOT Python3_Interpreter_FOUND)
