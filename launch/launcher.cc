@@ -360,7 +360,21 @@ int LaunchProcessesExit(const DistributedRun& run) {
               logger_fd);  // records the bytes as sent, tags included
     logger_output->Started();
     if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it subscribe
+    // The run starts once the logger listens, or its first messages (the
+    // maze, step 0) could go unrecorded on a loaded machine. Where /proc
+    // cannot tell, a moment's grace as before.
+    const std::optional<int> port = UdpmPort(protocol::ResolveLcmUrl(run.process.lcm_url));
+    bool subscribed = true;
+    if (pid >= 0 && port && HasUdpSocketOnPort(pid, *port).has_value()) {
+      const auto asked = std::chrono::steady_clock::now();
+      subscribed = WaitForLoggerToSubscribe(pid, *port, std::chrono::seconds(30));
+      spdlog::debug("lcm-logger {} after {} ms", subscribed ? "listening" : "not listening",
+                    std::chrono::duration_cast<std::chrono::milliseconds>(
+                        std::chrono::steady_clock::now() - asked)
+                        .count());
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    }
     // The log was asked for: a logger that could not start (not installed,
     // the file not writable) fails the run before anything runs.
     Reap(children);
@@ -370,6 +384,12 @@ int LaunchProcessesExit(const DistributedRun& run) {
           pid < 0 ? std::string("could not be started") : Describe(children.back().status),
           run.log_file);
       return 1;
+    }
+    if (!subscribed) {
+      spdlog::warn(
+          "lcm-logger has not subscribed after 30 s; the run starts, and {} may miss "
+          "its first messages",
+          run.log_file);
     }
   }
   // The run's own processes (not lcm-logger), started again on a restart.

@@ -30,10 +30,11 @@ std::optional<std::set<unsigned long>> SocketInodes(pid_t pid) {
   return inodes;
 }
 
-// Adds the rx_queue of the rows of a /proc/net/udp-style table whose inode
-// is in `inodes`. Columns: sl local rem st tx_queue:rx_queue tr:when
-// retrnsmt uid timeout inode ...
-void AddQueued(const std::string& table, const std::set<unsigned long>& inodes, long long& total) {
+// Calls visit(local, queues) for each row of a /proc/net/udp-style table
+// whose inode is in `inodes`. Columns: sl local rem st tx_queue:rx_queue
+// tr:when retrnsmt uid timeout inode ...
+template <class Visit>
+void ForOwnRows(const std::string& table, const std::set<unsigned long>& inodes, Visit visit) {
   std::ifstream in(table);
   std::string line;
   std::getline(in, line);  // the header
@@ -45,10 +46,29 @@ void AddQueued(const std::string& table, const std::set<unsigned long>& inodes, 
           timeout >> inode)) {
       continue;
     }
-    if (inodes.count(inode) == 0) continue;
-    const size_t colon = queues.find(':');
-    if (colon != std::string::npos) total += std::stoll(queues.substr(colon + 1), nullptr, 16);
+    if (inodes.count(inode) != 0) visit(local, queues);
   }
+}
+
+// Calls visit(local, queues) for each UDP socket (IPv4 and IPv6) of `pid`;
+// false when /proc cannot say.
+template <class Visit>
+bool ForEachUdpSocket(pid_t pid, Visit visit) {
+  const std::optional<std::set<unsigned long>> inodes = SocketInodes(pid);
+  if (!inodes) return false;
+  const std::string net = "/proc/" + std::to_string(pid) + "/net/";
+  ForOwnRows(net + "udp", *inodes, visit);
+  ForOwnRows(net + "udp6", *inodes, visit);
+  return true;
+}
+
+// Whether `pid` has exited (a zombie not yet reaped) or is gone.
+bool Exited(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  if (!std::getline(in, stat)) return true;
+  const size_t name_end = stat.rfind(')');  // the command's name may hold spaces
+  return name_end == std::string::npos || name_end + 2 >= stat.size() || stat[name_end + 2] == 'Z';
 }
 
 std::optional<long long> FileSize(const std::string& file) {
@@ -60,13 +80,65 @@ std::optional<long long> FileSize(const std::string& file) {
 }  // namespace
 
 std::optional<long long> QueuedUdpBytes(pid_t pid) {
+  long long total = 0;
+  const bool known = ForEachUdpSocket(pid, [&](const std::string&, const std::string& queues) {
+    const size_t colon = queues.find(':');
+    if (colon != std::string::npos) total += std::stoll(queues.substr(colon + 1), nullptr, 16);
+  });
+  if (!known) return std::nullopt;
+  return total;
+}
+
+std::optional<int> UdpmPort(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0) return std::nullopt;
+  std::string address = url.substr(7);
+  address = address.substr(0, address.find('?'));
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos) return 7667;  // LCM's default port
+  const std::string digits = address.substr(colon + 1);
+  if (digits.empty() || digits.size() > 5 ||
+      digits.find_first_not_of("0123456789") != std::string::npos) {
+    return std::nullopt;
+  }
+  const int port = std::stoi(digits);
+  if (port < 1 || port > 65535) return std::nullopt;
+  return port;
+}
+
+std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port) {
+  // A socket the child inherited from this process (LCM's are not
+  // close-on-exec) is this process's, not one the child opened.
+  const std::set<unsigned long> inherited =
+      SocketInodes(getpid()).value_or(std::set<unsigned long>{});
   const std::optional<std::set<unsigned long>> inodes = SocketInodes(pid);
   if (!inodes) return std::nullopt;
-  long long total = 0;
+  std::set<unsigned long> own;
+  for (unsigned long inode : *inodes) {
+    if (inherited.count(inode) == 0) own.insert(inode);
+  }
+  bool found = false;
+  auto on_port = [&](const std::string& local, const std::string&) {
+    const size_t colon = local.rfind(':');  // ADDRESS:PORT, both in hex
+    if (colon != std::string::npos && std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
+      found = true;
+    }
+  };
   const std::string net = "/proc/" + std::to_string(pid) + "/net/";
-  AddQueued(net + "udp", *inodes, total);
-  AddQueued(net + "udp6", *inodes, total);
-  return total;
+  ForOwnRows(net + "udp", own, on_port);
+  ForOwnRows(net + "udp6", own, on_port);
+  return found;
+}
+
+bool WaitForLoggerToSubscribe(pid_t pid, int port, std::chrono::milliseconds cap) {
+  const auto deadline = std::chrono::steady_clock::now() + cap;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (Exited(pid)) return false;
+    const std::optional<bool> subscribed = HasUdpSocketOnPort(pid, port);
+    if (!subscribed) return false;  // gone, or /proc cannot say
+    if (*subscribed) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
 }
 
 bool WaitForLoggerToDrain(pid_t pid, const std::string& file, std::chrono::milliseconds quiet,

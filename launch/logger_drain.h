@@ -23,6 +23,20 @@ namespace dynapath::launch {
 // looked up in /proc/PID/net/udp and udp6); nullopt when /proc cannot say.
 std::optional<long long> QueuedUdpBytes(pid_t pid);
 
+// The port of an LCM "udpm://ADDRESS[:PORT][?OPTIONS]" URL (LCM's 7667
+// when none is given); nullopt for another provider or a bad port.
+std::optional<int> UdpmPort(const std::string& url);
+
+// Whether process `pid` holds a UDP socket bound to `port`; nullopt when
+// /proc cannot say (the process gone).
+std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port);
+
+// Waits until lcm-logger (process `pid`) has subscribed: LCM opens its
+// receiving socket, bound to the URL's port, when the first subscription is
+// made, so until then the run's first messages would not be recorded.
+// False when `cap` passed first or the process is gone.
+bool WaitForLoggerToSubscribe(pid_t pid, int port, std::chrono::milliseconds cap);
+
 // Waits until `pid`'s sockets hold nothing and `file` has kept its size for
 // `quiet`, or until `cap` has passed. Returns false on the cap.
 bool WaitForLoggerToDrain(pid_t pid, const std::string& file, std::chrono::milliseconds quiet,
