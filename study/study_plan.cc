@@ -478,17 +478,20 @@ Result<std::vector<std::string>> ListItems(const ListText& value) {
   return pieces;
 }
 
-// --stations or --movers (`text`, the option `name`): N or P% of a map's
-// free cells, so only with maps.
+// --stations or --movers (`text`, the option `name`, else `default_text`):
+// N or P% of a map's free cells, so only with maps. Parsed here, once.
 Status ResolveCellCount(const GivenOptions& given, const std::string& name,
-                        const std::optional<std::string>& text, const StudyOptions& options,
-                        std::string& resolved) {
-  if (!text) return Ok{};
-  const std::string& origin = *given.Find(name);
-  if (options.maps.empty()) return Error{origin + ": needs maps"};
+                        const std::optional<std::string>& text, const char* default_text,
+                        const StudyOptions& options, CellCount& resolved) {
+  const std::string* origin = given.Find(name);
+  if (!text || !origin) {
+    resolved = *ParseCellCount(default_text);  // a constant that parses
+    return Ok{};
+  }
+  if (options.maps.empty()) return Error{*origin + ": needs maps"};
   Result<CellCount> count = ParseCellCount(*text);
-  if (!count) return count.error().Prefixed(origin + ": ");
-  resolved = *text;
+  if (!count) return count.error().Prefixed(*origin + ": ");
+  resolved = *count;
   return Ok{};
 }
 
@@ -501,9 +504,10 @@ Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
     if (!read) return read.error();
     options.maps = std::move(*read);
   }
-  Status stations = ResolveCellCount(given, "stations", given->stations, options, options.stations);
+  Status stations = ResolveCellCount(given, "stations", given->stations, kDefaultStations, options,
+                                     options.stations);
   if (!stations) return stations;
-  return ResolveCellCount(given, "movers", given->movers, options, options.movers);
+  return ResolveCellCount(given, "movers", given->movers, kDefaultMovers, options, options.movers);
 }
 
 // --sizes (none by default with maps) and --difficulties.
@@ -876,23 +880,23 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
   return plan;
 }
 
-runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration) {
-  runtime::ScenarioOptions options;
-  options.seed = configuration.seed;
-  options.steps = configuration.steps;
+runtime::ScenarioSpec ScenarioSpecOf(const StudyConfiguration& configuration) {
+  runtime::ScenarioSpec spec;
+  spec.seed = configuration.seed;
+  spec.steps = configuration.steps;
   if (!configuration.map.empty()) {
-    options.maze = configuration.map;
+    spec.maze = configuration.map;
     if (configuration.stations_file.empty()) {
-      options.stations = configuration.stations;
+      spec.stations = configuration.stations;
     } else {
-      options.stations_file = configuration.stations_file;
+      spec.stations_file = configuration.stations_file;
     }
-    if (!configuration.movers.empty()) options.movers = configuration.movers;
-    return options;
+    spec.movers = configuration.movers;
+    return spec;
   }
-  options.size = configuration.size;
-  options.difficulty = LowerDifficulty(configuration.difficulty);
-  return options;
+  spec.size = configuration.size;
+  spec.difficulty = configuration.difficulty;
+  return spec;
 }
 
 runtime::RunPlan RunPlanOf(const StudyOptions& options, const StudyConfiguration& configuration,
@@ -949,8 +953,15 @@ Json ParametersJson(const PlannerOptions& planner) {
 }  // namespace
 
 Json StudyIdentityWithParameters(Json identity) {
-  if (identity.is_object() && !identity.contains("parameters")) {
-    identity["parameters"] = ParametersJson(PlannerOptions{});
+  if (!identity.is_object()) return identity;
+  if (!identity.contains("parameters")) identity["parameters"] = ParametersJson(PlannerOptions{});
+  // A manifest records stations and movers as written before they were
+  // kept typed ("0.50%"); a value that does not parse stays, and differs.
+  for (const char* key : {"stations", "movers"}) {
+    if (!identity.contains(key) || !identity[key].is_string()) continue;
+    if (Result<CellCount> count = ParseCellCount(identity[key].get<std::string>())) {
+      identity[key] = runtime::CellCountText(*count);
+    }
   }
   return identity;
 }
@@ -1000,8 +1011,8 @@ Json StudyIdentityJson(const StudyOptions& options) {
     for (const StudyOptions::Map& map : options.maps) {
       maps.push_back(map.stations_file.empty() ? map.path : map.path + ":" + map.stations_file);
     }
-    json["stations"] = options.stations;
-    json["movers"] = options.movers;
+    json["stations"] = runtime::CellCountText(options.stations);
+    json["movers"] = runtime::CellCountText(options.movers);
   }
   return json;
 }

@@ -12,6 +12,7 @@
 #include "app/repeats.h"
 #include "dynapath/approach.h"
 #include "dynapath/difficulty.h"
+#include "dynapath/map_scenario.h"
 #include "dynapath/result.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
@@ -51,8 +52,7 @@ struct StudyOptions {
     std::string stations_file;
   };
   std::vector<Map> maps;
-  std::string stations = kDefaultStations;
-  std::string movers = kDefaultMovers;
+  CellCount stations, movers;  // ResolveStudyOptions: as given, else the defaults above
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
   // --repeats: each configuration runs this many times, repeat k with the
@@ -170,7 +170,7 @@ struct StudyConfiguration {
   // result files (MapLabel) and its columns (`size` holds its rows).
   std::string map, map_label;
   int cols = 0;
-  std::string stations, movers;  // as StudyOptions
+  CellCount stations, movers;    // as StudyOptions
   std::string stations_file;     // the map's own (StudyOptions::Map), "" none
   // Its repeat (1..repeats) and the study's repeats; the learner seed of a
   // repeat after the first, or of every repeat with --learner-seed (unset:
@@ -216,10 +216,10 @@ using app::kRepeatSeedStride;
 using app::RepeatLearnerSeed;
 inline constexpr size_t kMaxSweepPoints = 1000;
 
-// The `dynapath run` maze options of a configuration (size, difficulty,
-// seed, steps): copied into the struct `run` parses into, not spelled out
-// as arguments (the coordinator process takes them so).
-runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
+// The scenario of a configuration, typed (size, difficulty, seed, steps; a
+// map's path, stations and movers), as `dynapath run` resolves its options'
+// (envsim's process takes it as text: runtime::ScenarioOptionsOf).
+runtime::ScenarioSpec ScenarioSpecOf(const StudyConfiguration& configuration);
 // The run plan of a configuration, built from the study's resolved plan:
 // its out directory, its learner seed and its sweep point's parameter values
 // (checked when the study was resolved) over the study's. No checkpoint.
@@ -238,7 +238,9 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options,
 Json StudyIdentityJson(const StudyOptions& options);
 // A study identity read from a manifest, with the default parameters when it
 // has none (a study of a version before parameters were options ran with
-// the defaults), so that it compares with StudyIdentityJson.
+// the defaults) and its stations and movers in their shortest spelling
+// (runtime::CellCountText: "0.50%" is "0.5%"), so that it compares with
+// StudyIdentityJson.
 Json StudyIdentityWithParameters(Json identity);
 Json ExecutionJson(const StudyOptions& options);
 

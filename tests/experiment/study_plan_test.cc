@@ -82,12 +82,17 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   // The edge case keeps its seed, takes --steps.
   EXPECT_EQ(plan[4].Name(), "edge_50_hard_102");
   EXPECT_EQ(plan[4].steps, 10);
-  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  const runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[0]);
   EXPECT_EQ(scenario.size, 50);
-  EXPECT_EQ(scenario.difficulty, "hard");
+  EXPECT_EQ(scenario.difficulty, Difficulty::kHard);
   EXPECT_EQ(scenario.seed, 7);
   EXPECT_EQ(scenario.steps, 10);
-  EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay);
+  EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay || scenario.stations);
+  // As envsim's process gets it: the words `dynapath run` takes.
+  const runtime::ScenarioOptions words = runtime::ScenarioOptionsOf(scenario);
+  EXPECT_EQ(words.size, 50);
+  EXPECT_EQ(words.difficulty, "hard");
+  EXPECT_FALSE(words.maze || words.stations || words.movers);
   // The configuration's run plan, built from the study's typed plan.
   const runtime::RunPlan run = RunPlanOf(*options, plan[0], "out/runs/x");
   EXPECT_EQ(run.approaches,
@@ -229,8 +234,9 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(options->maps[0].cols, 61);
   EXPECT_TRUE(options->sizes.empty());
   EXPECT_FALSE(options->edge_case);
-  EXPECT_EQ(options->stations, "0.5%");
-  EXPECT_EQ(options->movers, "3");
+  EXPECT_EQ(options->stations.percent, 0.5);
+  EXPECT_EQ(options->movers.count, 3);
+  EXPECT_LT(options->movers.percent, 0);
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 2u);
   EXPECT_EQ(plan[0].Name(), "map_maze-25-61-1_50");
@@ -243,15 +249,29 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(plan[1].Name(), "map_wide-5-9_50");
   EXPECT_EQ(plan[1].steps, 10);
   EXPECT_DOUBLE_EQ(plan[1].Work(), 15800.0 + std::pow(5.0 * 9 * 11, 0.8));
-  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[1]);
+  const runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[1]);
   EXPECT_EQ(scenario.maze, maps + "/wide-5-9.map");
-  EXPECT_EQ(scenario.stations, "0.5%");
-  EXPECT_EQ(scenario.movers, "3");
+  ASSERT_TRUE(scenario.stations && scenario.movers);
+  EXPECT_EQ(scenario.stations->percent, 0.5);
+  EXPECT_EQ(scenario.movers->count, 3);
   EXPECT_EQ(scenario.seed, 50);
   EXPECT_EQ(scenario.steps, 10);
+  EXPECT_FALSE(scenario.difficulty || scenario.size);
+  const runtime::ScenarioOptions words = runtime::ScenarioOptionsOf(scenario);
+  EXPECT_EQ(words.stations, "0.5%");
+  EXPECT_EQ(words.movers, "3");
+  EXPECT_FALSE(words.difficulty);
   const Json identity = StudyIdentityJson(*options);
   EXPECT_EQ(identity["maps"].size(), 2u);
+  EXPECT_EQ(identity["stations"], "0.5%");
   EXPECT_EQ(identity["movers"], "3");
+  // A manifest's other spelling of the same values is the same study.
+  Json written = identity;
+  written["stations"] = "0.50%";
+  written["movers"] = "03";
+  EXPECT_EQ(StudyIdentityWithParameters(written), identity);
+  written["movers"] = "4";
+  EXPECT_NE(StudyIdentityWithParameters(written), identity);
 
   // Mazes and the edge case when asked for, before the maps; one map file.
   options = Resolve(Cli({{"maps", maps + "/wide-5-9.map"},
@@ -348,11 +368,12 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 2u);
   EXPECT_EQ(plan[0].Name(), "map_wide-5-9_50");
-  runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[0]);
   EXPECT_EQ(scenario.stations_file, stations);
   EXPECT_FALSE(scenario.stations);
-  scenario = ScenarioOptionsOf(plan[1]);
-  EXPECT_EQ(scenario.stations, "0.5%");
+  scenario = ScenarioSpecOf(plan[1]);
+  ASSERT_TRUE(scenario.stations);
+  EXPECT_EQ(scenario.stations->percent, 0.5);
   EXPECT_FALSE(scenario.stations_file);
   EXPECT_EQ(StudyIdentityJson(*options)["maps"][0], wide + ":" + stations);
 
