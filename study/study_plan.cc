@@ -42,12 +42,6 @@ std::optional<int> SizeOf(std::string_view item) {
   return size;
 }
 
-std::string Join(const std::vector<std::string>& pieces, const std::string& separator) {
-  std::string text;
-  for (const std::string& piece : pieces) text += (text.empty() ? "" : separator) + piece;
-  return text;
-}
-
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
 
 // The index of parameter `name` in Parameters(), or none.
@@ -373,7 +367,8 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
           return wrong(integers ? "an integer or an array of integers"
                                 : "a string or an array of strings");
         }
-        // The list's items, as the items of a command line's list.
+        // The list's items, as the items of a command line's list (where
+        // a comma separates items, so none may hold one).
         std::vector<std::string> items;
         for (const ConfigValue& item :
              value.kind == Kind::kArray ? value.items : std::vector{value}) {
@@ -383,9 +378,8 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
           items.push_back(integers ? std::to_string(item.integer) : item.string);
         }
         if (key == "maps") items = MapsRelativeToFile(items, file.name);
-        const std::string text = Join(items, ",");
-        if (text.empty()) return empty;
-        runtime::SetOptionText(field, text);
+        if (runtime::JoinList(items).empty()) return empty;  // [] or [""]
+        runtime::SetOptionList(field, std::move(items));
         break;
       }
     }
@@ -454,28 +448,35 @@ class GivenOptions {
   const GivenStudyOptions& given_;
 };
 
-// A list option's text as given (comma-separated) and where it came from.
-struct ListText {
-  std::string text;
+// A list option's items as given and where they came from.
+struct ListValue {
+  std::vector<std::string> items;
   std::string origin;
 };
 
-// The given list option `name` (its text `text`), or null.
-std::optional<ListText> GivenList(const GivenOptions& given, const std::string& name,
-                                  const std::optional<std::string>& text) {
+// The given list option `name` (its items `items`), or none.
+std::optional<ListValue> GivenList(const GivenOptions& given, const std::string& name,
+                                   const std::optional<std::vector<std::string>>& items) {
   const std::string* origin = given.Find(name);
-  if (!origin || !text) return std::nullopt;
-  return ListText{*text, *origin};
+  if (!origin || !items) return std::nullopt;
+  return ListValue{*items, *origin};
 }
 
-// The items of a comma-separated list, none empty.
-Result<std::vector<std::string>> ListItems(const ListText& value) {
-  std::vector<std::string> pieces = Split(value.text, ',');
-  if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
-  for (const std::string& piece : pieces) {
-    if (piece.empty()) return Error{value.origin + ": empty item in '" + value.text + "'"};
+// A default list, written as a command line would give it.
+ListValue DefaultList(const char* text, const std::string& origin) {
+  return ListValue{runtime::SplitList(text), origin};
+}
+
+// The items of a list, each trimmed, none empty.
+Result<std::vector<std::string>> ListItems(const ListValue& value) {
+  const std::string text = runtime::JoinList(value.items);  // as typed, for the errors
+  if (text.empty()) return Error{value.origin + ": the list is empty"};
+  std::vector<std::string> items;
+  for (const std::string& item : value.items) {
+    items.push_back(Trim(item));
+    if (items.back().empty()) return Error{value.origin + ": empty item in '" + text + "'"};
   }
-  return pieces;
+  return items;
 }
 
 // --stations or --movers (`text`, the option `name`, else `default_text`):
@@ -497,7 +498,7 @@ Status ResolveCellCount(const GivenOptions& given, const std::string& name,
 
 // --maps, and the --stations and --movers every map gets.
 Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
-  if (const std::optional<ListText> maps = GivenList(given, "maps", given->maps)) {
+  if (const std::optional<ListValue> maps = GivenList(given, "maps", given->maps)) {
     Result<std::vector<std::string>> items = ListItems(*maps);
     if (!items) return items.error();
     Result<std::vector<StudyOptions::Map>> read = ExpandMapList(*items, maps->origin);
@@ -512,8 +513,8 @@ Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
 
 // --sizes (none by default with maps) and --difficulties.
 Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
-  std::optional<ListText> sizes = GivenList(given, "sizes", given->sizes);
-  if (!sizes && options.maps.empty()) sizes = ListText{kDefaultSizes, "default sizes"};
+  std::optional<ListValue> sizes = GivenList(given, "sizes", given->sizes);
+  if (!sizes && options.maps.empty()) sizes = DefaultList(kDefaultSizes, "default sizes");
   if (sizes) {
     Result<std::vector<std::string>> items = ListItems(*sizes);
     if (!items) return items.error();
@@ -530,9 +531,9 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
     }
   }
 
-  const ListText difficulties =
+  const ListValue difficulties =
       GivenList(given, "difficulties", given->difficulties)
-          .value_or(ListText{kDefaultDifficulties, "default difficulties"});
+          .value_or(DefaultList(kDefaultDifficulties, "default difficulties"));
   Result<std::vector<std::string>> items = ListItems(difficulties);
   if (!items) return items.error();
   for (const std::string& item : *items) {
@@ -551,10 +552,12 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
 
 // --approaches, the edge case (off by default with maps), --seed, --steps.
 Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
-  const ListText approaches = GivenList(given, "approaches", given->approaches)
-                                  .value_or(ListText{kAllApproaches, "default approaches"});
-  if (Trim(approaches.text).empty()) return Error{approaches.origin + ": the list is empty"};
-  Result<std::vector<Approach>> parsed = ParseApproachList(approaches.text);
+  const ListValue approaches = GivenList(given, "approaches", given->approaches)
+                                   .value_or(DefaultList(kAllApproaches, "default approaches"));
+  if (Trim(runtime::JoinList(approaches.items)).empty()) {
+    return Error{approaches.origin + ": the list is empty"};
+  }
+  Result<std::vector<Approach>> parsed = ParseApproachList(approaches.items);
   if (!parsed) return parsed.error().Prefixed(approaches.origin + ": ");
   options.approaches = std::move(*parsed);
 
@@ -571,7 +574,7 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   Result<long long> repeats = runtime::InRange("repeats", given->repeats, 1, 1, kMaxRepeats);
   if (!repeats) return given.Located(repeats.error(), "repeats");
   options.repeats = static_cast<int>(*repeats);
-  if (const std::optional<ListText> maze_seeds =
+  if (const std::optional<ListValue> maze_seeds =
           GivenList(given, "maze-seeds", given->maze_seeds)) {
     if (given->seed) return Error{maze_seeds->origin + ": choose one of --seed and --maze-seeds"};
     Result<std::vector<std::string>> items = ListItems(*maze_seeds);
@@ -917,7 +920,7 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options,
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
   runtime::RunOptions run = options.learner;
-  run.approach = Join(names, ",");
+  run.approach = runtime::JoinList(names);  // the coordinator's command line
   run.out = out_dir;
   run.learner_seed.reset();
   if (configuration.learner_seed) {

@@ -91,17 +91,18 @@ struct StudyOptions {
 };
 
 // The study's options as given, declared once (DeclareStudyCommandLine):
-// the study's own (lists kept as their comma-separated text, a study file's
-// array as its items joined) and the groups it shares with `dynapath run`
+// the study's own (lists kept as their items: a command line's split at its
+// commas where it is read, a study file's array item by item) and the
+// groups it shares with `dynapath run`
 // (learner options, placement, mode, threads, LCM URL, log level, seed and
 // steps). CLI11 parses a command line into it; a study file's values are
 // set into its fields by their keys (the same names, with '-' or '_'; the
 // declaration on runtime::OptionFields says where each lives and its kind).
 struct StudyCommandLine {
-  std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
+  std::optional<std::vector<std::string>> sizes, difficulties, approaches, maps, maze_seeds;
+  std::optional<std::string> out, stations, movers;
   bool edge_case = false, no_edge_case = false;
   std::optional<long long> seed, steps, repeats, parallel;
-  std::optional<std::string> maze_seeds;
   runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
   runtime::ModeOptions mode;
   runtime::ThreadOptions threads;

@@ -138,7 +138,8 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   ASSERT_TRUE(file) << file.error().message;
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.sizes, "20,50");
+  EXPECT_EQ(values->values.sizes, (std::vector<std::string>{"20", "50"}));
+  EXPECT_EQ(values->values.approaches, (std::vector<std::string>{"A* Static", "singleAgent"}));
   EXPECT_EQ(values->origins.at("sizes"), "s.toml:1: sizes");
   EXPECT_EQ(values->values.mode.agents, 3);
   EXPECT_EQ(values->values.learner.leaf_limit, 10);
@@ -192,7 +193,7 @@ TEST(StudyPlanTest, FileValuesAreSetIntoTheirOptionsTyped) {
   EXPECT_EQ(values.learner.learner_seed, 9);
   EXPECT_EQ(values.learner.bootstrap, "in-region");
   EXPECT_EQ(values.threads.threads, 3);
-  EXPECT_EQ(values.maze_seeds, "4,5");
+  EXPECT_EQ(values.maze_seeds, (std::vector<std::string>{"4", "5"}));
   EXPECT_TRUE(values.mode.embedded);
   EXPECT_EQ(given->origins.at("epsilon-start"), "s.toml:1: epsilon-start");
   EXPECT_TRUE(given->sweeps.empty());
@@ -384,7 +385,8 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   ASSERT_TRUE(file);
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps, data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations");
+  EXPECT_EQ(values->values.maps,
+            std::vector<std::string>{data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations"});
 
   // A missing stations file or one for a folder: one error before the study.
   options = Resolve(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
@@ -405,8 +407,9 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(file) << file.error().message;
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps,
-            data + "/maps/wide-5-9.map," + data + "/maps/maze-25-61-1.map");  // absolute: kept
+  EXPECT_EQ(values->values.maps,  // the second, absolute, kept
+            (std::vector<std::string>{data + "/maps/wide-5-9.map",
+                                      data + "/maps/maze-25-61-1.map"}));
   Result<StudyOptions> options = study::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
@@ -418,7 +421,7 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(file);
   values = StudyFileOptions(*file);
   ASSERT_TRUE(values);
-  EXPECT_EQ(values->values.maps, "maps/wide-5-9.map");
+  EXPECT_EQ(values->values.maps, std::vector<std::string>{"maps/wide-5-9.map"});
   // The command line's relative paths are the working directory's.
   options = Resolve(Cli({{"maps", "maps/wide-5-9.map"}}), 2);
   ASSERT_FALSE(options);
@@ -455,6 +458,39 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
     Result<StudyOptions> options = Resolve(values, 2);
     ASSERT_FALSE(options) << expected;
     EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
+  }
+}
+
+// A command line's list is split at its commas where it is read, a study
+// file's array kept item by item; each item is trimmed when resolved, and
+// an error quotes the list as written.
+TEST(StudyPlanTest, ListsAreCarriedAsTheirItems) {
+  Result<GivenStudyOptions> given =
+      Cli({{"sizes", "50, 20"}, {"approaches", " BFS Oracle,A* Static"}, {"maze-seeds", "3,4"}});
+  ASSERT_TRUE(given) << given.error().message;
+  EXPECT_EQ(given->values.sizes, (std::vector<std::string>{"50", " 20"}));
+  EXPECT_EQ(given->values.approaches, (std::vector<std::string>{" BFS Oracle", "A* Static"}));
+  Result<StudyOptions> options = study::ResolveStudyOptions(*given, 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->sizes, (std::vector<int>{50, 20}));
+  EXPECT_EQ(options->approaches,
+            (std::vector<Approach>{Approach::kBfsOracle, Approach::kAStarStatic}));
+  EXPECT_EQ(options->maze_seeds, (std::vector<unsigned>{3, 4}));
+  EXPECT_EQ(options->repeats, 2);
+
+  const std::pair<Result<StudyOptions>, const char*> refused[] = {
+      {Resolve(Cli({{"sizes", "20, ,50"}}), 2), "option --sizes: empty item in '20, ,50'"},
+      {Resolve(Cli({{"maze-seeds", "1,"}}), 2), "option --maze-seeds: empty item in '1,'"},
+      {FromFile("difficulties = ['easy', ' ']\n"),
+       "s.toml:1: difficulties: empty item in 'easy, '"},
+      {FromFile("approaches = [' ']\n"), "s.toml:1: approaches: the list is empty"},
+      {FromFile("maps = ['']\n"), "s.toml:1: maps: must not be empty"},
+      {FromFile("difficulties = ['easy,hard']\n"),
+       "s.toml:1: difficulties: 'easy,hard' holds a comma"},
+  };
+  for (const auto& [result, expected] : refused) {
+    ASSERT_FALSE(result) << expected;
+    EXPECT_EQ(result.error().message, expected);
   }
 }
 
