@@ -107,8 +107,8 @@ class OptionGroup {
               const std::string& help);
   // A comma-separated list, kept as its items (SplitList, where the command
   // line is read); `kind` is kIntegerList or kStringList.
-  void List(const std::string& name, std::optional<std::vector<std::string>>& items,
-            ValueKind kind, const std::string& value_name, const std::string& help,
+  void List(const std::string& name, std::optional<std::vector<std::string>>& items, ValueKind kind,
+            const std::string& value_name, const std::string& help,
             const std::string& default_text);
   // A flag without a value.
   void Flag(const std::string& name, bool& value, const std::string& help);

@@ -52,7 +52,7 @@ struct StudyOptions {
     std::string stations_file;
   };
   std::vector<Map> maps;
-  CellCount stations, movers;  // ResolveStudyOptions: as given, else the defaults above
+  CellCount stations, movers;    // ResolveStudyOptions: as given, else the defaults above
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
   // --repeats: each configuration runs this many times, repeat k with the

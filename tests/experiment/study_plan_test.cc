@@ -385,8 +385,8 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   ASSERT_TRUE(file);
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps,
-            std::vector<std::string>{data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations"});
+  EXPECT_EQ(values->values.maps, std::vector<std::string>{data + "/maps/wide-5-9.map:" + data +
+                                                          "/maps/wide-5-9.stations"});
 
   // A missing stations file or one for a folder: one error before the study.
   options = Resolve(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
@@ -407,9 +407,9 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(file) << file.error().message;
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps,  // the second, absolute, kept
-            (std::vector<std::string>{data + "/maps/wide-5-9.map",
-                                      data + "/maps/maze-25-61-1.map"}));
+  EXPECT_EQ(
+      values->values.maps,  // the second, absolute, kept
+      (std::vector<std::string>{data + "/maps/wide-5-9.map", data + "/maps/maze-25-61-1.map"}));
   Result<StudyOptions> options = study::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
