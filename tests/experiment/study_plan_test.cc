@@ -89,10 +89,10 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   EXPECT_EQ(scenario.steps, 10);
   EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay || scenario.stations);
   // As envsim's process gets it: the words `dynapath run` takes.
-  const runtime::ScenarioOptions words = runtime::ScenarioOptionsOf(scenario);
-  EXPECT_EQ(words.size, 50);
-  EXPECT_EQ(words.difficulty, "hard");
-  EXPECT_FALSE(words.maze || words.stations || words.movers);
+  const runtime::ScenarioOptions maze_words = runtime::ScenarioOptionsOf(scenario);
+  EXPECT_EQ(maze_words.size, 50);
+  EXPECT_EQ(maze_words.difficulty, "hard");
+  EXPECT_FALSE(maze_words.maze || maze_words.stations || maze_words.movers);
   // The configuration's run plan, built from the study's typed plan.
   const runtime::RunPlan run = RunPlanOf(*options, plan[0], "out/runs/x");
   EXPECT_EQ(run.approaches,
