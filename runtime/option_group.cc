@@ -134,6 +134,11 @@ void SetOptionText(const OptionField& field, const std::string& text) {
   if (auto* const* value = std::get_if<std::string*>(&field.value)) **value = text;
   if (auto* const* value = std::get_if<std::optional<std::string>*>(&field.value)) **value = text;
 }
+void SetOptionList(const OptionField& field, std::vector<std::string> items) {
+  if (auto* const* value = std::get_if<std::optional<std::vector<std::string>>*>(&field.value)) {
+    **value = std::move(items);
+  }
+}
 void SetOptionInteger(const OptionField& field, long long integer) {
   if (auto* const* value = std::get_if<long long*>(&field.value)) **value = integer;
   if (auto* const* value = std::get_if<std::optional<long long>*>(&field.value)) **value = integer;
@@ -241,17 +246,37 @@ void OptionGroup::Flag(const std::string& name, bool& value, const std::string& 
   app_->add_flag(name, value, help);
 }
 
-void OptionGroup::List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
-                       const std::string& value_name, const std::string& help,
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    items.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (comma == std::string::npos) return items;
+    start = comma + 1;
+  }
+}
+
+std::string JoinList(const std::vector<std::string>& items) {
+  std::string text;
+  for (size_t i = 0; i < items.size(); ++i) text += (i == 0 ? "" : ",") + items[i];
+  return text;
+}
+
+void OptionGroup::List(const std::string& name, std::optional<std::vector<std::string>>& items,
+                       ValueKind kind, const std::string& value_name, const std::string& help,
                        const std::string& default_text) {
-  if (Bind(name, kind, text)) return;
+  if (Bind(name, kind, items)) return;
   if (writer_ != nullptr) {
-    if (text) writer_->PutText(Key(name), *text);
+    if (items) writer_->PutText(Key(name), JoinList(*items));
     return;
   }
   Record(name, kind);
   CLI::Option* option =
-      app_->add_option(name, text, help)->type_name(value_name)->check(NonEmptyValue());
+      app_->add_option_function<std::string>(
+              name, [&items](const std::string& text) { items = SplitList(text); }, help)
+          ->type_name(value_name)
+          ->check(NonEmptyValue());
   if (!default_text.empty()) option->default_str(default_text);
 }
 

@@ -65,16 +65,18 @@ using OptionKinds = std::map<std::string, ValueKind>;
 struct OptionField {
   ValueKind kind = ValueKind::kString;
   std::variant<std::string*, std::optional<std::string>*, std::optional<long long>*,
-               std::optional<double>*, long long*, double*, bool*>
+               std::optional<double>*, long long*, double*, bool*,
+               std::optional<std::vector<std::string>>*>
       value;
 };
 using OptionFields = std::map<std::string, OptionField>;
 // Sets `to`'s value to `from`'s (fields of the same option in two structs).
 void CopyOptionField(const OptionField& from, const OptionField& to);
 // Set a field from a value of its kind, read from a file: text (a kString
-// or list field), an integer, a real, a flag. A value of another kind than
-// the field's pointer is not set (check the kind first).
+// field), an integer, a real, a flag, a list's items. A value of another
+// kind than the field's pointer is not set (check the kind first).
 void SetOptionText(const OptionField& field, const std::string& text);
+void SetOptionList(const OptionField& field, std::vector<std::string> items);
 void SetOptionInteger(const OptionField& field, long long integer);
 void SetOptionReal(const OptionField& field, double real);
 void SetOptionBoolean(const OptionField& field, bool value);
@@ -103,9 +105,9 @@ class OptionGroup {
               const std::string& help);
   void Option(const std::string& name, double& value, const std::string& value_name,
               const std::string& help);
-  // A comma-separated list, kept as its text; `kind` is kIntegerList or
-  // kStringList.
-  void List(const std::string& name, std::optional<std::string>& text, ValueKind kind,
+  // A comma-separated list, kept as its items (SplitList, where the command
+  // line is read); `kind` is kIntegerList or kStringList.
+  void List(const std::string& name, std::optional<std::vector<std::string>>& items, ValueKind kind,
             const std::string& value_name, const std::string& help,
             const std::string& default_text);
   // A flag without a value.
@@ -122,6 +124,11 @@ class OptionGroup {
   ConfigWriter* writer_ = nullptr;
   OptionFields* fields_ = nullptr;
 };
+
+// A command line's comma-separated list: its items as written, split at
+// every comma ("20,,50" has an empty item; none is trimmed), and back.
+std::vector<std::string> SplitList(const std::string& text);
+std::string JoinList(const std::vector<std::string>& items);
 
 // `fallback` when unset; else `value` when in [min, max], else the error
 // "option --NAME must be between MIN and MAX, got VALUE".

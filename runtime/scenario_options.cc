@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <charconv>
 #include <optional>
 #include <vector>
 
@@ -115,7 +116,10 @@ Status CheckStationReachable(const Grid& grid) {
   return Error{"no free cell of the maze reaches a station"};
 }
 
-Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
+// --replay sets the maze and changes: no other scenario option may be given
+// (the options as given, or the spec: the same fields).
+template <typename Given>
+Status CheckReplayAlone(const Given& o) {
   const std::pair<const char*, bool> others[] = {{"size", o.size.has_value()},
                                                  {"cols", o.cols.has_value()},
                                                  {"difficulty", o.difficulty.has_value()},
@@ -133,6 +137,11 @@ Result<ScenarioSetup> ReplayScenario(const ScenarioOptions& o) {
           Error::Code::kInvalidArgument, other};
     }
   }
+  return Ok{};
+}
+
+Result<ScenarioSetup> ReplayScenario(const ScenarioSpec& o) {
+  if (Status alone = CheckReplayAlone(o); !alone) return alone.error();
   Result<protocol::LoggedScenario> logged = protocol::ReadScenarioLog(*o.replay);
   if (!logged) return logged.error();
   ScenarioSetup setup;
@@ -152,14 +161,12 @@ Error OfOption(const std::string& name, const Error& error) {
 // --stations N|P% on a loaded maze. A MovingAI map has no stations of its
 // own, so there a count that places none (0, 0%, a percentage rounding to
 // no cell) is an error of its own rather than "the map has no stations".
-Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom& random) {
-  Result<CellCount> count = ParseCellCount(text);
-  if (!count) return OfOption("stations", count.error());
-  const int cells = count->Resolve(grid.Count(Cell::kFree));
+Status PlaceStations(const CellCount& count, bool movingai, Grid& grid, CRandom& random) {
+  const int cells = count.Resolve(grid.Count(Cell::kFree));
   if (movingai && cells == 0) {
     return Error::Option("stations", "must place at least 1 station on a MovingAI map, got '" +
-                                         text + "' (" + std::to_string(grid.Count(Cell::kFree)) +
-                                         " free cells)");
+                                         CellCountText(count) + "' (" +
+                                         std::to_string(grid.Count(Cell::kFree)) + " free cells)");
   }
   Result<std::vector<int>> placed = PlaceOnFreeCells(grid, cells, Cell::kStation, random);
   if (!placed) return OfOption("stations", placed.error());
@@ -168,7 +175,7 @@ Status PlaceStations(const std::string& text, bool movingai, Grid& grid, CRandom
 
 // Stations and movers of a loaded maze, drawn from `random`;
 // `movers` gets the movers' cells (empty when --movers is not given).
-Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& random,
+Status PlaceOnMap(const ScenarioSpec& o, bool movingai, Grid& grid, CRandom& random,
                   std::optional<std::vector<int>>& movers) {
   if (o.stations && o.stations_file) {
     return Error{"give --stations or --stations-file, not both"};
@@ -187,10 +194,8 @@ Status PlaceOnMap(const ScenarioOptions& o, bool movingai, Grid& grid, CRandom& 
         "a MovingAI map has no stations: give --stations N (or P%) or --stations-file FILE"};
   }
   if (o.movers) {
-    Result<CellCount> count = ParseCellCount(*o.movers);
-    if (!count) return OfOption("movers", count.error());
     Result<std::vector<int>> placed =
-        PlaceOnFreeCells(grid, count->Resolve(grid.Count(Cell::kFree)), Cell::kObstacle, random);
+        PlaceOnFreeCells(grid, o.movers->Resolve(grid.Count(Cell::kFree)), Cell::kObstacle, random);
     if (!placed) return OfOption("movers", placed.error());
     movers = std::move(*placed);
   } else if (movingai) {
@@ -230,14 +235,84 @@ Status CheckChangeFile(const std::string& path, const ChangeFileHeader& header,
 
 }  // namespace
 
-Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
+Result<CellCount> ParseCellCountOption(const std::string& name, const std::string& text) {
+  Result<CellCount> count = ParseCellCount(text);
+  if (!count) return OfOption(name, count.error());
+  return count;
+}
+
+std::string CellCountText(const CellCount& count) {
+  if (count.percent < 0.0) return std::to_string(count.count);
+  char text[64];
+  const auto written = std::to_chars(text, text + sizeof text, count.percent);  // shortest
+  return std::string(text, written.ptr) + "%";
+}
+
+Result<ScenarioSpec> ParseScenarioOptions(const ScenarioOptions& o) {
+  // With --replay the other options' values are not read: giving one is
+  // the error.
+  if (o.replay) {
+    if (Status alone = CheckReplayAlone(o); !alone) return alone.error();
+  }
+  ScenarioSpec spec;
+  spec.size = o.size;
+  spec.cols = o.cols;
+  spec.seed = o.seed;
+  spec.steps = o.steps;
+  if (o.difficulty) {
+    Result<Difficulty> difficulty = DifficultyWords().ParseOption("difficulty", *o.difficulty);
+    if (!difficulty) return difficulty.error();
+    spec.difficulty = *difficulty;
+  }
+  spec.maze = o.maze;
+  spec.stations_file = o.stations_file;
+  if (o.stations) {
+    Result<CellCount> stations = ParseCellCountOption("stations", *o.stations);
+    if (!stations) return stations.error();
+    spec.stations = *stations;
+  }
+  if (o.movers) {
+    Result<CellCount> movers = ParseCellCountOption("movers", *o.movers);
+    if (!movers) return movers.error();
+    spec.movers = *movers;
+  }
+  spec.changes = o.changes;
+  spec.replay = o.replay;
+  spec.allow_unreachable = o.allow_unreachable;
+  spec.force_changes = o.force_changes;
+  return spec;
+}
+
+ScenarioOptions ScenarioOptionsOf(const ScenarioSpec& spec) {
+  ScenarioOptions o;
+  o.size = spec.size;
+  o.cols = spec.cols;
+  o.seed = spec.seed;
+  o.steps = spec.steps;
+  if (spec.difficulty) o.difficulty = DifficultyWords().Name(*spec.difficulty);
+  o.maze = spec.maze;
+  o.stations_file = spec.stations_file;
+  if (spec.stations) o.stations = CellCountText(*spec.stations);
+  if (spec.movers) o.movers = CellCountText(*spec.movers);
+  o.changes = spec.changes;
+  o.replay = spec.replay;
+  o.allow_unreachable = spec.allow_unreachable;
+  o.force_changes = spec.force_changes;
+  return o;
+}
+
+Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& options) {
+  Result<ScenarioSpec> spec = ParseScenarioOptions(options);
+  if (!spec) return spec.error();
+  return ResolveScenario(*spec);
+}
+
+Result<ScenarioSetup> ResolveScenario(const ScenarioSpec& o) {
   if (o.replay) return ReplayScenario(o);
   constexpr long long kMaxSide = kMaxGridSide;
   ScenarioSetup setup;
-  Result<Difficulty> difficulty = kDefaultDifficulty;
-  if (o.difficulty) difficulty = DifficultyWords().ParseOption("difficulty", *o.difficulty);
-  if (!difficulty) return difficulty.error();
-  Result<long long> seed = InRange("seed", o.seed, ReportSeed(*difficulty), 0, kMaxSeed);
+  const Difficulty difficulty = o.difficulty.value_or(kDefaultDifficulty);
+  Result<long long> seed = InRange("seed", o.seed, ReportSeed(difficulty), 0, kMaxSeed);
   if (!seed) return seed.error();
   setup.seed = static_cast<uint64_t>(*seed);
   CRandom random(static_cast<uint32_t>(*seed));
@@ -255,7 +330,7 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     if (!placed) return placed.error();
     // A loaded maze (a map or a text maze) is told apart in result files by
     // its file name: mazes of one size differ.
-    setup.labels.difficulty_label = o.difficulty ? DifficultyName(*difficulty) : MapLabel(*o.maze);
+    setup.labels.difficulty_label = o.difficulty ? DifficultyName(difficulty) : MapLabel(*o.maze);
     setup.source = "maze file " + *o.maze;
   } else {
     const std::pair<const char*, bool> map_options[] = {
@@ -274,8 +349,8 @@ Result<ScenarioSetup> ResolveScenario(const ScenarioOptions& o) {
     Result<long long> cols = InRange("cols", o.cols, *rows, 1, kMaxSide);
     if (!cols) return cols.error();
     setup.scenario.grid = GenerateMaze(static_cast<int>(*rows), static_cast<int>(*cols),
-                                       ProbabilitiesOf(*difficulty), random);
-    setup.labels.difficulty_label = DifficultyName(*difficulty);
+                                       ProbabilitiesOf(difficulty), random);
+    setup.labels.difficulty_label = DifficultyName(difficulty);
     setup.source = "generated, seed " + std::to_string(*seed);
   }
   const Grid& grid = setup.scenario.grid;

@@ -59,9 +59,10 @@ test_asan() {
   # reassignments) under network impairments; the normal build runs it.
   # Nor the checks that run no instrumented code: the plots (Python on
   # committed CSVs), the layering of the tree and the CLI reference (--help
-  # texts). Nor the executable docs (ctest docs.*: the documentation's
-  # commands, which the other tests cover under ASan in their own
-  # configurations). Nor the study scripts whose C++ is the study driver
+  # texts), nor the compiler's refusal of core's private headers
+  # (core_private_headers: compiles, runs nothing). Nor the executable docs
+  # (ctest docs.*: the documentation's commands, which the other tests
+  # cover under ASan in their own configurations). Nor the study scripts whose C++ is the study driver
   # that experiment_end_to_end runs under ASan (repeats, params.toml reruns,
   # the reproduction report): their files and statistics are the release
   # build's to check, their parsers are fuzzed and unit-tested here. Nor the
@@ -70,7 +71,7 @@ test_asan() {
   # Twice as many tests as cores: the end-to-end scripts spend much of
   # their time waiting (process start-up, pauses, timeouts), not computing.
   ctest --test-dir build-asan --output-on-failure -j"$((jobs * 2))" \
-    -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end|web_.*)$' \
+    -E '^(lan|plot_figures|plot_reference_overlay|plot_figure_layout|layering|layering_self_test|core_private_headers|options_table|docs\..*|docs_self_test|repeats_end_to_end|params_end_to_end|reproduction_report_end_to_end|web_.*)$' \
     | tee build-asan/ctest.log
   echo "checked: ASan+UBSan: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' build-asan/ctest.log | tail -1)"
 }

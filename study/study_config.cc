@@ -170,7 +170,9 @@ Status SetOptionFields(const ConfigFile& file, const runtime::OptionFields& fiel
     };
     const runtime::ValueKind kind = field->second.kind;
     // A text option takes any value as its text ("stations = 5", an array's
-    // items joined by ','), as CLI11 takes a --config file's values.
+    // items joined by ','), as CLI11 takes a --config file's values; a list
+    // option an array's items, or another value's text as a command line's
+    // list.
     const bool text = kind == runtime::ValueKind::kString ||
                       kind == runtime::ValueKind::kIntegerList ||
                       kind == runtime::ValueKind::kStringList;
@@ -200,7 +202,18 @@ Status SetOptionFields(const ConfigFile& file, const runtime::OptionFields& fiel
                                                   ? value.number
                                                   : static_cast<double>(value.integer));
         break;
-      default:  // text and lists
+      case runtime::ValueKind::kIntegerList:
+      case runtime::ValueKind::kStringList: {
+        std::vector<std::string> items;
+        if (value.kind == Kind::kArray) {
+          for (const ConfigValue& item : value.items) items.push_back(item.Text());
+        } else {
+          items = runtime::SplitList(value.Text());
+        }
+        runtime::SetOptionList(field->second, std::move(items));
+        break;
+      }
+      case runtime::ValueKind::kString:
         runtime::SetOptionText(field->second, value.Text());
         break;
     }

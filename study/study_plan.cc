@@ -42,12 +42,6 @@ std::optional<int> SizeOf(std::string_view item) {
   return size;
 }
 
-std::string Join(const std::vector<std::string>& pieces, const std::string& separator) {
-  std::string text;
-  for (const std::string& piece : pieces) text += (text.empty() ? "" : separator) + piece;
-  return text;
-}
-
 std::string LowerDifficulty(Difficulty difficulty) { return ToLower(DifficultyName(difficulty)); }
 
 // The index of parameter `name` in Parameters(), or none.
@@ -373,7 +367,8 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
           return wrong(integers ? "an integer or an array of integers"
                                 : "a string or an array of strings");
         }
-        // The list's items, as the items of a command line's list.
+        // The list's items, as the items of a command line's list (where
+        // a comma separates items, so none may hold one).
         std::vector<std::string> items;
         for (const ConfigValue& item :
              value.kind == Kind::kArray ? value.items : std::vector{value}) {
@@ -383,9 +378,8 @@ Result<GivenStudyOptions> StudyFileOptions(const ConfigFile& file) {
           items.push_back(integers ? std::to_string(item.integer) : item.string);
         }
         if (key == "maps") items = MapsRelativeToFile(items, file.name);
-        const std::string text = Join(items, ",");
-        if (text.empty()) return empty;
-        runtime::SetOptionText(field, text);
+        if (runtime::JoinList(items).empty()) return empty;  // [] or [""]
+        runtime::SetOptionList(field, std::move(items));
         break;
       }
     }
@@ -454,62 +448,73 @@ class GivenOptions {
   const GivenStudyOptions& given_;
 };
 
-// A list option's text as given (comma-separated) and where it came from.
-struct ListText {
-  std::string text;
+// A list option's items as given and where they came from.
+struct ListValue {
+  std::vector<std::string> items;
   std::string origin;
 };
 
-// The given list option `name` (its text `text`), or null.
-std::optional<ListText> GivenList(const GivenOptions& given, const std::string& name,
-                                  const std::optional<std::string>& text) {
+// The given list option `name` (its items `items`), or none.
+std::optional<ListValue> GivenList(const GivenOptions& given, const std::string& name,
+                                   const std::optional<std::vector<std::string>>& items) {
   const std::string* origin = given.Find(name);
-  if (!origin || !text) return std::nullopt;
-  return ListText{*text, *origin};
+  if (!origin || !items) return std::nullopt;
+  return ListValue{*items, *origin};
 }
 
-// The items of a comma-separated list, none empty.
-Result<std::vector<std::string>> ListItems(const ListText& value) {
-  std::vector<std::string> pieces = Split(value.text, ',');
-  if (value.text.empty() || pieces.empty()) return Error{value.origin + ": the list is empty"};
-  for (const std::string& piece : pieces) {
-    if (piece.empty()) return Error{value.origin + ": empty item in '" + value.text + "'"};
+// A default list, written as a command line would give it.
+ListValue DefaultList(const char* text, const std::string& origin) {
+  return ListValue{runtime::SplitList(text), origin};
+}
+
+// The items of a list, each trimmed, none empty.
+Result<std::vector<std::string>> ListItems(const ListValue& value) {
+  const std::string text = runtime::JoinList(value.items);  // as typed, for the errors
+  if (text.empty()) return Error{value.origin + ": the list is empty"};
+  std::vector<std::string> items;
+  for (const std::string& item : value.items) {
+    items.push_back(Trim(item));
+    if (items.back().empty()) return Error{value.origin + ": empty item in '" + text + "'"};
   }
-  return pieces;
+  return items;
 }
 
-// --stations or --movers (`text`, the option `name`): N or P% of a map's
-// free cells, so only with maps.
+// --stations or --movers (`text`, the option `name`, else `default_text`):
+// N or P% of a map's free cells, so only with maps. Parsed here, once.
 Status ResolveCellCount(const GivenOptions& given, const std::string& name,
-                        const std::optional<std::string>& text, const StudyOptions& options,
-                        std::string& resolved) {
-  if (!text) return Ok{};
-  const std::string& origin = *given.Find(name);
-  if (options.maps.empty()) return Error{origin + ": needs maps"};
+                        const std::optional<std::string>& text, const char* default_text,
+                        const StudyOptions& options, CellCount& resolved) {
+  const std::string* origin = given.Find(name);
+  if (!text || !origin) {
+    resolved = *ParseCellCount(default_text);  // a constant that parses
+    return Ok{};
+  }
+  if (options.maps.empty()) return Error{*origin + ": needs maps"};
   Result<CellCount> count = ParseCellCount(*text);
-  if (!count) return count.error().Prefixed(origin + ": ");
-  resolved = *text;
+  if (!count) return count.error().Prefixed(*origin + ": ");
+  resolved = *count;
   return Ok{};
 }
 
 // --maps, and the --stations and --movers every map gets.
 Status ResolveMaps(const GivenOptions& given, StudyOptions& options) {
-  if (const std::optional<ListText> maps = GivenList(given, "maps", given->maps)) {
+  if (const std::optional<ListValue> maps = GivenList(given, "maps", given->maps)) {
     Result<std::vector<std::string>> items = ListItems(*maps);
     if (!items) return items.error();
     Result<std::vector<StudyOptions::Map>> read = ExpandMapList(*items, maps->origin);
     if (!read) return read.error();
     options.maps = std::move(*read);
   }
-  Status stations = ResolveCellCount(given, "stations", given->stations, options, options.stations);
+  Status stations = ResolveCellCount(given, "stations", given->stations, kDefaultStations, options,
+                                     options.stations);
   if (!stations) return stations;
-  return ResolveCellCount(given, "movers", given->movers, options, options.movers);
+  return ResolveCellCount(given, "movers", given->movers, kDefaultMovers, options, options.movers);
 }
 
 // --sizes (none by default with maps) and --difficulties.
 Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
-  std::optional<ListText> sizes = GivenList(given, "sizes", given->sizes);
-  if (!sizes && options.maps.empty()) sizes = ListText{kDefaultSizes, "default sizes"};
+  std::optional<ListValue> sizes = GivenList(given, "sizes", given->sizes);
+  if (!sizes && options.maps.empty()) sizes = DefaultList(kDefaultSizes, "default sizes");
   if (sizes) {
     Result<std::vector<std::string>> items = ListItems(*sizes);
     if (!items) return items.error();
@@ -526,9 +531,9 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
     }
   }
 
-  const ListText difficulties =
+  const ListValue difficulties =
       GivenList(given, "difficulties", given->difficulties)
-          .value_or(ListText{kDefaultDifficulties, "default difficulties"});
+          .value_or(DefaultList(kDefaultDifficulties, "default difficulties"));
   Result<std::vector<std::string>> items = ListItems(difficulties);
   if (!items) return items.error();
   for (const std::string& item : *items) {
@@ -547,10 +552,12 @@ Status ResolveMazes(const GivenOptions& given, StudyOptions& options) {
 
 // --approaches, the edge case (off by default with maps), --seed, --steps.
 Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
-  const ListText approaches = GivenList(given, "approaches", given->approaches)
-                                  .value_or(ListText{kAllApproaches, "default approaches"});
-  if (Trim(approaches.text).empty()) return Error{approaches.origin + ": the list is empty"};
-  Result<std::vector<Approach>> parsed = ParseApproachList(approaches.text);
+  const ListValue approaches = GivenList(given, "approaches", given->approaches)
+                                   .value_or(DefaultList(kAllApproaches, "default approaches"));
+  if (Trim(runtime::JoinList(approaches.items)).empty()) {
+    return Error{approaches.origin + ": the list is empty"};
+  }
+  Result<std::vector<Approach>> parsed = ParseApproachList(approaches.items);
   if (!parsed) return parsed.error().Prefixed(approaches.origin + ": ");
   options.approaches = std::move(*parsed);
 
@@ -567,7 +574,7 @@ Status ResolveRuns(const GivenOptions& given, StudyOptions& options) {
   Result<long long> repeats = runtime::InRange("repeats", given->repeats, 1, 1, kMaxRepeats);
   if (!repeats) return given.Located(repeats.error(), "repeats");
   options.repeats = static_cast<int>(*repeats);
-  if (const std::optional<ListText> maze_seeds =
+  if (const std::optional<ListValue> maze_seeds =
           GivenList(given, "maze-seeds", given->maze_seeds)) {
     if (given->seed) return Error{maze_seeds->origin + ": choose one of --seed and --maze-seeds"};
     Result<std::vector<std::string>> items = ListItems(*maze_seeds);
@@ -876,23 +883,23 @@ std::vector<StudyConfiguration> MakeStudyPlan(const StudyOptions& options) {
   return plan;
 }
 
-runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration) {
-  runtime::ScenarioOptions options;
-  options.seed = configuration.seed;
-  options.steps = configuration.steps;
+runtime::ScenarioSpec ScenarioSpecOf(const StudyConfiguration& configuration) {
+  runtime::ScenarioSpec spec;
+  spec.seed = configuration.seed;
+  spec.steps = configuration.steps;
   if (!configuration.map.empty()) {
-    options.maze = configuration.map;
+    spec.maze = configuration.map;
     if (configuration.stations_file.empty()) {
-      options.stations = configuration.stations;
+      spec.stations = configuration.stations;
     } else {
-      options.stations_file = configuration.stations_file;
+      spec.stations_file = configuration.stations_file;
     }
-    if (!configuration.movers.empty()) options.movers = configuration.movers;
-    return options;
+    spec.movers = configuration.movers;
+    return spec;
   }
-  options.size = configuration.size;
-  options.difficulty = LowerDifficulty(configuration.difficulty);
-  return options;
+  spec.size = configuration.size;
+  spec.difficulty = configuration.difficulty;
+  return spec;
 }
 
 runtime::RunPlan RunPlanOf(const StudyOptions& options, const StudyConfiguration& configuration,
@@ -913,7 +920,7 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options,
   std::vector<std::string> names;
   for (const Approach approach : options.approaches) names.push_back(ApproachName(approach));
   runtime::RunOptions run = options.learner;
-  run.approach = Join(names, ",");
+  run.approach = runtime::JoinList(names);  // the coordinator's command line
   run.out = out_dir;
   run.learner_seed.reset();
   if (configuration.learner_seed) {
@@ -949,8 +956,15 @@ Json ParametersJson(const PlannerOptions& planner) {
 }  // namespace
 
 Json StudyIdentityWithParameters(Json identity) {
-  if (identity.is_object() && !identity.contains("parameters")) {
-    identity["parameters"] = ParametersJson(PlannerOptions{});
+  if (!identity.is_object()) return identity;
+  if (!identity.contains("parameters")) identity["parameters"] = ParametersJson(PlannerOptions{});
+  // A manifest records stations and movers as written before they were
+  // kept typed ("0.50%"); a value that does not parse stays, and differs.
+  for (const char* key : {"stations", "movers"}) {
+    if (!identity.contains(key) || !identity[key].is_string()) continue;
+    if (Result<CellCount> count = ParseCellCount(identity[key].get<std::string>())) {
+      identity[key] = runtime::CellCountText(*count);
+    }
   }
   return identity;
 }
@@ -1000,8 +1014,8 @@ Json StudyIdentityJson(const StudyOptions& options) {
     for (const StudyOptions::Map& map : options.maps) {
       maps.push_back(map.stations_file.empty() ? map.path : map.path + ":" + map.stations_file);
     }
-    json["stations"] = options.stations;
-    json["movers"] = options.movers;
+    json["stations"] = runtime::CellCountText(options.stations);
+    json["movers"] = runtime::CellCountText(options.movers);
   }
   return json;
 }

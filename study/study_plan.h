@@ -12,6 +12,7 @@
 #include "app/repeats.h"
 #include "dynapath/approach.h"
 #include "dynapath/difficulty.h"
+#include "dynapath/map_scenario.h"
 #include "dynapath/result.h"
 #include "runtime/option_group.h"
 #include "runtime/process_options.h"
@@ -51,8 +52,7 @@ struct StudyOptions {
     std::string stations_file;
   };
   std::vector<Map> maps;
-  std::string stations = kDefaultStations;
-  std::string movers = kDefaultMovers;
+  CellCount stations, movers;    // ResolveStudyOptions: as given, else the defaults above
   std::optional<unsigned> seed;  // none: the report's 50 + difficulty index
   std::optional<int> steps;      // none: the report's 2 x rows
   // --repeats: each configuration runs this many times, repeat k with the
@@ -91,17 +91,18 @@ struct StudyOptions {
 };
 
 // The study's options as given, declared once (DeclareStudyCommandLine):
-// the study's own (lists kept as their comma-separated text, a study file's
-// array as its items joined) and the groups it shares with `dynapath run`
+// the study's own (lists kept as their items: a command line's split at its
+// commas where it is read, a study file's array item by item) and the
+// groups it shares with `dynapath run`
 // (learner options, placement, mode, threads, LCM URL, log level, seed and
 // steps). CLI11 parses a command line into it; a study file's values are
 // set into its fields by their keys (the same names, with '-' or '_'; the
 // declaration on runtime::OptionFields says where each lives and its kind).
 struct StudyCommandLine {
-  std::optional<std::string> sizes, difficulties, approaches, out, maps, stations, movers;
+  std::optional<std::vector<std::string>> sizes, difficulties, approaches, maps, maze_seeds;
+  std::optional<std::string> out, stations, movers;
   bool edge_case = false, no_edge_case = false;
   std::optional<long long> seed, steps, repeats, parallel;
-  std::optional<std::string> maze_seeds;
   runtime::RunOptions learner;  // leaf-limit, bootstrap, semantics, placement
   runtime::ModeOptions mode;
   runtime::ThreadOptions threads;
@@ -170,7 +171,7 @@ struct StudyConfiguration {
   // result files (MapLabel) and its columns (`size` holds its rows).
   std::string map, map_label;
   int cols = 0;
-  std::string stations, movers;  // as StudyOptions
+  CellCount stations, movers;    // as StudyOptions
   std::string stations_file;     // the map's own (StudyOptions::Map), "" none
   // Its repeat (1..repeats) and the study's repeats; the learner seed of a
   // repeat after the first, or of every repeat with --learner-seed (unset:
@@ -216,10 +217,10 @@ using app::kRepeatSeedStride;
 using app::RepeatLearnerSeed;
 inline constexpr size_t kMaxSweepPoints = 1000;
 
-// The `dynapath run` maze options of a configuration (size, difficulty,
-// seed, steps): copied into the struct `run` parses into, not spelled out
-// as arguments (the coordinator process takes them so).
-runtime::ScenarioOptions ScenarioOptionsOf(const StudyConfiguration& configuration);
+// The scenario of a configuration, typed (size, difficulty, seed, steps; a
+// map's path, stations and movers), as `dynapath run` resolves its options'
+// (envsim's process takes it as text: runtime::ScenarioOptionsOf).
+runtime::ScenarioSpec ScenarioSpecOf(const StudyConfiguration& configuration);
 // The run plan of a configuration, built from the study's resolved plan:
 // its out directory, its learner seed and its sweep point's parameter values
 // (checked when the study was resolved) over the study's. No checkpoint.
@@ -238,7 +239,9 @@ runtime::RunOptions RunOptionsOf(const StudyOptions& options,
 Json StudyIdentityJson(const StudyOptions& options);
 // A study identity read from a manifest, with the default parameters when it
 // has none (a study of a version before parameters were options ran with
-// the defaults), so that it compares with StudyIdentityJson.
+// the defaults) and its stations and movers in their shortest spelling
+// (runtime::CellCountText: "0.50%" is "0.5%"), so that it compares with
+// StudyIdentityJson.
 Json StudyIdentityWithParameters(Json identity);
 Json ExecutionJson(const StudyOptions& options);
 

@@ -2,7 +2,8 @@
 # The layering check itself: on a small tree of the project's shape it passes
 # what is allowed and fails, naming the file, on a process that includes a
 # header private to core (however the include is spelled: quoted, in angle
-# brackets, "# include", or by its bare name), a header in core's face that
+# brackets, "# include", or by its bare name) or lifts their guard
+# (DYNAPATH_CORE_PRIVATE, dynapath_core_internals), a header in core's face that
 # core/include/face.txt does not list (and a listed one that is missing), a
 # face header that includes a private one, a lower layer that includes a
 # higher one, the Python module including the tools' code (it may include
@@ -45,6 +46,13 @@ for spelling in '#include "core/learn/hidden.h"' '#include <core/learn/hidden.h>
   expect FAIL agent/agent.cc
   sed -i '$d' "$tree/agent/agent.cc"
 done
+# A process lifting the guard of core's private headers, in code or in CMake.
+echo '#define DYNAPATH_CORE_PRIVATE' >>"$tree/agent/agent.cc"
+expect FAIL agent/agent.cc
+sed -i '$d' "$tree/agent/agent.cc"
+echo 'target_link_libraries(dynapath_agent PRIVATE dynapath_core_internals)' >"$tree/agent/CMakeLists.txt"
+expect FAIL agent/CMakeLists.txt
+rm "$tree/agent/CMakeLists.txt"
 # The face grows only by its list.
 echo '#pragma once' >"$tree/core/include/dynapath/internal.h"
 expect FAIL core/include/dynapath/internal.h

@@ -12,7 +12,9 @@
 # aside) includes a header private to core (core/<room>/<name>.h, anything
 # not in its face core/include/dynapath/), however the include is spelled
 # ("core/learn/x.h", <core/learn/x.h>, "# include", or "x.h" by its bare
-# name through an include path that reaches core's rooms); when the face
+# name through an include path that reaches core's rooms), or names the
+# definition that lifts their guard (DYNAPATH_CORE_PRIVATE, or the target
+# dynapath_core_internals in its CMake files); when the face
 # holds a header that core/include/face.txt does not list, or lists one it
 # lacks; when a header of the face includes a private one; when anything
 # below tools/ but the study library includes a library of the applications
@@ -131,6 +133,15 @@ for layer in core/include core lcmtypes protocol runtime envsim coordinator agen
       fail "${file#"$src"/} ($layer) uses a library of the applications: $(grep -Eh "$forbidden_headers" "$file" | head -1)"
     fi
   done < <(find "$src/$layer" -type f \( -name '*.h' -o -name '*.cc' -o -name '*.hpp' \))
+  # Core's private headers stop the compiler unless DYNAPATH_CORE_PRIVATE is
+  # defined: only core and the tests, benchmarks and fuzz targets of its
+  # insides (linking dynapath_core_internals) have it.
+  if [ "$layer" != core ] && [ "$layer" != core/include ]; then
+    while IFS= read -r file; do
+      fail "${file#"$src"/} ($layer) lifts the guard of core's private headers: $(grep -Eho 'DYNAPATH_CORE_PRIVATE|dynapath_core_internals' "$file" | head -1)"
+    done < <(find "$src/$layer" -type f \( -name '*.h' -o -name '*.cc' -o -name '*.hpp' \
+      -o -name CMakeLists.txt -o -name '*.cmake' \) -exec grep -lE 'DYNAPATH_CORE_PRIVATE|dynapath_core_internals' {} +)
+  fi
 done
 
 # What the process executables link: only their own library, runtime/, the

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/policy_evaluation.h"
+#endif
 // The policy evaluation of SPEC section 4 kept up to date incrementally, with
 // the success figures of every quadtree node, for the retraining decisions.
 //

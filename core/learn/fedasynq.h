@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/federated_job.h"
+#endif
 // Federated asynchronous Q-learning (FedAsynQ) of SPEC section 7, split into
 // the pieces a distributed run needs (private to core: other layers use
 // them through dynapath/federated_job.h):

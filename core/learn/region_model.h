@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/learners.h"
+#endif
 // The in-region MDP a learner trains on (SPEC sections 2 and 6-7): for every
 // cell of a region, the actions whose target lies inside the region, where
 // each leads and what it pays. Built once per training job from the region's

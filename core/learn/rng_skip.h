@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/rng.h"
+#endif
 // Advances an Rng by a fixed number of draws at once. xoshiro256**'s state
 // transition is linear over GF(2), so n draws are one 256 x 256 bit matrix;
 // applied 4 state bits at a time from precomputed tables (64 x 16 entries of

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/learners.h"
+#endif
 // Which Q-learning updates of a region are known to be no-ops, so that the
 // single-agent learner's experience replay can skip them (SPEC section 6:
 // 64 replayed updates after every real step, most of them re-applying an

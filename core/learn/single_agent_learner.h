@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/learners.h"
+#endif
 // Single-agent tabular Q-learning of SPEC section 6: warm start, epsilon-
 // greedy over in-region actions, a FIFO experience replay buffer,
 // prioritised start positions and the convergence test; under --semantics

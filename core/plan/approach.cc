@@ -51,9 +51,14 @@ std::string ApproachNamesText() {
 }
 
 Result<std::vector<Approach>> ParseApproachList(const std::string& list) {
-  if (ToLower(Trim(list)) == "all") return AllApproaches();
+  return ParseApproachList(Split(list, ','));
+}
+
+Result<std::vector<Approach>> ParseApproachList(const std::vector<std::string>& names) {
+  if (names.size() == 1 && ToLower(Trim(names.front())) == "all") return AllApproaches();
   std::vector<Approach> approaches;
-  for (const std::string& piece : Split(list, ',')) {
+  for (const std::string& name : names) {
+    const std::string piece = Trim(name);
     const std::optional<Approach> approach = ParseApproach(piece);
     if (!approach) {
       return Error{"unknown approach '" + piece + "' (expected one of: " + ApproachNamesText() +

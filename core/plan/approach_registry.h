@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/approach.h"
+#endif
 // What each approach is made of, from its one line in core/include/dynapath/approach_list.h:
 // the planner factory, and for learning approaches the learner (kind and
 // averaging) and the retraining strategy. The only place that maps an

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/planner.h"
+#endif
 // The classical baselines of SPEC section 8.
 
 #include "dynapath/astar_paths.h"

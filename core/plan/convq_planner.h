@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/planner.h"
+#endif
 // convQ: a learned recurrent convolution (dynapath/convq_model.h) settled on
 // the grid. No training on the maze: Initialize settles the values of the
 // whole grid, Adapt re-settles around the changed cells only

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/convq_model.h"
+#endif
 // The settled values of convQ's recurrent convolution (dynapath/convq_model.h)
 // on a grid, kept up to date as cells change.
 //

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/bfs_oracle.h"
+#endif
 // Nearest-source distances over a directed graph, kept exact under local
 // changes by repairing only what the changes affect (a dynamic multi-source
 // breadth-first search in the style of Ramalingam-Reps / LPA*, for unit

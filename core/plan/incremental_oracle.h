@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/planner.h"
+#endif
 // Incremental Oracle: the exact optimum of the BFS Oracle (distance from
 // every cell to its nearest station over free 8-connected moves), kept by
 // repairing the distances from the changed cells only (DynamicDistances)

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/planner.h"
+#endif
 // The four Q-learning approaches: a quadtree, the root table, a retraining
 // strategy and a trainer.
 

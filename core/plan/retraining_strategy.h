@@ -1,4 +1,7 @@
 #pragma once
+#ifndef DYNAPATH_CORE_PRIVATE  // defined for dynapath_core and the tests of its insides
+#error "private to dynapath_core: include its face, dynapath/learner_options.h"
+#endif
 // When to (re)train which quadtree node (SPEC section 5). The strategies see
 // the world only through TrainingContext, so the decisions can be tested with
 // scripted success rates and a fake trainer, and run unchanged over a local

@@ -776,7 +776,7 @@ void RunEmbedded(const study::StudyOptions& options, const study::StudyConfigura
   run.process.bus.max_grid_cells = app::GridCap(setup.scenario.grid);
   run.agents = options.mode.agents;
   run.threads_per_agent = app::ThreadsPerAgent(options.threads, options.mode.agents);
-  run.scenario = study::ScenarioOptionsOf(configuration);
+  run.scenario = runtime::ScenarioOptionsOf(study::ScenarioSpecOf(configuration));
   run.log_level = options.log.log_level;
   spdlog::info("run {}: envsim, coordinator and {} agents as threads over memq://",
                run.process.run_id, run.agents);
@@ -855,7 +855,7 @@ std::string Experiment(std::vector<std::string> args, bool builtin,
     Check(runtime::PrepareOutputDirectory(directory, "out"));
     spdlog::info("configuration {}/{} {}", i + 1, plan.size(), configuration.Label());
     const runtime::ScenarioSetup setup =
-        Take(runtime::ResolveScenario(study::ScenarioOptionsOf(configuration)));
+        Take(runtime::ResolveScenario(study::ScenarioSpecOf(configuration)));
     const runtime::RunPlan run_plan = study::RunPlanOf(options, configuration, directory);
     if (options.mode.kind == runtime::RunMode::kEmbedded) {
       RunEmbedded(options, configuration, run_plan, setup);

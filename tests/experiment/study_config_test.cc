@@ -144,7 +144,7 @@ TEST(StudyConfigTest, ReadsAFileAndReportsAMissingOne) {
 // options taking any value as text, skipped keys left alone.
 TEST(StudyConfigTest, SetsDeclaredOptionFields) {
   std::string name = "default";
-  std::optional<std::string> list;
+  std::optional<std::vector<std::string>> list, words;
   std::optional<long long> size;
   std::optional<double> rate;
   double alpha = 0.0;
@@ -153,16 +153,19 @@ TEST(StudyConfigTest, SetsDeclaredOptionFields) {
   runtime::OptionGroup group(fields);
   group.Option("--name", name, "TEXT", "");
   group.List("--list", list, runtime::ValueKind::kIntegerList, "LIST", "", "");
+  group.List("--words", words, runtime::ValueKind::kStringList, "LIST", "", "");
   group.Option("--size", size, "N", "");
   group.Option("--rate", rate, "X", "");
   group.Option("--alpha", alpha, "X", "");
   group.Flag("--flag", flag, "");
   Result<ConfigFile> file = ParseConfigText(
-      "name = 5\nlist = [1, 2]\nsize = 12\nrate = 2\nalpha = 0.25\nflag = true\n", "run.toml");
+      "name = 5\nlist = [1, 2]\nwords = 'a,b'\nsize = 12\nrate = 2\nalpha = 0.25\nflag = true\n",
+      "run.toml");
   ASSERT_TRUE(file) << file.error().message;
   ASSERT_TRUE(SetOptionFields(*file, fields, [](const std::string& key) { return key == "size"; }));
   EXPECT_EQ(name, "5");
-  EXPECT_EQ(list, "1,2");
+  EXPECT_EQ(list, (std::vector<std::string>{"1", "2"}));
+  EXPECT_EQ(words, (std::vector<std::string>{"a", "b"}));  // as a command line's list
   EXPECT_FALSE(size);  // skipped
   EXPECT_EQ(rate, 2.0);
   EXPECT_EQ(alpha, 0.25);

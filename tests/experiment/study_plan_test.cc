@@ -82,12 +82,17 @@ TEST(StudyPlanTest, SeedStepsAndEdgeCaseOptions) {
   // The edge case keeps its seed, takes --steps.
   EXPECT_EQ(plan[4].Name(), "edge_50_hard_102");
   EXPECT_EQ(plan[4].steps, 10);
-  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  const runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[0]);
   EXPECT_EQ(scenario.size, 50);
-  EXPECT_EQ(scenario.difficulty, "hard");
+  EXPECT_EQ(scenario.difficulty, Difficulty::kHard);
   EXPECT_EQ(scenario.seed, 7);
   EXPECT_EQ(scenario.steps, 10);
-  EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay);
+  EXPECT_FALSE(scenario.maze || scenario.cols || scenario.replay || scenario.stations);
+  // As envsim's process gets it: the words `dynapath run` takes.
+  const runtime::ScenarioOptions maze_words = runtime::ScenarioOptionsOf(scenario);
+  EXPECT_EQ(maze_words.size, 50);
+  EXPECT_EQ(maze_words.difficulty, "hard");
+  EXPECT_FALSE(maze_words.maze || maze_words.stations || maze_words.movers);
   // The configuration's run plan, built from the study's typed plan.
   const runtime::RunPlan run = RunPlanOf(*options, plan[0], "out/runs/x");
   EXPECT_EQ(run.approaches,
@@ -133,7 +138,8 @@ TEST(StudyPlanTest, ConfigFileValuesAndCommandLineOverrides) {
   ASSERT_TRUE(file) << file.error().message;
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.sizes, "20,50");
+  EXPECT_EQ(values->values.sizes, (std::vector<std::string>{"20", "50"}));
+  EXPECT_EQ(values->values.approaches, (std::vector<std::string>{"A* Static", "singleAgent"}));
   EXPECT_EQ(values->origins.at("sizes"), "s.toml:1: sizes");
   EXPECT_EQ(values->values.mode.agents, 3);
   EXPECT_EQ(values->values.learner.leaf_limit, 10);
@@ -187,7 +193,7 @@ TEST(StudyPlanTest, FileValuesAreSetIntoTheirOptionsTyped) {
   EXPECT_EQ(values.learner.learner_seed, 9);
   EXPECT_EQ(values.learner.bootstrap, "in-region");
   EXPECT_EQ(values.threads.threads, 3);
-  EXPECT_EQ(values.maze_seeds, "4,5");
+  EXPECT_EQ(values.maze_seeds, (std::vector<std::string>{"4", "5"}));
   EXPECT_TRUE(values.mode.embedded);
   EXPECT_EQ(given->origins.at("epsilon-start"), "s.toml:1: epsilon-start");
   EXPECT_TRUE(given->sweeps.empty());
@@ -229,8 +235,9 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(options->maps[0].cols, 61);
   EXPECT_TRUE(options->sizes.empty());
   EXPECT_FALSE(options->edge_case);
-  EXPECT_EQ(options->stations, "0.5%");
-  EXPECT_EQ(options->movers, "3");
+  EXPECT_EQ(options->stations.percent, 0.5);
+  EXPECT_EQ(options->movers.count, 3);
+  EXPECT_LT(options->movers.percent, 0);
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 2u);
   EXPECT_EQ(plan[0].Name(), "map_maze-25-61-1_50");
@@ -243,15 +250,29 @@ TEST(StudyPlanTest, MapsFromFilesAndFolders) {
   EXPECT_EQ(plan[1].Name(), "map_wide-5-9_50");
   EXPECT_EQ(plan[1].steps, 10);
   EXPECT_DOUBLE_EQ(plan[1].Work(), 15800.0 + std::pow(5.0 * 9 * 11, 0.8));
-  const runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[1]);
+  const runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[1]);
   EXPECT_EQ(scenario.maze, maps + "/wide-5-9.map");
-  EXPECT_EQ(scenario.stations, "0.5%");
-  EXPECT_EQ(scenario.movers, "3");
+  ASSERT_TRUE(scenario.stations && scenario.movers);
+  EXPECT_EQ(scenario.stations->percent, 0.5);
+  EXPECT_EQ(scenario.movers->count, 3);
   EXPECT_EQ(scenario.seed, 50);
   EXPECT_EQ(scenario.steps, 10);
+  EXPECT_FALSE(scenario.difficulty || scenario.size);
+  const runtime::ScenarioOptions words = runtime::ScenarioOptionsOf(scenario);
+  EXPECT_EQ(words.stations, "0.5%");
+  EXPECT_EQ(words.movers, "3");
+  EXPECT_FALSE(words.difficulty);
   const Json identity = StudyIdentityJson(*options);
   EXPECT_EQ(identity["maps"].size(), 2u);
+  EXPECT_EQ(identity["stations"], "0.5%");
   EXPECT_EQ(identity["movers"], "3");
+  // A manifest's other spelling of the same values is the same study.
+  Json written = identity;
+  written["stations"] = "0.50%";
+  written["movers"] = "03";
+  EXPECT_EQ(StudyIdentityWithParameters(written), identity);
+  written["movers"] = "4";
+  EXPECT_NE(StudyIdentityWithParameters(written), identity);
 
   // Mazes and the edge case when asked for, before the maps; one map file.
   options = Resolve(Cli({{"maps", maps + "/wide-5-9.map"},
@@ -348,11 +369,12 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   const std::vector<StudyConfiguration> plan = MakeStudyPlan(*options);
   ASSERT_EQ(plan.size(), 2u);
   EXPECT_EQ(plan[0].Name(), "map_wide-5-9_50");
-  runtime::ScenarioOptions scenario = ScenarioOptionsOf(plan[0]);
+  runtime::ScenarioSpec scenario = ScenarioSpecOf(plan[0]);
   EXPECT_EQ(scenario.stations_file, stations);
   EXPECT_FALSE(scenario.stations);
-  scenario = ScenarioOptionsOf(plan[1]);
-  EXPECT_EQ(scenario.stations, "0.5%");
+  scenario = ScenarioSpecOf(plan[1]);
+  ASSERT_TRUE(scenario.stations);
+  EXPECT_EQ(scenario.stations->percent, 0.5);
   EXPECT_FALSE(scenario.stations_file);
   EXPECT_EQ(StudyIdentityJson(*options)["maps"][0], wide + ":" + stations);
 
@@ -363,7 +385,8 @@ TEST(StudyPlanTest, AMapMayHaveItsOwnStationsFile) {
   ASSERT_TRUE(file);
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps, data + "/maps/wide-5-9.map:" + data + "/maps/wide-5-9.stations");
+  EXPECT_EQ(values->values.maps, std::vector<std::string>{data + "/maps/wide-5-9.map:" + data +
+                                                          "/maps/wide-5-9.stations"});
 
   // A missing stations file or one for a folder: one error before the study.
   options = Resolve(Cli({{"maps", wide + ":" + maps + "/none.stations"}}), 2);
@@ -384,8 +407,9 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(file) << file.error().message;
   Result<GivenStudyOptions> values = StudyFileOptions(*file);
   ASSERT_TRUE(values) << values.error().message;
-  EXPECT_EQ(values->values.maps,
-            data + "/maps/wide-5-9.map," + data + "/maps/maze-25-61-1.map");  // absolute: kept
+  EXPECT_EQ(
+      values->values.maps,  // the second, absolute, kept
+      (std::vector<std::string>{data + "/maps/wide-5-9.map", data + "/maps/maze-25-61-1.map"}));
   Result<StudyOptions> options = study::ResolveStudyOptions(*values, 2);
   ASSERT_TRUE(options) << options.error().message;
   ASSERT_EQ(options->maps.size(), 2u);
@@ -397,7 +421,7 @@ TEST(StudyPlanTest, StudyFileMapsAreRelativeToTheFile) {
   ASSERT_TRUE(file);
   values = StudyFileOptions(*file);
   ASSERT_TRUE(values);
-  EXPECT_EQ(values->values.maps, "maps/wide-5-9.map");
+  EXPECT_EQ(values->values.maps, std::vector<std::string>{"maps/wide-5-9.map"});
   // The command line's relative paths are the working directory's.
   options = Resolve(Cli({{"maps", "maps/wide-5-9.map"}}), 2);
   ASSERT_FALSE(options);
@@ -434,6 +458,39 @@ TEST(StudyPlanTest, BadValuesGiveOneErrorNamingTheirOrigin) {
     Result<StudyOptions> options = Resolve(values, 2);
     ASSERT_FALSE(options) << expected;
     EXPECT_EQ(options.error().message.rfind(expected, 0), 0u) << options.error().message;
+  }
+}
+
+// A command line's list is split at its commas where it is read, a study
+// file's array kept item by item; each item is trimmed when resolved, and
+// an error quotes the list as written.
+TEST(StudyPlanTest, ListsAreCarriedAsTheirItems) {
+  Result<GivenStudyOptions> given =
+      Cli({{"sizes", "50, 20"}, {"approaches", " BFS Oracle,A* Static"}, {"maze-seeds", "3,4"}});
+  ASSERT_TRUE(given) << given.error().message;
+  EXPECT_EQ(given->values.sizes, (std::vector<std::string>{"50", " 20"}));
+  EXPECT_EQ(given->values.approaches, (std::vector<std::string>{" BFS Oracle", "A* Static"}));
+  Result<StudyOptions> options = study::ResolveStudyOptions(*given, 2);
+  ASSERT_TRUE(options) << options.error().message;
+  EXPECT_EQ(options->sizes, (std::vector<int>{50, 20}));
+  EXPECT_EQ(options->approaches,
+            (std::vector<Approach>{Approach::kBfsOracle, Approach::kAStarStatic}));
+  EXPECT_EQ(options->maze_seeds, (std::vector<unsigned>{3, 4}));
+  EXPECT_EQ(options->repeats, 2);
+
+  const std::pair<Result<StudyOptions>, const char*> refused[] = {
+      {Resolve(Cli({{"sizes", "20, ,50"}}), 2), "option --sizes: empty item in '20, ,50'"},
+      {Resolve(Cli({{"maze-seeds", "1,"}}), 2), "option --maze-seeds: empty item in '1,'"},
+      {FromFile("difficulties = ['easy', ' ']\n"),
+       "s.toml:1: difficulties: empty item in 'easy, '"},
+      {FromFile("approaches = [' ']\n"), "s.toml:1: approaches: the list is empty"},
+      {FromFile("maps = ['']\n"), "s.toml:1: maps: must not be empty"},
+      {FromFile("difficulties = ['easy,hard']\n"),
+       "s.toml:1: difficulties: 'easy,hard' holds a comma"},
+  };
+  for (const auto& [result, expected] : refused) {
+    ASSERT_FALSE(result) << expected;
+    EXPECT_EQ(result.error().message, expected);
   }
 }
 

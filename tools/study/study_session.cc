@@ -124,7 +124,7 @@ struct Session {
 Status RunConfiguration(const Session& session, const study::StudyConfiguration& configuration,
                         int index) {
   const std::string directory = (session.out / configuration.Directory()).string();
-  const runtime::ScenarioOptions scenario = study::ScenarioOptionsOf(configuration);
+  const runtime::ScenarioSpec scenario = study::ScenarioSpecOf(configuration);
   Result<runtime::ScenarioSetup> setup = runtime::ResolveScenario(scenario);
   if (!setup) return setup.error();
   // The study's plan with this configuration's directory, learner seed and
@@ -171,7 +171,7 @@ Status RunConfiguration(const Session& session, const study::StudyConfiguration&
   run.agents = session.options.mode.agents;
   run.threads_per_agent =
       app::ThreadsPerAgent(session.options.threads, session.options.mode.agents);
-  run.scenario = scenario;
+  run.scenario = runtime::ScenarioOptionsOf(scenario);  // envsim's command line
   // The coordinator process's options (written into its config pipe).
   run.run = study::RunOptionsOf(session.options, configuration, directory);
   run.run.checkpoint = checkpoint;

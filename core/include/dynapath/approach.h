@@ -33,6 +33,8 @@ std::optional<Approach> ParseApproach(const std::string& name);
 
 // Comma-separated names, or "all". Duplicates are dropped, order is kept.
 Result<std::vector<Approach>> ParseApproachList(const std::string& list);
+// The same of a list's items (each trimmed): names, or the one item "all".
+Result<std::vector<Approach>> ParseApproachList(const std::vector<std::string>& names);
 
 // True for the approaches that train a learner (Q-learning).
 bool IsLearningApproach(Approach approach);
