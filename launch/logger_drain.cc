@@ -30,9 +30,9 @@ std::optional<std::set<unsigned long>> SocketInodes(pid_t pid) {
   return inodes;
 }
 
-// Calls visit(local, queues) for each row of a /proc/net/udp-style table
-// whose inode is in `inodes`. Columns: sl local rem st tx_queue:rx_queue
-// tr:when retrnsmt uid timeout inode ...
+// Calls visit(inode, local, queues) for each row of a /proc/net/udp-style
+// table whose inode is in `inodes`. Columns: sl local rem st
+// tx_queue:rx_queue tr:when retrnsmt uid timeout inode ...
 template <class Visit>
 void ForOwnRows(const std::string& table, const std::set<unsigned long>& inodes, Visit visit) {
   std::ifstream in(table);
@@ -46,12 +46,12 @@ void ForOwnRows(const std::string& table, const std::set<unsigned long>& inodes,
           timeout >> inode)) {
       continue;
     }
-    if (inodes.count(inode) != 0) visit(local, queues);
+    if (inodes.count(inode) != 0) visit(inode, local, queues);
   }
 }
 
-// Calls visit(local, queues) for each UDP socket (IPv4 and IPv6) of `pid`;
-// false when /proc cannot say.
+// Calls visit(inode, local, queues) for each UDP socket (IPv4 and IPv6) of
+// `pid`; false when /proc cannot say.
 template <class Visit>
 bool ForEachUdpSocket(pid_t pid, Visit visit) {
   const std::optional<std::set<unsigned long>> inodes = SocketInodes(pid);
@@ -81,10 +81,11 @@ std::optional<long long> FileSize(const std::string& file) {
 
 std::optional<long long> QueuedUdpBytes(pid_t pid) {
   long long total = 0;
-  const bool known = ForEachUdpSocket(pid, [&](const std::string&, const std::string& queues) {
-    const size_t colon = queues.find(':');
-    if (colon != std::string::npos) total += std::stoll(queues.substr(colon + 1), nullptr, 16);
-  });
+  const bool known =
+      ForEachUdpSocket(pid, [&](unsigned long, const std::string&, const std::string& queues) {
+        const size_t colon = queues.find(':');
+        if (colon != std::string::npos) total += std::stoll(queues.substr(colon + 1), nullptr, 16);
+      });
   if (!known) return std::nullopt;
   return total;
 }
@@ -110,22 +111,16 @@ std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port) {
   // close-on-exec) is this process's, not one the child opened.
   const std::set<unsigned long> inherited =
       SocketInodes(getpid()).value_or(std::set<unsigned long>{});
-  const std::optional<std::set<unsigned long>> inodes = SocketInodes(pid);
-  if (!inodes) return std::nullopt;
-  std::set<unsigned long> own;
-  for (unsigned long inode : *inodes) {
-    if (inherited.count(inode) == 0) own.insert(inode);
-  }
   bool found = false;
-  auto on_port = [&](const std::string& local, const std::string&) {
-    const size_t colon = local.rfind(':');  // ADDRESS:PORT, both in hex
-    if (colon != std::string::npos && std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
-      found = true;
-    }
-  };
-  const std::string net = "/proc/" + std::to_string(pid) + "/net/";
-  ForOwnRows(net + "udp", own, on_port);
-  ForOwnRows(net + "udp6", own, on_port);
+  const bool known =
+      ForEachUdpSocket(pid, [&](unsigned long inode, const std::string& local, const std::string&) {
+        const size_t colon = local.rfind(':');  // ADDRESS:PORT, both in hex
+        if (inherited.count(inode) == 0 && colon != std::string::npos &&
+            std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
+          found = true;
+        }
+      });
+  if (!known) return std::nullopt;
   return found;
 }
 
