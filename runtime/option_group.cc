@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "dynapath/text_util.h"
+
 namespace dynapath::runtime {
 namespace {
 
@@ -246,16 +248,7 @@ void OptionGroup::Flag(const std::string& name, bool& value, const std::string& 
   app_->add_flag(name, value, help);
 }
 
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = text.find(',', start);
-    items.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
-    if (comma == std::string::npos) return items;
-    start = comma + 1;
-  }
-}
+std::vector<std::string> SplitList(const std::string& text) { return SplitAsWritten(text, ','); }
 
 std::string JoinList(const std::vector<std::string>& items) {
   std::string text;

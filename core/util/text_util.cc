@@ -21,15 +21,21 @@ std::string Trim(std::string_view text) {
   return std::string(text.substr(begin, end - begin));
 }
 
-std::vector<std::string> Split(std::string_view text, char separator) {
+std::vector<std::string> SplitAsWritten(std::string_view text, char separator) {
   std::vector<std::string> pieces;
   size_t start = 0;
   while (true) {
     const size_t end = text.find(separator, start);
-    pieces.push_back(Trim(text.substr(start, end == std::string_view::npos ? end : end - start)));
+    pieces.emplace_back(text.substr(start, end == std::string_view::npos ? end : end - start));
     if (end == std::string_view::npos) break;
     start = end + 1;
   }
+  return pieces;
+}
+
+std::vector<std::string> Split(std::string_view text, char separator) {
+  std::vector<std::string> pieces = SplitAsWritten(text, separator);
+  for (std::string& piece : pieces) piece = Trim(piece);
   return pieces;
 }
 
