@@ -130,12 +130,14 @@ run_pool() {  # run_pool "FUNCTION ARG"...: each item, $jobs at a time, in order
   # One pool for the TSan tests and the fuzz targets (each one process on
   # about one core): run one after the other, each phase's last item
   # left a core idle (a TSan shard 26 s of 38, the last fuzz target 10 s).
-  local pids=() failed=0 item pid
+  # (Bash reaps its children as they end and keeps their status for
+  # `wait PID`; `wait -n -p` names the one it returns for.)
+  local pids=() failed=0 item pid ended
   for item in "$@"; do
     if [ ${#pids[@]} -ge "$jobs" ]; then
-      wait -n "${pids[@]}" || failed=1
+      wait -n -p ended "${pids[@]}" || failed=1
       local running=()
-      for pid in "${pids[@]}"; do [ -e "/proc/$pid" ] && running+=("$pid"); done
+      for pid in "${pids[@]}"; do [ "$pid" = "$ended" ] || running+=("$pid"); done
       pids=("${running[@]}")
     fi
     # shellcheck disable=SC2086  # the item is a function and its argument
