@@ -8,7 +8,8 @@
 # Usage: scripts/checked_builds.sh [--build-only|--test-only] [asan] [tsan] [fuzz]
 #   (default: all three, each built then tested; --build-only builds them,
 #   --test-only tests builds made before: .ci/run builds them at low
-#   priority while the release suite runs)
+#   priority while the release suite runs; tested only, TSan's tests and
+#   the fuzz targets run in one pool of JOBS processes, default 2)
 # Any sanitizer report or fuzzer crash fails the script. Figures go to
 # stdout (copied into docs/RELIABILITY.md).
 set -euo pipefail
