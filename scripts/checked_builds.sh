@@ -149,24 +149,19 @@ run_pool() {  # run_pool "FUNCTION ARG"...: each item, $jobs at a time, in order
   [ $failed -eq 0 ]
 }
 
-test_tsan() {
-  local items=() name
-  for name in $(tsan_tests); do items+=("tsan_one $name"); done
+test_pooled() {  # test_pooled STEP...: the tests of each step (tsan, fuzz), in that order, in one pool
+  local items=() step name
+  for step in "$@"; do
+    case $step in
+      tsan) for name in $(tsan_tests); do items+=("tsan_one $name"); done ;;
+      fuzz) for name in $(fuzz_targets); do items+=("fuzz_one $name"); done ;;
+    esac
+  done
   run_pool "${items[@]}"
 }
 
-test_fuzz() {
-  local items=() target
-  for target in $(fuzz_targets); do items+=("fuzz_one $target"); done
-  run_pool "${items[@]}"
-}
-
-test_tsan_and_fuzz() {  # the TSan tests first (the longest items), then the fuzz targets
-  local items=() name
-  for name in $(tsan_tests); do items+=("tsan_one $name"); done
-  for name in $(fuzz_targets); do items+=("fuzz_one $name"); done
-  run_pool "${items[@]}"
-}
+test_tsan() { test_pooled tsan; }
+test_fuzz() { test_pooled fuzz; }
 
 for step in "${steps[@]}"; do
   case $step in
@@ -184,7 +179,7 @@ if [ $phase = test ] && [[ " ${steps[*]} " == *" tsan "* ]] && [[ " ${steps[*]} 
   rest=()
   for step in "${steps[@]}"; do [ "$step" = tsan ] || [ "$step" = fuzz ] || rest+=("$step"); done
   for step in "${rest[@]}"; do "test_$step"; done
-  test_tsan_and_fuzz
+  test_pooled tsan fuzz  # the TSan tests first: the longest items
   echo "checked: ${steps[*]} (test) took $(( $(date +%s) - start )) s"
   exit 0
 fi
