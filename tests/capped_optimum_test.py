@@ -93,7 +93,8 @@ def main(argv):
             check(capped == uncapped, f"random-32-32-10: capped {capped} differs from {uncapped}")
 
         # convQ's row of the corridor maze lowered by 0.01: below, by 0.0100.
-        rows = list(csv.DictReader(open(study / "results.csv", newline="")))
+        with open(study / "results.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
         lowered = work / "lowered.csv"
         with open(lowered, "w", newline="") as f:
             writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
