@@ -77,6 +77,27 @@ std::optional<long long> FileSize(const std::string& file) {
   return static_cast<long long>(status.st_size);
 }
 
+// A socket the child inherited from this process (LCM's are not
+// close-on-exec) is this process's, not one the child opened.
+std::set<unsigned long> InheritableSockets() {
+  return SocketInodes(getpid()).value_or(std::set<unsigned long>{});
+}
+
+std::optional<bool> HasOwnUdpSocketOnPort(pid_t pid, int port,
+                                          const std::set<unsigned long>& inherited) {
+  bool found = false;
+  const bool known =
+      ForEachUdpSocket(pid, [&](unsigned long inode, const std::string& local, const std::string&) {
+        const size_t colon = local.rfind(':');  // ADDRESS:PORT, both in hex
+        if (inherited.count(inode) == 0 && colon != std::string::npos &&
+            std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
+          found = true;
+        }
+      });
+  if (!known) return std::nullopt;
+  return found;
+}
+
 }  // namespace
 
 std::optional<long long> QueuedUdpBytes(pid_t pid) {
@@ -107,28 +128,16 @@ std::optional<int> UdpmPort(const std::string& url) {
 }
 
 std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port) {
-  // A socket the child inherited from this process (LCM's are not
-  // close-on-exec) is this process's, not one the child opened.
-  const std::set<unsigned long> inherited =
-      SocketInodes(getpid()).value_or(std::set<unsigned long>{});
-  bool found = false;
-  const bool known =
-      ForEachUdpSocket(pid, [&](unsigned long inode, const std::string& local, const std::string&) {
-        const size_t colon = local.rfind(':');  // ADDRESS:PORT, both in hex
-        if (inherited.count(inode) == 0 && colon != std::string::npos &&
-            std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
-          found = true;
-        }
-      });
-  if (!known) return std::nullopt;
-  return found;
+  return HasOwnUdpSocketOnPort(pid, port, InheritableSockets());
 }
 
 bool WaitForLoggerToSubscribe(pid_t pid, int port, std::chrono::milliseconds cap) {
   const auto deadline = std::chrono::steady_clock::now() + cap;
+  // Read once: what the logger inherited was fixed when it started.
+  const std::set<unsigned long> inherited = InheritableSockets();
   while (std::chrono::steady_clock::now() < deadline) {
     if (Exited(pid)) return false;
-    const std::optional<bool> subscribed = HasUdpSocketOnPort(pid, port);
+    const std::optional<bool> subscribed = HasOwnUdpSocketOnPort(pid, port, inherited);
     if (!subscribed) return false;  // gone, or /proc cannot say
     if (*subscribed) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

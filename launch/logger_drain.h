@@ -27,8 +27,9 @@ std::optional<long long> QueuedUdpBytes(pid_t pid);
 // when none is given); nullopt for another provider or a bad port.
 std::optional<int> UdpmPort(const std::string& url);
 
-// Whether process `pid` holds a UDP socket bound to `port`; nullopt when
-// /proc cannot say (the process gone).
+// Whether process `pid` holds a UDP socket bound to `port`, other than one
+// it inherited from this process; nullopt when /proc cannot say (the
+// process gone).
 std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port);
 
 // Waits until lcm-logger (process `pid`) has subscribed: LCM opens its
