@@ -159,6 +159,26 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
       ++answers;
     }
   });
+  // A failed assertion below returns early: stop and join the asker first.
+  struct JoinAsker {
+    std::atomic<bool>& done;
+    std::thread& asker;
+    ~JoinAsker() {
+      done = true;
+      if (asker.joinable()) asker.join();
+    }
+  } join_asker{done, asker};
+  // The asker thread may not be scheduled before the bursts are done (they
+  // take milliseconds), so the test waits for its answers, not for time:
+  // one before the first burst, and one begun after the last.
+  const auto wait_for_answers_beyond = [&](int count) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(kWait);
+    while (answers.load() <= count && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return answers.load() > count;
+  };
+  ASSERT_TRUE(wait_for_answers_beyond(0));
   int64_t sequence = 10;
   int bursts = 0;
   for (const ChangeStep& step : scenario.changes.steps) {
@@ -168,9 +188,9 @@ TEST(PathService, RefusesBadInputAndKeepsAnswering) {
     // At least one step per burst has been committed.
     ASSERT_TRUE(service.WaitForStep(++bursts, kWait));
   }
+  EXPECT_TRUE(wait_for_answers_beyond(answers.load() + 1));
   done = true;
   asker.join();
-  EXPECT_GT(answers.load(), 0);
   EXPECT_EQ(invalid.load(), 0);
   const ServiceStats stats = service.stats();
   EXPECT_EQ(stats.updates.refused_total(), 4);
