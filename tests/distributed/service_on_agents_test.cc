@@ -101,7 +101,9 @@ TEST(ServiceOnAgents, StopsAtOnceWhileWaitingForAgents) {
   EXPECT_EQ(service.Current(), nullptr);  // no agent: no policy
   const auto start = std::chrono::steady_clock::now();
   (void)service.Stop();
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  // Not the agent wait (60 s by default); the bound leaves room for a
+  // loaded machine and a sanitizer.
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
   EXPECT_TRUE(session.status().error().IsCancelled());
 }
 

@@ -1,9 +1,11 @@
 #include "tools/common/progress_bar.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <string>
 #include <thread>
 
 namespace dynapath::cli {
@@ -17,6 +19,25 @@ std::string ReadAndClose(std::FILE* out) {
   while (std::fgets(buffer, sizeof buffer, out) != nullptr) text += buffer;
   std::fclose(out);
   return text;
+}
+
+// Waits until the display's thread has written `needle` to `out` (a
+// tmpfile; the display flushes each line), at most a minute for a loaded
+// machine: the test waits for the line, not for a time it hopes enough.
+bool WaitForText(std::FILE* out, const std::string& needle) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  do {
+    std::string text;
+    char buffer[512];
+    ssize_t read = 0;
+    while ((read = pread(fileno(out), buffer, sizeof buffer, static_cast<off_t>(text.size()))) >
+           0) {
+      text.append(buffer, static_cast<size_t>(read));
+    }
+    if (text.find(needle) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  } while (std::chrono::steady_clock::now() < give_up);
+  return false;
 }
 
 TEST(ProgressBarTest, FormatsDurations) {
@@ -160,23 +181,18 @@ TEST(ProgressBarTest, PlainLinesShowTheTrainingBatchInHand) {
     training.jobs_done = 3;
     training.work_done = 300;
     display.Step("singleAgent", 0, 2, 0, 10);  // a new approach: a line
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    EXPECT_TRUE(
+        WaitForText(out, "singleAgent 1/2 step 0/10, training 3/12 jobs, 25% of episodes;"));
     training.Start(4, 225);
     training.rounds_done = 40;
     display.Step("fedAsynQ_EqAvg", 1, 2, 0, 10);
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    EXPECT_TRUE(WaitForText(out, "fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225 of 4 jobs;"));
     training.Finish();
     display.WatchTraining(0, nullptr);
     display.EndConfiguration(0, 1.0, true);
     display.Stop();
   }
-  const std::string text = ReadAndClose(out);
-  EXPECT_NE(text.find("singleAgent 1/2 step 0/10, training 3/12 jobs, 25% of episodes;"),
-            std::string::npos)
-      << text;
-  EXPECT_NE(text.find("fedAsynQ_EqAvg 2/2 step 0/10, training round 40/225 of 4 jobs;"),
-            std::string::npos)
-      << text;
+  std::fclose(out);
 }
 
 TEST(ProgressBarTest, PlainDisplayPrintsLinesPerApproach) {
@@ -187,20 +203,14 @@ TEST(ProgressBarTest, PlainDisplayPrintsLinesPerApproach) {
     display.Start({100, 100}, {true, false});
     display.BeginConfiguration(1, "20 Easy, seed 50", "20 Easy s50");
     display.Step("A* Static", 0, 2, 0, 10);
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    EXPECT_TRUE(WaitForText(out, "configuration 2/2 20 Easy, seed 50 | A* Static 1/2 step 0/10"));
     display.Step("BFS Oracle", 1, 2, 3, 10);
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    EXPECT_TRUE(WaitForText(out, "configuration 2/2 20 Easy, seed 50 | BFS Oracle 2/2 step 3/10"));
     display.Print("a message");
     display.EndConfiguration(1, 1.5, true);
     display.Stop();
   }
   const std::string text = ReadAndClose(out);
-  EXPECT_NE(text.find("configuration 2/2 20 Easy, seed 50 | A* Static 1/2 step 0/10"),
-            std::string::npos)
-      << text;
-  EXPECT_NE(text.find("configuration 2/2 20 Easy, seed 50 | BFS Oracle 2/2 step 3/10"),
-            std::string::npos)
-      << text;
   EXPECT_NE(text.find("a message\n"), std::string::npos) << text;
   EXPECT_EQ(text.find('\r'), std::string::npos) << "no bar when not on a terminal";
 }
