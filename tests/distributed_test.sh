@@ -198,11 +198,16 @@ coordinator=$!
 wait_for_line "$work/orphans.log" "coordinator: maze" || fail "the hand-started run did not start"
 sleep 0.5
 kill -9 $coordinator
-sleep 10
+# They leave by themselves once the coordinator has been silent for --wait
+# 8 s; waited for up to a minute (a loaded machine), not for a fixed time.
+for _ in $(seq 600); do
+  kill -0 $envsim 2>/dev/null || kill -0 $agent 2>/dev/null || break
+  sleep 0.1
+done
 if kill -0 $envsim 2>/dev/null || kill -0 $agent 2>/dev/null; then
-  fail "agent or envsim still running 10 s after the coordinator was killed (--wait 8)"
+  fail "agent or envsim still running a minute after the coordinator was killed (--wait 8)"
 else
-  pass "no orphans 10 s after the coordinator was killed (--wait 8)"
+  pass "no orphans after the coordinator was killed (--wait 8)"
 fi
 grep -q "the coordinator has been silent for" "$work/orphans_envsim.log" ||
   fail "envsim did not say the coordinator was silent: $(tail -2 "$work/orphans_envsim.log")"
