@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "dynapath/fragment_nack_t.hpp"
 #include "dynapath/heartbeat_t.hpp"
 #include "dynapath/step_report_t.hpp"
 #include "protocol/auth.h"
@@ -177,9 +178,36 @@ TEST(BusTest, InjectedDropsLoseMessages) {
   EXPECT_EQ(sender.counters().injected_drops, 1);
 }
 
+// The NACKs of a run as a passive listener sees them: each one's missing
+// pieces.
+class NackListener {
+ public:
+  void Handle(const lcm::ReceiveBuffer* buffer, const std::string& /*channel*/) {
+    const auto* data = static_cast<const uint8_t*>(buffer->data);
+    const int size = PayloadSize(data, static_cast<int>(buffer->data_size));
+    fragment_nack_t nack;
+    if (nack.decode(data, 0, size) != size) {
+      ++undecoded;
+      return;
+    }
+    std::vector<int32_t> missing;
+    for (int32_t i = 0; i < nack.count && i / 8 < nack.bitmap_size; ++i) {
+      if ((nack.missing[static_cast<size_t>(i / 8)] >> (i % 8)) & 1) missing.push_back(i);
+    }
+    nacked.push_back(std::move(missing));
+  }
+  std::vector<std::vector<int32_t>> nacked;
+  int undecoded = 0;
+};
+
 // Selective repair through a transport that loses chosen pieces: the
-// receiver NACKs, the sender re-sends exactly the lost pieces (again when a
-// repair is lost too) and the message completes once.
+// receiver NACKs the pieces it lacks, the sender re-sends exactly the
+// pieces NACKed (again when a repair is lost too) and the message completes
+// once. How many NACKs that takes depends on timing: a receiver that hears
+// nothing within the retry interval (20 ms here) asks again, and on a
+// loaded machine the dispatch thread can be away that long. So the test
+// checks the pieces re-sent against the NACKs it sees, not a count; the
+// intervals themselves are FragmentAssembler's, checked in fragments_test.
 TEST(BusTest, NackedPiecesAndOnlyThoseAreResent) {
   lcm::LCM lcm("memq://");
   BusOptions options;
@@ -199,6 +227,8 @@ TEST(BusTest, NackedPiecesAndOnlyThoseAreResent) {
   };
   Bus sender(lcm, "run1", lossy);
   Bus receiver(lcm, "run1", options);
+  NackListener listener;
+  lcm.subscribe(ChannelName("run1", channel::kFragmentNack), &NackListener::Handle, &listener);
   std::vector<policy_t> got;
   receiver.Subscribe<policy_t>(channel::kPolicy, [&](policy_t& m) { got.push_back(m); });
   const policy_t sent = Policy("run1", 40);  // 5 pieces
@@ -207,17 +237,43 @@ TEST(BusTest, NackedPiecesAndOnlyThoseAreResent) {
       lcm, [&] { return !got.empty(); }, std::chrono::milliseconds(3000));
   ASSERT_EQ(got.size(), 1u);
   EXPECT_EQ(got[0].cells, sent.cells);
-  std::lock_guard lock(mutex);
-  // First NACK: pieces 1 and 3; second: 3 alone.
-  EXPECT_EQ(repaired, (std::vector<int32_t>{1, 3, 3}));
-  EXPECT_EQ(receiver.counters().nacks_sent, 2);
-  EXPECT_EQ(sender.counters().nacks_received, 2);
-  EXPECT_EQ(sender.counters().pieces_repaired, 3);
+  // A NACK sent just before the last repair completed the message reaches
+  // the listener and the sender in one dispatch.
+  Pump(lcm, [&] {
+    return receiver.counters().nacks_sent == static_cast<int64_t>(listener.nacked.size());
+  });
+  EXPECT_EQ(listener.undecoded, 0);
+  ASSERT_GE(listener.nacked.size(), 2u);
+  // The first NACK asks for the two lost pieces (and for pieces after the
+  // first still under way, if the dispatch thread was away longer than the
+  // quiet period between them); piece 0, which made the message known, never.
+  const std::vector<int32_t>& first = listener.nacked.front();
+  const std::vector<int32_t> lost = {1, 3};
+  EXPECT_TRUE(std::includes(first.begin(), first.end(), lost.begin(), lost.end()))
+      << ::testing::PrintToString(first);
+  for (const std::vector<int32_t>& nack : listener.nacked) {
+    EXPECT_TRUE(std::find(nack.begin(), nack.end(), 0) == nack.end());
+  }
+  // Exactly the pieces NACKed are re-sent, NACK by NACK; 3 at least twice,
+  // as its first repair was lost.
+  std::vector<int32_t> asked;
+  for (const std::vector<int32_t>& nack : listener.nacked) {
+    asked.insert(asked.end(), nack.begin(), nack.end());
+  }
+  {
+    std::lock_guard lock(mutex);
+    EXPECT_EQ(repaired, asked);
+    EXPECT_GE(std::count(repaired.begin(), repaired.end(), 3), 2);
+  }
+  const auto nacks = static_cast<int64_t>(listener.nacked.size());
+  EXPECT_EQ(receiver.counters().nacks_sent, nacks);
+  EXPECT_EQ(sender.counters().nacks_received, nacks);
+  EXPECT_EQ(sender.counters().pieces_repaired, static_cast<int64_t>(asked.size()));
   EXPECT_GE(receiver.counters().repair_round_trip_ms, 0);
   // Nothing more is asked for once complete.
   Pump(
       lcm, [&] { return false; }, std::chrono::milliseconds(200));
-  EXPECT_EQ(receiver.counters().nacks_sent, 2);
+  EXPECT_EQ(receiver.counters().nacks_sent, nacks);
   EXPECT_EQ(got.size(), 1u);
 }
 
