@@ -273,11 +273,14 @@ void Bus::RepairLoop() {
       if (fragments_.pending() == 0) continue;
       // Quiet long enough that reordering is not taken for loss; retry
       // after two round trips of a repair.
+      const auto min_quiet = static_cast<double>(options_.nack_quiet_ms);
+      const auto min_retry = static_cast<double>(options_.nack_retry_ms);
       const auto quiet = static_cast<int64_t>(
-          repair_rtt_measured_ ? std::clamp(1.5 * repair_rtt_ms_ + 1,
-                                            static_cast<double>(options_.nack_quiet_ms), 200.0)
-                               : 15.0);
-      const auto retry = static_cast<int64_t>(std::clamp(2 * repair_rtt_ms_ + 10, 20.0, 1000.0));
+          repair_rtt_measured_
+              ? std::clamp(1.5 * repair_rtt_ms_ + 1, min_quiet, std::max(min_quiet, 200.0))
+              : std::max(min_quiet, 15.0));
+      const auto retry = static_cast<int64_t>(
+          std::clamp(2 * repair_rtt_ms_ + 10, min_retry, std::max(min_retry, 1000.0)));
       due = fragments_.DueNacks(SteadyMs(), quiet, retry, options_.max_nacks);
     }
     for (Nack& nack : due) {

@@ -62,10 +62,14 @@ struct BusOptions {
   int fragment_pause_us = 300;
   // Selective repair (NACKs) of fragmented messages. A receiver NACKs a
   // partial message quiet for 1.5 repair round trips + 1 ms (reordering
-  // within it is not loss), at least nack_quiet_ms; 15 ms until a round trip
-  // is measured.
+  // within it is not loss), at least nack_quiet_ms and at most 200 ms; 15 ms
+  // until a round trip is measured (nack_quiet_ms if longer). It asks again
+  // after 2 round trips + 10 ms, at least nack_retry_ms and at most 1 s.
+  // Tests that count NACKs raise both, so that a dispatch thread kept away
+  // by a loaded machine is not taken for loss.
   bool repair = true;
   int nack_quiet_ms = 3;
+  int nack_retry_ms = 20;
   // Forward repair: one XOR parity piece per `parity_group` data pieces of
   // a fragmented message (interleaved groups, fragment_t.lcm), so that a
   // receiver missing one piece of a group rebuilds it without a NACK round
