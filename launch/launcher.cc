@@ -353,11 +353,11 @@ int LaunchProcessesExit(const DistributedRun& run) {
   if (!run.log_file.empty()) {
     logger_output.emplace();
     const int logger_fd = logger_output->write_fd();
-    const pid_t pid =
-        Spawn({"lcm-logger", "--force", "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
-               "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
-              logger_fd >= 0 ? logger_fd : run.child_stderr, {},
-              logger_fd);  // records the bytes as sent, tags included
+    const pid_t pid = Spawn(
+        {"lcm-logger", "--force", "--lcm-url=" + protocol::ReceivingLcmUrl(run.process.lcm_url),
+         "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
+        logger_fd >= 0 ? logger_fd : run.child_stderr, {},
+        logger_fd);  // records the bytes as sent, tags included
     logger_output->Started();
     if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
     // The run starts once the logger listens, or its first messages (the

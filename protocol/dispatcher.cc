@@ -46,9 +46,13 @@ int64_t KernelReceiveBufferMax() {
 
 }  // namespace
 
+std::string ReceivingLcmUrl(const std::string& url) {
+  return WithReceiveBuffer(ResolveLcmUrl(url), KernelReceiveBufferMax());
+}
+
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   const std::string resolved = ResolveLcmUrl(url);
-  auto lcm = std::make_unique<lcm::LCM>(WithReceiveBuffer(resolved, KernelReceiveBufferMax()));
+  auto lcm = std::make_unique<lcm::LCM>(ReceivingLcmUrl(url));
   if (!lcm->good()) {
     return Error::Io("cannot open LCM at '" + resolved +
                      "' (bad URL, or no multicast route: see docs/howto/NETWORKING.md)");

@@ -17,8 +17,14 @@ namespace dynapath::protocol {
 // The URL to use: `url` if not empty, else $LCM_DEFAULT_URL, else LCM's
 // default udpm group with ttl=0 (nothing leaves the host).
 std::string ResolveLcmUrl(const std::string& url);
-// Opens LCM; one clear error when the provider cannot start. A udpm URL
-// without recv_buf_size gets WithReceiveBuffer's.
+// The URL a receiving process opens: ResolveLcmUrl(url), and for a udpm
+// URL without recv_buf_size, WithReceiveBuffer's (net.core.rmem_max read
+// here). Also what the launcher gives lcm-logger: with the kernel's
+// default buffer, a logger kept off the cores for a moment lost the run's
+// last messages (on loopback each datagram takes some 7 KB of it).
+std::string ReceivingLcmUrl(const std::string& url);
+// Opens LCM at ReceivingLcmUrl(url); one clear error when the provider
+// cannot start.
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url);
 // The socket receive buffer a udpm URL asks for when it names none: 2 MiB,
 // about 30 ms of a 10,000-message/s exchange with the group's echoes
