@@ -16,6 +16,7 @@
 #include "protocol/auth.h"
 #include "protocol/channels.h"
 #include "protocol/dispatcher.h"
+#include "protocol/fragments.h"
 #include "protocol/liveness.h"
 
 namespace dynapath::protocol {
@@ -191,8 +192,8 @@ class NackListener {
       return;
     }
     std::vector<int32_t> missing;
-    for (int32_t i = 0; i < nack.count && i / 8 < nack.bitmap_size; ++i) {
-      if ((nack.missing[static_cast<size_t>(i / 8)] >> (i % 8)) & 1) missing.push_back(i);
+    for (int32_t i = 0; i < nack.count; ++i) {
+      if (NackBit(nack.missing, i)) missing.push_back(i);
     }
     nacked.push_back(std::move(missing));
   }
