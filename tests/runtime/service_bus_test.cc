@@ -136,6 +136,7 @@ TEST(ServiceBus, CoalescesCommitsWithinTheGapIntoTheLatestPolicy) {
     EXPECT_EQ(served.viewer.steps(), (std::vector<int>{0, 4}));
     EXPECT_EQ(served.service_bus.policies_published(), 2);
   }
+  EXPECT_EQ(served.viewer.steps().back(), 4);
   EXPECT_TRUE(served.service.Stop().ok());
 }
 
