@@ -53,6 +53,9 @@ std::string FindBinary(const std::string& name) {
 
 using Child = ChildProcess;
 
+// The child that records the run's messages (--log).
+constexpr const char* kRecorder = "recorder";
+
 // Starts `argv`. `keep_fds`: TextPipes the child keeps open across exec
 // (argv or its config names them as /dev/fd/N).
 // `stdout_fd` (>= 0): its stdout too.
@@ -201,11 +204,11 @@ void Reap(std::vector<Child>& children) {
   }
 }
 
-// SIGTERM (SIGINT for lcm-logger, which then closes its file), then SIGKILL
-// after `grace`.
+// SIGTERM (the recorder then writes what it holds and closes its file),
+// then SIGKILL after `grace`.
 void StopAll(std::vector<Child>& children, std::chrono::milliseconds grace) {
   for (Child& child : children) {
-    if (child.running) kill(child.pid, child.name == "lcm-logger" ? SIGINT : SIGTERM);
+    if (child.running) kill(child.pid, SIGTERM);
   }
   const auto deadline = std::chrono::steady_clock::now() + grace;
   while (std::chrono::steady_clock::now() < deadline) {
@@ -349,50 +352,48 @@ int LaunchProcessesExit(const DistributedRun& run) {
     return StartChild(child_start, children, name, binary, options, declare, std::move(visible),
                       std::move(inherit));
   };
-  std::optional<LoggerOutput> logger_output;
   if (!run.log_file.empty()) {
-    logger_output.emplace();
-    const int logger_fd = logger_output->write_fd();
-    const pid_t pid = Spawn(
-        {"lcm-logger", "--force", "--lcm-url=" + protocol::ReceivingLcmUrl(run.process.lcm_url),
-         "--channel=DYNAPATH/" + run.process.run_id + "/.*", run.log_file},
-        logger_fd >= 0 ? logger_fd : run.child_stderr, {},
-        logger_fd);  // records the bytes as sent, tags included
-    logger_output->Started();
-    if (pid >= 0) children.push_back(Child{"lcm-logger", pid});
-    // The run starts once the logger listens, or its first messages (the
+    // It records the bytes as sent, tags included; its own lines are
+    // warnings and errors only.
+    const pid_t pid =
+        Spawn({FindBinary("recorder"), "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
+               "--channel=DYNAPATH/" + run.process.run_id + "/.*", "--file=" + run.log_file,
+               "--force", "--log-level=warn"},
+              run.child_stderr);
+    if (pid >= 0) children.push_back(Child{kRecorder, pid});
+    // The run starts once the recorder listens, or its first messages (the
     // maze, step 0) could go unrecorded on a loaded machine. Where /proc
-    // cannot tell, a moment's grace as before.
+    // cannot tell, a moment's grace.
     const std::optional<int> port = UdpmPort(protocol::ResolveLcmUrl(run.process.lcm_url));
     bool subscribed = true;
     if (pid >= 0 && port && HasUdpSocketOnPort(pid, *port).has_value()) {
       const auto asked = std::chrono::steady_clock::now();
       subscribed = WaitForLoggerToSubscribe(pid, *port, std::chrono::seconds(30));
-      spdlog::debug("lcm-logger {} after {} ms", subscribed ? "listening" : "not listening",
+      spdlog::debug("the recorder {} after {} ms", subscribed ? "listening" : "not listening",
                     std::chrono::duration_cast<std::chrono::milliseconds>(
                         std::chrono::steady_clock::now() - asked)
                         .count());
     } else {
       std::this_thread::sleep_for(std::chrono::milliseconds(300));
     }
-    // The log was asked for: a logger that could not start (not installed,
-    // the file not writable) fails the run before anything runs.
+    // The log was asked for: a recorder that could not start (not
+    // installed, the file not writable) fails the run before anything runs.
     Reap(children);
     if (pid < 0 || !children.back().running) {
       spdlog::error(
-          "lcm-logger {}; nothing recorded in {}: stopping the run",
+          "the recorder (dynapath-recorder) {}; nothing recorded in {}: stopping the run",
           pid < 0 ? std::string("could not be started") : Describe(children.back().status),
           run.log_file);
       return 1;
     }
     if (!subscribed) {
       spdlog::warn(
-          "lcm-logger has not subscribed after 30 s; the run starts, and {} may miss "
+          "the recorder has not subscribed after 30 s; the run starts, and {} may miss "
           "its first messages",
           run.log_file);
     }
   }
-  // The run's own processes (not lcm-logger), started again on a restart.
+  // The run's own processes (not the recorder), started again on a restart.
   auto start_run_processes = [&](bool resume) {
     coordinator::CoordinatorCommandLine coordinator_options;
     coordinator_options.run = run.run;
@@ -427,7 +428,7 @@ int LaunchProcessesExit(const DistributedRun& run) {
         "(restart {} of at most {})",
         Describe(coordinator.status), run.run.checkpoint, restarts, run.coordinator_restarts);
     std::vector<Child> kept, stopped;
-    for (Child& child : children) (child.name == "lcm-logger" ? kept : stopped).push_back(child);
+    for (Child& child : children) (child.name == kRecorder ? kept : stopped).push_back(child);
     StopAll(stopped, std::chrono::milliseconds(3000));
     children = std::move(kept);
     if (start_run_processes(true)) return true;
@@ -469,10 +470,10 @@ int LaunchProcessesExit(const DistributedRun& run) {
           exit_code = 1;
           finished = true;
         }
-      } else if (child.name == "lcm-logger") {
+      } else if (child.name == kRecorder) {
         // The log was asked for: a run without its record is a failed run.
         spdlog::error(
-            "lcm-logger {} during the run; {} holds only what it recorded until then "
+            "the recorder {} during the run; {} holds only what it recorded until then "
             "({}); stopping the run",
             Describe(child.status), run.log_file, RecordedSoFar(run.log_file));
         StopAll(children, std::chrono::milliseconds(5000));
@@ -493,20 +494,35 @@ int LaunchProcessesExit(const DistributedRun& run) {
   while (std::chrono::steady_clock::now() < deadline) {
     Reap(children);
     bool any = false;
-    for (const Child& child : children) any = any || (child.running && child.name != "lcm-logger");
+    for (const Child& child : children) any = any || (child.running && child.name != kRecorder);
     if (!any) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  for (const Child& child : children) {
-    if (child.running && child.name == "lcm-logger" &&
+  // The run's processes first: once they are gone, all they sent is on the
+  // recorder's socket or in its hands. It is stopped when its sockets are
+  // empty and its file has stopped growing, and then writes whatever LCM
+  // still holds for it (at most 10 s) before it exits.
+  std::vector<Child> recorder, others;
+  for (Child& child : children) (child.name == kRecorder ? recorder : others).push_back(child);
+  StopAll(others, std::chrono::milliseconds(3000));
+  for (const Child& child : recorder) {
+    if (child.running &&
         !WaitForLoggerToDrain(child.pid, run.log_file, std::chrono::milliseconds(300),
                               std::chrono::milliseconds(5000))) {
-      spdlog::warn("lcm-logger still busy after 5 s; its last messages may be missing from {}",
+      spdlog::warn("the recorder is still busy after 5 s; its last messages may be missing from {}",
                    run.log_file);
     }
   }
-  StopAll(children, std::chrono::milliseconds(3000));
-  if (!run.log_file.empty()) spdlog::info("recorded the run's messages in {}", run.log_file);
+  StopAll(recorder, std::chrono::milliseconds(15000));
+  for (const Child& child : recorder) {
+    if (!Succeeded(child.status)) {
+      spdlog::error("the recorder {} while writing its last messages; {} holds {}",
+                    Describe(child.status), run.log_file, RecordedSoFar(run.log_file));
+      return 1;
+    }
+    spdlog::info("recorded the run's messages in {} ({})", run.log_file,
+                 RecordedSoFar(run.log_file));
+  }
   return exit_code;
 }
 

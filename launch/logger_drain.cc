@@ -1,7 +1,5 @@
 #include "launch/logger_drain.h"
 
-#include <fcntl.h>
-#include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -167,61 +165,6 @@ bool WaitForLoggerToDrain(pid_t pid, const std::string& file, std::chrono::milli
     if (Clock::now() - unchanged_since >= quiet) return true;
   }
   return false;
-}
-
-bool IsLoggerComplaint(const std::string& line) {
-  return !line.empty() && line.rfind("Opening log file", 0) != 0 && line != "Logger exiting";
-}
-
-LoggerOutput::LoggerOutput() {
-  int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0) return;
-  read_fd_ = fds[0];
-  write_fd_ = fds[1];
-  reader_ = std::thread([this] { Read(); });
-}
-
-void LoggerOutput::Started() {
-  if (write_fd_ >= 0) close(write_fd_);
-  write_fd_ = -1;
-}
-
-void LoggerOutput::Read() {
-  std::string pending;
-  auto emit = [](const std::string& line) {
-    if (IsLoggerComplaint(line)) {
-      spdlog::warn("lcm-logger: {}", line);
-    } else if (!line.empty()) {
-      spdlog::debug("lcm-logger: {}", line);
-    }
-  };
-  char buffer[512];
-  for (;;) {
-    pollfd ready{read_fd_, POLLIN, 0};
-    const int polled = poll(&ready, 1, 100);
-    if (polled == 0) {
-      // Nothing to read: a logger that never exits must not keep the run's
-      // end waiting (the destructor sets stop_).
-      if (stop_) break;
-      continue;
-    }
-    if (polled < 0) break;
-    const ssize_t got = read(read_fd_, buffer, sizeof buffer);
-    if (got <= 0) break;  // the end: every writer closed it
-    pending.append(buffer, static_cast<size_t>(got));
-    for (size_t end = pending.find('\n'); end != std::string::npos; end = pending.find('\n')) {
-      emit(pending.substr(0, end));
-      pending.erase(0, end + 1);
-    }
-  }
-  emit(pending);
-}
-
-LoggerOutput::~LoggerOutput() {
-  Started();
-  stop_ = true;
-  if (reader_.joinable()) reader_.join();
-  if (read_fd_ >= 0) close(read_fd_);
 }
 
 }  // namespace dynapath::launch

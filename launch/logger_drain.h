@@ -1,21 +1,20 @@
 #pragma once
-// Stopping lcm-logger without losing the run's last messages.
+// Starting and stopping the run's recorder (dynapath-recorder, for --log)
+// without losing the run's first or last messages.
 //
-// lcm-logger stops on SIGINT at once: datagrams still queued on its socket,
-// or read but not yet written (it flushes every 100 ms), are lost. On a
-// loaded machine that was the last steps of the last approach (seen as a
-// render with 1 frame of 6). By the time the launcher stops it every other
-// process has exited, so everything they sent is already queued for the
-// logger; waiting until its sockets are empty and its file has stopped
-// growing is then enough.
+// Its first messages go out as soon as the run starts, so the recorder must
+// have subscribed before. At the end, by the time the launcher stops it
+// every other process has exited, so everything they sent is already queued
+// for it: waiting until its sockets are empty and its file has stopped
+// growing, then asking it to stop (it writes what LCM still holds for it),
+// loses nothing. Without that wait a loaded machine lost the last steps of
+// the last approach (seen as a render with 1 frame of 6).
 
 #include <sys/types.h>
 
-#include <atomic>
 #include <chrono>
 #include <optional>
 #include <string>
-#include <thread>
 
 namespace dynapath::launch {
 
@@ -32,7 +31,7 @@ std::optional<int> UdpmPort(const std::string& url);
 // process gone).
 std::optional<bool> HasUdpSocketOnPort(pid_t pid, int port);
 
-// Waits until lcm-logger (process `pid`) has subscribed: LCM opens its
+// Waits until the recorder (process `pid`) has subscribed: LCM opens its
 // receiving socket, bound to the URL's port, when the first subscription is
 // made, so until then the run's first messages would not be recorded.
 // False when `cap` passed first or the process is gone.
@@ -42,35 +41,5 @@ bool WaitForLoggerToSubscribe(pid_t pid, int port, std::chrono::milliseconds cap
 // `quiet`, or until `cap` has passed. Returns false on the cap.
 bool WaitForLoggerToDrain(pid_t pid, const std::string& file, std::chrono::milliseconds quiet,
                           std::chrono::milliseconds cap);
-
-// lcm-logger's own output ("Opening log file ...", "Logger exiting" on its
-// stdout and stderr), which would otherwise land on the user's terminal
-// among the run's log lines: the logger writes into a pipe, read here on a
-// thread. Its chatter is logged at debug level; any other line (a failure
-// to open the file, say) as a warning naming lcm-logger.
-class LoggerOutput {
- public:
-  LoggerOutput();  // no pipe (write_fd() -1) when it cannot make one
-  ~LoggerOutput();
-  LoggerOutput(const LoggerOutput&) = delete;
-  LoggerOutput& operator=(const LoggerOutput&) = delete;
-
-  // The descriptor the logger's stdout and stderr go to (close-on-exec).
-  int write_fd() const { return write_fd_; }
-  // After the logger was started: closes this process's write end, so the
-  // reader sees the end of the output once the logger exits.
-  void Started();
-
- private:
-  void Read();
-
-  int read_fd_ = -1, write_fd_ = -1;
-  std::atomic<bool> stop_{false};
-  std::thread reader_;
-};
-
-// How a line of lcm-logger's output is logged: false for its chatter
-// (debug), true for anything else (a warning).
-bool IsLoggerComplaint(const std::string& line);
 
 }  // namespace dynapath::launch

@@ -19,9 +19,9 @@ namespace dynapath::protocol {
 std::string ResolveLcmUrl(const std::string& url);
 // The URL a receiving process opens: ResolveLcmUrl(url), and for a udpm
 // URL without recv_buf_size, WithReceiveBuffer's (net.core.rmem_max read
-// here). Also what the launcher gives lcm-logger, so that a logger kept
-// off the cores finds more of the run still queued on its socket (on
-// loopback each datagram takes some 7 KB of the kernel's 208 KiB default).
+// here). The recorder of `run --log` too: one kept off the cores finds
+// more of the run still queued on its socket (on loopback each datagram
+// takes some 7 KB of the kernel's 208 KiB default).
 std::string ReceivingLcmUrl(const std::string& url);
 // Opens LCM at ReceivingLcmUrl(url); one clear error when the provider
 // cannot start.

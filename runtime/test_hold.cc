@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <csignal>
 #include <cstdlib>
 #include <string>
@@ -23,6 +24,10 @@ int TestHoldStep(std::string_view process) {
 }
 
 void HoldForTest(std::string_view process, int time_step) {
+  // Once: envsim answers a repeated request for the step again, and a
+  // second hold would wait for a SIGCONT the test does not send.
+  static std::atomic<bool> held{false};
+  if (held.exchange(true)) return;
   spdlog::info("{}: holding at time step {} (DYNAPATH_TEST_HOLD); continue with SIGCONT", process,
                time_step);
   spdlog::default_logger()->flush();

@@ -21,7 +21,9 @@ namespace dynapath::runtime {
 int TestHoldStep(std::string_view process);
 
 // Logs that `process` holds at `time_step` and stops the whole process until
-// it is continued (SIGCONT).
+// it is continued (SIGCONT). Only the first call holds: envsim answers a
+// request repeated on a loaded machine twice, and a second stop would wait
+// for a SIGCONT that never comes (the coordinator then gave up after 60 s).
 void HoldForTest(std::string_view process, int time_step);
 
 }  // namespace dynapath::runtime

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The layers point one way (CONTRIBUTING.md, "The layering rule"):
 #   core/ <- lcmtypes/ (message types) <- protocol/ <- runtime/ <- envsim/
-#   coordinator/ agent/ (the processes) <- launch/ <- app/ (plans and sessions)
+#   coordinator/ agent/ recorder/ (the processes) <- launch/ <- app/ (plans and sessions)
 #   and study/ (the study library, beside app/: runtime/ and below and app/'s
 #   rules, never the launcher or the processes) <- tools/ (the front ends);
 #   python/ (the Python module), a front end beside tools/: runtime/ and
@@ -38,7 +38,7 @@ allowed_for() {
     lcmtypes) echo "face messages" ;;
     protocol) echo "face messages protocol" ;;
     runtime) echo "face messages protocol runtime" ;;
-    envsim | coordinator | agent) echo "face messages protocol runtime $1" ;;
+    envsim | coordinator | agent | recorder) echo "face messages protocol runtime $1" ;;
     python) echo "face messages protocol runtime launch app python study" ;;
     launch) echo "face messages protocol runtime envsim coordinator agent launch" ;;
     app) echo "face messages protocol runtime envsim coordinator agent launch app" ;;
@@ -109,7 +109,7 @@ fi
 # at link time, so their headers are checked).
 forbidden_headers='^#include *[<"](nlohmann/|toml\+\+/|png\.h|gif_lib\.h|SFML/)'
 
-for layer in core/include core lcmtypes protocol runtime envsim coordinator agent python launch app study tools; do
+for layer in core/include core lcmtypes protocol runtime envsim coordinator agent recorder python launch app study tools; do
   allowed=$(allowed_for "$layer")
   [ -d "$src/$layer" ] || continue
   while IFS= read -r file; do
@@ -147,7 +147,7 @@ done
 # What the process executables link: only their own library, runtime/, the
 # protocol glue and core/ of the project (plus system libraries).
 if [ -n "$build" ]; then
-  for process in envsim coordinator agent; do
+  for process in envsim coordinator agent recorder; do
     target=dynapath-$process
     libs=""
     if [ -f "$build/build.ninja" ]; then

@@ -43,8 +43,9 @@ HOMONYMS = {
                         "web's frame to draw obstacle points with before the service's goal replies give it"),
     "--origin": (2, "the origin of a map without a frame (serve, query, feed, robots; default 0,0); "
                     "web's, with its --resolution"),
-    "--force": (2, "experiment's: delete the study in DIR and start over; run's: start a new run "
-                   "in a --checkpoint DIR holding an unfinished run's checkpoint"),
+    "--force": (3, "experiment's: delete the study in DIR and start over; run's: start a new run "
+                   "in a --checkpoint DIR holding an unfinished run's checkpoint; dynapath-recorder's: "
+                   "overwrite its --file"),
 }
 
 # The commands: how to run each one's --help, relative to the build directory.
@@ -68,6 +69,7 @@ COMMANDS = [
     ("dynapath-envsim", ["envsim/dynapath-envsim"]),
     ("dynapath-coordinator", ["coordinator/dynapath-coordinator"]),
     ("dynapath-agent", ["agent/dynapath-agent"]),
+    ("dynapath-recorder", ["recorder/dynapath-recorder"]),
     # Built only with libnetfilter-queue (tools/CMakeLists.txt).
     ("dynapath-lan-delay", ["tools/dynapath-lan-delay"]),
 ]

@@ -8,7 +8,7 @@
 #      holds its --out (the launcher's lock, adopted by its coordinator);
 #   4. --out a file, results.csv a folder, --log a folder or in a missing
 #      folder: one error, exit 2, before any work;
-#   5. lcm-logger dying during an --agents --log run stops it: exit 1,
+#   5. the recorder dying during an --agents --log run stops it: exit 1,
 #      saying how much was recorded.
 # ctest runs it in a private network (`dynapath netns --`): --agents runs
 # and the hand-started coordinator send LCM traffic.
@@ -149,24 +149,21 @@ expect_usage_error "option --save-policy: /proc/p.pol: its folder /proc is not w
 expect_usage_error "option --save-changes: $work is a directory" "$dynapath" maze --size 20 --save-changes "$work"
 pass "output paths checked first"
 
-# 5. lcm-logger dies during the run.
-if command -v lcm-logger >/dev/null; then
-  "$dynapath" run --agents 1 --size 200 --difficulty hard --steps $long --approach fedAsynQ_EqAvg \
-    --log run.lcm --out G >/dev/null 2>logger.err &
-  first=$!
-  pids+=("$first")
-  wait_for_file run.lcm || fail "nothing logged"
-  logger=$(ps -o pid= -o comm= --ppid "$first" | awk '$2 == "lcm-logger" { print $1 }')
-  [ -n "$logger" ] && kill -KILL "$logger"
-  wait "$first"
-  code=$?
-  [ $code -eq 1 ] || fail "a run whose lcm-logger died exited $code, expected 1"
-  grep -q "lcm-logger was killed by signal 9 during the run; run.lcm holds only what it recorded until then ([0-9]* messages, [0-9]* bytes); stopping the run" logger.err ||
-    fail "the logger's death: $(grep -i logger logger.err)"
-  pass "a dying lcm-logger stops the run"
-else
-  echo "lcm-logger not installed: its case skipped"
-fi
+# 5. The recorder dies during the run.
+"$dynapath" run --agents 1 --size 200 --difficulty hard --steps $long --approach fedAsynQ_EqAvg \
+  --log run.lcm --out G >/dev/null 2>logger.err &
+first=$!
+pids+=("$first")
+wait_for_file run.lcm || fail "nothing logged"
+recorder=$(ps -o pid= -o comm= --ppid "$first" | awk '$2 == "dynapath-record" { print $1 }')
+[ -n "$recorder" ] || fail "no dynapath-recorder among the run's processes"
+[ -n "$recorder" ] && kill -KILL "$recorder"
+wait "$first"
+code=$?
+[ $code -eq 1 ] || fail "a run whose recorder died exited $code, expected 1"
+grep -q "the recorder was killed by signal 9 during the run; run.lcm holds only what it recorded until then ([0-9]* messages, [0-9]* bytes); stopping the run" logger.err ||
+  fail "the recorder's death: $(grep -i record logger.err)"
+pass "a dying recorder stops the run"
 
 [ $failures -eq 0 ] && echo "outputs_test: all passed ($SECONDS s)"
 exit $((failures > 0))

@@ -334,15 +334,18 @@ TEST(BusTest, ParityPiecesRebuildOneLostPiecePerGroup) {
 
 // By default parity pieces go out while the Bus has seen loss lately: none
 // on a clean link, then with every whole sending for parity_hold_ms after
-// a NACK. (The receiver asks again only after a second: one NACK, however
-// late the repair is dispatched on a loaded machine.)
+// a NACK. (The receiver waits a second of quiet and asks again only after
+// a second, and the hold is long: one NACK, and parity on the third
+// message, however the test thread is stalled on a loaded machine.)
 TEST(BusTest, ParityPiecesStartOnceLossIsSeen) {
   lcm::LCM lcm("memq://");
   BusOptions options;
   options.fragment_above = 2000;
   options.fragment_size = 1024;
   options.parity_group = 2;
+  options.nack_quiet_ms = 1000;
   options.nack_retry_ms = 1000;
+  options.parity_hold_ms = 30000;
   int sending = 0;
   BusOptions lossy = options;
   lossy.drop_fragment = [&](const fragment_t& f, bool repair) {

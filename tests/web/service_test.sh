@@ -2,15 +2,14 @@
 # The page's service plots in a real browser: `dynapath serve` on a shipped
 # warehouse map, `dynapath web` and headless Chromium showing its page, all
 # inside a private network namespace; `dynapath query` sends path queries
-# (--rate) and goal queries while lcm-logger records the bus's requests and
-# replies. Then tests/web/service_check.js checks that the page's latency
+# (--rate) and goal queries while dynapath-recorder records the bus's
+# requests and replies. Then tests/web/service_check.js checks that the page's latency
 # plots counted exactly the requests and replies of each kind that went over
 # the bus, with plausible percentiles.
 # Usage: service_test.sh DYNAPATH SOURCE_DIR WORK_DIR
-# Exit 77 (skipped) without chromium, node, lcm-logger or private networks.
+# Exit 77 (skipped) without chromium, node or private networks.
 set -u
 dynapath=$1 source=$2 work=$3
-command -v lcm-logger > /dev/null || { echo "skipped: lcm-logger is not installed (liblcm-bin)"; exit 77; }
 source "$(dirname "$0")/browser_setup.sh"
 browser_setup "$dynapath" "$source" "$work"
 cat > "$work/inside.sh" << 'INSIDE'
@@ -19,7 +18,9 @@ dynapath=$1 source=$2 work=$3
 URL='udpm://239.255.76.67:7667?ttl=0'
 maps=$source/docs/examples/maps
 common=(--run-id svc --insecure --lcm-url "$URL")
-lcm-logger --lcm-url="$URL" -c 'DYNAPATH/svc/(PATH|GOAL)_(REQUEST|REPLY)' -f "$work/queries.lcm" \
+# The recorder next to dynapath in the build tree (build/recorder/).
+"$(dirname "$dynapath")/../recorder/dynapath-recorder" --lcm-url="$URL" \
+  --channel='DYNAPATH/svc/(PATH|GOAL)_(REQUEST|REPLY)' --file="$work/queries.lcm" \
   > "$work/logger.log" 2>&1 &
 logger=$!
 # The recorder and the web server listen before the service starts: the
@@ -47,10 +48,10 @@ for goal in "--goal pick-2 --from-xy 2.75,30.25" "--to-xy 18.25,21.25 --from 60,
   # shellcheck disable=SC2086 # the goal's options
   "$dynapath" query "${common[@]}" $goal >> "$work/goals.log" 2>&1 || queried=1
 done
-sleep 0.5  # the last replies reach the logger
+sleep 0.5  # the last replies reach the recorder
 kill -INT $logger; wait $logger
 python3 - "$work/queries.lcm" "$work/rate.json" > "$work/expected.json.tmp" << 'COUNT'
-# Requests and replies of each kind in the LCM log (lcm-logger's format:
+# Requests and replies of each kind in the LCM log (the LCM log format:
 # sync word, event number, time, channel and data lengths, channel, data).
 import json, struct, sys
 counts = {k: {"requests": 0, "replies": 0} for k in ("path", "goal")}

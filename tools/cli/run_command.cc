@@ -69,7 +69,7 @@ int RunCommand(const std::vector<std::string>& given_args) {
   runtime::DeclareProcessOptions(group, o.process, false);
   runtime::DeclareThreadOptions(group, o.threads);
   group.Option("--log", o.log_file, "FILE",
-               "record the run's LCM messages with lcm-logger (--agents)");
+               "record the run's LCM messages into an LCM log (--agents; dynapath-recorder)");
   runtime::DeclareLogOptions(group, o.log);
   std::optional<std::string> resume_option;  // taken out of the arguments above
   group.Option(
