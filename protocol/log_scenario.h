@@ -1,6 +1,6 @@
 #pragma once
-// Reads the maze and change sequence of a run back from an LCM log recorded
-// with lcm-logger (`dynapath run --log FILE`): the grid_t answers and the
+// Reads the maze and change sequence of a run back from an LCM log
+// (`dynapath run --log FILE`, or lcm-logger's): the grid_t answers and the
 // changes_t answers envsim published. Used by --replay.
 
 #include <cstdint>
