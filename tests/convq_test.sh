@@ -12,6 +12,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/sigint_handler.sh"  # wait_for_sigint_handler
 
 expect_usage_error() {  # exit 2 and exactly one stderr line mentioning $1
   local needle=$1; shift
@@ -66,6 +67,7 @@ expect_usage_error "--out" train-model --seed 1
 "$dynapath" train-model --seed 1 --rounds 10000 --mazes 64 --samples 100000 --out "$work/stopped.model" \
   2>/dev/null &
 pid=$!
+wait_for_sigint_handler $pid || fail "train-model installed no SIGINT handler within 120 s"
 sleep 1
 kill -INT $pid
 wait $pid

@@ -58,10 +58,21 @@ kill_agent_mid_run() {
     --log-level info >/dev/null 2>"$work/$name.log" &
   local launcher=$!
   wait_for_line "$work/$name.log" "$line" || fail "no '$line' line ($name)"
-  # Agent 2 of this run: a child of this launcher (other tests run agents too).
-  local victim
-  victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
-  if [ -n "$victim" ]; then kill -9 "$victim"; else fail "no agent 2 to kill ($name)"; fi
+  # Agent 2 of this run: a child of this launcher (other tests run agents
+  # too). Looked for until found (a loaded machine once had none to show
+  # at the first look, though the coordinator had heard it).
+  local victim=
+  for _ in $(seq 3000); do  # up to 60 s
+    victim=$(pgrep -P "$launcher" -f "dynapath-agent .*--id 2" | head -1)
+    [ -n "$victim" ] && break
+    kill -0 "$launcher" 2>/dev/null || break
+    sleep 0.02
+  done
+  if [ -n "$victim" ]; then
+    kill -9 "$victim"
+  else
+    fail "no agent 2 to kill ($name); the launcher's children: $(ps -o pid=,stat=,args= --ppid "$launcher" | cut -c1-160 | tr '\n' ';')"
+  fi
   wait $launcher || fail "run with a killed agent exited $? ($name)"
   grep -q "reassigning its work" "$work/$name.log" ||
     fail "the coordinator did not reassign the killed agent's work ($name)"

@@ -53,7 +53,7 @@ kill -TERM "$stopped"
 if [ -n "${logger:-}" ]; then
   kill -CONT "$logger"
   sleep 2
-  kill -INT "$logger"
+  kill -TERM "$logger"  # (SIGINT is ignored by a background command that installed no handler yet)
   wait "$logger"
 fi
 wait "$stopped" || fail "the recorder exited $? after SIGTERM: $(tail -2 stopped.err)"

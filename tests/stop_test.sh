@@ -24,12 +24,17 @@ n=768
   for ((i = 0; i < n; ++i)); do echo "$row"; done
 } >"$work/free.map"
 
-# stop_case APPROACH: SIGINT 2 s into a run of APPROACH alone on that map.
+source "$(dirname "$0")/sigint_handler.sh"  # wait_for_sigint_handler
+
+# stop_case APPROACH: SIGINT 2 s into a run of APPROACH alone on that map
+# (2 s after it can take the signal: a loaded machine may take longer to
+# get there, and a SIGINT before is ignored).
 stop_case() {
   local approach=$1
   "$dynapath" run --local --maze "$work/free.map" --stations 3 --steps 2 \
     --approach "$approach" --out "$work/out" >"$work/log" 2>&1 &
   local pid=$!
+  wait_for_sigint_handler "$pid" || fail "$approach: no SIGINT handler within 120 s"
   sleep 2
   kill -0 "$pid" 2>/dev/null || fail "$approach: the run ended before the interrupt (the job is too small)"
   local start

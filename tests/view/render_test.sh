@@ -86,15 +86,17 @@ expect 2 "no --out" "$render" "$work/run.lcm"
 expect 2 "bad --cell" "$render" "$work/run.lcm" --out "$work/x" --cell 0
 expect 2 "unknown option" "$render" "$work/run.lcm" --out "$work/x" --sideways
 
-# A log of a run's heartbeats only: no POLICY message in it.
+# A log of a run's heartbeats only: no POLICY message in it (the recorder
+# next to dynapath in the build tree, build/recorder/).
 "$dynapath" netns -- bash -c '
   url="udpm://239.255.76.67:7667?ttl=0"
-  lcm-logger --force --lcm-url="$url" --channel="DYNAPATH/.*/HEARTBEAT" "$2/beats.lcm" >/dev/null 2>&1 &
-  logger=$!
-  sleep 0.3
+  "$(dirname "$1")/../recorder/dynapath-recorder" --lcm-url="$url" --channel="DYNAPATH/.*/HEARTBEAT" \
+    --file="$2/beats.lcm" 2>"$2/recorder.log" &
+  recorder=$!
+  for _ in $(seq 3000); do grep -q recording "$2/recorder.log" && break; sleep 0.02; done
   "$1" run --agents 1 --size 10 --steps 2 --approach "A* Static" --lcm-url "$url" --out "$2/b" \
     --log-level warn >/dev/null 2>&1
-  kill -INT $logger; wait $logger' _ "$dynapath" "$work"
+  kill -TERM $recorder; wait $recorder' _ "$dynapath" "$work"
 expect 1 "log without POLICY" "$render" "$work/beats.lcm" --out "$work/x"
 
 if [ $failures -gt 0 ]; then

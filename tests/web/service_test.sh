@@ -49,7 +49,7 @@ for goal in "--goal pick-2 --from-xy 2.75,30.25" "--to-xy 18.25,21.25 --from 60,
   "$dynapath" query "${common[@]}" $goal >> "$work/goals.log" 2>&1 || queried=1
 done
 sleep 0.5  # the last replies reach the recorder
-kill -INT $logger; wait $logger
+kill -TERM $logger; wait $logger
 python3 - "$work/queries.lcm" "$work/rate.json" > "$work/expected.json.tmp" << 'COUNT'
 # Requests and replies of each kind in the LCM log (the LCM log format:
 # sync word, event number, time, channel and data lengths, channel, data).
