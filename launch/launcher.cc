@@ -355,16 +355,16 @@ int LaunchProcessesExit(const DistributedRun& run) {
   if (!run.log_file.empty()) {
     // It records the bytes as sent, tags included; its own lines are
     // warnings and errors only.
-    const pid_t pid =
-        Spawn({FindBinary("recorder"), "--lcm-url=" + protocol::ResolveLcmUrl(run.process.lcm_url),
-               "--channel=DYNAPATH/" + run.process.run_id + "/.*", "--file=" + run.log_file,
-               "--force", "--log-level=warn"},
-              run.child_stderr);
+    const std::string url = protocol::ResolveLcmUrl(run.process.lcm_url);
+    const pid_t pid = Spawn({FindBinary("recorder"), "--lcm-url=" + url,
+                             "--channel=DYNAPATH/" + run.process.run_id + "/.*",
+                             "--file=" + run.log_file, "--force", "--log-level=warn"},
+                            run.child_stderr);
     if (pid >= 0) children.push_back(Child{kRecorder, pid});
     // The run starts once the recorder listens, or its first messages (the
     // maze, step 0) could go unrecorded on a loaded machine. Where /proc
     // cannot tell, a moment's grace.
-    const std::optional<int> port = UdpmPort(protocol::ResolveLcmUrl(run.process.lcm_url));
+    const std::optional<int> port = UdpmPort(url);
     bool subscribed = true;
     if (pid >= 0 && port && HasUdpSocketOnPort(pid, *port).has_value()) {
       const auto asked = std::chrono::steady_clock::now();

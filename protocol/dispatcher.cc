@@ -46,13 +46,9 @@ int64_t KernelReceiveBufferMax() {
 
 }  // namespace
 
-std::string ReceivingLcmUrl(const std::string& url) {
-  return WithReceiveBuffer(ResolveLcmUrl(url), KernelReceiveBufferMax());
-}
-
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url) {
   const std::string resolved = ResolveLcmUrl(url);
-  auto lcm = std::make_unique<lcm::LCM>(ReceivingLcmUrl(url));
+  auto lcm = std::make_unique<lcm::LCM>(WithReceiveBuffer(resolved, KernelReceiveBufferMax()));
   if (!lcm->good()) {
     return Error::Io("cannot open LCM at '" + resolved +
                      "' (bad URL, or no multicast route: see docs/howto/NETWORKING.md)");

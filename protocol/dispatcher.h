@@ -17,14 +17,11 @@ namespace dynapath::protocol {
 // The URL to use: `url` if not empty, else $LCM_DEFAULT_URL, else LCM's
 // default udpm group with ttl=0 (nothing leaves the host).
 std::string ResolveLcmUrl(const std::string& url);
-// The URL a receiving process opens: ResolveLcmUrl(url), and for a udpm
-// URL without recv_buf_size, WithReceiveBuffer's (net.core.rmem_max read
-// here). The recorder of `run --log` too: one kept off the cores finds
-// more of the run still queued on its socket (on loopback each datagram
+// Opens LCM; one clear error when the provider cannot start. A udpm URL
+// without recv_buf_size gets WithReceiveBuffer's (net.core.rmem_max read
+// here): a receiver kept off the cores, the recorder of `run --log` among
+// them, finds more still queued on its socket (on loopback each datagram
 // takes some 7 KB of the kernel's 208 KiB default).
-std::string ReceivingLcmUrl(const std::string& url);
-// Opens LCM at ReceivingLcmUrl(url); one clear error when the provider
-// cannot start.
 Result<std::unique_ptr<lcm::LCM>> OpenLcm(const std::string& url);
 // The socket receive buffer a udpm URL asks for when it names none: 2 MiB,
 // about 30 ms of a 10,000-message/s exchange with the group's echoes

@@ -73,7 +73,7 @@ void LogRecorder::WriteError(const std::string& what) {
 }
 
 Status LogRecorder::Flush() {
-  if (!error_.empty()) return Error{error_};
+  if (Status written = status(); !written) return written;
   errno = 0;
   if (std::fflush(file_->getFilePtr()) != 0) {
     WriteError(errno != 0 ? std::strerror(errno) : "flush failed");

@@ -42,7 +42,6 @@ class LogRecorder {
 
   int64_t events() const { return events_; }
   int64_t bytes() const { return bytes_; }
-  const std::string& path() const { return path_; }
 
  private:
   LogRecorder(lcm::LCM& lcm, std::string path, std::unique_ptr<lcm::LogFile> file)
