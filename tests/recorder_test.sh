@@ -10,6 +10,7 @@
 set -uo pipefail
 dynapath=${1:?usage: recorder_test.sh DYNAPATH RECORDER}
 recorder=${2:?usage: recorder_test.sh DYNAPATH RECORDER}
+tests=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 pids=()
 cleanup() {
@@ -60,22 +61,7 @@ wait "$stopped" || fail "the recorder exited $? after SIGTERM: $(tail -2 stopped
 grep -q "recorded [0-9]* messages ([0-9]* bytes) in stopped.lcm" stopped.err ||
   fail "no closing line: $(tail -2 stopped.err)"
 # Each log as a sorted list of (channel, SHA-256 of the bytes).
-events() {
-  /usr/bin/python3 - "$1" << 'PY'
-import hashlib, struct, sys
-data = open(sys.argv[1], "rb").read()
-at, rows = 0, []
-while at < len(data):
-    sync, _, _, channel_len, data_len = struct.unpack(">IqqII", data[at:at + 28])
-    assert sync == 0xEDA1DA01, "not an LCM log"
-    at += 28
-    channel = data[at:at + channel_len].decode()
-    at += channel_len
-    rows.append(channel + " " + hashlib.sha256(data[at:at + data_len]).hexdigest())
-    at += data_len
-print("\n".join(sorted(rows)))
-PY
-}
+events() { python3 "$tests/lcm_log.py" "$1"; }
 events stopped.lcm >stopped.events
 events launcher.lcm >launcher.events
 count=$(wc -l <launcher.events)

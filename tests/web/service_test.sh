@@ -50,20 +50,15 @@ for goal in "--goal pick-2 --from-xy 2.75,30.25" "--to-xy 18.25,21.25 --from 60,
 done
 sleep 0.5  # the last replies reach the recorder
 kill -TERM $logger; wait $logger
-python3 - "$work/queries.lcm" "$work/rate.json" > "$work/expected.json.tmp" << 'COUNT'
-# Requests and replies of each kind in the LCM log (the LCM log format:
-# sync word, event number, time, channel and data lengths, channel, data).
-import json, struct, sys
+python3 - "$work/queries.lcm" "$work/rate.json" "$source/tests" > "$work/expected.json.tmp" << 'COUNT'
+# Requests and replies of each kind in the LCM log.
+import json, sys
+sys.path.insert(0, sys.argv[3])
+from lcm_log import events
 counts = {k: {"requests": 0, "replies": 0} for k in ("path", "goal")}
-data = open(sys.argv[1], "rb").read()
-at = 0
-while at + 28 <= len(data):
-    sync, _, _, clen, dlen = struct.unpack(">IqqII", data[at:at + 28])
-    assert sync == 0xEDA1DA01, "not an LCM log"
-    channel = data[at + 28:at + 28 + clen].decode()
+for channel, _ in events(sys.argv[1]):
     kind, what = channel.rsplit("/", 1)[1].lower().split("_")
     counts[kind]["requests" if what == "request" else "replies"] += 1
-    at += 28 + clen + dlen
 # Every path query of query --rate is on the bus (and its reply); the
 # service's probe is the only other path request.
 sent = json.loads(open(sys.argv[2]).read())["sent"]
